@@ -1,0 +1,574 @@
+"""Cycloid disc geometry and cycloid-pin meshing kinematics.
+
+Notation (pin-housing paper, seeds/cycloid-pin-housing-integral-fem.txt, Sec. 2):
+Zb pins of radius rz on a circle of radius Rz; disc with Za = Zb - 1 lobes; eccentricity
+A (= e); shortening coefficient K1 = A*Zb/Rz; disc and pin pitch radii r_a = A*Za,
+r_b = A*Zb.
+
+Profile (disc frame, disc centre at the origin). We write the paper's Eq. (1) with
+counter-clockwise angles from the x-axis, u(a) = (cos a, sin a) instead of its
+(sin a, cos a); that is the mirror image in the line x = y, and since the profile is
+symmetric the shape is the same:
+
+    theoretical  p(psi) = Rz*u(psi) - A*u(Zb*psi)                            (Eq. 1)
+    working      w(psi) = p(psi) + rz*n(psi),
+                 n = (K1*u(Zb*psi) - u(psi)) / sqrt(S),  S = 1 + K1^2 - 2*K1*cos(Za*psi)
+
+n is the inward unit normal. The paper prints S with cos(Zb*psi) (Eq. 3); the tangent
+|p'|^2 = Rz^2 (1 + K1^2 - 2 K1 cos((Zb-1) psi)) shows the argument is Za*psi
+(docs/derivations.md, C1).
+
+Kinematics (housing frame): pin j centre C_j = Rz*u(2*pi*j/Zb); crank angle phi puts the
+disc centre at O_a = A*u(phi) and turns the disc by theta_d = -phi/Za, which places every
+pin centre exactly on the theoretical profile (C_j = O_a + R(theta_d) p(psi_j) with
+psi_j = theta_j - theta_d). The pin's angle from the line of centres is
+theta_b = theta_j - phi; the pitch point (instant centre of the disc) is P = r_b*u(phi),
+and every contact normal passes through it.
+
+Modifications (generating parameters of the grinding machine): equidistant Delta rz
+(the disc is generated with pin radius rz + Delta rz), move-distance Delta Rz (generated
+with pin-circle radius Rz + Delta Rz, same A), rotation Delta delta (each flank turned by
+Delta delta toward its tooth centre: the disc is the intersection of the profile turned
+by +Delta delta and by -Delta delta).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import GeometryError, check_range
+from .kinematics import MeshingState, equivalent_radius, slide_to_roll
+
+#: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
+_FOOT_TOL = 1e-14
+_FOOT_MAXITER = 50
+
+
+def _u(a):
+    return np.stack([np.cos(a), np.sin(a)])
+
+
+def _du(a):
+    return np.stack([-np.sin(a), np.cos(a)])
+
+
+def _cross(a, b):
+    return a[0] * b[1] - a[1] * b[0]
+
+
+@dataclass(frozen=True)
+class CycloidGeometry:
+    """Cycloid disc and pin ring in SI units (see the module docstring)."""
+    pin_count: int
+    pin_circle_radius_m: float
+    eccentricity_m: float
+    pin_radius_m: float
+    equidistant_m: float = 0.0
+    move_distance_m: float = 0.0
+    rotation_rad: float = 0.0
+
+    def __post_init__(self):
+        zb = self.pin_count
+        if isinstance(zb, bool) or int(zb) != zb:
+            raise GeometryError(f"pin_count = {zb!r} must be an integer")
+        check_range("pin_count", zb, 4, None, error=GeometryError)
+        rz_ = check_range("pin_circle_radius_m", self.pin_circle_radius_m, 0, None,
+                          lo_open=True, error=GeometryError)
+        check_range("eccentricity_m", self.eccentricity_m, 0, rz_ / zb, lo_open=True,
+                    hi_open=True, error=GeometryError,
+                    why="K1 = A*Zb/Rz must be below 1 (K1 >= 1 gives a looped profile)")
+        check_range("pin_radius_m", self.pin_radius_m, 0, None, lo_open=True,
+                    error=GeometryError)
+        for name, v in (("equidistant_m", self.equidistant_m),
+                        ("move_distance_m", self.move_distance_m)):
+            check_range(name, v, -0.01 * rz_, 0.01 * rz_, error=GeometryError,
+                        why="modifications are small corrections (|value| <= 1% of Rz)")
+        check_range("rotation_rad", self.rotation_rad, -math.radians(1), math.radians(1),
+                    error=GeometryError)
+        # The pins on the line of centres (tooth root and tip, zero moment arm) cannot be
+        # cleared by turning the disc: their clearance Delta_rz - Delta_Rz must not be negative.
+        check_range("equidistant_m - move_distance_m", self.equidistant_m - self.move_distance_m,
+                    0, None, error=GeometryError,
+                    why="the disc would interfere with the pins at the tooth tip and root "
+                        "(radial clearance)")
+        # Pins must not overlap their neighbours.
+        pitch_half = self.pin_circle_radius_m * math.sin(math.pi / zb)
+        check_range("pin_radius_m", self.pin_radius_m, 0, pitch_half, lo_open=True,
+                    hi_open=True, error=GeometryError,
+                    why="neighbouring pins would overlap (bound Rz*sin(pi/Zb))")
+        # Undercut: the generating pin radius must stay below the smallest convex curvature
+        # radius of the (generating) theoretical profile.
+        gen = self.generating()
+        rho_min = min_convex_curvature_radius(gen)
+        if not self.generating_pin_radius < rho_min:
+            name = "pin_radius_m" if self.equidistant_m == 0 else "pin_radius_m + equidistant_m"
+            raise GeometryError(
+                f"{name} = {self.generating_pin_radius!r} is outside the valid range "
+                f"(0, {rho_min:.6g}): the working profile would be undercut (bound: smallest "
+                f"convex curvature radius of the theoretical profile)")
+
+    # -- derived quantities ------------------------------------------------------------
+    @property
+    def lobe_count(self) -> int:
+        return self.pin_count - 1
+
+    @property
+    def k1(self) -> float:
+        """Shortening coefficient K1 = A*Zb/Rz."""
+        return self.eccentricity_m * self.pin_count / self.pin_circle_radius_m
+
+    @property
+    def disc_pitch_radius_m(self) -> float:
+        """r_a = A*Za (rolling circle of the disc)."""
+        return self.eccentricity_m * self.lobe_count
+
+    @property
+    def pin_pitch_radius_m(self) -> float:
+        """r_b = A*Zb."""
+        return self.eccentricity_m * self.pin_count
+
+    @property
+    def generating_pin_radius(self) -> float:
+        return self.pin_radius_m + self.equidistant_m
+
+    @property
+    def modified(self) -> bool:
+        return bool(self.equidistant_m or self.move_distance_m or self.rotation_rad)
+
+    def generating(self) -> "_Generating":
+        """The parameters the grinding machine uses (with modifications applied)."""
+        return _Generating(self.pin_count, self.pin_circle_radius_m + self.move_distance_m,
+                           self.eccentricity_m, self.pin_radius_m + self.equidistant_m)
+
+    def nominal(self) -> "_Generating":
+        return _Generating(self.pin_count, self.pin_circle_radius_m, self.eccentricity_m,
+                           self.pin_radius_m)
+
+    @property
+    def root_radius_m(self) -> float:
+        g = self.generating()
+        return g.rz_circle - g.a - g.r
+
+    @property
+    def tip_radius_m(self) -> float:
+        g = self.generating()
+        return g.rz_circle + g.a - g.r
+
+
+@dataclass(frozen=True)
+class _Generating:
+    """Raw generating parameters (no validation): Zb, Rz, A, r (offset)."""
+    zb: int
+    rz_circle: float
+    a: float
+    r: float
+
+    @property
+    def k1(self):
+        return self.a * self.zb / self.rz_circle
+
+
+# ---------------------------------------------------------------------------------------
+# Profiles
+
+def theoretical_profile(g: _Generating | CycloidGeometry, psi, order=0):
+    """Theoretical profile p(psi) (Eq. 1) and its derivatives: (2, N) arrays.
+
+    ``order`` 0, 1, 2 returns p, p', p'' respectively.
+    """
+    g = g.generating() if isinstance(g, CycloidGeometry) else g
+    psi = np.asarray(psi, float)
+    zb = g.zb
+    if order == 0:
+        return g.rz_circle * _u(psi) - g.a * _u(zb * psi)
+    if order == 1:
+        return g.rz_circle * _du(psi) - g.a * zb * _du(zb * psi)
+    if order == 2:
+        return -g.rz_circle * _u(psi) + g.a * zb**2 * _u(zb * psi)
+    raise ValueError(f"order = {order!r} is outside the valid range [0, 2]")
+
+
+def inward_normal(g, psi):
+    """Unit inward normal n(psi) of the theoretical profile (Eqs. 3-4 corrected)."""
+    g = g.generating() if isinstance(g, CycloidGeometry) else g
+    psi = np.asarray(psi, float)
+    k1 = g.k1
+    s = 1 + k1**2 - 2 * k1 * np.cos((g.zb - 1) * psi)
+    return (k1 * _u(g.zb * psi) - _u(psi)) / np.sqrt(s)
+
+
+def working_profile(g, psi):
+    """Working (disc) profile w(psi) = p(psi) + r n(psi), unmodified or as generated."""
+    g = g.generating() if isinstance(g, CycloidGeometry) else g
+    return theoretical_profile(g, psi) + g.r * inward_normal(g, psi)
+
+
+def curvature_radius(g, psi):
+    """Signed curvature radius of the theoretical profile, positive where convex:
+
+        rho = Rz S^{3/2} / (1 + Zb K1^2 - K1 (Zb + 1) cos(Za psi))
+
+    (from rho = |p'|^3 / (p' x p''); docs/derivations.md C2).
+    """
+    g = g.generating() if isinstance(g, CycloidGeometry) else g
+    theta = (g.zb - 1) * np.asarray(psi, float)
+    return _rho_of_theta(g, theta)
+
+
+def _rho_of_theta(g, theta):
+    k1 = g.k1
+    s = 1 + k1**2 - 2 * k1 * np.cos(theta)
+    den = 1 + g.zb * k1**2 - k1 * (g.zb + 1) * np.cos(theta)
+    with np.errstate(divide="ignore"):
+        return g.rz_circle * s**1.5 / den
+
+
+def min_convex_curvature_radius(g) -> float:
+    """Smallest positive curvature radius of the theoretical profile over one lobe.
+
+    The profile is convex where 1 + Zb K1^2 - K1 (Zb+1) cos(theta) > 0; rho is smooth there
+    and we minimise it on a fine grid and polish with a bounded scalar search.
+    """
+    from scipy.optimize import minimize_scalar
+
+    theta = np.linspace(0, math.pi, 4001)
+    rho = _rho_of_theta(g, theta)
+    rho = np.where(rho > 0, rho, np.inf)
+    k = int(np.argmin(rho))
+    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, theta.size - 1)]
+    if hi > lo:
+        res = minimize_scalar(lambda t: float(_rho_of_theta(g, t)), bounds=(lo, hi),
+                              method="bounded", options={"xatol": 1e-12})
+        return float(min(res.fun, rho[k]))
+    return float(rho[k])
+
+
+def profile_points(geom: CycloidGeometry, points_per_lobe: int = 96, flank=0) -> np.ndarray:
+    """Working profile as a closed polyline (2, N) in the disc frame (N = Za*points).
+
+    ``flank`` = +1/-1 rotates the whole profile by +-Delta delta (rotation modification);
+    0 ignores the rotation.
+    """
+    n = geom.lobe_count * int(points_per_lobe)
+    psi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
+    pts = working_profile(geom, psi)
+    if flank and geom.rotation_rad:
+        c, s = math.cos(flank * geom.rotation_rad), math.sin(flank * geom.rotation_rad)
+        pts = np.array([[c, -s], [s, c]]) @ pts
+    return pts
+
+
+# ---------------------------------------------------------------------------------------
+# Disc polygon
+
+@dataclass(frozen=True)
+class DiscHolesSI:
+    """Disc holes in metres (see the case model's DiscHoles for the meaning)."""
+    centre_bore_radius_m: float = 0.0
+    crank_hole_count: int = 0
+    crank_hole_circle_radius_m: float = 0.0
+    crank_hole_radius_m: float = 0.0
+    pillar_hole_count: int = 0
+    pillar_hole_circle_radius_m: float = 0.0
+    pillar_hole_radius_m: float = 0.0
+
+    def circles(self):
+        """[(x, y, r, label)] of every hole; crank holes start on +x, pillars halfway."""
+        out = []
+        if self.centre_bore_radius_m > 0:
+            out.append((0.0, 0.0, self.centre_bore_radius_m, "centre_bore"))
+        for kind, offset in (("crank", 0.0), ("pillar", 0.5)):
+            n = getattr(self, f"{kind}_hole_count")
+            rc = getattr(self, f"{kind}_hole_circle_radius_m")
+            rh = getattr(self, f"{kind}_hole_radius_m")
+            for k in range(n):
+                a = 2 * math.pi * (k + offset) / n
+                out.append((rc * math.cos(a), rc * math.sin(a), rh, f"{kind}_{k}"))
+        return out
+
+
+#: Smallest ligament between a hole and the root circle or another hole, relative to Rz.
+MIN_LIGAMENT_REL = 0.005
+
+
+def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
+                 points_per_lobe: int = 96, hole_points: int = 96):
+    """The disc as a shapely Polygon (disc frame) with its holes.
+
+    With a rotation modification the disc is the intersection of the profile turned by
+    +Delta delta and by -Delta delta (each flank turned toward its tooth centre).
+    Raises GeometryError if a hole leaves the disc, holes overlap, or the polygon is invalid.
+    """
+    import shapely
+    from shapely.geometry import Point, Polygon
+
+    if geom.rotation_rad:
+        outer = Polygon(profile_points(geom, points_per_lobe, +1).T).intersection(
+            Polygon(profile_points(geom, points_per_lobe, -1).T))
+    else:
+        outer = Polygon(profile_points(geom, points_per_lobe).T)
+    if not outer.is_valid or outer.geom_type != "Polygon":
+        raise GeometryError(f"disc outline is not a simple polygon: "
+                            f"{shapely.is_valid_reason(outer)}")
+    holes = holes or DiscHolesSI()
+    lig = MIN_LIGAMENT_REL * geom.pin_circle_radius_m
+    circles = holes.circles()
+    shapes = []
+    for x, y, r, label in circles:
+        reach = math.hypot(x, y) + r
+        if reach > geom.root_radius_m - lig:
+            raise GeometryError(
+                f"{label} hole reaches radius {reach:.6g} m, outside the valid range "
+                f"(0, {geom.root_radius_m - lig:.6g}) m (root radius {geom.root_radius_m:.6g} m "
+                f"less a ligament of {lig:.3g} m)")
+        shapes.append((Point(x, y).buffer(r, quad_segs=max(hole_points // 4, 4)), label))
+    for i in range(len(shapes)):
+        for j in range(i + 1, len(shapes)):
+            if shapes[i][0].distance(shapes[j][0]) < lig:
+                raise GeometryError(f"holes {shapes[i][1]} and {shapes[j][1]} are closer than "
+                                    f"the minimum ligament {lig:.3g} m")
+    poly = Polygon(outer.exterior.coords, [list(s.exterior.coords)[::-1] for s, _ in shapes])
+    if not poly.is_valid:
+        raise GeometryError(f"disc polygon is invalid: {shapely.is_valid_reason(poly)}")
+    return shapely.geometry.polygon.orient(poly, 1.0)
+
+
+# ---------------------------------------------------------------------------------------
+# Kinematics
+
+def pin_centres(geom: CycloidGeometry) -> np.ndarray:
+    """(2, Zb) pin centres in the housing frame; pin 0 on +x."""
+    theta = 2 * math.pi * np.arange(geom.pin_count) / geom.pin_count
+    return geom.pin_circle_radius_m * _u(theta)
+
+
+def disc_pose(geom: CycloidGeometry, crank_angle_rad):
+    """(centre (2, P), rotation (P,)) of the disc for crank angles phi (K-H-V: -phi/Za)."""
+    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    return geom.eccentricity_m * _u(phi), -phi / geom.lobe_count
+
+
+def to_disc_frame(geom, crank_angle_rad, points):
+    """Housing-frame points (2, P, C) -> disc frame for each crank angle."""
+    centre, rot = disc_pose(geom, crank_angle_rad)
+    d = points - centre[:, :, None]
+    c, s = np.cos(-rot)[:, None], np.sin(-rot)[:, None]
+    return np.stack([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+
+
+def seed_moment_arm(geom: CycloidGeometry, theta_b):
+    """Seed Eq. (14): l = r_a Rz sin(theta_b)/sqrt(Rz^2 + r_b^2 - 2 Rz r_b cos(theta_b)).
+
+    Unsigned as printed; the load-carrying pins have sin(theta_b) > 0 for a
+    counter-clockwise crank (see :func:`meshing`).
+    """
+    rz, rb = geom.pin_circle_radius_m, geom.pin_pitch_radius_m
+    theta_b = np.asarray(theta_b, float)
+    return geom.disc_pitch_radius_m * rz * np.sin(theta_b) / np.sqrt(
+        rz**2 + rb**2 - 2 * rz * rb * np.cos(theta_b))
+
+
+def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1.0,
+            pin_motion: str = "fixed") -> MeshingState:
+    """Kinematics of all Zb pin contacts at each crank angle (vectorised).
+
+    ``pin_motion``: "fixed" (pins one piece with the housing, the integral structure: the
+    disc slides on the pins) or "rolling" (conventional pins turning freely in their
+    grooves: no sliding at the disc, the pin surface speed there equals the disc's, and
+    the pin slides in its groove at that speed instead).
+
+    Contact points, normals, moment arms and velocities are those of the conjugate
+    (unmodified) profile, whose normals pass through the pitch point; ``gap`` is the exact
+    initial clearance of the modified profile at the nominal pose (zero if unmodified).
+    A counter-clockwise crank (crank_speed > 0) turns the disc clockwise; the pins that
+    carry the output torque are those with negative moment arm (0 < theta_b < pi).
+    """
+    if pin_motion not in ("fixed", "rolling"):
+        raise GeometryError(f"pin_motion = {pin_motion!r} is not one of ['fixed', 'rolling']")
+    check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
+    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    zb, za = geom.pin_count, geom.lobe_count
+    omega = float(crank_speed_rad_s)
+    omega_d = -omega / za                                    # disc angular velocity
+    c = pin_centres(geom)[:, None, :]                        # (2, 1, C)
+    centre = geom.eccentricity_m * _u(phi)                   # (2, P)
+    pitch = geom.pin_pitch_radius_m * _u(phi)[:, :, None]    # (2, P, 1)
+    d = pitch - c                                            # pin -> pitch point
+    dist = np.hypot(d[0], d[1])                              # |P - C|, (P, C)
+    n = d / dist                                             # normal into the disc
+    k = c + geom.pin_radius_m * n                            # contact point
+    rel = k - centre[:, :, None]
+    arm = _cross(rel, n)
+    pressure = np.arccos(np.clip(np.abs(arm) / np.hypot(rel[0], rel[1]), 0.0, 1.0))
+    t = np.stack([-n[1], n[0]])                              # tangent k x n
+    # disc material velocity at K: rotation about the pitch point (instant centre)
+    kp = k - pitch
+    v_disc = omega_d * np.stack([-kp[1], kp[0]])
+    # contact point velocity: K = C + rz n, n = (P - C)/|P - C|
+    dp = geom.pin_pitch_radius_m * omega * _du(phi)[:, :, None]
+    dn = (dp - n * np.sum(n * dp, axis=0)) / dist
+    dk = geom.pin_radius_m * dn
+    v_disc_t = np.sum(v_disc * t, axis=0)
+    dk_t = np.sum(dk * t, axis=0)
+    pin_surface_t = np.zeros_like(v_disc_t) if pin_motion == "fixed" else v_disc_t
+    sliding = v_disc_t - pin_surface_t
+    u_disc = dk_t - v_disc_t
+    u_pin = dk_t - pin_surface_t
+    entrain = 0.5 * (u_disc + u_pin)
+    theta_b = np.mod(2 * math.pi * np.arange(zb)[None, :] / zb - phi[:, None], 2 * math.pi)
+    g = geom.nominal()
+    rho0 = _rho_of_theta(g, theta_b)
+    r_disc = rho0 - geom.pin_radius_m
+    r_pin = np.full_like(r_disc, geom.pin_radius_m)
+    gap = clearance_exact(geom, phi) if geom.modified else np.zeros_like(arm)
+    return MeshingState(
+        drive="cycloid", position_rad=phi,
+        contact_id=np.broadcast_to(np.arange(zb), arm.shape).copy(),
+        point=np.moveaxis(k, 0, -1), normal=np.moveaxis(n, 0, -1),
+        centre=centre.T.copy(), moment_arm=arm, pressure_angle=pressure, gap=gap,
+        sliding_velocity=sliding, entrainment_velocity=entrain,
+        slide_to_roll=slide_to_roll(sliding, entrain),
+        radius_moving=r_disc, radius_fixed=r_pin,
+        equivalent_radius=equivalent_radius(r_disc, r_pin),
+        crank_speed_rad_s=omega)
+
+
+# ---------------------------------------------------------------------------------------
+# Foot points and clearances measured on the parametric curve
+
+def foot_point(g: _Generating, points, psi0):
+    """Parameter of the point of the working curve nearest to ``points`` (2, N).
+
+    Newton on f(psi) = (w(psi) - c) . p'(psi) = 0 (the working and theoretical curves share
+    their tangent), started from ``psi0`` (N,). Returns (psi, signed distance from the
+    curve along the outward normal).
+    """
+    psi = np.array(psi0, float, copy=True)
+    h = 1e-6
+    for _ in range(_FOOT_MAXITER):
+        f = _foot_f(g, psi, points)
+        df = (_foot_f(g, psi + h, points) - _foot_f(g, psi - h, points)) / (2 * h)
+        step = f / df
+        psi -= step
+        if np.max(np.abs(step)) < _FOOT_TOL:
+            break
+    else:
+        if np.max(np.abs(step)) > 1e-9:
+            raise GeometryError("foot point on the cycloid profile did not converge "
+                                f"(last Newton step {np.max(np.abs(step)):.3g} rad)")
+    w = working_profile(g, psi)
+    out = -inward_normal(g, psi)
+    return psi, np.sum((points - w) * out, axis=0)
+
+
+def _foot_f(g, psi, points):
+    return np.sum((working_profile(g, psi) - points) * theoretical_profile(g, psi, 1), axis=0)
+
+
+def _nearest_psi(g, points, samples=8192, chunk=256):
+    """Coarse global nearest parameter for each point (brute force in chunks)."""
+    psi = np.linspace(0, 2 * math.pi, samples, endpoint=False)
+    w = working_profile(g, psi)
+    out = np.empty(points.shape[1])
+    for i in range(0, points.shape[1], chunk):
+        p = points[:, i:i + chunk]
+        d2 = (p[0][:, None] - w[0][None]) ** 2 + (p[1][:, None] - w[1][None]) ** 2
+        out[i:i + chunk] = psi[np.argmin(d2, axis=1)]
+    return out
+
+
+def distance_to_profile(geom: CycloidGeometry, points, flank: int = 0, psi0=None):
+    """Exact signed distance of disc-frame points (2, N) from the working profile
+    (positive outside the disc), found on the parametric curve (Newton foot point).
+
+    With a rotation modification, the point is first turned by -flank*Delta delta.
+    ``psi0``: starting parameters; by default a global brute-force search on 8192 samples.
+    """
+    g = geom.generating()
+    pts = np.asarray(points, float)
+    if flank and geom.rotation_rad:
+        a = -flank * geom.rotation_rad
+        pts = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]) @ pts
+    if psi0 is None:
+        psi0 = _nearest_psi(g, pts)
+    return foot_point(g, pts, psi0)[1]
+
+
+def clearance_exact(geom: CycloidGeometry, crank_angle_rad) -> np.ndarray:
+    """Exact initial normal clearance of every pin at the nominal pose, (P, Zb):
+    distance from the pin centre to the modified working profile minus rz.
+
+    With a rotation modification the disc is the intersection of the two turned profiles,
+    so the clearance is the larger of the two distances (exact on the flanks; at the tip
+    corner the true distance differs at second order in Delta delta).
+    """
+    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    c = np.broadcast_to(pin_centres(geom)[:, None, :], (2, phi.size, geom.pin_count))
+    local = to_disc_frame(geom, phi, c).reshape(2, -1)
+    # the unmodified contact parameter psi_j = theta_j - theta_d starts Newton
+    psi0 = (2 * math.pi * np.arange(geom.pin_count)[None, :] / geom.pin_count
+            + phi[:, None] / geom.lobe_count).ravel()
+    if geom.rotation_rad:
+        d = np.maximum(distance_to_profile(geom, local, +1, psi0),
+                       distance_to_profile(geom, local, -1, psi0))
+    else:
+        d = distance_to_profile(geom, local, psi0=psi0)
+    return d.reshape(phi.size, geom.pin_count) - geom.pin_radius_m
+
+
+def clearance_closed_form(geom: CycloidGeometry, theta_b):
+    """First-order initial clearance per pin versus pin angle theta_b (docs C4).
+
+    Before any turning of the disc (nominal pose):
+        D0 = Delta_rz - Delta_Rz (1 - K1 cos theta) / sqrt(S) + Delta_delta |l(theta)|
+    with S = 1 + K1^2 - 2 K1 cos theta and l the moment arm of Eq. (14).
+    Turning the disc by beta0 = min over 0 < theta < pi of D0/|l| closes the first gap on
+    the load-carrying flank and leaves
+        D(theta) = D0(theta) - beta0 |l(theta)|
+    which for Delta_rz >= 0, Delta_Rz <= 0 is the textbook expression
+        D = Delta_rz (1 - sin(theta)/sqrt(S)) - Delta_Rz (1 - K1 cos theta
+            - sqrt(1 - K1^2) sin theta)/sqrt(S)
+    (Li Lixing, Cycloid pin-wheel planetary transmission, 1987; also Blagojevic et al.,
+    Strojniski vestnik 58 (2012)). Returns (D0, D, beta0) with D0, D shaped like theta_b.
+    """
+    theta = np.asarray(theta_b, float)
+    k1 = geom.k1
+    s = np.sqrt(1 + k1**2 - 2 * k1 * np.cos(theta))
+    arm = np.abs(seed_moment_arm(geom, theta))
+    d0 = (geom.equidistant_m - geom.move_distance_m * (1 - k1 * np.cos(theta)) / s
+          + geom.rotation_rad * arm)
+    beta0 = closing_rotation(geom)
+    return d0, d0 - beta0 * arm, beta0
+
+
+def closing_rotation(geom: CycloidGeometry) -> float:
+    """beta0 = min over the loaded flank of D0/|l| (first order, closed form).
+
+    For Delta_rz, -Delta_Rz >= 0 both terms are smallest at cos(theta) = K1, giving
+    beta0 = (Delta_rz - Delta_Rz sqrt(1 - K1^2)) / r_a + Delta_delta; otherwise it is
+    found on a fine grid.
+    """
+    k1 = geom.k1
+    if geom.equidistant_m >= 0 and geom.move_distance_m <= 0:
+        return ((geom.equidistant_m - geom.move_distance_m * math.sqrt(1 - k1**2))
+                / geom.disc_pitch_radius_m + geom.rotation_rad)
+    from scipy.optimize import minimize_scalar
+
+    def ratio(theta):
+        s = np.sqrt(1 + k1**2 - 2 * k1 * np.cos(theta))
+        d0 = geom.equidistant_m - geom.move_distance_m * (1 - k1 * np.cos(theta)) / s
+        return d0 / np.abs(seed_moment_arm(geom, theta))
+
+    theta = np.linspace(1e-3, math.pi - 1e-3, 4001)
+    k = int(np.argmin(ratio(theta)))
+    lo, hi = theta[max(k - 1, 0)], theta[min(k + 1, theta.size - 1)]
+    res = minimize_scalar(lambda t: float(ratio(t)), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-12})
+    return float(min(res.fun, ratio(theta[k]))) + geom.rotation_rad
+
+
+def backlash_rad(geom: CycloidGeometry) -> float:
+    """Angular lost motion of the disc in one direction, = closing_rotation (first order)."""
+    return closing_rotation(geom)

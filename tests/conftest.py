@@ -1,0 +1,20 @@
+import os
+from pathlib import Path
+
+import pytest
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+try:  # pyvista renders off-screen here (no display)
+    import pyvista
+
+    pyvista.OFF_SCREEN = True
+except ImportError:  # pragma: no cover
+    pass
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = ROOT / "cases"
+
+
+@pytest.fixture
+def cases_dir():
+    return CASES

@@ -1,0 +1,418 @@
+"""Case model: a reducer described in TOML (units in key names) as frozen dataclasses.
+
+``load_case(path)`` opens a file; ``parse_case(mapping)`` validates a mapping, so tests can
+pass dicts. Every section is a frozen dataclass whose fields carry their valid range in
+``metadata``; ``__post_init__`` checks them, so a record built in code is validated the same
+way as one read from a file. A bad value raises :class:`CaseError` with one line naming the
+key, the value and the valid range.
+
+Units: the case keeps the units of its keys (mm, N·m, rpm, GPa ...); the ``*_si`` helpers
+and the geometry constructors convert to SI.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import sys
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Mapping
+
+from .errors import CaseError, GeometryError, check_range
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover
+    import tomli as tomllib
+
+INF = math.inf
+
+
+def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
+       doc: str = "", choices=None, integer=False):
+    """A dataclass field with its valid range in metadata."""
+    md = dict(lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, doc=doc, choices=choices,
+              integer=integer)
+    return field(default=default, metadata=md)
+
+
+class _Section:
+    """Mixin: validate every field against the range in its metadata."""
+
+    _section = ""
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            md = f.metadata
+            if not md:
+                continue
+            value = getattr(self, f.name)
+            if value is None:
+                continue
+            key = f"{self._section}.{f.name}" if self._section else f.name
+            if md.get("choices") is not None:
+                if value not in md["choices"]:
+                    raise CaseError(f"{key} = {value!r} is not one of {list(md['choices'])}")
+                continue
+            if md.get("integer"):
+                if isinstance(value, bool) or not isinstance(value, int):
+                    raise CaseError(f"{key} = {value!r} must be an integer")
+            check_range(key, value, md.get("lo"), md.get("hi"), lo_open=md.get("lo_open"),
+                        hi_open=md.get("hi_open"), error=CaseError, why=md.get("doc", ""))
+        self._check()
+
+    def _check(self):
+        """Cross-field rules of the section (override)."""
+
+
+@dataclass(frozen=True)
+class Material(_Section):
+    _section = "material"
+    youngs_modulus_GPa: float = _f(1.0, 1000.0)
+    poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
+    density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
+
+
+@dataclass(frozen=True)
+class DiscHoles(_Section):
+    """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
+    _section = "cycloid.disc_holes"
+    centre_bore_radius_mm: float = _f(0.0, None, default=0.0)
+    crank_hole_count: int = _f(0, 12, integer=True, default=0)
+    crank_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
+    crank_hole_radius_mm: float = _f(0.0, None, default=0.0)
+    pillar_hole_count: int = _f(0, 12, integer=True, default=0)
+    pillar_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
+    pillar_hole_radius_mm: float = _f(0.0, None, default=0.0)
+
+    def _check(self):
+        for kind in ("crank", "pillar"):
+            n = getattr(self, f"{kind}_hole_count")
+            rc = getattr(self, f"{kind}_hole_circle_radius_mm")
+            rh = getattr(self, f"{kind}_hole_radius_mm")
+            if n and (rc <= 0 or rh <= 0):
+                raise CaseError(f"{self._section}.{kind}_hole_radius_mm = {rh!r} and "
+                                f"{kind}_hole_circle_radius_mm = {rc!r} must both be > 0 "
+                                f"when {kind}_hole_count = {n}")
+
+
+@dataclass(frozen=True)
+class CycloidStage(_Section):
+    """Cycloid disc and pin ring (K-H-V stage). Angles of modification in degrees."""
+    _section = "cycloid"
+    pin_count: int = _f(4, 400, integer=True)
+    lobe_count: int = _f(3, 399, integer=True)
+    pin_circle_radius_mm: float = _f(0.0, None, lo_open=True)
+    eccentricity_mm: float = _f(0.0, None, lo_open=True)
+    pin_radius_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(0.0, None, lo_open=True)
+    disc_count: int = _f(1, 4, integer=True, default=1)
+    pin_structure: str = _f(choices=("conventional", "integral"), default="conventional")
+    equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0)
+    move_distance_modification_mm: float = _f(-1.0, 1.0, default=0.0)
+    rotation_modification_deg: float = _f(-1.0, 1.0, default=0.0)
+    disc_load_factor: float = _f(1.0, 2.0, default=1.0,
+                                 doc="torque on one disc = factor * output torque / disc_count")
+    disc_holes: DiscHoles = field(default_factory=DiscHoles)
+
+    def _check(self):
+        if self.lobe_count != self.pin_count - 1:
+            raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
+                            f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
+        # Looped / cusped / undercut profiles and hole layout: the geometry's own checks,
+        # reported with the case key.
+        try:
+            geometry = self.geometry()
+            if self.disc_holes != DiscHoles():
+                from .geometry.cycloid import disc_polygon  # noqa: WPS433 (late import)
+                disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
+        except GeometryError as exc:
+            raise CaseError(f"cycloid: {exc}") from None
+
+    def geometry(self):
+        """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`."""
+        from .geometry.cycloid import CycloidGeometry
+        return CycloidGeometry(
+            pin_count=self.pin_count,
+            pin_circle_radius_m=self.pin_circle_radius_mm * 1e-3,
+            eccentricity_m=self.eccentricity_mm * 1e-3,
+            pin_radius_m=self.pin_radius_mm * 1e-3,
+            equidistant_m=self.equidistant_modification_mm * 1e-3,
+            move_distance_m=self.move_distance_modification_mm * 1e-3,
+            rotation_rad=math.radians(self.rotation_modification_deg),
+        )
+
+    def holes_si(self):
+        from .geometry.cycloid import DiscHolesSI
+        h = self.disc_holes
+        return DiscHolesSI(
+            centre_bore_radius_m=h.centre_bore_radius_mm * 1e-3,
+            crank_hole_count=h.crank_hole_count,
+            crank_hole_circle_radius_m=h.crank_hole_circle_radius_mm * 1e-3,
+            crank_hole_radius_m=h.crank_hole_radius_mm * 1e-3,
+            pillar_hole_count=h.pillar_hole_count,
+            pillar_hole_circle_radius_m=h.pillar_hole_circle_radius_mm * 1e-3,
+            pillar_hole_radius_m=h.pillar_hole_radius_mm * 1e-3,
+        )
+
+
+@dataclass(frozen=True)
+class SpurStage(_Section):
+    """First (involute spur planetary) stage of an RV-type drive: sun on the input shaft,
+    planets on the crankshafts."""
+    _section = "first_stage"
+    sun_teeth: int = _f(6, 400, integer=True)
+    planet_teeth: int = _f(6, 400, integer=True)
+    planet_count: int = _f(1, 8, integer=True, default=2)
+    module_mm: float = _f(0.0, None, lo_open=True, default=1.0)
+    pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
+    mesh_efficiency: float = _f(0.0, 1.0, lo_open=True, default=0.98)
+
+
+@dataclass(frozen=True)
+class SineStage(_Section):
+    """One-tooth-difference sine-profile pair (planet inside a fixed ring)."""
+    _section = "sine"
+    planet_teeth: int = _f(10, 1000, integer=True)
+    ring_teeth: int = _f(11, 1001, integer=True)
+    module_mm: float = _f(0.0, None, lo_open=True)
+    tooth_height_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(0.0, None, lo_open=True)
+    centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+
+    def _check(self):
+        if self.ring_teeth <= self.planet_teeth:
+            raise CaseError(f"sine.ring_teeth = {self.ring_teeth} must exceed "
+                            f"planet_teeth = {self.planet_teeth} (internal mesh)")
+        a0 = self.module_mm * (self.ring_teeth - self.planet_teeth) / 2
+        if self.centre_distance_mm is not None and not math.isclose(
+                self.centre_distance_mm, a0, rel_tol=1e-6):
+            raise CaseError(f"sine.centre_distance_mm = {self.centre_distance_mm!r} is not "
+                            f"module*(ring_teeth-planet_teeth)/2 = {a0:g}: the pitch "
+                            "circles must roll")
+        try:
+            self.geometry()
+        except GeometryError as exc:
+            raise CaseError(f"sine: {exc}") from None
+
+    def geometry(self):
+        from .geometry.sine import SineGearPair
+        return SineGearPair(planet_teeth=self.planet_teeth, ring_teeth=self.ring_teeth,
+                            module_m=self.module_mm * 1e-3,
+                            tooth_height_m=self.tooth_height_mm * 1e-3,
+                            face_width_m=self.face_width_mm * 1e-3)
+
+
+@dataclass(frozen=True)
+class RVTrain(_Section):
+    """Tooth numbers of a 2K-V (RV) train as in the RV paper's notation."""
+    _section = "rv"
+    sun_teeth: int = _f(6, 400, integer=True)          # z1
+    planet_teeth: int = _f(6, 400, integer=True)       # z2
+    disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
+    pin_count: int = _f(4, 400, integer=True)          # z5
+    disc_count: int = _f(1, 4, integer=True, default=2)
+    mesh_efficiency: float = _f(0.0, 1.0, lo_open=True, default=0.94,
+                                doc="efficiency assumed for every gear pair (RV paper)")
+
+    def _check(self):
+        if self.pin_count <= self.disc_teeth:
+            raise CaseError(f"rv.pin_count = {self.pin_count} must exceed "
+                            f"disc_teeth = {self.disc_teeth}")
+
+
+@dataclass(frozen=True)
+class Operating(_Section):
+    _section = "operating"
+    input_speed_rpm: float = _f(0.0, 20000.0, lo_open=True, default=1000.0)
+    output_torque_Nm: float | None = _f(0.0, None, default=None)
+    input_torque_Nm: float | None = _f(0.0, None, default=None)
+    input_power_kW: float | None = _f(0.0, None, default=None)
+
+
+@dataclass(frozen=True)
+class Lubricant(_Section):
+    _section = "lubricant"
+    dynamic_viscosity_Pa_s: float = _f(1e-4, 10.0, default=0.02)
+    kinematic_viscosity_mm2_s: float = _f(0.1, 10000.0, default=100.0)
+    density_kg_m3: float = _f(500.0, 1500.0, default=870.0)
+    pressure_viscosity_1_per_GPa: float = _f(1.0, 50.0, default=20.0)
+    reference_temperature_C: float = _f(-40.0, 200.0, default=40.0)
+    roughness_Ra_um: float = _f(0.0, 10.0, default=0.4)
+
+
+@dataclass(frozen=True)
+class Friction(_Section):
+    _section = "friction"
+    coefficient: float = _f(0.0, 1.0, default=0.05)
+    bearing_coefficient: float = _f(0.0, 0.1, default=0.0015)
+    output_pin_coefficient: float = _f(0.0, 1.0, default=0.05)
+
+
+@dataclass(frozen=True)
+class OutputMechanism(_Section):
+    """Pins in holes (W mechanism) and the eccentric bearing of a K-H-V stage."""
+    _section = "output_mechanism"
+    pin_count: int = _f(2, 24, integer=True, default=8)
+    pin_hole_circle_radius_mm: float = _f(0.0, None, lo_open=True, default=30.0)
+    pin_radius_mm: float = _f(0.0, None, lo_open=True, default=5.0)
+    eccentric_bearing_inner_radius_mm: float = _f(0.0, None, lo_open=True, default=10.0)
+    plain_bearing_friction_torque_Nmm: float = _f(0.0, None, default=0.0)
+
+
+@dataclass(frozen=True)
+class MeasuredPoint(_Section):
+    _section = "measured"
+    input_speed_rpm: float = _f(0.0, None, lo_open=True)
+    output_torque_Nm: float = _f(0.0, None, lo_open=True)
+    efficiency: float = _f(0.0, 1.0, lo_open=True)
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Case:
+    name: str
+    drive: str                      # "cycloid" | "sine" | "rv"
+    source: str = ""
+    stated_ratio: float | None = None
+    material: Material | None = None
+    cycloid: CycloidStage | None = None
+    first_stage: SpurStage | None = None
+    sine: SineStage | None = None
+    rv: RVTrain | None = None
+    operating: Operating = field(default_factory=Operating)
+    lubricant: Lubricant = field(default_factory=Lubricant)
+    friction: Friction = field(default_factory=Friction)
+    output_mechanism: OutputMechanism | None = None
+    measured: tuple[MeasuredPoint, ...] = ()
+    published: Mapping[str, Any] = field(default_factory=dict)
+
+    DRIVES = ("cycloid", "sine", "rv")
+
+    def __post_init__(self):
+        if self.drive not in self.DRIVES:
+            raise CaseError(f"case.drive = {self.drive!r} is not one of {list(self.DRIVES)}")
+        required = {"cycloid": ("cycloid", "material"), "sine": ("sine", "material"),
+                    "rv": ("rv",)}[self.drive]
+        for sec in required:
+            if getattr(self, sec) is None:
+                raise CaseError(f"[{sec}] section is required for drive = {self.drive!r}")
+        if self.stated_ratio is not None:
+            computed = self.ratio()
+            if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):
+                raise CaseError(f"case.stated_ratio = {self.stated_ratio!r} disagrees with the "
+                                f"ratio {computed:g} computed from the tooth numbers")
+
+    def ratio(self) -> float:
+        """Input/output speed ratio computed from the tooth numbers (signed; see
+        :mod:`toothfem.geometry.train` for the sign convention)."""
+        from .geometry import train
+        if self.drive == "sine":
+            return train.khv_ratio(self.sine.planet_teeth, self.sine.ring_teeth)
+        if self.drive == "rv":
+            return train.rv_ratio(self.rv.sun_teeth, self.rv.planet_teeth,
+                                  self.rv.disc_teeth, self.rv.pin_count)
+        if self.first_stage is not None:
+            return train.rv_ratio(self.first_stage.sun_teeth, self.first_stage.planet_teeth,
+                                  self.cycloid.lobe_count, self.cycloid.pin_count)
+        return train.khv_ratio(self.cycloid.lobe_count, self.cycloid.pin_count)
+
+
+_SECTIONS = {
+    "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
+    "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
+    "friction": Friction, "output_mechanism": OutputMechanism,
+}
+_NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
+
+
+def _section(cls, mapping: Mapping[str, Any], name: str):
+    if not isinstance(mapping, Mapping):
+        raise CaseError(f"[{name}] must be a table, got {type(mapping).__name__}")
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    kwargs = {}
+    for key, value in mapping.items():
+        if key not in fields:
+            raise CaseError(f"{name}.{key} is not a known key; known: {sorted(fields)}")
+        sub = _NESTED.get(cls, {}).get(key)
+        if sub is not None:
+            value = _section(sub, value, f"{name}.{key}")
+        elif isinstance(value, bool) or not isinstance(value, (int, float, str)):
+            raise CaseError(f"{name}.{key} = {value!r} must be a number or a string")
+        elif fields[key].type in ("float", "float | None") and isinstance(value, int):
+            value = float(value)
+        kwargs[key] = value
+    missing = [f.name for f in fields.values()
+               if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+               and f.name not in kwargs]
+    if missing:
+        raise CaseError(f"{name}.{missing[0]} is required")
+    return cls(**kwargs)
+
+
+def parse_case(mapping: Mapping[str, Any]) -> Case:
+    """Validate a case mapping (as read from TOML) into a :class:`Case`."""
+    mapping = dict(mapping)
+    head = mapping.pop("case", None)
+    if not isinstance(head, Mapping):
+        raise CaseError("[case] table with name and drive is required")
+    head = dict(head)
+    for key in head:
+        if key not in ("name", "drive", "source", "stated_ratio"):
+            raise CaseError(f"case.{key} is not a known key; known: "
+                            "['drive', 'name', 'source', 'stated_ratio']")
+    for key in ("name", "drive"):
+        if key not in head:
+            raise CaseError(f"case.{key} is required")
+    kwargs: dict[str, Any] = dict(head)
+    if "stated_ratio" in kwargs:
+        check_range("case.stated_ratio", kwargs["stated_ratio"], error=CaseError)
+    measured = mapping.pop("measured", [])
+    published = mapping.pop("published", {})
+    for key, value in mapping.items():
+        cls = _SECTIONS.get(key)
+        if cls is None:
+            raise CaseError(f"[{key}] is not a known section; known: "
+                            f"{sorted(_SECTIONS) + ['case', 'measured', 'published']}")
+        kwargs[key] = _section(cls, value, key)
+    if not isinstance(measured, list):
+        raise CaseError("[[measured]] must be an array of tables")
+    kwargs["measured"] = tuple(_section(MeasuredPoint, m, f"measured[{i}]")
+                               for i, m in enumerate(measured))
+    if not isinstance(published, Mapping):
+        raise CaseError("[published] must be a table")
+    kwargs["published"] = dict(published)
+    return Case(**kwargs)
+
+
+def load_case(path) -> Case:
+    """Open a TOML case file and validate it; errors name the file."""
+    path = Path(path)
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except FileNotFoundError:
+        raise CaseError(f"{path}: no such case file") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"{path}: not valid TOML: {exc}") from None
+    try:
+        return parse_case(data)
+    except CaseError as exc:
+        raise CaseError(f"{path}: {exc}") from None
+
+
+def case_to_dict(case: Case) -> dict:
+    """Plain mapping of a case (the inverse of :func:`parse_case`)."""
+    out: dict[str, Any] = {"case": {k: getattr(case, k) for k in ("name", "drive", "source")
+                                    if getattr(case, k) is not None}}
+    if case.stated_ratio is not None:
+        out["case"]["stated_ratio"] = case.stated_ratio
+    for key in _SECTIONS:
+        sec = getattr(case, key)
+        if sec is not None:
+            out[key] = {k: v for k, v in dataclasses.asdict(sec).items() if v is not None}
+    if case.measured:
+        out["measured"] = [dataclasses.asdict(m) for m in case.measured]
+    if case.published:
+        out["published"] = dict(case.published)
+    return out

@@ -1,0 +1,1 @@
+"""One small module per CLI subcommand; each calls only the public API."""

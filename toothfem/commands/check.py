@@ -1,0 +1,27 @@
+"""`toothfem check CASE`: validate a case and print its derived quantities."""
+from __future__ import annotations
+
+import json
+
+
+def add_parser(sub):
+    p = sub.add_parser("check", help="validate a case file and print derived quantities")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..case import load_case
+    from ..derived import derived
+
+    case = load_case(args.case)
+    d = derived(case)
+    if args.json:
+        print(json.dumps(d, indent=2))
+    else:
+        print(f"{args.case}: OK")
+        width = max(len(k) for k in d)
+        for k, v in d.items():
+            print(f"  {k:<{width}}  {v}")
+    return 0

@@ -1,0 +1,93 @@
+"""Derived quantities of a case: what `toothfem check` prints (units in the key names)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .case import Case
+from .geometry import train
+
+
+def derived(case: Case) -> dict:
+    """A flat mapping of the quantities an engineer checks first, per drive."""
+    out: dict = {"name": case.name, "drive": case.drive, "ratio": _r(case.ratio())}
+    op = case.operating
+    out["output_speed_rpm"] = _r(op.input_speed_rpm / case.ratio())
+    if case.drive == "cycloid":
+        out.update(_cycloid(case))
+    elif case.drive == "sine":
+        out.update(_sine(case))
+    else:
+        out.update(_rv(case))
+    return out
+
+
+def _r(x, digits=10):
+    return float(f"{x:.{digits}g}")
+
+
+def _cycloid(case: Case) -> dict:
+    from .geometry import cycloid as cy
+
+    st = case.cycloid
+    g = st.geometry()
+    rho = cy.min_convex_curvature_radius(g.generating())
+    d = {
+        "stage_ratio_KHV": _r(train.khv_ratio(st.lobe_count, st.pin_count)),
+        "K1": _r(g.k1),
+        "disc_pitch_radius_mm": _r(g.disc_pitch_radius_m * 1e3),
+        "pin_pitch_radius_mm": _r(g.pin_pitch_radius_m * 1e3),
+        "disc_root_radius_mm": _r(g.root_radius_m * 1e3),
+        "disc_tip_radius_mm": _r(g.tip_radius_m * 1e3),
+        "min_convex_curvature_radius_mm": _r(rho * 1e3),
+        "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
+        "backlash_arcmin": _r(math.degrees(cy.backlash_rad(g)) * 60) if g.modified else 0.0,
+    }
+    if case.first_stage is not None:
+        fs = case.first_stage
+        d["first_stage_centre_distance_mm"] = _r(fs.module_mm * (fs.sun_teeth + fs.planet_teeth)
+                                                 / 2)
+    if case.operating.output_torque_Nm is not None:
+        m_a = st.disc_load_factor * case.operating.output_torque_Nm / st.disc_count
+        d["disc_torque_Nm"] = _r(m_a)
+        # seed Eq. 13: P_max = 4 M_a / (r_a Zb) (rigid pins, all pins on one side loaded)
+        d["seed_max_pin_force_N"] = _r(4 * m_a / (g.disc_pitch_radius_m * st.pin_count))
+    m = cy.meshing(g, 0.0)
+    d["pins_with_load_carrying_normal"] = int(np.sum(m.moment_arm[0] < 0))
+    d["min_pressure_angle_loaded_deg"] = _r(math.degrees(
+        float(np.min(m.pressure_angle[0][m.moment_arm[0] < 0]))))
+    return d
+
+
+def _sine(case: Case) -> dict:
+    from .geometry import sine
+
+    st = case.sine
+    pair = st.geometry()
+    d = {
+        "planet_pitch_radius_mm": _r(pair.planet_pitch_radius_m * 1e3),
+        "ring_pitch_radius_mm": _r(pair.ring_pitch_radius_m * 1e3),
+        "centre_distance_mm": _r(pair.centre_distance_m * 1e3),
+        "tooth_height_bound_mm": _r(sine.max_tooth_height_m(pair) * 1e3),
+    }
+    pitch = 2 * math.pi / st.ring_teeth
+    chi = np.linspace(0.0, pitch, 13)
+    m = sine.meshing(pair, chi)
+    d["max_pressure_angle_deg"] = _r(math.degrees(float(np.max(
+        np.where(m.gap <= 1e-9, m.pressure_angle, 0.0)))))
+    for gap_um in (1.0, 5.0, 10.0):
+        n = sine.contact_count(pair, chi, gap_um * 1e-6)
+        d[f"tooth_pairs_within_{gap_um:g}um_min"] = int(np.min(n))
+        d[f"tooth_pairs_within_{gap_um:g}um_max"] = int(np.max(n))
+    return d
+
+
+def _rv(case: Case) -> dict:
+    rv = case.rv
+    w = train.rv_speeds(rv.sun_teeth, rv.planet_teeth, rv.disc_teeth, rv.pin_count)
+    d = {f"speed_{k}_per_input": _r(v) for k, v in w.items()}
+    d["crank_to_output_ratio"] = _r(w["planet"] / w["carrier"])
+    if case.operating.input_power_kW is not None:
+        d["input_power_W"] = case.operating.input_power_kW * 1e3
+    return d
