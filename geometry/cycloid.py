@@ -104,10 +104,10 @@ class CycloidGeometry:
         rho_min = min_convex_curvature_radius(gen)
         if not self.generating_pin_radius < rho_min:
             name = "pin_radius_m" if self.equidistant_m == 0 else "pin_radius_m + equidistant_m"
-            raise GeometryError(
-                f"{name} = {self.generating_pin_radius!r} is outside the valid range "
-                f"(0, {rho_min:.6g}): the working profile would be undercut (bound: smallest "
-                f"convex curvature radius of the theoretical profile)")
+            check_range(name, self.generating_pin_radius, 0, rho_min, lo_open=True,
+                        hi_open=True, error=GeometryError,
+                        why="the working profile would be undercut (bound: smallest convex "
+                            "curvature radius of the theoretical profile)")
 
     # -- derived quantities ------------------------------------------------------------
     @property
@@ -320,15 +320,15 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
         reach = math.hypot(x, y) + r
         if reach > geom.root_radius_m - lig:
             raise GeometryError(
-                f"{label} hole reaches radius {reach:.6g} m, outside the valid range "
-                f"(0, {geom.root_radius_m - lig:.6g}) m (root radius {geom.root_radius_m:.6g} m "
-                f"less a ligament of {lig:.3g} m)")
+                f"{label} hole reaches radius {reach * 1e3:.6g} mm, outside the valid range "
+                f"(0, {(geom.root_radius_m - lig) * 1e3:.6g}) mm (root radius "
+                f"{geom.root_radius_m * 1e3:.6g} mm less a ligament of {lig * 1e3:.3g} mm)")
         shapes.append((Point(x, y).buffer(r, quad_segs=max(hole_points // 4, 4)), label))
     for i in range(len(shapes)):
         for j in range(i + 1, len(shapes)):
             if shapes[i][0].distance(shapes[j][0]) < lig:
                 raise GeometryError(f"holes {shapes[i][1]} and {shapes[j][1]} are closer than "
-                                    f"the minimum ligament {lig:.3g} m")
+                                    f"the minimum ligament {lig * 1e3:.3g} mm")
     poly = Polygon(outer.exterior.coords, [list(s.exterior.coords)[::-1] for s, _ in shapes])
     if not poly.is_valid:
         raise GeometryError(f"disc polygon is invalid: {shapely.is_valid_reason(poly)}")

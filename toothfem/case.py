@@ -65,6 +65,36 @@ class _Section:
         """Cross-field rules of the section (override)."""
 
 
+#: SI parameter of a geometry record -> (case key, factor from SI to the key's unit)
+_CYCLOID_KEYS = {
+    "pin_count": ("pin_count", 1.0),
+    "pin_circle_radius_m": ("pin_circle_radius_mm", 1e3),
+    "eccentricity_m": ("eccentricity_mm", 1e3),
+    "pin_radius_m": ("pin_radius_mm", 1e3),
+    "pin_radius_m + equidistant_m": ("pin_radius_mm + equidistant_modification_mm", 1e3),
+    "equidistant_m": ("equidistant_modification_mm", 1e3),
+    "move_distance_m": ("move_distance_modification_mm", 1e3),
+    "rotation_rad": ("rotation_modification_deg", 180 / math.pi),
+    "equidistant_m - move_distance_m":
+        ("equidistant_modification_mm - move_distance_modification_mm", 1e3),
+}
+_SINE_KEYS = {
+    "planet_teeth": ("planet_teeth", 1.0),
+    "ring_teeth": ("ring_teeth", 1.0),
+    "module_m": ("module_mm", 1e3),
+    "tooth_height_m": ("tooth_height_mm", 1e3),
+    "face_width_m": ("face_width_mm", 1e3),
+}
+
+
+def _restate(exc: GeometryError, section: str, keys) -> CaseError:
+    """A geometry error restated with the case's key and units (one line)."""
+    if exc.param in keys:
+        key, scale = keys[exc.param]
+        return exc.restated(f"{section}.{key}", scale, CaseError)
+    return CaseError(f"{section}: {exc}")
+
+
 @dataclass(frozen=True)
 class Material(_Section):
     _section = "material"
@@ -120,14 +150,14 @@ class CycloidStage(_Section):
             raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
                             f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
         # Looped / cusped / undercut profiles and hole layout: the geometry's own checks,
-        # reported with the case key.
+        # restated with the case's keys and units.
         try:
             geometry = self.geometry()
             if self.disc_holes != DiscHoles():
                 from .geometry.cycloid import disc_polygon  # noqa: WPS433 (late import)
                 disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
         except GeometryError as exc:
-            raise CaseError(f"cycloid: {exc}") from None
+            raise _restate(exc, "cycloid", _CYCLOID_KEYS) from None
 
     def geometry(self):
         """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`."""
@@ -193,7 +223,7 @@ class SineStage(_Section):
         try:
             self.geometry()
         except GeometryError as exc:
-            raise CaseError(f"sine: {exc}") from None
+            raise _restate(exc, "sine", _SINE_KEYS) from None
 
     def geometry(self):
         from .geometry.sine import SineGearPair

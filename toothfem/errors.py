@@ -8,7 +8,23 @@ import math
 
 
 class ToothfemError(ValueError):
-    """Base class of every error toothfem raises on bad input."""
+    """Base class of every error toothfem raises on bad input.
+
+    Errors raised by :func:`check_range` carry the parts of their message (``param``,
+    ``value``, ``lo``, ``hi``, ``lo_open``, ``hi_open``, ``why``) so that a caller can
+    restate them in its own names and units (the case model names its TOML keys).
+    """
+
+    param = None
+
+    def restated(self, name: str, scale: float = 1.0, error=None):
+        """The same range error for parameter ``name`` in units ``scale`` x SI."""
+        if self.param is None:
+            return (error or type(self))(str(self))
+        return _range_error(name, self.value * scale,
+                            None if self.lo is None else self.lo * scale,
+                            None if self.hi is None else self.hi * scale,
+                            self.lo_open, self.hi_open, self.why, error or type(self))
 
 
 class CaseError(ToothfemError):
@@ -37,10 +53,21 @@ def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=Fa
     if hi is not None:
         bad |= v >= hi if hi_open else v > hi
     if bad:
-        left = "(" if lo_open or lo is None else "["
-        right = ")" if hi_open or hi is None else "]"
-        lo_s = "-inf" if lo is None else f"{lo:g}"
-        hi_s = "inf" if hi is None else f"{hi:g}"
-        msg = f"{name} = {value!r} is outside the valid range {left}{lo_s}, {hi_s}{right}"
-        raise error(msg + (f": {why}" if why else ""))
+        raise _range_error(name, value, lo, hi, lo_open, hi_open, why, error)
     return value
+
+
+def _fmt(x):
+    return f"{x:.10g}" if isinstance(x, float) else repr(x)
+
+
+def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
+    left = "(" if lo_open or lo is None else "["
+    right = ")" if hi_open or hi is None else "]"
+    lo_s = "-inf" if lo is None else f"{lo:.6g}"
+    hi_s = "inf" if hi is None else f"{hi:.6g}"
+    msg = f"{name} = {_fmt(value)} is outside the valid range {left}{lo_s}, {hi_s}{right}"
+    exc = error(msg + (f": {why}" if why else ""))
+    exc.param, exc.value, exc.lo, exc.hi = name, value, lo, hi
+    exc.lo_open, exc.hi_open, exc.why = lo_open, hi_open, why
+    return exc

@@ -1,0 +1,81 @@
+"""The console script: `main(argv)` as a user calls it."""
+import json
+
+import numpy as np
+import pytest
+
+from toothfem import cli
+
+
+def test_check_prints_derived_quantities(cases_dir, capsys):
+    assert cli.main(["check", str(cases_dir / "cycloid_pinhousing.toml")]) == 0
+    out = capsys.readouterr().out
+    assert "OK" in out and "K1" in out and "ratio" in out
+
+
+def test_check_json(cases_dir, capsys):
+    assert cli.main(["check", str(cases_dir / "rv40e.toml"), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["ratio"] == pytest.approx(121, rel=1e-12)
+    assert d["crank_to_output_ratio"] == pytest.approx(-39, rel=1e-12)
+
+
+def test_cycloid_geometry_files(cases_dir, tmp_path, capsys):
+    out = tmp_path / "geo"
+    assert cli.main(["geometry", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
+                     str(out)]) == 0
+    head = (out / "profile.csv").read_text().splitlines()[0]
+    assert head == "x_mm,y_mm"
+    xy = np.loadtxt(out / "profile.csv", delimiter=",", skiprows=1)
+    r = np.hypot(xy[:, 0], xy[:, 1])
+    # working profile between root (Rz - A - rz = 97) and tip (Rz + A - rz = 99) radius
+    assert r.min() == pytest.approx(97.0, abs=1e-6) and r.max() == pytest.approx(99.0, abs=1e-3)
+    assert (out / "drawing.png").stat().st_size > 10_000
+    summary = json.loads((out / "check.json").read_text())
+    assert summary["disc_polygon_valid"] is True
+
+
+def test_error_is_one_line_nonzero_exit(tmp_path, capsys, cases_dir):
+    bad = tmp_path / "bad.toml"
+    bad.write_text((cases_dir / "cycloid_pinhousing.toml").read_text()
+                   .replace("eccentricity_mm = 1.0", "eccentricity_mm = 3.0"))
+    out = tmp_path / "never"
+    assert cli.main(["geometry", str(bad), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert "cycloid.eccentricity_mm = 3 is outside the valid range (0, 2.5)" in err
+    assert not out.exists()
+    assert cli.main(["check", str(tmp_path / "missing.toml")]) == 2
+    assert "no such case file" in capsys.readouterr().err
+
+
+def test_rv_case_has_no_profiles(cases_dir, tmp_path, capsys):
+    assert cli.main(["geometry", str(cases_dir / "rv40e.toml"), "--out", str(tmp_path / "o")]) == 2
+    assert "no profile geometry" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()
+
+
+def test_failed_run_leaves_no_half_written_folder(cases_dir, tmp_path, monkeypatch):
+    """The CSV is written, then the drawing fails: the output folder must not appear, and an
+    existing folder from an earlier run must stay as it was."""
+    from toothfem import plots
+
+    out = tmp_path / "geo"
+    out.mkdir()
+    (out / "old.txt").write_text("earlier run")
+
+    def boom(*a, **k):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(plots, "cycloid_drawing", boom)
+    assert cli.main(["geometry", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
+                     str(out)]) == 2
+    assert sorted(p.name for p in out.iterdir()) == ["old.txt"]
+    assert [p.name for p in tmp_path.iterdir()] == ["geo"]
+
+
+def test_help_lists_commands(capsys):
+    with pytest.raises(SystemExit):
+        cli.main(["--help"])
+    out = capsys.readouterr().out
+    assert "check" in out and "geometry" in out
