@@ -2,7 +2,7 @@
 
 Small pure functions, SI arguments, vectorised over numpy arrays (inputs broadcast;
 all-scalar input gives float output).  Derivations, unit conversions and the sources
-checked are in ``docs/derivations_friction.md``.
+checked are in ``docs/derivations.md, section 4``.
 
 Conventions used throughout
 ---------------------------
@@ -43,7 +43,7 @@ __all__ = [
 
 #: Regression coefficients b1..b9 of Xu, Kahraman, Anderson & Maddock (2007), J. Mech.
 #: Des. 129(1) 58-68, Eq. for mu(SR, Ph, nu0, S, Ve, R); values as reproduced with these
-#: signs in public secondary sources (see docs/derivations_friction.md).  The sine-paper
+#: signs in public secondary sources (see docs/derivations.md, section 4).  The sine-paper
 #: seed (Table 1) prints b1 without its minus sign and rounds to 3 decimals.
 XU2007_COEFFICIENTS = (
     -8.916465,   # b1  constant in the exponent

@@ -43,7 +43,7 @@ def test_error_is_one_line_nonzero_exit(tmp_path, capsys, cases_dir):
     assert cli.main(["geometry", str(bad), "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
-    assert "cycloid.eccentricity_mm = 3 is outside the valid range (0, 2.5)" in err
+    assert "cycloid.eccentricity_mm = 3.0 is outside the valid range (0, 2.5)" in err
     assert not out.exists()
     assert cli.main(["check", str(tmp_path / "missing.toml")]) == 2
     assert "no such case file" in capsys.readouterr().err

@@ -118,7 +118,7 @@ def test_textbook_form_for_positive_equidistant_negative_move():
 @pytest.mark.parametrize("kwargs, match", [
     (dict(eccentricity_m=0.0026), r"eccentricity_m = 0.0026 is outside the valid range "
                                   r"\(0, 0.0025\): K1 = A\*Zb/Rz must be below 1"),
-    (dict(eccentricity_m=0.0), r"eccentricity_m = 0 is outside the valid range \(0,"),
+    (dict(eccentricity_m=0.0), r"eccentricity_m = 0.0 is outside the valid range \(0,"),
     (dict(pin_count=12, pin_circle_radius_m=0.030, eccentricity_m=0.0018, pin_radius_m=0.0077),
      r"pin_radius_m = 0.0077 is outside the valid range \(0, 0.00765469\): the working "
      r"profile would be undercut"),

@@ -377,7 +377,13 @@ def _section(cls, mapping: Mapping[str, Any], name: str):
                and f.name not in kwargs]
     if missing:
         raise CaseError(f"{name}.{missing[0]} is required")
-    return cls(**kwargs)
+    try:
+        return cls(**kwargs)
+    except CaseError as exc:       # name the table as the file does, e.g. measured[0]
+        msg = str(exc)
+        if name != cls._section and msg.startswith(cls._section + "."):
+            msg = name + msg[len(cls._section):]
+        raise CaseError(msg) from None
 
 
 def parse_case(mapping: Mapping[str, Any]) -> Case:

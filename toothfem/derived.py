@@ -74,8 +74,10 @@ def _sine(case: Case) -> dict:
     pitch = 2 * math.pi / st.ring_teeth
     chi = np.linspace(0.0, pitch, 13)
     m = sine.meshing(pair, chi)
-    d["max_pressure_angle_deg"] = _r(math.degrees(float(np.max(
-        np.where(m.gap <= 1e-9, m.pressure_angle, 0.0)))))
+    conj = m.gap <= 1e-9                   # the conjugate contact of each position
+    d["conjugate_pressure_angle_min_deg"] = _r(math.degrees(float(np.min(
+        m.pressure_angle[conj]))))
+    d["conjugate_equivalent_radius_min_mm"] = _r(float(np.min(m.equivalent_radius[conj])) * 1e3)
     for gap_um in (1.0, 5.0, 10.0):
         n = sine.contact_count(pair, chi, gap_um * 1e-6)
         d[f"tooth_pairs_within_{gap_um:g}um_min"] = int(np.min(n))

@@ -58,7 +58,9 @@ def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=Fa
 
 
 def _fmt(x):
-    return f"{x:.10g}" if isinstance(x, float) else repr(x)
+    """repr, except that float noise (0.0026000000000000003) is rounded to 10 digits."""
+    r = repr(x)
+    return f"{x:.10g}" if isinstance(x, float) and len(r) > 12 else r
 
 
 def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
