@@ -29,7 +29,7 @@ ZONE_REL = 1.6
 class HertzCheck:
     p0_analytic: float      # Pa
     b_analytic: float       # m
-    p_max: float            # Pa, FE peak pressure (nodal force / boundary weight)
+    p_max: float            # Pa, FE peak pressure (SlaveSurface.pressure)
     b_fe: float             # m, from the second moment b^2 = 4 int x^2 p / int p
     x: np.ndarray           # (M,) slave point abscissae, m
     pressure: np.ndarray    # (M,) Pa
@@ -121,7 +121,7 @@ def cylinder_contact(radius, e1, nu1, e2, nu2, load_per_length, *, bore_radius=N
     down = lambda x: np.vstack([np.zeros(x.shape[1]), -np.ones(x.shape[1])])  # noqa: E731
     pair = contact.condense_pair(body_a, slave, body_b, project_b, rigid_a=down)
     sol = contact.solve_contact(pair.h, pair.g0, pair.c, load_per_length)
-    pressure = sol.force / slave.weights
+    pressure = slave.pressure(sol.force)
     x = slave.points[0]
     b_fe = math.sqrt(4 * np.sum(x**2 * sol.force) / np.sum(sol.force))
     return HertzCheck(float(p0), float(b), float(np.max(pressure)), b_fe, x, pressure,

@@ -125,8 +125,9 @@ def problem_from_case(path) -> Problem:
 @dataclass
 class Options:
     mesh_size: float = 0.002          # h_c: element size at the contact points, mm
-    far_size: float = 2.0             # interior size, mm
-    edge_size: float = 0.25           # size along the working profile away from contacts
+    far_size: float = 1.0             # interior size, mm (default 500 h_c)
+    edge_size: float = 0.125          # size along the working profile away from contacts
+                                      # (default 62.5 h_c)
     refine_radius: float = 0.03       # radius of the uniform h_c zone, mm (>= 1.5 x the
                                       # Hertz half-width, about 0.016 mm at 240 N)
     grading: float = 0.2              # size growth per unit distance outside that zone
@@ -207,12 +208,12 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
         gmsh.option.setNumber("General.NumThreads", 1)
         gmsh.model.add("disc")
         occ = gmsh.model.occ
-        # outer working profile: one interpolating spline per lobe, junctions at the tips
+        # outer working profile: one interpolating spline per lobe, junctions at the roots
         za, m = pb.za, opt.points_per_lobe
-        psi_tip = 0.0                                # w(0) is a tooth tip (max radius)
+        psi_root = 0.0                               # w(0) is a tooth root (radius Rz-A-rz)
         lobe_curves, first_pt, prev_pt = [], None, None
         for k in range(za):
-            psi = psi_tip + 2 * math.pi * (k + np.linspace(0.0, 1.0, m + 1)) / za
+            psi = psi_root + 2 * math.pi * (k + np.linspace(0.0, 1.0, m + 1)) / za
             pts = to_h(cycloid.working_profile(g, psi) * 1e3)
             tags = []
             for i, (x, y) in enumerate(pts):
@@ -698,8 +699,11 @@ def main(argv=None):
     ap.add_argument("--slab-mm", type=float, default=Options.slab,
                     help="thickness of the plane-strain slab (results are scaled to the "
                          "case's face width)")
-    ap.add_argument("--edge-size-mm", type=float, default=Options.edge_size)
-    ap.add_argument("--far-size-mm", type=float, default=Options.far_size)
+    ap.add_argument("--edge-size-mm", type=float, default=None,
+                    help="element size along the working profile away from the contacts "
+                         "(default 62.5 x the contact size)")
+    ap.add_argument("--far-size-mm", type=float, default=None,
+                    help="element size in the disc body (default 500 x the contact size)")
     ap.add_argument("--element", choices=("C3D8I", "C3D8"), default=Options.element,
                     help="disc brick type (C3D8I: incompatible modes, no shear locking, "
                          "about 3x the equations)")
@@ -716,7 +720,8 @@ def main(argv=None):
     runs = []
     for h in sizes:
         opt = Options(mesh_size=h, slab=args.slab_mm, stiffness_factor=args.stiffness_factor,
-                      edge_size=args.edge_size_mm, far_size=args.far_size_mm,
+                      edge_size=args.edge_size_mm or 62.5 * h,
+                      far_size=args.far_size_mm or 500 * h,
                       threads=args.threads, element=args.element)
         for frac in args.positions:
             print(f"position {frac} of the pin pitch, h_c = {h} mm ...", flush=True)

@@ -1,0 +1,507 @@
+"""Finite-element load sharing of a cycloid disc on its pins: cycle mode and detailed mode.
+
+Both modes work in the disc frame (disc centre at the origin, the disc held at its
+crank-bearing holes by a rigid coupling that turns by the unknown transmission error beta)
+and return a :class:`~toothfem.fem.load_sharing.LoadSharing`. Friction is neglected in the
+solve (frictionless normal contact); the friction forces are small against the normal
+forces (mu ~ 0.05) and are accounted for in the efficiency model.
+
+Pins (conventional structure): each pin is an elastic disc of radius rz held over the outer
+half of its boundary by the housing groove (treated as rigid). Contact is plane strain per
+unit face width; forces are reported over the face width.
+
+Cycle mode (sweeps): for each position the candidate contacts are the pins whose normal can
+carry the torque. The disc's influence coefficients at the candidate points come from one
+sparse factorisation of a disc mesh refined along the short profile windows that the
+contact points sweep over one meshing period (a pin's contact point moves by 1/Za of the
+crank angle along the profile). A unit load is a Hertzian strip of reference half-width
+b_ref; the displacement is its work-conjugate patch average. The Hertz local approach then
+corrects each diagonal term from b_ref to the contact's own half-width b(F):
+delta(b) - delta(b_ref) = -(2 (1 - nu^2) / (pi E)) F ln(b / b_ref) (half-space strip,
+docs/fem.md). The pin's compliance comes from an FE table over the contact angle with the
+same correction. The complementarity problem with the torque balance is solved for each
+iterate of b(F) until the forces settle.
+
+Detailed mode (verification, stress plots): both bodies meshed with the contact zones of
+the current position refined to a fraction of the Hertz half-width and conforming, the
+nodal contact forces solved on the condensed two-body system (fem.contact).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from ..efficiency.friction import reduced_modulus
+from ..errors import ToothfemError, check_range
+from ..geometry import cycloid as cy
+from . import contact
+from .elastic import Body, plane_modulus
+from .load_sharing import LoadSharing, hertz_fields
+from .mesh import Refinement, mesh_rings
+
+#: Candidate pins: moment arm below this fraction of r_a on the load-carrying side (a pin
+#: with an arm of the wrong sign separates under the rigid rotation).
+CANDIDATE_ARM_REL = 0.02
+#: Iterations of the Hertz local approach (b depends on F) and their tolerance.
+LOCAL_MAX_ITER, LOCAL_RTOL = 50, 1e-9
+
+
+@dataclass(frozen=True)
+class CycloidFEModel:
+    """A disc, its pins and material; torques in N m over the face width."""
+    geometry: cy.CycloidGeometry
+    holes: cy.DiscHolesSI
+    youngs_modulus: float
+    poisson_ratio: float
+    face_width: float
+    pin_structure: str = "conventional"
+    plane: str = "strain"
+
+    def __post_init__(self):
+        check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)
+        check_range("face_width", self.face_width, 0, None, lo_open=True)
+        if self.pin_structure not in ("conventional",):
+            raise ToothfemError(f"pin_structure = {self.pin_structure!r}: the FE model "
+                                "supports 'conventional' pins so far (the integral housing is "
+                                "not yet modelled)")
+        if self.holes.crank_hole_count < 1:
+            raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1) to be held")
+
+    @property
+    def e_star(self) -> float:
+        return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
+                                     self.youngs_modulus, self.poisson_ratio))
+
+    @property
+    def e_plane(self) -> float:
+        return plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
+
+
+def model_from_case(case, pin_structure=None) -> CycloidFEModel:
+    st = case.cycloid
+    return CycloidFEModel(st.geometry(), st.holes_si(), case.material.youngs_modulus_GPa * 1e9,
+                          case.material.poisson_ratio, st.face_width_mm * 1e-3,
+                          pin_structure or "conventional")
+
+
+def disc_torque(case) -> float:
+    """Torque on one disc: disc_load_factor * output torque / disc_count (seed Eq. 6)."""
+    st = case.cycloid
+    return st.disc_load_factor * case.operating.output_torque_Nm / st.disc_count
+
+
+# ---------------------------------------------------------------------------------------
+# Shared geometry helpers (disc frame)
+
+@dataclass(frozen=True)
+class _Position:
+    """Candidate contacts of one crank angle in the disc frame."""
+    phi: float
+    pins: np.ndarray          # (C,) pin indices
+    pin_centre: np.ndarray    # (2, C)
+    psi: np.ndarray           # (C,) profile parameter of the nominal contact
+    point: np.ndarray         # (2, C) contact point on the disc profile
+    normal: np.ndarray        # (2, C) outward normal of the disc (from disc into pin)
+    arm: np.ndarray           # (C,) moment arm, MeshingState sign (carrying: < 0)
+    gamma: np.ndarray         # (C,) contact angle on the pin from the housing-centre direction
+    gap: np.ndarray           # (C,) initial clearance
+    r_eq: np.ndarray          # (C,) equivalent radius
+    r_disc: np.ndarray        # (C,) signed curvature radius of the disc profile
+
+
+def _positions(model: CycloidFEModel, phis, state=None):
+    g = model.geometry
+    gen = g.generating()
+    state = state or cy.meshing(g, phis)
+    r_a = g.disc_pitch_radius_m
+    out = []
+    for p, phi in enumerate(state.position_rad):
+        pins = np.flatnonzero(state.moment_arm[p] < CANDIDATE_ARM_REL * r_a)
+        c_house = cy.pin_centres(g)[:, pins]
+        c_disc = cy.to_disc_frame(g, [phi], c_house[:, None, :])[:, 0, :]
+        psi0 = 2 * math.pi * pins / g.pin_count + phi / g.lobe_count
+        psi, _ = cy.foot_point(gen, c_disc, psi0)
+        point = cy.working_profile(gen, psi)
+        normal = -cy.inward_normal(gen, psi)
+        # contact angle on the pin, in the housing frame (the groove is fixed there)
+        towards = -c_house / np.hypot(*c_house)
+        d = _rotate(-normal, -phi / g.lobe_count)
+        gamma = np.arctan2(towards[0] * d[1] - towards[1] * d[0], np.sum(towards * d, axis=0))
+        out.append(_Position(float(phi), pins, c_disc, psi, point, normal,
+                             state.moment_arm[p, pins], gamma, state.gap[p, pins],
+                             state.equivalent_radius[p, pins], state.radius_moving[p, pins]))
+    return out, state
+
+
+def _rotate(v, a):
+    c, s = np.cos(a), np.sin(a)
+    return np.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
+
+
+def _disc_rings(model: CycloidFEModel, windows, spacing, base_per_lobe=48):
+    """Disc outline sampled on the exact profile: ``base_per_lobe`` points per lobe, and at
+    most ``spacing`` apart inside each window (psi_lo, psi_hi); plus the hole circles."""
+    g = model.geometry
+    gen = g.generating()
+    psi = list(np.linspace(0, 2 * math.pi, g.lobe_count * base_per_lobe, endpoint=False))
+    keep = np.ones(len(psi), bool)
+    extra = []
+    for lo, hi in windows:
+        # parameter step from arc length: |w'| ~ |p'|(1 - r kappa); use the local speed
+        mid = 0.5 * (lo + hi)
+        speed = np.hypot(*(cy.working_profile(gen, mid + 1e-7)
+                           - cy.working_profile(gen, mid - 1e-7))) / 2e-7
+        n = max(int(math.ceil((hi - lo) * speed / spacing)), 2)
+        extra.append(np.linspace(lo, hi, n + 1))
+        arr = np.mod(np.asarray(psi) - lo, 2 * math.pi)
+        keep &= ~(arr <= (hi - lo) + 1e-12)
+    psi = np.sort(np.mod(np.concatenate([np.asarray(psi)[keep]] + extra), 2 * math.pi))
+    psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
+    outer = cy.working_profile(gen, psi)
+    rings, names = [outer], ["profile"]
+    for x, y, r, label in model.holes.circles():
+        n = max(48, int(2 * math.pi * r / (0.02 * g.pin_circle_radius_m)))
+        t = np.linspace(0, 2 * math.pi, n, endpoint=False)
+        rings.append(np.stack([x + r * np.cos(t), y + r * np.sin(t)]))
+        names.append(label)
+    return rings, names
+
+
+def _held_nodes(body_mesh, labels):
+    return np.unique(np.concatenate([body_mesh.ring_nodes(n) for n in labels]))
+
+
+# ---------------------------------------------------------------------------------------
+# Pin compliance table (conventional pin held on its outer half)
+
+@dataclass(eq=False)
+class PinModel:
+    """One pin (radius rz, centre at the origin, housing on the +x side) held over its
+    outer half; compliance along the inward normal at contact angle gamma (measured from
+    -x, the direction toward the housing centre), for Hertzian strips of half-width b."""
+    radius: float
+    youngs_modulus: float
+    poisson_ratio: float
+    b_ref: float
+    plane: str = "strain"
+    angles: np.ndarray = field(default_factory=lambda: np.linspace(-0.5 * math.pi,
+                                                                   0.5 * math.pi, 37))
+
+    @cached_property
+    def body(self):
+        r = self.radius
+        h = self.b_ref / 5
+        t = np.linspace(0, 2 * math.pi, 2 * max(int(math.pi * r / h), 64), endpoint=False)
+        ring = r * np.stack([np.cos(t), np.sin(t)])
+        inner = np.cos(t) < 0.05            # the half facing the disc, refined
+        ring = ring[:, inner | (np.arange(t.size) % 8 == 0)]
+        bm = mesh_rings([ring], size_max=r / 6,
+                        refinements=[Refinement(ring[:, ring[0] < 0], h, 2 * self.b_ref,
+                                                r / 2)])
+        p = bm.mesh.p
+        held = bm.ring_nodes("outer")
+        held = held[p[0, held] > 0]
+        return Body(bm, self.youngs_modulus, self.poisson_ratio, held, self.plane)
+
+    @cached_property
+    def table(self) -> np.ndarray:
+        """Compliance at b_ref for each angle in ``angles`` (m per N/m)."""
+        pts = self.radius * np.stack([-np.cos(self.angles), -np.sin(self.angles)])
+        normals = -pts / self.radius              # load pushes the pin surface inward
+        loads = patch_loads(self.body, "outer", pts, normals, self.b_ref)
+        u = self.body.solve(loads.toarray())
+        return np.einsum("ij,ij->j", loads.toarray(), u)
+
+    def compliance(self, gamma, b):
+        """C(gamma, b) = C_table(gamma) - (2/(pi E')) ln(b / b_ref)."""
+        c_ref = np.interp(gamma, self.angles, self.table)
+        e_p = plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
+        return c_ref - (2 / (math.pi * e_p)) * np.log(np.asarray(b) / self.b_ref)
+
+
+def patch_loads(body, ring, points, normals, b_ref):
+    """Unit loads (N_dofs, K): Hertzian strips of half-width ``b_ref`` centred at each point
+    along ``normals`` over the body's ``ring`` boundary nodes (vertices and midsides);
+    the same vectors measure the work-conjugate mean normal displacement."""
+    from scipy.sparse import coo_matrix
+
+    sl = contact.slave_surface(body, body.body_mesh.rings[ring])
+    rows, cols, vals = [], [], []
+    for k in range(points.shape[1]):
+        d = np.hypot(*(sl.points - points[:, k:k + 1]))
+        near = np.flatnonzero(d < b_ref)
+        if near.size < 3:
+            raise ToothfemError(f"the mesh does not resolve the load patch b_ref = {b_ref:.3g} m "
+                                f"at ({points[0, k]:.6g}, {points[1, k]:.6g}) m")
+        w = sl.weights[near] * np.sqrt(1 - (d[near] / b_ref) ** 2)
+        w /= w.sum()
+        for comp in (0, 1):
+            rows.append(sl.dofs[comp, near])
+            cols.append(np.full(near.size, k))
+            vals.append(w * normals[comp, k])
+    return coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                      shape=(body.basis.N, points.shape[1])).tocsc()
+
+
+# ---------------------------------------------------------------------------------------
+# Cycle mode
+
+@dataclass(eq=False)
+class CycleSolver:
+    """Influence coefficients of the disc for a set of positions from one factorisation."""
+    model: CycloidFEModel
+    positions_rad: np.ndarray
+    b_ref: float = 1e-4
+    elements_per_bref: int = 5
+    equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
+
+    @cached_property
+    def _setup(self):
+        if self.equal_springs is not None:
+            pos, state = _positions(self.model, self.positions_rad)
+            return pos, state, None, None
+        pos, state = _positions(self.model, self.positions_rad)
+        g = self.model.geometry
+        # windows: the span of each pin's contact parameter over the positions + patch
+        windows = {}
+        for p in pos:
+            for j, s in zip(p.pins, p.psi):
+                lo, hi = windows.get(j, (s, s))
+                windows[j] = (min(lo, s), max(hi, s))
+        pad = 3 * self.b_ref / g.pin_circle_radius_m
+        win = [(lo - pad, hi + pad) for lo, hi in windows.values()]
+        h = self.b_ref / self.elements_per_bref
+        rings, names = _disc_rings(self.model, win, h)
+        centres = np.concatenate([p.point for p in pos], axis=1)
+        bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
+                        refinements=[Refinement(centres, h, 2 * self.b_ref, 40 * self.b_ref)],
+                        names=names)
+        held = _held_nodes(bm, [n for n in names if n.startswith("crank")])
+        disc = Body(bm, self.model.youngs_modulus, self.model.poisson_ratio, held,
+                    self.model.plane)
+        pin = PinModel(g.pin_radius_m, self.model.youngs_modulus, self.model.poisson_ratio,
+                       self.b_ref / 2, self.model.plane)
+        return pos, state, disc, pin
+
+    @cached_property
+    def _influence(self):
+        return {}
+
+    def influence(self, p: int):
+        """(C, C) disc compliance at position p's candidates (patch b_ref), per unit length;
+        computed once per position and kept (a new torque costs no new solve)."""
+        if p in self._influence:
+            return self._influence[p]
+        pos, _, disc, _ = self._setup
+        q = pos[p]
+        loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
+        u = disc.solve(loads.toarray())
+        c = loads.T @ u
+        self._influence[p] = 0.5 * (c + c.T)
+        return self._influence[p]
+
+    def solve(self, torque: float, progress=None) -> LoadSharing:
+        """Load sharing at every position for the disc torque (N m)."""
+        check_range("torque", torque, 0, None, lo_open=True)
+        pos, state, disc, pin = self._setup
+        m = self.model
+        e_p = m.e_plane
+        q_load = torque / m.face_width
+        zb = m.geometry.pin_count
+        n_pos = len(pos)
+        force = np.zeros((n_pos, zb))
+        gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
+        beta = np.zeros(n_pos)
+        it = range(n_pos) if progress is None else progress(range(n_pos))
+        for p in it:
+            q = pos[p]
+            if self.equal_springs is not None:     # rigid-body limit: H = k I, linear
+                sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, q.gap,
+                                            q.arm, q_load)
+                force[p, q.pins] = sol.force * m.face_width
+                gap[p, q.pins] = sol.gap
+                beta[p] = sol.rigid
+                continue
+            c_disc = self.influence(p)
+            lam = _seed_guess(q, q_load)
+            for _ in range(LOCAL_MAX_ITER):
+                b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
+                local = (-(2 / (math.pi * e_p)) * np.log(b / self.b_ref)
+                         + pin.compliance(q.gamma, b))
+                h = c_disc + np.diag(local)
+                sol = contact.solve_contact(h, q.gap, q.arm, q_load)
+                done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
+                lam = sol.force
+                if done:
+                    break
+            else:
+                raise contact.ContactError("the Hertz local approach did not settle at "
+                                           f"crank angle {math.degrees(q.phi):.3f} deg")
+            force[p, q.pins] = lam * m.face_width
+            gap[p, q.pins] = sol.gap
+            beta[p] = sol.rigid
+        return _record("cycle", m, state, force, gap, beta, torque)
+
+
+def _seed_guess(q: _Position, q_load):
+    w = np.where(q.arm < 0, -q.arm, 0.0)
+    return w * q_load / np.sum(w * -q.arm)
+
+
+def _half_width(lam, r_eq, e_star, q_load, arm):
+    """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
+    mean = q_load / np.sum(np.abs(arm[arm < 0])) if np.any(arm < 0) else q_load
+    f = np.where(lam > 0, lam, mean)
+    return np.sqrt(4 * f * np.abs(r_eq) / (math.pi * e_star))
+
+
+def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:
+    b, ph, invalid = hertz_fields(force, model.face_width, state.equivalent_radius, model.e_star,
+                                  (state.radius_moving, state.radius_fixed))
+    return LoadSharing(
+        method=method, position_rad=state.position_rad, contact_id=state.contact_id,
+        force=force, point=state.point, moment_arm=state.moment_arm, half_width=b, ph=ph,
+        gap=np.where(force > 0, 0.0, gap), transmission_error=beta, torque=float(torque),
+        face_width=model.face_width, pressure_from_fe=np.zeros_like(invalid),
+        equivalent_radius=state.equivalent_radius)
+
+
+# ---------------------------------------------------------------------------------------
+# Detailed mode
+
+#: Slave zone half-width per estimated Hertz half-width (the contact must end inside it),
+#: and the safety factor on the seed's force when estimating that half-width.
+DETAILED_ZONE_REL, DETAILED_FORCE_MARGIN = 1.6, 1.6
+
+
+@dataclass(frozen=True)
+class DetailedResult:
+    """One position of the detailed mode: the load sharing plus the pressure profiles."""
+    load_sharing: LoadSharing
+    slave_points: list          # per candidate pin: (2, M) disc-frame points
+    pressure: list              # per candidate pin: (M,) Pa
+    pins: np.ndarray            # candidate pin indices
+    dofs: int
+
+
+def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
+                   elements_per_halfwidth: int = 6) -> DetailedResult:
+    """Two-body FE contact at one crank angle with the contact zones refined and conforming.
+
+    The zone sizes come from the seed's force estimate times a margin; after the solve the
+    contact must end inside each slave zone (checked; ContactError otherwise).
+    """
+    from scipy.sparse import coo_matrix
+
+    check_range("torque", torque, 0, None, lo_open=True)
+    g = model.geometry
+    gen = g.generating()
+    (q,), state = _positions(model, [crank_angle_rad])
+    q_load = torque / model.face_width
+    f_est = _seed_guess(q, q_load) * DETAILED_FORCE_MARGIN
+    b_zone = float(np.max(np.sqrt(4 * np.max(f_est) * np.abs(q.r_eq) / (math.pi * model.e_star))))
+    h = b_zone / elements_per_halfwidth
+    rz = g.pin_radius_m
+    theta_d = -crank_angle_rad / g.lobe_count
+    housing_centre = _rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
+                                                           math.sin(crank_angle_rad)]), -theta_d)
+    pin_rings, disc_psi = [], []
+    for k in range(q.pins.size):
+        c, n = q.pin_centre[:, k], q.normal[:, k]
+        a0 = math.atan2(-n[1], -n[0])                # direction of the contact on the pin
+        half = 3 * b_zone / rz
+        n_zone = int(math.ceil(2 * half * rz / h))
+        t_zone = a0 + np.linspace(-half, half, n_zone + 1)
+        t_rest = a0 + np.linspace(half, 2 * math.pi - half, 73)[1:-1]
+        t = np.concatenate([t_zone, t_rest])
+        ring = c[:, None] + rz * np.stack([np.cos(t), np.sin(t)])
+        pin_rings.append(ring)
+        psi, _ = cy.foot_point(gen, ring[:, :n_zone + 1], np.full(n_zone + 1, q.psi[k]))
+        disc_psi.append(psi)
+    # disc outline: coarse samples, with each zone replaced by the pins' projections
+    base = np.linspace(0, 2 * math.pi, g.lobe_count * 48, endpoint=False)
+    keep = np.ones(base.size, bool)
+    for psi in disc_psi:
+        lo, hi = psi.min(), psi.max()
+        keep &= ~((np.mod(base - lo, 2 * math.pi)) <= (hi - lo) + 1e-3 / g.lobe_count)
+    psi_all = np.sort(np.mod(np.concatenate([base[keep]] + disc_psi), 2 * math.pi))
+    rings, names = _disc_rings(model, [], h)
+    rings[0] = cy.working_profile(gen, psi_all)
+    refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
+    disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
+                           names=names)
+    held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
+    disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
+    slaves, h_blocks, master_pts, normals = [], [], [], []
+    dofs = disc.basis.N
+    for k, ring in enumerate(pin_rings):
+        c = q.pin_centre[:, k]
+        kp = c - rz * q.normal[:, k]
+        pm = mesh_rings([ring], size_max=rz / 4,
+                        refinements=[Refinement(kp[:, None], h, 2 * b_zone, 40 * b_zone)])
+        p = pm.mesh.p
+        outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
+        bnodes = pm.ring_nodes("outer")
+        held_pin = bnodes[np.sum((p[:, bnodes] - c[:, None]) * outward[:, None], axis=0) > 0]
+        pin = Body(pm, model.youngs_modulus, model.poisson_ratio, held_pin, model.plane)
+        f = pm.rings["outer"]
+        mid = 0.5 * (p[:, pm.mesh.facets[0, f]] + p[:, pm.mesh.facets[1, f]])
+        f = f[np.hypot(*(mid - kp[:, None])) < DETAILED_ZONE_REL * b_zone]
+        sl = contact.slave_surface(pin, f)
+        psi0 = np.full(sl.points.shape[1], q.psi[k])
+        psi, _ = cy.foot_point(gen, sl.points, psi0)
+        proj = cy.working_profile(gen, psi)
+        nrm = -cy.inward_normal(gen, psi)
+        m_pts = sl.points.shape[1]
+        rows = np.concatenate([sl.dofs[0], sl.dofs[1]])
+        cols = np.concatenate([np.arange(m_pts)] * 2)
+        loads = coo_matrix((np.concatenate([nrm[0], nrm[1]]), (rows, cols)),
+                           shape=(pin.basis.N, m_pts)).tocsc()
+        h_blocks.append(contact._flexibility(pin, loads))
+        slaves.append(sl)
+        master_pts.append(proj)
+        normals.append(nrm)
+        dofs += pin.basis.N
+    proj = np.concatenate(master_pts, axis=1)
+    nrm = np.concatenate(normals, axis=1)
+    pts = np.concatenate([s.points for s in slaves], axis=1)
+    from scipy.linalg import block_diag
+
+    # evaluate the disc at the polygon point, a hair inside (the element finder needs it)
+    on_mesh = contact.nearest_on_boundary(disc_mesh, "profile", proj) - 1e-6 * h * nrm
+    hmat = block_diag(*h_blocks) + contact._flexibility(disc, disc.point_load_matrix(on_mesh, nrm))
+    g0 = np.sum((pts - proj) * nrm, axis=0)
+    c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
+    sol = contact.solve_contact(hmat, g0, c_rot, q_load)
+    # per pin
+    zb = g.pin_count
+    force = np.zeros((1, zb))
+    gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
+    pressures, start = [], 0
+    arm_fe = state.moment_arm.copy()
+    for k, sl in enumerate(slaves):
+        lam = sol.force[start:start + sl.points.shape[1]]
+        edge = np.concatenate([np.flatnonzero(lam > 0)])
+        if edge.size and np.any(np.hypot(*(sl.points[:, edge] - (q.pin_centre[:, k]
+                                - rz * q.normal[:, k])[:, None])) > 0.95 * DETAILED_ZONE_REL * b_zone):
+            raise contact.ContactError(f"pin {q.pins[k]}: the contact reaches the edge of the "
+                                       "refined zone; raise DETAILED_FORCE_MARGIN")
+        force[0, q.pins[k]] = lam.sum() * model.face_width
+        if lam.sum() > 0:   # the moment arm of the resultant of the nodal forces
+            arm_fe[0, q.pins[k]] = np.sum(lam * c_rot[start:start + lam.size]) / lam.sum()
+        gap[0, q.pins[k]] = 0.0 if lam.sum() > 0 else np.min(sol.gap[start:start + lam.size])
+        pressures.append(sl.pressure(lam))
+        start += lam.size
+    rec = _record("detailed", model, state, force, gap, np.array([sol.rigid]), torque)
+    # FE pressure in place of Hertz's where the FE resolves it (always, in this mode)
+    ph = rec.ph.copy()
+    for k, pr in enumerate(pressures):
+        if force[0, q.pins[k]] > 0:
+            ph[0, q.pins[k]] = float(np.max(pr))
+    import dataclasses
+
+    rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=force > 0, moment_arm=arm_fe)
+    return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs)

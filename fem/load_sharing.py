@@ -1,0 +1,124 @@
+"""The load-sharing record, and the seeds' analytic load split that returns it too.
+
+`LoadSharing` is what the efficiency model consumes: per meshing position and candidate
+contact, the normal force, contact point, moment arm, Hertz half-width and pressure, and the
+remaining gap; per position, the transmission error. The FE contact model (cycle and
+detailed modes) and the analytic split of the seeds return the same type, so the two can be
+compared side by side.
+
+Shapes: P positions, C candidates; forces in N over the face width, lengths in m, Pa.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..efficiency.friction import hertz_line
+from ..errors import ToothfemError, check_range
+
+#: Hertz's half-space assumption is flagged when the half-width exceeds this fraction of the
+#: smaller curvature radius (Johnson 1985, Sec. 4.1: b << R).
+HERTZ_VALID_B_OVER_R = 0.1
+
+
+@dataclass(frozen=True)
+class LoadSharing:
+    method: str                     # "analytic", "cycle" or "detailed"
+    position_rad: np.ndarray        # (P,) crank angle
+    contact_id: np.ndarray          # (P, C)
+    force: np.ndarray               # (P, C) N, normal force over the face width
+    point: np.ndarray               # (P, C, 2) m, housing frame
+    moment_arm: np.ndarray          # (P, C) m, signed as in MeshingState
+    half_width: np.ndarray          # (P, C) m (0 where not in contact)
+    ph: np.ndarray                  # (P, C) Pa, peak contact pressure (0 where not in contact)
+    gap: np.ndarray                 # (P, C) m, remaining gap under load (0 in contact)
+    transmission_error: np.ndarray  # (P,) rad, lag of the output member (rigid rotation)
+    torque: float                   # N m carried by the moving member
+    face_width: float               # m
+    pressure_from_fe: np.ndarray    # (P, C) bool: Hertz's assumptions fail, P_h from the FE
+    equivalent_radius: np.ndarray   # (P, C) m
+
+    @property
+    def in_contact(self) -> np.ndarray:
+        return self.force > 0
+
+    @property
+    def contacts_per_position(self) -> np.ndarray:
+        return np.sum(self.in_contact, axis=1)
+
+    def torque_residual(self) -> np.ndarray:
+        """(P,) relative error of sum F_i l_i against the torque (equilibrium check)."""
+        return np.abs(np.sum(self.force * self.moment_arm, axis=1)) / abs(self.torque) - 1
+
+    def rows(self):
+        """(position_deg, contact_id, force_N, moment_arm_mm, half_width_mm, ph_MPa, gap_mm)
+        for every candidate in contact (the load_sharing.csv rows)."""
+        for p in range(self.force.shape[0]):
+            for c in np.flatnonzero(self.in_contact[p]):
+                yield (math.degrees(self.position_rad[p]), int(self.contact_id[p, c]),
+                       float(self.force[p, c]), float(self.moment_arm[p, c]) * 1e3,
+                       float(self.half_width[p, c]) * 1e3, float(self.ph[p, c]) / 1e6,
+                       float(self.gap[p, c]) * 1e3)
+
+
+def hertz_fields(force, face_width, equivalent_radius, e_star, radii=None):
+    """Half-width and peak pressure of each contact from its force (line contact).
+
+    Returns (b, ph, invalid) with ``invalid`` where b exceeds HERTZ_VALID_B_OVER_R of the
+    smaller |radius| in ``radii`` (a sequence of (P, C) arrays) or where R_eq <= 0.
+    """
+    force = np.asarray(force, float)
+    r = np.asarray(equivalent_radius, float)
+    b = np.zeros_like(force)
+    ph = np.zeros_like(force)
+    ok = (force > 0) & (r > 0) & np.isfinite(r)
+    if np.any(ok):
+        p0, bb = hertz_line(force[ok] / face_width, r[ok], e_star)
+        ph[ok], b[ok] = p0, bb
+    invalid = (force > 0) & ~ok
+    if radii is not None:
+        rmin = np.min(np.abs(np.stack([np.asarray(x, float) for x in radii])), axis=0)
+        invalid |= (force > 0) & (b > HERTZ_VALID_B_OVER_R * rmin)
+    return b, ph, invalid
+
+
+def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: float,
+                   in_mesh_gap_m: float = 0.0) -> LoadSharing:
+    """The seeds' load split on a :class:`~toothfem.geometry.kinematics.MeshingState`.
+
+    Cycloid (pin-housing paper Eqs. 8-13): rigid pins, load proportional to the moment arm,
+    F_i = F_max l_i / r_a on the pins whose normal can carry the torque; F_max follows from
+    sum F_i l_i = T exactly (the paper's Zb r_a^2/4 is its approximation, docs C4).
+    Sine (sine paper Eqs. 16-19): F_i = F_0 cos(alpha_i) on the z_s tooth pairs in mesh
+    (here: within ``in_mesh_gap_m``), F_0 = T / sum cos^2(alpha_i) r_i, which is the same
+    rule since r_i cos(alpha_i) is the moment arm.
+
+    ``torque_Nm`` > 0 is the output torque carried by the moving member; the load-carrying
+    contacts are those with negative moment arm (MeshingState convention).
+    """
+    check_range("torque_Nm", torque_Nm, 0, None, lo_open=True)
+    check_range("face_width_m", face_width_m, 0, None, lo_open=True)
+    arm = state.moment_arm
+    carry = (arm < 0) & (state.gap <= in_mesh_gap_m) & np.isfinite(state.gap)
+    if state.drive == "sine":
+        # cos(alpha) r = |l|: weight by |l| as well, F = F0 cos(alpha)
+        weight = np.where(carry, np.cos(state.pressure_angle), 0.0)
+    else:
+        weight = np.where(carry, -arm, 0.0)
+    denom = np.sum(weight * -arm, axis=1)
+    if np.any(denom <= 0):
+        bad = int(np.flatnonzero(denom <= 0)[0])
+        raise ToothfemError(f"no contact can carry the torque at position "
+                            f"{math.degrees(state.position_rad[bad]):.3f} deg")
+    force = weight * (torque_Nm / denom)[:, None]
+    b, ph, invalid = hertz_fields(force, face_width_m, state.equivalent_radius, e_star_Pa,
+                                  (state.radius_moving, state.radius_fixed))
+    return LoadSharing(
+        method="analytic", position_rad=state.position_rad, contact_id=state.contact_id,
+        force=force, point=state.point, moment_arm=arm, half_width=b, ph=ph,
+        gap=np.where(force > 0, 0.0, state.gap),
+        transmission_error=np.zeros(state.position_rad.shape), torque=float(torque_Nm),
+        face_width=float(face_width_m), pressure_from_fe=np.zeros_like(invalid),
+        equivalent_radius=state.equivalent_radius)
