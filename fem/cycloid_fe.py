@@ -277,7 +277,7 @@ class CycleSolver:
         rings, names = _disc_rings(self.model, win, h)
         centres = np.concatenate([p.point for p in pos], axis=1)
         bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
-                        refinements=[Refinement(centres, h, 2 * self.b_ref, 40 * self.b_ref)],
+                        refinements=[Refinement(centres, h, self.b_ref, 20 * self.b_ref)],
                         names=names)
         held = _held_nodes(bm, [n for n in names if n.startswith("crank")])
         disc = Body(bm, self.model.youngs_modulus, self.model.poisson_ratio, held,
@@ -302,6 +302,15 @@ class CycleSolver:
         c = loads.T @ u
         self._influence[p] = 0.5 * (c + c.T)
         return self._influence[p]
+
+    def disc_field(self, p: int, load_sharing: LoadSharing):
+        """(disc Body, displacement dofs) at position p under the solved contact forces
+        (Hertz strips of b_ref pressing along the inward normal), disc frame."""
+        pos, _, disc, _ = self._setup
+        q = pos[p]
+        f = load_sharing.force[p, q.pins] / self.model.face_width
+        loads = patch_loads(disc, "profile", q.point, -q.normal, self.b_ref)
+        return disc, disc.solve(loads @ f)
 
     def solve(self, torque: float, progress=None) -> LoadSharing:
         """Load sharing at every position for the disc torque (N m)."""
@@ -385,6 +394,8 @@ class DetailedResult:
     pressure: list              # per candidate pin: (M,) Pa
     pins: np.ndarray            # candidate pin indices
     dofs: int
+    disc: object = None         # the disc Body (disc frame)
+    disc_displacement: np.ndarray = None
 
 
 def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
@@ -476,6 +487,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     g0 = np.sum((pts - proj) * nrm, axis=0)
     c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
     sol = contact.solve_contact(hmat, g0, c_rot, q_load)
+    u_disc = disc.solve(-(disc.point_load_matrix(on_mesh, nrm) @ sol.force))
     # per pin
     zb = g.pin_count
     force = np.zeros((1, zb))
@@ -504,4 +516,4 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     import dataclasses
 
     rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=force > 0, moment_arm=arm_fe)
-    return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs)
+    return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs, disc, u_disc)

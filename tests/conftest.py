@@ -15,6 +15,6 @@ ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def cases_dir():
     return CASES

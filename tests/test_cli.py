@@ -79,3 +79,38 @@ def test_help_lists_commands(capsys):
         cli.main(["--help"])
     out = capsys.readouterr().out
     assert "check" in out and "geometry" in out
+
+
+def test_contact_command_writes_results(cases_dir, tmp_path, capsys):
+    """Three positions, structural field: CSV columns, summary keys, VTU and PNGs."""
+    import csv
+
+    import meshio
+
+    out = tmp_path / "contact"
+    assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--positions", "3",
+                     "--field", "structural", "--out", str(out)]) == 0
+    with open(out / "load_sharing.csv") as fh:
+        rows = list(csv.reader(fh))
+    assert rows[0] == ["position_deg", "contact_id", "force_N", "moment_arm_mm",
+                       "half_width_mm", "ph_MPa", "gap_mm"]
+    assert 3 * 19 <= len(rows) - 1 <= 3 * 20
+    s = json.loads((out / "summary.json").read_text())
+    for key in ("pins_in_contact_max", "max_force_N", "max_ph_MPa", "transmission_error_arcsec"):
+        assert key in s
+    assert s["pins_in_contact_max"] == 20 and 240 < s["max_force_N"] < 270
+    assert s["torque_equilibrium_max_rel_error"] < 1e-8
+    vtu = meshio.read(out / "disc_worst_position.vtu")
+    assert {"displacement", "von_mises"} <= set(vtu.point_data)
+    for png in ("load_per_pin.png", "von_mises.png", "von_mises_contact.png"):
+        assert (out / png).stat().st_size > 5_000
+
+
+def test_contact_command_refuses_sine_and_bad_torque(cases_dir, tmp_path, capsys):
+    assert cli.main(["contact", str(cases_dir / "sine_prototype.toml"), "--out",
+                     str(tmp_path / "o")]) == 2
+    assert "cycloid drives so far" in capsys.readouterr().err
+    assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--torque-Nm", "-5",
+                     "--out", str(tmp_path / "o")]) == 2
+    assert "--torque-Nm = -5.0 is outside the valid range (0, inf)" in capsys.readouterr().err
+    assert not (tmp_path / "o").exists()

@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from . import __version__
-from .commands import check, geometry
+from .commands import check, contact, geometry
 
-COMMANDS = (check, geometry)
+COMMANDS = (check, geometry, contact)
 
 
 def build_parser() -> argparse.ArgumentParser:
