@@ -147,6 +147,7 @@ def _disc_rings(model: CycloidFEModel, windows, spacing, base_per_lobe=48):
     g = model.geometry
     gen = g.generating()
     psi = list(np.linspace(0, 2 * math.pi, g.lobe_count * base_per_lobe, endpoint=False))
+    margin = math.pi / (g.lobe_count * base_per_lobe)    # half a base step: no slivers
     keep = np.ones(len(psi), bool)
     extra = []
     for lo, hi in windows:
@@ -156,8 +157,8 @@ def _disc_rings(model: CycloidFEModel, windows, spacing, base_per_lobe=48):
                            - cy.working_profile(gen, mid - 1e-7))) / 2e-7
         n = max(int(math.ceil((hi - lo) * speed / spacing)), 2)
         extra.append(np.linspace(lo, hi, n + 1))
-        arr = np.mod(np.asarray(psi) - lo, 2 * math.pi)
-        keep &= ~(arr <= (hi - lo) + 1e-12)
+        arr = np.mod(np.asarray(psi) - (lo - margin), 2 * math.pi)
+        keep &= ~(arr <= (hi - lo) + 2 * margin)
     psi = np.sort(np.mod(np.concatenate([np.asarray(psi)[keep]] + extra), 2 * math.pi))
     psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
     outer = cy.working_profile(gen, psi)
@@ -435,15 +436,16 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     # disc outline: coarse samples, with each zone replaced by the pins' projections
     base = np.linspace(0, 2 * math.pi, g.lobe_count * 48, endpoint=False)
     keep = np.ones(base.size, bool)
+    margin = 0.5 * (base[1] - base[0])       # no sliver segment next to a zone
     for psi in disc_psi:
-        lo, hi = psi.min(), psi.max()
-        keep &= ~((np.mod(base - lo, 2 * math.pi)) <= (hi - lo) + 1e-3 / g.lobe_count)
+        lo, hi = psi.min() - margin, psi.max() + margin
+        keep &= ~((np.mod(base - lo, 2 * math.pi)) <= (hi - lo))
     psi_all = np.sort(np.mod(np.concatenate([base[keep]] + disc_psi), 2 * math.pi))
     rings, names = _disc_rings(model, [], h)
     rings[0] = cy.working_profile(gen, psi_all)
     refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
     disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
-                           names=names)
+                           names=names, keep_below=2 * h)
     held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
     disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
     slaves, h_blocks, master_pts, normals = [], [], [], []
@@ -452,7 +454,8 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         c = q.pin_centre[:, k]
         kp = c - rz * q.normal[:, k]
         pm = mesh_rings([ring], size_max=rz / 4,
-                        refinements=[Refinement(kp[:, None], h, 2 * b_zone, 40 * b_zone)])
+                        refinements=[Refinement(kp[:, None], h, 2 * b_zone, 40 * b_zone)],
+                        keep_below=2 * h)
         p = pm.mesh.p
         outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
         bnodes = pm.ring_nodes("outer")

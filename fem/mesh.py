@@ -2,9 +2,10 @@
 
 A body is given as closed rings of points (the exterior first, then holes), each ring's
 vertices lying exactly on the body's true boundary. gmsh meshes the polygon with a size
-field that is fine near the refinement points (the contact zones) and coarse elsewhere; the
-nodes it inserts on a ring lie on the chords between vertices, so rings are sampled densely
-where contact happens (see :func:`refine_ring`).
+field that is fine near the refinement points (the contact zones) and coarse elsewhere. In
+a contact zone the ring's vertices are kept as the only boundary nodes (``keep_below``), so
+the zone is conforming when the master's vertices sit at the projections of the slave's;
+rings are sampled densely there (:func:`refine_ring`).
 """
 from __future__ import annotations
 
@@ -68,11 +69,15 @@ def refine_ring(ring: np.ndarray, centres, spacing: float, radius: float, curve=
     return pts
 
 
-def mesh_rings(rings, size_max: float, refinements=(), names=None) -> BodyMesh:
+def mesh_rings(rings, size_max: float, refinements=(), names=None,
+               keep_below: float | None = None) -> BodyMesh:
     """Mesh the region bounded by ``rings`` [(2, N) exterior, then holes] with gmsh.
 
-    ``names``: a name per ring (default "outer", "hole0", ...). Returns a :class:`BodyMesh`
-    with linear triangles (quadratic fields use ElementTriP2 on it).
+    ``names``: a name per ring (default "outer", "hole0", ...). ``keep_below``: ring
+    segments shorter than this stay single element edges (their end vertices are the only
+    boundary nodes there: conforming contact zones); longer ones gmsh divides to the size
+    field. Returns a :class:`BodyMesh` with linear triangles (quadratic fields use
+    ElementTriP2 on it).
     """
     import gmsh
     from skfem import MeshTri
@@ -89,6 +94,11 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None) -> BodyMesh:
             ring = np.asarray(ring, float)
             pts = [geo.addPoint(x, y, 0.0) for x, y in ring.T]
             lines = [geo.addLine(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))]
+            if keep_below is not None:   # short segments stay single element edges
+                seg = np.hypot(*(np.roll(ring, -1, axis=1) - ring))
+                for ln, length in zip(lines, seg):
+                    if length < keep_below:
+                        geo.mesh.setTransfiniteCurve(ln, 2)
             loops.append(geo.addCurveLoop(lines))
             ring_lines.append(lines)
         geo.addPlaneSurface(loops)

@@ -76,7 +76,7 @@ def cylinder_contact(radius, e1, nu1, e2, nu2, load_per_length, *, bore_radius=N
     ring_a = refine_ring(ring_a, origin, h, 3 * b, curve=_circle(c1, r1))
     refine = [Refinement(origin, h, 2 * b, 8 * b)]
     size_max = r1 / 8
-    mesh_a = mesh_rings([ring_a], size_max, refine)
+    mesh_a = mesh_rings([ring_a], size_max, refine, keep_below=2 * h)
     zone = ring_a[:, (np.abs(ring_a[0]) < 3 * b) & (ring_a[1] < r1)]
     zone = zone[:, np.argsort(zone[0])]
     w, hh = BLOCK_WIDTH_REL * r1, BLOCK_HEIGHT_REL * r1
@@ -108,7 +108,7 @@ def cylinder_contact(radius, e1, nu1, e2, nu2, load_per_length, *, bore_radius=N
         outer = np.array([[-w / 2 - r2, w / 2 + r2, w / 2 + r2, -w / 2 - r2],
                           [-hh, -hh, top_y, top_y]])
         rings_b = [outer, bore]
-    mesh_b = mesh_rings(rings_b, size_max, refine)
+    mesh_b = mesh_rings(rings_b, size_max, refine, keep_below=2 * h)
     pa = mesh_a.mesh.p
     body_a = Body(mesh_a, e1, nu1, np.flatnonzero(np.hypot(pa[0], pa[1] - r1) < CORE_REL * r1),
                   plane)
