@@ -49,6 +49,12 @@ CANDIDATE_ARM_REL = 0.02
 LOCAL_MAX_ITER, LOCAL_RTOL = 50, 1e-9
 
 
+#: conventional: pins in housing grooves (elastic pins held on their outer half);
+#: integral: pins one piece with the housing (clamped at its outer radius);
+#: rigid: rigid fixed pins, only the disc deforms (the CalculiX peer's model; cycle mode).
+PIN_STRUCTURES = ("conventional", "integral", "rigid")
+
+
 @dataclass(frozen=True)
 class CycloidFEModel:
     """A disc, its pins and material; torques in N m over the face width."""
@@ -59,14 +65,18 @@ class CycloidFEModel:
     face_width: float
     pin_structure: str = "conventional"
     plane: str = "strain"
+    housing_outer_radius: float | None = None   # integral structure: clamped outer edge, m
 
     def __post_init__(self):
         check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)
         check_range("face_width", self.face_width, 0, None, lo_open=True)
-        if self.pin_structure not in ("conventional",):
-            raise ToothfemError(f"pin_structure = {self.pin_structure!r}: the FE model "
-                                "supports 'conventional' pins so far (the integral housing is "
-                                "not yet modelled)")
+        if self.pin_structure not in PIN_STRUCTURES:
+            raise ToothfemError(f"pin_structure = {self.pin_structure!r} is not one of "
+                                f"{list(PIN_STRUCTURES)}")
+        if self.pin_structure == "integral":
+            g = self.geometry
+            check_range("housing_outer_radius", self.housing_outer_radius,
+                        g.pin_circle_radius_m + g.pin_radius_m, None, lo_open=True)
         if self.holes.crank_hole_count < 1:
             raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1) to be held")
 
@@ -81,10 +91,12 @@ class CycloidFEModel:
 
 
 def model_from_case(case, pin_structure=None) -> CycloidFEModel:
+    """The FE model of a cycloid case; ``pin_structure`` overrides the case's."""
     st = case.cycloid
     return CycloidFEModel(st.geometry(), st.holes_si(), case.material.youngs_modulus_GPa * 1e9,
                           case.material.poisson_ratio, st.face_width_mm * 1e-3,
-                          pin_structure or "conventional")
+                          pin_structure or st.pin_structure, "strain",
+                          st.housing_outer_radius_mm * 1e-3)
 
 
 def disc_torque(case) -> float:
@@ -248,6 +260,65 @@ def patch_loads(body, ring, points, normals, b_ref):
 
 
 # ---------------------------------------------------------------------------------------
+# Integral pin housing: one body, the pins machined into its bore
+
+#: Angular steps of the housing's outline (rad): on the pin arcs (radius rz) and on the
+#: arcs of radius Rz between them (chord sag 1.9 um and 1 um for the pin-housing drive).
+HOUSING_STEP, HOUSING_BORE_STEP = math.radians(5), math.radians(0.5)
+
+
+def housing_rings(model: CycloidFEModel, zones: dict, transform=None):
+    """(inner toothed ring, outer circle) of the integral housing.
+
+    The inner boundary is the circle of radius Rz with the inner half of every pin circle
+    protruding from it; ``zones`` maps a pin index to angles t (housing frame, around the pin
+    centre) that must be vertices. ``transform(points) -> points`` maps the housing frame to
+    the frame of the caller (the disc frame in the detailed mode)."""
+    g = model.geometry
+    rz, big_r = g.pin_radius_m, g.pin_circle_radius_m
+    alpha = math.acos(-rz / (2 * big_r))       # pin circle meets the circle of radius Rz
+    pts = []
+    for j in range(g.pin_count):
+        a_c = 2 * math.pi * j / g.pin_count
+        c = big_r * np.array([math.cos(a_c), math.sin(a_c)])
+        t0, t1 = a_c - alpha, a_c + alpha - 2 * math.pi     # going round the inner side
+        n = max(int((t0 - t1) / HOUSING_STEP), 8)
+        t = np.linspace(t0, t1, n + 1)
+        if j in zones:     # zone angles brought into this arc's range (t1, t0)
+            z = np.sort(t1 + np.mod(np.asarray(zones[j]) - t1, 2 * math.pi))[::-1]
+            if z[0] >= t0 or z[-1] <= t1:
+                raise ToothfemError(f"contact zone on pin {j} leaves the pin's inner arc")
+            step = (t0 - t1) / n
+            t = np.concatenate([t[t > z[0] + 0.5 * step], z, t[t < z[-1] - 0.5 * step]])
+        pts.append(c[:, None] + rz * np.stack([np.cos(t), np.sin(t)]))
+        # arc of radius Rz to where the next pin's circle meets it
+        end = pts[-1][:, -1]
+        a_n = 2 * math.pi * (j + 1) / g.pin_count
+        start = big_r * np.array([math.cos(a_n), math.sin(a_n)]) + rz * np.array(
+            [math.cos(a_n - alpha), math.sin(a_n - alpha)])
+        a_end = math.atan2(end[1], end[0])
+        a_start = a_end + np.mod(math.atan2(start[1], start[0]) - a_end, 2 * math.pi)
+        m = max(int((a_start - a_end) / HOUSING_BORE_STEP), 1)
+        arc = np.linspace(a_end, a_start, m + 1)[1:-1]
+        pts.append(big_r * np.stack([np.cos(arc), np.sin(arc)]))
+    inner = np.concatenate(pts, axis=1)
+    r_out = model.housing_outer_radius
+    t = np.linspace(0, 2 * math.pi, 360, endpoint=False)
+    outer = r_out * np.stack([np.cos(t), np.sin(t)])
+    if transform is not None:
+        inner, outer = transform(inner), transform(outer)
+    return inner, outer
+
+
+def housing_body(model, zones, refinements, keep_below, transform=None):
+    inner, outer = housing_rings(model, zones, transform)
+    bm = mesh_rings([outer, inner], size_max=model.geometry.pin_circle_radius_m / 25,
+                    refinements=refinements, names=["outer", "teeth"], keep_below=keep_below)
+    return Body(bm, model.youngs_modulus, model.poisson_ratio, bm.ring_nodes("outer"),
+                model.plane)
+
+
+# ---------------------------------------------------------------------------------------
 # Cycle mode
 
 @dataclass(eq=False)
@@ -283,8 +354,31 @@ class CycleSolver:
         held = _held_nodes(bm, [n for n in names if n.startswith("crank")])
         disc = Body(bm, self.model.youngs_modulus, self.model.poisson_ratio, held,
                     self.model.plane)
-        pin = PinModel(g.pin_radius_m, self.model.youngs_modulus, self.model.poisson_ratio,
-                       self.b_ref / 2, self.model.plane)
+        if self.model.pin_structure == "integral":
+            # windows on the housing teeth: the contact direction on each pin (housing frame)
+            hb = self.b_ref / 2
+            tz, pts_h = {}, []
+            for p_idx, p in enumerate(pos):
+                k_h = state.point[p_idx, p.pins].T
+                c_h = cy.pin_centres(g)[:, p.pins]
+                pts_h.append(k_h)
+                ang = np.arctan2(k_h[1] - c_h[1], k_h[0] - c_h[0])
+                for j, a in zip(p.pins, ang):   # near a_j + pi: keep each pin's angles together
+                    a_j = 2 * math.pi * j / g.pin_count + math.pi
+                    tz.setdefault(j, []).append(a_j + math.remainder(a - a_j, 2 * math.pi))
+            zones = {}
+            for j, a in tz.items():
+                lo, hi = min(a) - 3 * hb / g.pin_radius_m, max(a) + 3 * hb / g.pin_radius_m
+                n = max(int(math.ceil((hi - lo) * g.pin_radius_m / (hb / 5))), 2)
+                zones[j] = np.linspace(lo, hi, n + 1)
+            centres = np.concatenate(pts_h, axis=1)
+            pin = housing_body(self.model, zones,
+                               [Refinement(centres, hb / 5, hb, 20 * hb)], keep_below=hb / 2)
+        elif self.model.pin_structure == "conventional":
+            pin = PinModel(g.pin_radius_m, self.model.youngs_modulus,
+                           self.model.poisson_ratio, self.b_ref / 2, self.model.plane)
+        else:
+            pin = None
         return pos, state, disc, pin
 
     @cached_property
@@ -301,6 +395,13 @@ class CycleSolver:
         loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
         u = disc.solve(loads.toarray())
         c = loads.T @ u
+        if self.model.pin_structure == "integral":
+            housing = self._setup[3]
+            _, state, _, _ = self._setup
+            kh = state.point[p, q.pins].T
+            nh = state.normal[p, q.pins].T
+            lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
+            c = c + lh.T @ housing.solve(lh.toarray())
         self._influence[p] = 0.5 * (c + c.T)
         return self._influence[p]
 
@@ -339,8 +440,11 @@ class CycleSolver:
             lam = _seed_guess(q, q_load)
             for _ in range(LOCAL_MAX_ITER):
                 b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
-                local = (-(2 / (math.pi * e_p)) * np.log(b / self.b_ref)
-                         + pin.compliance(q.gamma, b))
+                local = -(2 / (math.pi * e_p)) * np.log(b / self.b_ref)
+                if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
+                    local = local - (2 / (math.pi * e_p)) * np.log(b / (self.b_ref / 2))
+                elif m.pin_structure == "conventional":
+                    local = local + pin.compliance(q.gamma, b)
                 h = c_disc + np.diag(local)
                 sol = contact.solve_contact(h, q.gap, q.arm, q_load)
                 done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
@@ -409,6 +513,8 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     from scipy.sparse import coo_matrix
 
     check_range("torque", torque, 0, None, lo_open=True)
+    if model.pin_structure == "rigid":
+        raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
     g = model.geometry
     gen = g.generating()
     (q,), state = _positions(model, [crank_angle_rad])
@@ -420,7 +526,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     theta_d = -crank_angle_rad / g.lobe_count
     housing_centre = _rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
                                                            math.sin(crank_angle_rad)]), -theta_d)
-    pin_rings, disc_psi = [], []
+    pin_rings, disc_psi, zone_angles = [], [], []
     for k in range(q.pins.size):
         c, n = q.pin_centre[:, k], q.normal[:, k]
         a0 = math.atan2(-n[1], -n[0])                # direction of the contact on the pin
@@ -431,6 +537,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         t = np.concatenate([t_zone, t_rest])
         ring = c[:, None] + rz * np.stack([np.cos(t), np.sin(t)])
         pin_rings.append(ring)
+        zone_angles.append(t_zone)
         psi, _ = cy.foot_point(gen, ring[:, :n_zone + 1], np.full(n_zone + 1, q.psi[k]))
         disc_psi.append(psi)
     # disc outline: coarse samples, with each zone replaced by the pins' projections
@@ -448,37 +555,61 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
                            names=names, keep_below=2 * h)
     held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
     disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
+    # slave bodies: one per pin (conventional) or the housing with every pin (integral)
+    kps = q.pin_centre - rz * q.normal
+    refine_pins = [Refinement(kps, h, 2 * b_zone, 40 * b_zone)]
+    groups = []                     # (body, [facets of each candidate pin])
+    if model.pin_structure == "integral":
+        c_t, s_t = math.cos(-theta_d), math.sin(-theta_d)
+        centre_h = g.eccentricity_m * np.array([math.cos(crank_angle_rad),
+                                                math.sin(crank_angle_rad)])
+
+        def to_disc(x):             # housing frame -> disc frame
+            d = x - centre_h[:, None]
+            return np.stack([c_t * d[0] - s_t * d[1], s_t * d[0] + c_t * d[1]])
+        zones = {int(j): t + theta_d for j, t in zip(q.pins, zone_angles)}
+        housing = housing_body(model, zones, refine_pins, 2 * h, to_disc)
+        p = housing.mesh.p
+        f_all = housing.body_mesh.rings["teeth"]
+        mid = 0.5 * (p[:, housing.mesh.facets[0, f_all]] + p[:, housing.mesh.facets[1, f_all]])
+        groups.append((housing, [f_all[np.hypot(*(mid - kps[:, k:k + 1]))
+                                       < DETAILED_ZONE_REL * b_zone]
+                                 for k in range(q.pins.size)]))
+    else:
+        for k, ring in enumerate(pin_rings):
+            c = q.pin_centre[:, k]
+            pm = mesh_rings([ring], size_max=rz / 4, refinements=refine_pins, keep_below=2 * h)
+            p = pm.mesh.p
+            outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
+            bnodes = pm.ring_nodes("outer")
+            held_pin = bnodes[np.sum((p[:, bnodes] - c[:, None]) * outward[:, None], axis=0) > 0]
+            pin = Body(pm, model.youngs_modulus, model.poisson_ratio, held_pin, model.plane)
+            f = pm.rings["outer"]
+            mid = 0.5 * (p[:, pm.mesh.facets[0, f]] + p[:, pm.mesh.facets[1, f]])
+            groups.append((pin, [f[np.hypot(*(mid - kps[:, k:k + 1]))
+                                   < DETAILED_ZONE_REL * b_zone]]))
     slaves, h_blocks, master_pts, normals = [], [], [], []
     dofs = disc.basis.N
-    for k, ring in enumerate(pin_rings):
-        c = q.pin_centre[:, k]
-        kp = c - rz * q.normal[:, k]
-        pm = mesh_rings([ring], size_max=rz / 4,
-                        refinements=[Refinement(kp[:, None], h, 2 * b_zone, 40 * b_zone)],
-                        keep_below=2 * h)
-        p = pm.mesh.p
-        outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
-        bnodes = pm.ring_nodes("outer")
-        held_pin = bnodes[np.sum((p[:, bnodes] - c[:, None]) * outward[:, None], axis=0) > 0]
-        pin = Body(pm, model.youngs_modulus, model.poisson_ratio, held_pin, model.plane)
-        f = pm.rings["outer"]
-        mid = 0.5 * (p[:, pm.mesh.facets[0, f]] + p[:, pm.mesh.facets[1, f]])
-        f = f[np.hypot(*(mid - kp[:, None])) < DETAILED_ZONE_REL * b_zone]
-        sl = contact.slave_surface(pin, f)
-        psi0 = np.full(sl.points.shape[1], q.psi[k])
-        psi, _ = cy.foot_point(gen, sl.points, psi0)
-        proj = cy.working_profile(gen, psi)
-        nrm = -cy.inward_normal(gen, psi)
-        m_pts = sl.points.shape[1]
-        rows = np.concatenate([sl.dofs[0], sl.dofs[1]])
-        cols = np.concatenate([np.arange(m_pts)] * 2)
-        loads = coo_matrix((np.concatenate([nrm[0], nrm[1]]), (rows, cols)),
-                           shape=(pin.basis.N, m_pts)).tocsc()
-        h_blocks.append(contact._flexibility(pin, loads))
-        slaves.append(sl)
-        master_pts.append(proj)
-        normals.append(nrm)
-        dofs += pin.basis.N
+    k = 0
+    for body, facet_sets in groups:
+        rows, cols, vals, start = [], [], [], 0
+        for f in facet_sets:
+            sl = contact.slave_surface(body, f)
+            psi, _ = cy.foot_point(gen, sl.points, np.full(sl.points.shape[1], q.psi[k]))
+            nrm = -cy.inward_normal(gen, psi)
+            m_pts = sl.points.shape[1]
+            rows += [sl.dofs[0], sl.dofs[1]]
+            cols += [start + np.arange(m_pts)] * 2
+            vals += [nrm[0], nrm[1]]
+            slaves.append(sl)
+            master_pts.append(cy.working_profile(gen, psi))
+            normals.append(nrm)
+            start += m_pts
+            k += 1
+        loads = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
+                           shape=(body.basis.N, start)).tocsc()
+        h_blocks.append(contact._flexibility(body, loads))
+        dofs += body.basis.N
     proj = np.concatenate(master_pts, axis=1)
     nrm = np.concatenate(normals, axis=1)
     pts = np.concatenate([s.points for s in slaves], axis=1)

@@ -131,12 +131,16 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
         gmsh.model.mesh.generate(2)
         tags, xyz, _ = gmsh.model.mesh.getNodes()
         _, _, enodes = gmsh.model.mesh.getElements(2, -1)
+        if not enodes:
+            raise MeshError("gmsh produced no triangles (self-intersecting rings?)")
         line_nodes = {}
         for name, lines in zip(names, ring_lines):
             nodes = []
             for ln in lines:
                 nodes.append(gmsh.model.mesh.getNodes(1, ln, includeBoundary=True)[0])
             line_nodes[name] = np.unique(np.concatenate(nodes))
+    except MeshError:
+        raise
     except Exception as exc:  # gmsh raises plain Exceptions
         raise MeshError(f"gmsh failed: {exc}") from None
     finally:

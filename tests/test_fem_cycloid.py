@@ -22,7 +22,7 @@ def case(cases_dir):
 
 @pytest.fixture(scope="module")
 def model(case):
-    return cf.model_from_case(case)
+    return cf.model_from_case(case, "conventional")
 
 
 PHIS = np.array([0.013, 0.061, 0.117])      # generic crank angles within one pin pitch
@@ -72,7 +72,7 @@ def test_clearance_modification_loads_fewer_pins_harder(case, cycle):
     from dataclasses import replace
 
     g = replace(case.cycloid.geometry(), equidistant_m=10e-6, move_distance_m=-10e-6)
-    model = replace(cf.model_from_case(case), geometry=g)
+    model = replace(cf.model_from_case(case, "conventional"), geometry=g)
     mod = cf.CycleSolver(model, PHIS).solve(cf.disc_torque(case))
     assert np.all(mod.contacts_per_position < cycle.contacts_per_position)
     assert np.all(mod.force.max(axis=1) > 1.2 * cycle.force.max(axis=1))
@@ -104,3 +104,26 @@ def test_cycle_and_detailed_modes_agree(model, case, phi):
     assert np.sum(fd > 0) == np.sum(fc > 0)
     assert abs(det.load_sharing.torque_residual()[0]) < 1e-8
     assert abs(det.load_sharing.ph[0].max() / cyc.ph[0].max() - 1) < 0.03
+
+
+def test_integral_housing_against_conventional(case):
+    """The integral structure (pins one piece with a housing clamped at r = 112 mm) shares
+    the load like the conventional pins within a few per cent and balances the torque."""
+    integral = cf.CycleSolver(cf.model_from_case(case, "integral"), PHIS[:2]).solve(
+        cf.disc_torque(case))
+    conventional = cf.CycleSolver(cf.model_from_case(case, "conventional"), PHIS[:2]).solve(
+        cf.disc_torque(case))
+    assert np.all(np.abs(integral.torque_residual()) < 1e-8)
+    assert np.all(integral.contacts_per_position >= 19)
+    ratio = integral.force.max(axis=1) / conventional.force.max(axis=1)
+    assert np.all(np.abs(ratio - 1) < 0.05)
+
+
+@pytest.mark.slow
+def test_integral_cycle_and_detailed_agree(case):
+    model = cf.model_from_case(case, "integral")
+    torque = cf.disc_torque(case)
+    det = cf.solve_detailed(model, 0.05, torque, elements_per_halfwidth=4)
+    cyc = cf.CycleSolver(model, np.array([0.05])).solve(torque)
+    assert abs(det.load_sharing.force.max() / cyc.force.max() - 1) < 0.02
+    assert abs(det.load_sharing.torque_residual()[0]) < 1e-8

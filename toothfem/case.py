@@ -143,9 +143,16 @@ class CycloidStage(_Section):
     rotation_modification_deg: float = _f(-1.0, 1.0, default=0.0)
     disc_load_factor: float = _f(1.0, 2.0, default=1.0,
                                  doc="torque on one disc = factor * output torque / disc_count")
+    housing_outer_radius_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                               doc="outer radius of the pin housing")
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
+        if self.housing_outer_radius_mm <= self.pin_circle_radius_mm + self.pin_radius_mm:
+            raise CaseError(f"cycloid.housing_outer_radius_mm = {self.housing_outer_radius_mm!r}"
+                            f" is outside the valid range "
+                            f"({self.pin_circle_radius_mm + self.pin_radius_mm:g}, inf): the "
+                            "housing must enclose the pins")
         if self.lobe_count != self.pin_count - 1:
             raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
                             f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
@@ -158,6 +165,12 @@ class CycloidStage(_Section):
                 disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
         except GeometryError as exc:
             raise _restate(exc, "cycloid", _CYCLOID_KEYS) from None
+
+    def __post_init__(self):
+        if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
+            object.__setattr__(self, "housing_outer_radius_mm",
+                               self.pin_circle_radius_mm + 5 * self.pin_radius_mm)
+        super().__post_init__()
 
     def geometry(self):
         """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`."""

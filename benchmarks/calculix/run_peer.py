@@ -4,18 +4,19 @@
 One cycloid disc at the kinematically exact pose of each crank angle, frictionless contact
 with the Zb pins, torque on the disc through a rigid coupling of its crank-hole edges to a
 reference node at the disc centre (fixed in x, y; free to turn). Plane strain, modelled as
-a thin slab of C3D8I bricks (one element through the thickness, u_z = 0 everywhere), forces
-scaled to the case's face width. See README.md beside this file for what is modelled.
+a thin slab of 8-node bricks (C3D8 by default; one element through the thickness, u_z = 0
+everywhere), forces scaled to the case's face width. See README.md beside this file for what is modelled.
 
 Usage (from the repository root, with the project's venv):
 
     .venv/bin/python benchmarks/calculix/run_peer.py \
-        --case cases/cycloid_pinhousing.toml --positions 0,1/3,2/3 \
-        --mesh-size-mm 0.002 --out benchmarks/calculix/results
+        --case cases/cycloid_pinhousing.toml --positions 0,1/4,1/2,3/4 \
+        --mesh-size-mm 0.008,0.004,0.002 --out benchmarks/calculix/results
 
 ``--positions``: crank angles as fractions of the meshing period 2*pi/Zb (the load pattern
 repeats when the crank turns by one pin pitch; see README). ``--mesh-size-mm``: element
-size at the contact points; a comma list runs a refinement study.
+size at the contact points (default 0.002 mm); a comma list runs a refinement study in
+which the profile and body sizes scale with it.
 
 Large files (.inp, .dat, .frd, meshes) go to ``--work`` (default /tmp/toothfem_ccx).
 """
@@ -138,6 +139,8 @@ class Options:
     points_per_lobe: int = 160        # spline points per lobe of the outer profile
     threads: int = 2
     preturn: float = 2e-6             # rad, disc rotation prescribed in step 1
+    support: str = "crank"            # holes whose edges form the rigid coupling:
+                                      # "crank" (hardware) or "centre_bore" (a check)
     element: str = "C3D8"             # disc brick: C3D8 or C3D8I (incompatible modes;
                                       # same pin forces within 0.2 %, twice the time)
     timeout: float = 1800.0
@@ -233,7 +236,7 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
             cx, cy_ = to_h(np.array([[x], [y]]) * 1e3)[0]
             c = occ.addCircle(cx, cy_, 0.0, r * 1e3)
             hole_loops.append(occ.addCurveLoop([c]))
-            if lab.startswith("crank"):
+            if lab.startswith(opt.support):
                 crank_curves.append(c)
         disc = occ.addPlaneSurface([outer_loop] + hole_loops)
         pin_surfs, pin_curves = [], []
@@ -398,6 +401,7 @@ class Deck:
     scale: float                      # slab -> face width force factor
     contact_k: float
     n_elements: int
+    zb: int
 
 
 def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
@@ -495,7 +499,7 @@ def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
             "*CONTACT PRINT", "CSTR, CDIS",
             "*END STEP"]
     return Deck(text="\n".join(out) + "\n", ref_node=ref, rot_node=rotn, node_xy=xy, n2d=n,
-                scale=pb.face_width / t, contact_k=k_contact, n_elements=eid)
+                scale=pb.face_width / t, contact_k=k_contact, n_elements=eid, zb=pb.zb)
 
 
 # ---------------------------------------------------------------------------------------
@@ -567,11 +571,7 @@ def run_ccx(exe: str, deck: Deck, work: Path, job: str, opt: Options) -> tuple[d
     if proc.returncode != 0 or not dat.exists() or "*ERROR" in logtext:
         tail = "\n".join(logtext.strip().splitlines()[-25:])
         raise RuntimeError(f"ccx failed (exit {proc.returncode}) on {work / job}.inp:\n{tail}")
-    return parse_dat(dat.read_text(errors="replace"), deck_zb(deck)), wall, logtext
-
-
-def deck_zb(deck: Deck) -> int:
-    return len(re.findall(r"^\*NSET, NSET=NPIN\d+$", deck.text, re.M))
+    return parse_dat(dat.read_text(errors="replace"), deck.zb), wall, logtext
 
 
 # ---------------------------------------------------------------------------------------
@@ -603,6 +603,8 @@ def run_position(pb: Problem, frac: Fraction, opt: Options, exe: str, work: Path
     t_prep = time.perf_counter() - t0
     res, wall, log = run_ccx(exe, deck, wdir, "disc", opt)
 
+    if np.isnan(res["pin_rf"]).any() or not res["cstr"]:
+        raise RuntimeError(f"could not read pin forces / contact stresses from {wdir}/disc.dat")
     state = cycloid.meshing(pb.geom, phi)
     normal = state.normal[0]                          # (Zb, 2) pin -> disc
     kpts = state.point[0] * 1e3
@@ -638,8 +640,13 @@ def run_position(pb: Problem, frac: Fraction, opt: Options, exe: str, work: Path
     oc = state.centre[0] * 1e3
     rel = kpts - oc
     m_pins = float(np.sum(rel[:, 0] * force_on_disc[:, 1] - rel[:, 1] * force_on_disc[:, 0]))
+    if abs(-m_pins * 1e-3 - pb.torque_Nmm * 1e-3) > 0.01 * pb.torque_Nmm * 1e-3:
+        print(f"warning: the pin forces' moment {-m_pins * 1e-3:.4g} N m differs from the "
+              f"applied torque {pb.torque_Nmm * 1e-3:.4g} N m by more than 1 %",
+              file=sys.stderr)
     rot_z = float(res["rot_u"][2]) if res["rot_u"] is not None else float("nan")
     iters = len(re.findall(r"iteration\s+\d+", log))
+    neq = re.search(r"number of equations\s*\n\s*(\d+)", log)
     incs = len(re.findall(r"increment\s+\d+\s+attempt", log))
     pins = []
     for j in range(pb.zb):
@@ -662,6 +669,7 @@ def run_position(pb: Problem, frac: Fraction, opt: Options, exe: str, work: Path
         pin_moment_Nm=-m_pins * 1e-3, applied_torque_Nm=pb.torque_Nmm * 1e-3,
         disc_rotation_under_load_urad=rot_z * 1e6,
         ccx_wall_s=wall, prep_s=t_prep, ccx_iterations=iters, ccx_increments=incs,
+        ccx_equations=int(neq.group(1)) if neq else None,
         mesh_size_mm=opt.mesh_size, contact_stiffness_MPa_per_mm=deck.contact_k,
         elements_3d=deck.n_elements, nodes_3d=2 * deck.n2d + 2, mesh=mesh.stats,
         work_dir=str(wdir), pins=pins)
@@ -708,6 +716,9 @@ def main(argv=None):
     ap.add_argument("--element", choices=("C3D8I", "C3D8"), default=Options.element,
                     help="disc brick type (C3D8I: incompatible modes, no shear locking, "
                          "about 3x the equations; default %(default)s)")
+    ap.add_argument("--support", choices=("crank", "centre_bore"), default=Options.support,
+                    help="holes whose edges are tied to the reference node at the disc "
+                         "centre (default %(default)s: the crank-bearing holes)")
     ap.add_argument("--threads", type=int, default=os.cpu_count() or 1)
     args = ap.parse_args(argv)
 
@@ -723,7 +734,7 @@ def main(argv=None):
         opt = Options(mesh_size=h, slab=args.slab_mm, stiffness_factor=args.stiffness_factor,
                       edge_size=args.edge_size_mm or 62.5 * h,
                       far_size=args.far_size_mm or 500 * h,
-                      threads=args.threads, element=args.element)
+                      threads=args.threads, element=args.element, support=args.support)
         for frac in args.positions:
             print(f"position {frac} of the pin pitch, h_c = {h} mm ...", flush=True)
             r = run_position(pb, frac, opt, exe, work)
@@ -740,6 +751,7 @@ def write_results(out: Path, pb: Problem, args, version: str, runs: list[dict]):
     meta = dict(case=str(args.case), case_name=pb.name, ccx_version=version,
                 torque_on_disc_Nm=pb.torque_Nmm * 1e-3, face_width_mm=pb.face_width,
                 slab_mm=args.slab_mm, stiffness_factor=args.stiffness_factor,
+                element=args.element, support=args.support,
                 E_MPa=pb.E, nu=pb.nu, pins=pb.zb, lobes=pb.za,
                 position_unit="fraction of the meshing period 2*pi/Zb of crank angle",
                 command=" ".join([Path(sys.argv[0]).name] + sys.argv[1:]))
@@ -747,7 +759,7 @@ def write_results(out: Path, pb: Problem, args, version: str, runs: list[dict]):
     cols = ["mesh_size_mm", "position_fraction_of_pitch", "crank_angle_deg", "pins_in_contact",
             "max_pin_force_N", "max_force_pin", "max_pressure_MPa", "max_hertz_p0_MPa",
             "seed_pins_loaded", "seed_max_pin_force_N", "pin_moment_Nm", "ccx_wall_s",
-            "ccx_iterations", "elements_3d", "nodes_3d"]
+            "ccx_iterations", "ccx_equations", "elements_3d", "nodes_3d"]
     with open(out / "positions.csv", "w") as fh:
         fh.write(",".join(cols) + "\n")
         for r in runs:

@@ -20,6 +20,10 @@ def add_parser(sub):
     p.add_argument("--mode", choices=("cycle", "detailed"), default="cycle",
                    help="cycle: influence coefficients + Hertz (fast, default); detailed: "
                         "two-body FE contact at each position (slow)")
+    p.add_argument("--pins", choices=("conventional", "integral", "rigid"), default=None,
+                   help="pin structure: conventional (pins in housing grooves), integral "
+                        "(pins one piece with the housing) or rigid (fixed rigid pins, cycle "
+                        "mode only: the CalculiX peer's model); default: the case's")
     p.add_argument("--field", choices=("detailed", "structural", "none"), default="detailed",
                    help="stress field at the worst position: detailed (two-body FE with the "
                         "contact zones resolved, ~1-2 min; default), structural (the cycle "
@@ -54,7 +58,7 @@ def run(args) -> int:
         case = replace(case, operating=replace(case.operating, output_torque_Nm=args.torque))
     if case.operating.output_torque_Nm in (None, 0):
         raise CaseError(f"{args.case}: operating.output_torque_Nm is required (or --torque-Nm)")
-    model = cf.model_from_case(case)
+    model = cf.model_from_case(case, args.pins)
     torque = cf.disc_torque(case)
     g = model.geometry
     phis = np.linspace(0, 2 * math.pi / g.pin_count, args.positions, endpoint=False)
@@ -83,6 +87,7 @@ def run(args) -> int:
                 w.writerow([f"{v:.9g}" if isinstance(v, float) else v for v in row])
         summary = {
             "case": case.name, "mode": args.mode, "positions": args.positions,
+            "pin_structure": model.pin_structure,
             "output_torque_Nm": case.operating.output_torque_Nm, "disc_torque_Nm": torque,
             "pins_in_contact_max": int(ls.contacts_per_position.max()),
             "pins_in_contact_min": int(ls.contacts_per_position.min()),
