@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 CASE ?= cases/cycloid_pinhousing.toml
 OUT ?= out/demo
 
-.PHONY: demo test venv clean
+.PHONY: demo test test-fast venv clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -18,10 +18,14 @@ venv: $(VENV)/.installed
 
 demo: $(VENV)/.installed
 	$(BIN)/toothfem check $(CASE)
-	$(BIN)/toothfem geometry $(CASE) --out $(OUT)
+	$(BIN)/toothfem geometry $(CASE) --out $(OUT)/geometry
+	$(BIN)/toothfem contact $(CASE) --positions 36 --out $(OUT)/contact
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q tests
+
+test-fast: $(VENV)/.installed
+	$(BIN)/python -m pytest -q -m "not slow" tests
 
 clean:
 	rm -rf $(VENV) out build *.egg-info
