@@ -153,34 +153,37 @@ def _rotate(v, a):
     return np.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
-def _disc_rings(model: CycloidFEModel, windows, spacing, base_per_lobe=48):
-    """Disc outline sampled on the exact profile: ``base_per_lobe`` points per lobe, and at
-    most ``spacing`` apart inside each window (psi_lo, psi_hi); plus the hole circles."""
+def _disc_rings(model: CycloidFEModel, inserts=(), base_per_lobe=48):
+    """Disc outline sampled on the exact profile: ``base_per_lobe`` points per lobe, with
+    each array of profile parameters in ``inserts`` (a contact zone) put in place of the
+    coarse samples it covers (a half-step margin: no sliver segment beside a zone); plus
+    the hole circles."""
     g = model.geometry
     gen = g.generating()
-    psi = list(np.linspace(0, 2 * math.pi, g.lobe_count * base_per_lobe, endpoint=False))
-    margin = math.pi / (g.lobe_count * base_per_lobe)    # half a base step: no slivers
-    keep = np.ones(len(psi), bool)
-    extra = []
-    for lo, hi in windows:
-        # parameter step from arc length: |w'| ~ |p'|(1 - r kappa); use the local speed
-        mid = 0.5 * (lo + hi)
-        speed = np.hypot(*(cy.working_profile(gen, mid + 1e-7)
-                           - cy.working_profile(gen, mid - 1e-7))) / 2e-7
-        n = max(int(math.ceil((hi - lo) * speed / spacing)), 2)
-        extra.append(np.linspace(lo, hi, n + 1))
-        arr = np.mod(np.asarray(psi) - (lo - margin), 2 * math.pi)
-        keep &= ~(arr <= (hi - lo) + 2 * margin)
-    psi = np.sort(np.mod(np.concatenate([np.asarray(psi)[keep]] + extra), 2 * math.pi))
+    base = np.linspace(0, 2 * math.pi, g.lobe_count * base_per_lobe, endpoint=False)
+    margin = 0.5 * (base[1] - base[0])
+    keep = np.ones(base.size, bool)
+    for psi in inserts:
+        lo, hi = np.min(psi) - margin, np.max(psi) + margin
+        keep &= ~(np.mod(base - lo, 2 * math.pi) <= hi - lo)
+    psi = np.sort(np.mod(np.concatenate([base[keep]] + list(inserts)), 2 * math.pi))
     psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
-    outer = cy.working_profile(gen, psi)
-    rings, names = [outer], ["profile"]
+    rings, names = [cy.working_profile(gen, psi)], ["profile"]
     for x, y, r, label in model.holes.circles():
         n = max(48, int(2 * math.pi * r / (0.02 * g.pin_circle_radius_m)))
         t = np.linspace(0, 2 * math.pi, n, endpoint=False)
         rings.append(np.stack([x + r * np.cos(t), y + r * np.sin(t)]))
         names.append(label)
     return rings, names
+
+
+def _window(gen, lo, hi, spacing):
+    """Profile parameters from lo to hi at most ``spacing`` apart along the curve."""
+    mid = 0.5 * (lo + hi)
+    speed = np.hypot(*(cy.working_profile(gen, mid + 1e-7)
+                       - cy.working_profile(gen, mid - 1e-7))) / 2e-7
+    n = max(int(math.ceil((hi - lo) * speed / spacing)), 2)
+    return np.linspace(lo, hi, n + 1)
 
 
 def _held_nodes(body_mesh, labels):
@@ -346,7 +349,8 @@ class CycleSolver:
         pad = 3 * self.b_ref / g.pin_circle_radius_m
         win = [(lo - pad, hi + pad) for lo, hi in windows.values()]
         h = self.b_ref / self.elements_per_bref
-        rings, names = _disc_rings(self.model, win, h)
+        rings, names = _disc_rings(self.model, [_window(g.generating(), lo, hi, h)
+                                                for lo, hi in win])
         centres = np.concatenate([p.point for p in pos], axis=1)
         bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
                         refinements=[Refinement(centres, h, self.b_ref, 20 * self.b_ref)],
@@ -541,15 +545,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         psi, _ = cy.foot_point(gen, ring[:, :n_zone + 1], np.full(n_zone + 1, q.psi[k]))
         disc_psi.append(psi)
     # disc outline: coarse samples, with each zone replaced by the pins' projections
-    base = np.linspace(0, 2 * math.pi, g.lobe_count * 48, endpoint=False)
-    keep = np.ones(base.size, bool)
-    margin = 0.5 * (base[1] - base[0])       # no sliver segment next to a zone
-    for psi in disc_psi:
-        lo, hi = psi.min() - margin, psi.max() + margin
-        keep &= ~((np.mod(base - lo, 2 * math.pi)) <= (hi - lo))
-    psi_all = np.sort(np.mod(np.concatenate([base[keep]] + disc_psi), 2 * math.pi))
-    rings, names = _disc_rings(model, [], h)
-    rings[0] = cy.working_profile(gen, psi_all)
+    rings, names = _disc_rings(model, disc_psi)
     refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
     disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
                            names=names, keep_below=2 * h)

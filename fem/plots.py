@@ -2,7 +2,6 @@
 Functions take data and return a figure or write a PNG; nothing is shown on screen."""
 from __future__ import annotations
 
-import math
 
 import numpy as np
 

@@ -10,7 +10,6 @@ import math
 
 import numpy as np
 import pytest
-import shapely
 from shapely import affinity
 
 from toothfem.errors import GeometryError

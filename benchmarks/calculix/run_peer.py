@@ -486,7 +486,7 @@ def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
     # the loaded side (with the exact conjugate pose every pin touches at zero clearance,
     # and a torque applied to a disc without active contact springs has no stiffness
     # against rotation). Step 2 frees the rotation and applies the torque.
-    out += fixed + [f"NROT, 3, 3, 0"]
+    out += fixed + ["NROT, 3, 3, 0"]
     m_slab = pb.torque_Nmm * t / pb.face_width
     out += ["*STEP, INC=100", "*STATIC", "1.0, 1.0, 1e-6, 1.0",
             "*BOUNDARY", f"NROT, 3, 3, {opt.preturn:.6g}", "*END STEP",
