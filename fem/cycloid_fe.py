@@ -638,12 +638,15 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         pressures.append(sl.pressure(lam))
         start += lam.size
     rec = _record("detailed", model, state, force, gap, np.array([sol.rigid]), torque)
-    # FE pressure in place of Hertz's where the FE resolves it (always, in this mode)
+    # P_h: Hertz's on the FE force where its assumptions hold, the FE peak where they fail
+    # (b not small against the radii); the FE profiles stay in DetailedResult.pressure.
+    _, _, invalid = hertz_fields(force, model.face_width, state.equivalent_radius,
+                                 model.e_star, (state.radius_moving, state.radius_fixed))
     ph = rec.ph.copy()
     for k, pr in enumerate(pressures):
-        if force[0, q.pins[k]] > 0:
+        if invalid[0, q.pins[k]]:
             ph[0, q.pins[k]] = float(np.max(pr))
     import dataclasses
 
-    rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=force > 0, moment_arm=arm_fe)
+    rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=invalid, moment_arm=arm_fe)
     return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs, disc, u_disc)
