@@ -1,1 +1,1 @@
-"""placeholder"""
+"""Friction laws and gear-train power flow (installed as ``toothfem.efficiency``)."""

@@ -178,11 +178,23 @@ def nearest_on_boundary(body_mesh, ring: str, points) -> np.ndarray:
     return out
 
 
+def nodal_load_matrix(n_dofs: int, dofs, normals):
+    """(n_dofs, M) sparse: unit nodal forces along ``normals`` (2, M) at the x/y ``dofs``
+    (2, M) of M nodes; its transpose reads a displacement along the same normals."""
+    from scipy.sparse import coo_matrix
+
+    dofs = np.asarray(dofs)
+    m = dofs.shape[1]
+    return coo_matrix((np.concatenate([normals[0], normals[1]]),
+                       (np.concatenate([dofs[0], dofs[1]]), np.tile(np.arange(m), 2))),
+                      shape=(n_dofs, m)).tocsc()
+
+
 #: Columns solved at once when condensing (bounds memory to chunk x N_dofs doubles).
 CONDENSE_CHUNK = 64
 
 
-def _flexibility(body, loads):
+def flexibility(body, loads):
     """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M), in chunks."""
     m = loads.shape[1]
     out = np.empty((m, m))
@@ -199,16 +211,11 @@ def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, 
     surface. ``rigid_a``/``rigid_b``: functions x (2, M) -> displacement (2, M) of the body
     per unit rigid unknown (None: the body does not take part in it).
     """
-    from scipy.sparse import coo_matrix
-
     proj, n = project_b(slave.points)
     g0 = np.sum((slave.points - proj) * n, axis=0)
     m = g0.size
-    rows = np.concatenate([slave.dofs[0], slave.dofs[1]])
-    cols = np.concatenate([np.arange(m), np.arange(m)])
-    vals = np.concatenate([n[0], n[1]])
-    loads_a = coo_matrix((vals, (rows, cols)), shape=(body_a.basis.N, m)).tocsc()
-    h = _flexibility(body_a, loads_a) + _flexibility(body_b, body_b.point_load_matrix(proj, n))
+    loads_a = nodal_load_matrix(body_a.basis.N, slave.dofs, n)
+    h = flexibility(body_a, loads_a) + flexibility(body_b, body_b.point_load_matrix(proj, n))
     c = np.zeros(m)
     if rigid_a is not None:
         c += np.sum(n * rigid_a(slave.points), axis=0)

@@ -514,8 +514,6 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     The zone sizes come from the seed's force estimate times a margin; after the solve the
     contact must end inside each slave zone (checked; ContactError otherwise).
     """
-    from scipy.sparse import coo_matrix
-
     check_range("torque", torque, 0, None, lo_open=True)
     if model.pin_structure == "rigid":
         raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
@@ -588,23 +586,20 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     dofs = disc.basis.N
     k = 0
     for body, facet_sets in groups:
-        rows, cols, vals, start = [], [], [], 0
+        group_dofs, group_normals = [], []
         for f in facet_sets:
             sl = contact.slave_surface(body, f)
             psi, _ = cy.foot_point(gen, sl.points, np.full(sl.points.shape[1], q.psi[k]))
             nrm = -cy.inward_normal(gen, psi)
-            m_pts = sl.points.shape[1]
-            rows += [sl.dofs[0], sl.dofs[1]]
-            cols += [start + np.arange(m_pts)] * 2
-            vals += [nrm[0], nrm[1]]
+            group_dofs.append(sl.dofs)
+            group_normals.append(nrm)
             slaves.append(sl)
             master_pts.append(cy.working_profile(gen, psi))
             normals.append(nrm)
-            start += m_pts
             k += 1
-        loads = coo_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))),
-                           shape=(body.basis.N, start)).tocsc()
-        h_blocks.append(contact._flexibility(body, loads))
+        loads = contact.nodal_load_matrix(body.basis.N, np.concatenate(group_dofs, axis=1),
+                                          np.concatenate(group_normals, axis=1))
+        h_blocks.append(contact.flexibility(body, loads))
         dofs += body.basis.N
     proj = np.concatenate(master_pts, axis=1)
     nrm = np.concatenate(normals, axis=1)
@@ -613,7 +608,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
 
     # evaluate the disc at the polygon point, a hair inside (the element finder needs it)
     on_mesh = contact.nearest_on_boundary(disc_mesh, "profile", proj) - 1e-6 * h * nrm
-    hmat = block_diag(*h_blocks) + contact._flexibility(disc, disc.point_load_matrix(on_mesh, nrm))
+    hmat = block_diag(*h_blocks) + contact.flexibility(disc, disc.point_load_matrix(on_mesh, nrm))
     g0 = np.sum((pts - proj) * nrm, axis=0)
     c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
     sol = contact.solve_contact(hmat, g0, c_rot, q_load)
