@@ -484,7 +484,7 @@ def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:
         force=force, point=state.point, moment_arm=state.moment_arm, half_width=b, ph=ph,
         gap=np.where(force > 0, 0.0, gap), transmission_error=beta, torque=float(torque),
         face_width=model.face_width, pressure_from_fe=np.zeros_like(invalid),
-        equivalent_radius=state.equivalent_radius)
+        equivalent_radius=state.equivalent_radius, hertz_invalid=invalid)
 
 
 # ---------------------------------------------------------------------------------------

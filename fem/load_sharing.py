@@ -37,8 +37,9 @@ class LoadSharing:
     transmission_error: np.ndarray  # (P,) rad, lag of the output member (rigid rotation)
     torque: float                   # N m carried by the moving member
     face_width: float               # m
-    pressure_from_fe: np.ndarray    # (P, C) bool: Hertz's assumptions fail, P_h from the FE
+    pressure_from_fe: np.ndarray    # (P, C) bool: P_h is the FE peak (Hertz fails there)
     equivalent_radius: np.ndarray   # (P, C) m
+    hertz_invalid: np.ndarray       # (P, C) bool: b not small against the radii
 
     @property
     def in_contact(self) -> np.ndarray:
@@ -121,4 +122,4 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
         gap=np.where(force > 0, 0.0, state.gap),
         transmission_error=np.zeros(state.position_rad.shape), torque=float(torque_Nm),
         face_width=float(face_width_m), pressure_from_fe=np.zeros_like(invalid),
-        equivalent_radius=state.equivalent_radius)
+        equivalent_radius=state.equivalent_radius, hertz_invalid=invalid)

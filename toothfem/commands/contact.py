@@ -98,7 +98,8 @@ def run(args) -> int:
                                                       * 3600),
             "torque_equilibrium_max_rel_error": float(np.max(np.abs(ls.torque_residual()))),
             "worst_position_deg": float(np.degrees(phis[worst])),
-            "hertz_invalid_contacts": int(np.sum(ls.pressure_from_fe)),
+            "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
+            "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
             "files": ["load_sharing.csv", "summary.json", "load_per_pin.png"],
         }
         if args.mode == "cycle" and detail is not None:
