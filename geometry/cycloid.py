@@ -544,7 +544,8 @@ def clearance_closed_form(geom: CycloidGeometry, theta_b):
 
 
 def closing_rotation(geom: CycloidGeometry) -> float:
-    """beta0 = min over the loaded flank of D0/|l| (first order, closed form).
+    """beta0 = min over the loaded flank of D0/|l| (first order, closed form): the disc's
+    angular lost motion (backlash) in one direction.
 
     For Delta_rz, -Delta_Rz >= 0 both terms are smallest at cos(theta) = K1, giving
     beta0 = (Delta_rz - Delta_Rz sqrt(1 - K1^2)) / r_a + Delta_delta; otherwise it is
@@ -568,7 +569,3 @@ def closing_rotation(geom: CycloidGeometry) -> float:
                           options={"xatol": 1e-12})
     return float(min(res.fun, ratio(theta[k]))) + geom.rotation_rad
 
-
-def backlash_rad(geom: CycloidGeometry) -> float:
-    """Angular lost motion of the disc in one direction, = closing_rotation (first order)."""
-    return closing_rotation(geom)

@@ -42,7 +42,7 @@ def _cycloid(case: Case) -> dict:
         "disc_tip_radius_mm": _r(g.tip_radius_m * 1e3),
         "min_convex_curvature_radius_mm": _r(rho * 1e3),
         "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
-        "backlash_arcmin": _r(math.degrees(cy.backlash_rad(g)) * 60) if g.modified else 0.0,
+        "backlash_arcmin": _r(math.degrees(cy.closing_rotation(g)) * 60) if g.modified else 0.0,
     }
     if case.first_stage is not None:
         fs = case.first_stage
