@@ -131,3 +131,26 @@ def test_integral_cycle_and_detailed_agree(case):
     cyc = cf.CycleSolver(model, np.array([0.05])).solve(torque)
     assert abs(det.load_sharing.force.max() / cyc.force.max() - 1) < 0.02
     assert abs(det.load_sharing.torque_residual()[0]) < 1e-8
+
+
+def test_integral_housing_outline(case):
+    """The housing's bore: the circle Rz with the inner part of every pin circle protruding;
+    a valid polygon whose area is the annulus plus 40 pin segments (exact to the outline's
+    chord sag, < 1e-4 relative)."""
+    from shapely.geometry import Polygon
+
+    model = cf.model_from_case(case, "integral")
+    inner, outer = cf.housing_rings(model, {})
+    poly = Polygon(outer.T, [inner.T])
+    assert poly.is_valid
+    rz, big_r, r_out = 0.002, 0.100, model.housing_outer_radius
+    alpha = math.acos(-rz / (2 * big_r))
+    # segment of the pin circle inside radius Rz (angle 2 pi - 2 alpha) minus the lens of
+    # the Rz circle cut off by the pin's chord: area of the circular segments
+    seg_pin = 0.5 * rz**2 * ((2 * math.pi - 2 * alpha) - math.sin(2 * math.pi - 2 * alpha))
+    beta = 2 * math.asin(rz * math.sin(alpha) / big_r)
+    seg_bore = 0.5 * big_r**2 * (beta - math.sin(beta))
+    n_out = outer.shape[1]
+    annulus = 0.5 * n_out * r_out**2 * math.sin(2 * math.pi / n_out) - math.pi * big_r**2
+    expected = annulus + 40 * (seg_pin + seg_bore)
+    assert poly.area == pytest.approx(expected, rel=1e-4)
