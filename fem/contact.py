@@ -42,8 +42,6 @@ class ContactSolution:
     iterations: int
 
 
-#: Relative tolerance on the complementarity residual reported as converged.
-COMPLEMENTARITY_RTOL = 1e-10
 MAX_ITERATIONS = 200
 
 
@@ -66,7 +64,6 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolu
     # start from the candidates that touch first under the rigid motion
     r_first = np.min(-g0[able] / c[able]) if q < 0 else np.max(-g0[able] / c[able])
     active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * 1e-9 + 1e-15)
-    lam = np.zeros(n)
     for it in range(1, max_iter + 1):
         idx = np.flatnonzero(active)
         k = idx.size

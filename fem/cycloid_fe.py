@@ -34,7 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..efficiency.friction import reduced_modulus
+from ..efficiency.friction import hertz_line, reduced_modulus
 from ..errors import ToothfemError, check_range
 from ..geometry import cycloid as cy
 from . import contact
@@ -235,7 +235,7 @@ class PinModel:
         """C(gamma, b) = C_table(gamma) - (2/(pi E')) ln(b / b_ref)."""
         c_ref = np.interp(gamma, self.angles, self.table)
         e_p = plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
-        return c_ref - (2 / (math.pi * e_p)) * np.log(np.asarray(b) / self.b_ref)
+        return c_ref + strip_width_correction(b, self.b_ref, e_p)
 
 
 def patch_loads(body, ring, points, normals, b_ref):
@@ -335,10 +335,9 @@ class CycleSolver:
 
     @cached_property
     def _setup(self):
-        if self.equal_springs is not None:
-            pos, state = _positions(self.model, self.positions_rad)
-            return pos, state, None, None
         pos, state = _positions(self.model, self.positions_rad)
+        if self.equal_springs is not None:
+            return pos, state, None, None
         g = self.model.geometry
         # windows: the span of each pin's contact parameter over the positions + patch
         windows = {}
@@ -394,14 +393,12 @@ class CycleSolver:
         computed once per position and kept (a new torque costs no new solve)."""
         if p in self._influence:
             return self._influence[p]
-        pos, _, disc, _ = self._setup
+        pos, state, disc, housing = self._setup
         q = pos[p]
         loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
         u = disc.solve(loads.toarray())
         c = loads.T @ u
         if self.model.pin_structure == "integral":
-            housing = self._setup[3]
-            _, state, _, _ = self._setup
             kh = state.point[p, q.pins].T
             nh = state.normal[p, q.pins].T
             lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
@@ -421,9 +418,8 @@ class CycleSolver:
     def solve(self, torque: float, progress=None) -> LoadSharing:
         """Load sharing at every position for the disc torque (N m)."""
         check_range("torque", torque, 0, None, lo_open=True)
-        pos, state, disc, pin = self._setup
+        pos, state, _, pin = self._setup
         m = self.model
-        e_p = m.e_plane
         q_load = torque / m.face_width
         zb = m.geometry.pin_count
         n_pos = len(pos)
@@ -436,32 +432,39 @@ class CycleSolver:
             if self.equal_springs is not None:     # rigid-body limit: H = k I, linear
                 sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, q.gap,
                                             q.arm, q_load)
-                force[p, q.pins] = sol.force * m.face_width
-                gap[p, q.pins] = sol.gap
-                beta[p] = sol.rigid
-                continue
-            c_disc = self.influence(p)
-            lam = _seed_guess(q, q_load)
-            for _ in range(LOCAL_MAX_ITER):
-                b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
-                local = -(2 / (math.pi * e_p)) * np.log(b / self.b_ref)
-                if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
-                    local = local - (2 / (math.pi * e_p)) * np.log(b / (self.b_ref / 2))
-                elif m.pin_structure == "conventional":
-                    local = local + pin.compliance(q.gamma, b)
-                h = c_disc + np.diag(local)
-                sol = contact.solve_contact(h, q.gap, q.arm, q_load)
-                done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
-                lam = sol.force
-                if done:
-                    break
             else:
-                raise contact.ContactError("the Hertz local approach did not settle at "
-                                           f"crank angle {math.degrees(q.phi):.3f} deg")
-            force[p, q.pins] = lam * m.face_width
+                sol = self._solve_position(p, q, q_load, pin)
+            force[p, q.pins] = sol.force * m.face_width
             gap[p, q.pins] = sol.gap
             beta[p] = sol.rigid
         return _record("cycle", m, state, force, gap, beta, torque)
+
+    def _solve_position(self, p, q, q_load, pin):
+        """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
+        m = self.model
+        e_p = m.e_plane
+        c_disc = self.influence(p)
+        lam = _seed_guess(q, q_load)
+        for _ in range(LOCAL_MAX_ITER):
+            b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
+            local = strip_width_correction(b, self.b_ref, e_p)
+            if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
+                local = local + strip_width_correction(b, self.b_ref / 2, e_p)
+            elif m.pin_structure == "conventional":
+                local = local + pin.compliance(q.gamma, b)
+            sol = contact.solve_contact(c_disc + np.diag(local), q.gap, q.arm, q_load)
+            done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
+            lam = sol.force
+            if done:
+                return sol
+        raise contact.ContactError("the Hertz local approach did not settle at "
+                                   f"crank angle {math.degrees(q.phi):.3f} deg")
+
+
+def strip_width_correction(b, b_ref, e_plane):
+    """Compliance change (m per N/m) of a half-space loaded by a Hertzian strip of
+    half-width b instead of b_ref: -(2/(pi E')) ln(b/b_ref) (docs/derivations.md, 6)."""
+    return -(2 / (math.pi * e_plane)) * np.log(np.asarray(b) / b_ref)
 
 
 def _seed_guess(q: _Position, q_load):
@@ -472,8 +475,7 @@ def _seed_guess(q: _Position, q_load):
 def _half_width(lam, r_eq, e_star, q_load, arm):
     """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
     mean = q_load / np.sum(np.abs(arm[arm < 0])) if np.any(arm < 0) else q_load
-    f = np.where(lam > 0, lam, mean)
-    return np.sqrt(4 * f * np.abs(r_eq) / (math.pi * e_star))
+    return hertz_line(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)[1]
 
 
 def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:
@@ -522,7 +524,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     (q,), state = _positions(model, [crank_angle_rad])
     q_load = torque / model.face_width
     f_est = _seed_guess(q, q_load) * DETAILED_FORCE_MARGIN
-    b_zone = float(np.max(np.sqrt(4 * np.max(f_est) * np.abs(q.r_eq) / (math.pi * model.e_star))))
+    b_zone = float(np.max(hertz_line(np.max(f_est), np.abs(q.r_eq), model.e_star)[1]))
     h = b_zone / elements_per_halfwidth
     rz = g.pin_radius_m
     theta_d = -crank_angle_rad / g.lobe_count
