@@ -209,7 +209,10 @@ class SpurStage(_Section):
     planet_count: int = _f(1, 8, integer=True, default=2)
     module_mm: float = _f(0.0, None, lo_open=True, default=1.0)
     pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
-    mesh_efficiency: float = _f(0.0, 1.0, lo_open=True, default=0.98)
+    face_width_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                     doc="default 10 modules")
+    mesh_efficiency: float | None = _f(0.0, 1.0, lo_open=True, default=None,
+                                       doc="declared; default: from the friction model")
 
 
 @dataclass(frozen=True)
@@ -282,6 +285,13 @@ class Lubricant(_Section):
     pressure_viscosity_1_per_GPa: float = _f(1.0, 50.0, default=20.0)
     reference_temperature_C: float = _f(-40.0, 200.0, default=40.0)
     roughness_Ra_um: float = _f(0.0, 10.0, default=0.4)
+    vogel_B_C: float = _f(100.0, 5000.0, default=1000.0,
+                          doc="Vogel B: eta = A exp(B/(T + C)), T in deg C")
+    vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]")
+    churning: str = _f(choices=("none", "lu_xu_2024"), default="none",
+                       doc="no-load (churning and seal) loss law")
+    churning_scale: float = _f(0.0, 100.0, default=1.0,
+                               doc="factor on the churning law")
 
 
 @dataclass(frozen=True)
@@ -290,6 +300,12 @@ class Friction(_Section):
     coefficient: float = _f(0.0, 1.0, default=0.05)
     bearing_coefficient: float = _f(0.0, 0.1, default=0.0015)
     output_pin_coefficient: float = _f(0.0, 1.0, default=0.05)
+    mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
+                       default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
+    boundary_coefficient: float = _f(0.0, 1.0, default=0.0,
+                                     doc="asperity friction in mixed lubrication (0: off)")
+    drag_torque_Nmm: float = _f(0.0, None, default=0.0,
+                                doc="load-independent drag on the input shaft (seals, preload)")
 
 
 @dataclass(frozen=True)
@@ -340,6 +356,17 @@ class Case:
         for sec in required:
             if getattr(self, sec) is None:
                 raise CaseError(f"[{sec}] section is required for drive = {self.drive!r}")
+        if self.drive == "rv":
+            z = self.rv
+            for sec, pairs in (("first_stage", (("sun_teeth", z.sun_teeth),
+                                                ("planet_teeth", z.planet_teeth))),
+                               ("cycloid", (("lobe_count", z.disc_teeth),
+                                            ("pin_count", z.pin_count)))):
+                st = getattr(self, sec)
+                for key, want in pairs if st is not None else ():
+                    if getattr(st, key) != want:
+                        raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
+                                        f"[rv] tooth numbers ({want})")
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):

@@ -1,0 +1,516 @@
+"""Reducer efficiency from the contact: the loss of every component and the prediction API.
+
+``evaluate(case, speed_rpm, torque_Nm, oil_temp_C)`` returns the losses in watts of each
+component at arrays of operating points (input speed, output torque, oil temperature);
+``predict`` returns the efficiency alone. Each loss is computed from the loads and speeds
+the component sees in the lossless train at that output torque (first order in the losses,
+the usual practice of ISO/TR 14179 and of the sine paper, Eqs. 26-45); the efficiency is
+``P_out / (P_out + sum of losses)``. docs/efficiency.md has the equations and checks.
+
+Components by drive:
+
+* sine (Lu & Xu 2024): ``mesh`` (contact friction summed over the contacts of one meshing
+  period from a load-sharing record), ``eccentric_bearing`` (Eq. 32 with the bearing
+  force from the planet's equilibrium, Eqs. 26-31), ``plain_bearings`` (Eq. 34),
+  ``output_mechanism`` (pins in holes, Eqs. 37-39), ``churning`` (Eq. 42), ``drag``.
+* cycloid: ``pin_contacts`` (pins sliding on the disc for the integral housing; for
+  conventional pins the pin turns in its groove when the groove slides more easily, see
+  :func:`_pin_contact_mu`), ``crank_bearings`` (the disc's crank-hole bearings: the output
+  mechanism of an RV-type drive), ``first_stage`` (involute spur stage), ``drag``.
+* rv: the cycloid components on the case's ``[cycloid]`` geometry plus the spur stage, or
+  the RV paper's split-power method (``method="rv_split_power"``).
+
+Friction at the tooth/pin contacts: ``case.friction.mesh_law`` (EHL regression of Xu et al.
+2007 by default; Coulomb; Benedict-Kelley), each contact at its own load, Hertz pressure,
+sliding and entraining speed; in mixed lubrication (film ratio lambda < 3) the asperity
+friction ``friction.boundary_coefficient`` takes over in proportion xi(lambda) =
+(1 - lambda/3)^2 (a solid-fraction blending in the manner of Castro & Seabra 2008; the
+shape of xi is a modelling choice, stated in the docs).
+"""
+from __future__ import annotations
+
+import math
+import warnings
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import CaseError, ToothfemError, check_range
+from . import friction as fr
+
+LOADS = ("analytic", "fem")
+METHODS = ("power_flow", "rv_split_power")
+
+#: Teeth of the sine pair within this unloaded gap share the load in the analytic split:
+#: the order of the pair's elastic approach at the rig torque (Hertz approach of a few
+#: micrometres plus tooth bending); the FE model finds the set itself.
+SINE_IN_MESH_GAP_M = 5e-6
+#: Full-film bound of the EHL regression (same as friction.LAMBDA_FULL_FILM).
+LAMBDA_FULL = fr.LAMBDA_FULL_FILM
+
+
+# ---------------------------------------------------------------------------------------
+# Results
+
+@dataclass(frozen=True)
+class Efficiency:
+    """Losses of every component at M operating points (arrays of shape (M,))."""
+    speed_rpm: np.ndarray
+    torque_Nm: np.ndarray
+    oil_temp_C: np.ndarray | None
+    output_power_W: np.ndarray
+    losses_W: dict
+    loads: str
+    method: str
+    notes: tuple = ()
+    mesh_efficiency: dict = field(default_factory=dict)   # per stage, (M,)
+
+    @property
+    def input_power_W(self) -> np.ndarray:
+        return self.output_power_W + sum(self.losses_W.values())
+
+    @property
+    def efficiency(self) -> np.ndarray:
+        return self.output_power_W / self.input_power_W
+
+    def shares(self) -> dict:
+        """Each loss as a fraction of the input power (the sine paper's 'loss shares')."""
+        p = self.input_power_W
+        return {k: v / p for k, v in self.losses_W.items()}
+
+
+# ---------------------------------------------------------------------------------------
+# Lubricant
+
+def viscosity_factor(lubricant, oil_temp_C):
+    """eta(T)/eta(T_ref) by Vogel's law eta = A exp(B/(T + C)) (Vogel 1921; T in deg C).
+    ``oil_temp_C`` None means the reference temperature (factor 1)."""
+    if oil_temp_C is None:
+        return 1.0
+    t = np.asarray(oil_temp_C, float)
+    lo = -lubricant.vogel_C_C
+    if np.any(~np.isfinite(t)) or np.any(t <= lo + 1.0) or np.any(t > 250.0):
+        bad = float(t[~np.isfinite(t) | (t <= lo + 1.0) | (t > 250.0)].flat[0])
+        raise CaseError(f"oil_temp_C = {bad!r} is outside the valid range ({lo + 1:g}, 250] "
+                        f"of the Vogel law with C = {lubricant.vogel_C_C:g} deg C")
+    b, c = lubricant.vogel_B_C, lubricant.vogel_C_C
+    return np.exp(b / (t + c) - b / (lubricant.reference_temperature_C + c))
+
+
+def _mixed(mu_ehl, lam, boundary):
+    """Blend the EHL friction with asperity friction as the film ratio falls below 3."""
+    if boundary <= 0:
+        return mu_ehl
+    xi = np.clip(1.0 - lam / LAMBDA_FULL, 0.0, 1.0) ** 2
+    return (1.0 - xi) * mu_ehl + xi * boundary
+
+
+# ---------------------------------------------------------------------------------------
+# Meshing cycle of one design: kinematics at unit crank speed, loads at a few torques
+
+@dataclass(frozen=True)
+class MeshTable:
+    """Loaded contacts of one meshing period, flattened over (position, contact).
+
+    Velocities are for a crank speed of 1 rad/s (they scale with it); loads are known at
+    ``torques`` (N m on the moving member) and interpolated as F/T and P_h/sqrt(T), which
+    is exact for the analytic split (one torque) and for a fixed contact set.
+    """
+    loads: str
+    n_positions: int
+    torques: np.ndarray            # (K,)
+    force: np.ndarray              # (K, N) N
+    ph: np.ndarray                 # (K, N) Pa
+    position: np.ndarray           # (N,) position index
+    vs: np.ndarray                 # (N,) |sliding speed| at unit crank speed, m/s
+    ve: np.ndarray                 # (N,) |entraining speed| at unit crank speed, m/s
+    r_eq: np.ndarray               # (N,) m
+    normal: np.ndarray             # (N, 2) fixed -> moving member
+    centre: np.ndarray             # (P, 2) centre of the moving member, m
+    face_width: float
+    pressure_from_fe: np.ndarray   # (N,) bool
+    hertz_invalid: np.ndarray      # (N,) bool
+
+    def at(self, torque):
+        """(force, ph) at moving-member torques ``torque`` (M,): arrays (M, N)."""
+        t = np.asarray(torque, float)[:, None]
+        if self.torques.size == 1:
+            f1 = self.force[0] / self.torques[0]
+            p1 = self.ph[0] / math.sqrt(self.torques[0])
+            return t * f1, np.sqrt(t) * p1
+        f_t = self.force / self.torques[:, None]
+        p_t = self.ph / np.sqrt(self.torques)[:, None]
+        tt = np.clip(t[:, 0], self.torques[0], self.torques[-1])
+        f = np.stack([np.interp(tt, self.torques, f_t[:, j]) for j in range(f_t.shape[1])], 1)
+        p = np.stack([np.interp(tt, self.torques, p_t[:, j]) for j in range(p_t.shape[1])], 1)
+        return t * f, np.sqrt(t) * p
+
+
+def _table(state, records, loads):
+    """A MeshTable from a meshing state (unit crank speed) and load-sharing records."""
+    loaded = np.zeros(state.shape, bool)
+    for r in records:
+        loaded |= r.force > 0
+    pos, con = np.nonzero(loaded)
+    return MeshTable(
+        loads=loads, n_positions=state.shape[0],
+        torques=np.array([r.torque for r in records]),
+        force=np.stack([r.force[pos, con] for r in records]),
+        ph=np.stack([r.ph[pos, con] for r in records]),
+        position=pos, vs=np.abs(state.sliding_velocity[pos, con]),
+        ve=np.abs(state.entrainment_velocity[pos, con]),
+        r_eq=np.abs(state.equivalent_radius[pos, con]),
+        normal=state.normal[pos, con], centre=np.asarray(state.centre),
+        face_width=records[0].face_width,
+        pressure_from_fe=np.any([r.pressure_from_fe[pos, con] for r in records], axis=0),
+        hertz_invalid=np.any([r.hertz_invalid[pos, con] for r in records], axis=0))
+
+
+def _e_star(material):
+    e = material.youngs_modulus_GPa * 1e9
+    return float(fr.reduced_modulus(e, material.poisson_ratio, e, material.poisson_ratio))
+
+
+#: Torques (fractions of the case's) at which FE load sharing is tabulated.
+FE_TORQUE_FRACTIONS = (0.1, 0.3, 1.0, 2.0)
+
+
+@lru_cache(maxsize=16)
+def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None) -> MeshTable:
+    """Meshing table of a sine pair (one tooth pitch of the crank)."""
+    from ..fem.load_sharing import analytic_split
+    from ..geometry import sine as sg
+
+    pair = sine.geometry()
+    phis = np.linspace(0.0, pair.crank_pitch_rad, positions, endpoint=False)
+    state = sg.meshing(pair, phis, 1.0)
+    width = sine.face_width_mm * 1e-3
+    if loads == "analytic":
+        recs = [analytic_split(state, 1.0, width, _e_star(material), SINE_IN_MESH_GAP_M)]
+    else:
+        try:
+            from ..fem import sine_fe
+        except ImportError:
+            raise ToothfemError("loads = 'fem' for the sine pair needs toothfem.fem.sine_fe, "
+                                "which this installation does not have") from None
+        recs = sine_fe.load_table(sine, material, phis,
+                                  [f * torque_ref for f in FE_TORQUE_FRACTIONS])
+    return _table(state, recs, loads)
+
+
+@lru_cache(maxsize=16)
+def cycloid_table(cycloid, material, loads="analytic", positions=36, torque_ref=None
+                  ) -> MeshTable:
+    """Meshing table of a cycloid disc (one pin pitch of the crank), pins fixed (the
+    sliding speed at the disc; conventional pins are handled by the friction rule)."""
+    from ..fem.load_sharing import analytic_split
+    from ..geometry import cycloid as cy
+
+    g = cycloid.geometry()
+    phis = np.linspace(0.0, 2 * math.pi / g.pin_count, positions, endpoint=False)
+    state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
+    width = cycloid.face_width_mm * 1e-3
+    if loads == "analytic":
+        recs = [analytic_split(state, 1.0, width, _e_star(material))]
+    else:
+        from ..fem import cycloid_fe as cf
+        from ..fem.cycloid_fe import CycloidFEModel
+
+        model = CycloidFEModel(g, cycloid.holes_si(), material.youngs_modulus_GPa * 1e9,
+                               material.poisson_ratio, width, cycloid.pin_structure, "strain",
+                               cycloid.housing_outer_radius_mm * 1e-3)
+        solver = cf.CycleSolver(model, phis)
+        recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
+    return _table(state, recs, loads)
+
+
+# ---------------------------------------------------------------------------------------
+# Contact friction over a table
+
+def _contact_mu(case, table, force, ph, crank_speed, eta0, notes):
+    """(M, N) friction coefficient at each loaded contact, and the film ratio."""
+    f = case.friction
+    lub = case.lubricant
+    ve = table.ve[None, :] * crank_speed[:, None]
+    vs = table.vs[None, :] * crank_speed[:, None]
+    lam = np.full(force.shape, np.inf)
+    if f.mesh_law == "coulomb":
+        return np.where(force > 0, f.coefficient, 0.0), lam
+    mu = np.zeros(force.shape)
+    ok = (force > 0) & (ve > 0) & (ph > 0)
+    eta = np.broadcast_to(np.asarray(eta0, float)[:, None] if np.ndim(eta0) else eta0,
+                          force.shape)
+    roughness = math.sqrt(2.0) * lub.roughness_Ra_um * 1e-6 * 1.25   # composite RMS of two
+    if f.mesh_law == "benedict_kelley":
+        w = force / table.face_width
+        with np.errstate(divide="ignore", invalid="ignore"):
+            mu[ok] = fr.benedict_kelley(w[ok], vs[ok], 2 * ve[ok], eta[ok],
+                                        lub.roughness_Ra_um * 1e-6)
+        return mu, lam
+    e_prime = 2 * _e_star(case.material)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", fr.MixedLubricationWarning)
+        sr = np.where(ve > 0, vs / np.where(ve > 0, ve, 1.0), 0.0)
+        res = fr.ehl_xu2007(ph[ok], sr[ok], ve[ok], eta[ok],
+                            np.broadcast_to(table.r_eq, force.shape)[ok], roughness,
+                            e_prime=e_prime,
+                            pressure_viscosity=lub.pressure_viscosity_1_per_GPa * 1e-9)
+    mu[ok] = res.mu
+    lam[ok] = res.film_ratio
+    low = np.isfinite(lam) & (lam < LAMBDA_FULL)
+    if np.any(low):
+        notes.append(f"film ratio lambda < {LAMBDA_FULL:g} at {100 * low.mean():.0f} % of the "
+                     f"loaded contacts (min {lam[ok].min():.2g}): mixed lubrication, the Xu "
+                     "regression is extrapolated"
+                     + ("" if f.boundary_coefficient > 0 else
+                        "; friction.boundary_coefficient = 0, so no asperity friction added"))
+    mu = _mixed(mu, lam, f.boundary_coefficient)
+    return mu, lam
+
+
+def _mesh_loss(table, force, mu, crank_speed):
+    """(M,) cycle-mean loss sum mu F |v_s| over the period."""
+    vs = table.vs[None, :] * crank_speed[:, None]
+    return np.sum(mu * force * vs, axis=1) / table.n_positions
+
+
+def _resultant(table, force):
+    """(M, P, 2) resultant contact force on the moving member at each position."""
+    m = force.shape[0]
+    out = np.zeros((m, table.n_positions, 2))
+    for k in range(2):
+        np.add.at(out[:, :, k], (slice(None), table.position), force * table.normal[:, k])
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# Operating points
+
+def _points(case, speed_rpm, torque_Nm, oil_temp_C):
+    n = np.atleast_1d(np.asarray(speed_rpm, float))
+    t = np.atleast_1d(np.asarray(torque_Nm, float))
+    try:
+        n, t = np.broadcast_arrays(n, t)
+    except ValueError:
+        raise ToothfemError(f"speed_rpm {n.shape} and torque_Nm {t.shape} do not broadcast") \
+            from None
+    for name, arr, lo in (("speed_rpm", n, 0.0), ("torque_Nm", t, 0.0)):
+        bad = ~np.isfinite(arr) | (arr <= lo)
+        if np.any(bad):
+            raise CaseError(f"{name} = {float(arr[bad].flat[0])!r} is outside the valid range "
+                            f"({lo:g}, inf)")
+    temp = None
+    if oil_temp_C is not None:
+        temp = np.broadcast_to(np.asarray(oil_temp_C, float), n.shape).astype(float)
+    return n.astype(float).ravel(), t.astype(float).ravel(), \
+        None if temp is None else temp.ravel()
+
+
+def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
+             method="power_flow", positions=36) -> Efficiency:
+    """Losses of every component of ``case`` at the operating points (input speed [rpm],
+    output torque [N m], oil temperature [deg C] or None for the lubricant's reference)."""
+    if loads not in LOADS:
+        raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
+    if method not in METHODS:
+        raise CaseError(f"method = {method!r} is not one of {list(METHODS)}")
+    check_range("positions", positions, 4, 720, error=CaseError)
+    n, t, temp = _points(case, speed_rpm, torque_Nm, oil_temp_C)
+    visc = viscosity_factor(case.lubricant, temp) * np.ones_like(n)
+    if method == "rv_split_power":
+        return _rv_split(case, n, t, temp)
+    if case.drive == "sine":
+        return _sine(case, n, t, temp, visc, loads, positions)
+    return _cycloid(case, n, t, temp, visc, loads, positions)
+
+
+def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:
+    """Efficiency (0..1) of ``case`` at arrays of operating points; shape of the
+    broadcast inputs. Keywords as :func:`evaluate`."""
+    shape = np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm))
+    return evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency.reshape(shape)
+
+
+# ---------------------------------------------------------------------------------------
+# Sine reducer (Lu & Xu 2024, Eqs. 21-45)
+
+def churning_lu_xu_2024(centre_distance_mm, speed_rpm, kinematic_viscosity_mm2_s):
+    """No-load loss of the sine paper, Eq. 42 [W]:
+    P0 = 1e-7 a0 (n1/60)^(4/3) (nu/n1)^0.1 (nu + 90) kW, a0 in mm, n1 in rpm, nu in mm^2/s.
+    The printed 'z50' is read as the viscosity nu50 (OCR of the same symbol as gamma50);
+    the kW unit is the one that gives the paper's 1.85 % share (docs/efficiency.md)."""
+    n = np.asarray(speed_rpm, float)
+    nu = np.asarray(kinematic_viscosity_mm2_s, float)
+    return 1e-7 * centre_distance_mm * (n / 60.0) ** (4.0 / 3.0) * (nu / n) ** 0.1 \
+        * (nu + 90.0) * 1e3
+
+
+def _sine(case, n, t2, temp, visc, loads, positions):
+    from ..geometry.train import khv_speeds
+
+    st, om = case.sine, case.output_mechanism
+    if om is None:
+        raise CaseError("[output_mechanism] section is required for the sine reducer's losses")
+    w = khv_speeds(st.planet_teeth, st.ring_teeth)
+    crank = n * 2 * math.pi / 60                            # rad/s
+    w_planet = crank * w["moving"]
+    rel = np.abs(crank - w_planet)                          # crank relative to the planet
+    p_out = t2 * np.abs(w_planet)
+    notes = []
+    torque_ref = float(np.max(t2)) if loads == "fem" else None
+    table = sine_table(st, case.material, loads, positions, torque_ref)
+    force, ph = table.at(t2)
+    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
+    mu, _ = _contact_mu(case, table, force, ph, crank, eta0, notes)
+    mesh = _mesh_loss(table, force, mu, crank)
+    if np.any(table.hertz_invalid):
+        notes.append(f"Hertz's assumptions fail at {int(table.hertz_invalid.sum())} of "
+                     f"{table.hertz_invalid.size} loaded contacts (half-width not small against "
+                     "the radii); "
+                     + ("P_h there is the FE pressure" if np.any(table.pressure_from_fe) else
+                        "P_h there is still Hertz's (analytic loads): use loads='fem'"))
+    # planet equilibrium: mesh resultant + pins (sum Q, Eq. 26, along -e) + bearing = 0
+    r_w = om.pin_hole_circle_radius_mm * 1e-3
+    sum_q = 4 * t2 / (math.pi * r_w)                                       # Eq. 26
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]   # (P, 2)
+    mesh_res = _resultant(table, force)                                    # (M, P, 2)
+    bearing = mesh_res - sum_q[:, None, None] * e_dir[None]
+    f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
+    ecc = case.friction.bearing_coefficient * om.eccentric_bearing_inner_radius_mm * 1e-3 \
+        * f_r1 * rel                                                       # Eq. 32
+    plain = om.plain_bearing_friction_torque_Nmm * 1e-3 * crank * np.ones_like(n)  # Eq. 34
+    a0 = st.module_mm * (st.ring_teeth - st.planet_teeth) / 2
+    v_k = 2 * a0 * 1e-3 * rel                                              # Eq. 38
+    out_mech = case.friction.output_pin_coefficient * sum_q * v_k          # Eq. 39
+    losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
+              "output_mechanism": out_mech}
+    lub = case.lubricant
+    if lub.churning != "none":
+        losses["churning"] = lub.churning_scale * churning_lu_xu_2024(
+            a0, n, lub.kinematic_viscosity_mm2_s * visc)
+    losses["drag"] = case.friction.drag_torque_Nmm * 1e-3 * crank
+    # mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), then the
+    # K-H-V train by Chen & Angeles' method (closed form, power_flow.khv_efficiency)
+    eta_mesh = 1 - mesh / (t2 * rel)
+    c = st.ring_teeth / (st.ring_teeth - st.planet_teeth)
+    losses["mesh"] = p_out * c * (1 / eta_mesh - 1)
+    return Efficiency(n, t2, temp, p_out, losses, loads, "power_flow", tuple(notes),
+                      {"sine": eta_mesh})
+
+
+# ---------------------------------------------------------------------------------------
+# Cycloid and RV drives
+
+def _pin_contact_mu(case, mu_disc):
+    """Friction that resists sliding at a pin: the disc contact's (integral housing), or
+    for a pin free to turn in its groove the smaller of that and the groove's Coulomb
+    coefficient: the pin turns until the two friction torques balance, so the interface
+    that slides more easily takes the sliding (loss mu F v_s either way, v_s the sliding
+    speed of a fixed pin, since the groove radius is the pin radius)."""
+    if case.cycloid.pin_structure == "integral":
+        return mu_disc
+    return np.minimum(mu_disc, case.friction.coefficient)
+
+
+def _cycloid_stage(case):
+    """(cycloid section, speeds for unit input speed, first stage or None)."""
+    from ..geometry.train import khv_speeds, rv_speeds
+
+    cyc = case.cycloid
+    if cyc is None:
+        raise CaseError("a [cycloid] section (disc and pins) is required for the contact "
+                        "losses of this drive")
+    if case.drive == "rv":
+        z = case.rv
+        w = rv_speeds(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count)
+        return cyc, {"input": 1.0, "crank": w["planet"], "disc": w["disc"],
+                     "carrier": w["carrier"]}, ("rv", z.sun_teeth, z.planet_teeth)
+    if case.first_stage is not None:
+        fs = case.first_stage
+        w = rv_speeds(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count, cyc.pin_count)
+        return cyc, {"input": 1.0, "crank": w["planet"], "disc": w["disc"],
+                     "carrier": w["carrier"]}, ("first_stage", fs.sun_teeth, fs.planet_teeth)
+    w = khv_speeds(cyc.lobe_count, cyc.pin_count)
+    return cyc, {"input": 1.0, "crank": 1.0, "disc": w["moving"], "carrier": w["moving"]}, None
+
+
+def _cycloid(case, n, t2, temp, visc, loads, positions):
+    if case.material is None:
+        raise CaseError("a [material] section is required for the contact losses")
+    cyc, w, spur = _cycloid_stage(case)
+    w_in = n * 2 * math.pi / 60
+    crank = np.abs(w_in * w["crank"])
+    disc_rel = np.abs(w_in * (w["crank"] - w["disc"]))       # crank relative to the disc
+    p_out = t2 * np.abs(w_in * w["carrier"])
+    notes = []
+    t_disc = t2 / cyc.disc_count          # even split for losses (load factor is for strength)
+    torque_ref = float(np.max(t_disc)) if loads == "fem" else None
+    table = cycloid_table(cyc, case.material, loads, positions, torque_ref)
+    force, ph = table.at(t_disc)
+    # the disc's crank angle speed relative to the pin ring: the crank's absolute speed
+    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
+    mu_disc, _ = _contact_mu(case, table, force, ph, crank, eta0, notes)
+    mu = _pin_contact_mu(case, mu_disc)
+    if cyc.pin_structure == "conventional":
+        share = np.mean(mu_disc > case.friction.coefficient)
+        notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
+                     "loaded contacts (groove friction below the disc contact's)")
+    pins = cyc.disc_count * _mesh_loss(table, force, mu, crank)
+    res = _resultant(table, force)                                      # (M, P, 2) per disc
+    f_bearing = np.mean(np.linalg.norm(res, axis=2), axis=1)
+    r_b = cyc.disc_holes.crank_hole_radius_mm * 1e-3
+    if r_b <= 0:
+        r_b = cyc.eccentricity_mm * 1e-3 * 10     # no holes declared: a nominal crank radius
+        notes.append("crank bearing radius not declared (cycloid.disc_holes): 10 x "
+                     "eccentricity assumed")
+    crank_b = cyc.disc_count * case.friction.bearing_coefficient * f_bearing * r_b * disc_rel
+    eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
+    losses = {"crank_bearings": crank_b}
+    mesh_eff = {"cycloid": eta2}
+    if spur is None:                                  # K-H-V: Chen-Angeles closed form
+        c = cyc.pin_count / (cyc.pin_count - cyc.lobe_count)
+        losses["pin_contacts"] = p_out * c * (1 / eta2 - 1)
+    else:                                             # 2K-V: power_flow.rv_power_flow form
+        from . import spur as sp
+
+        stage = case.first_stage
+        zs, zp = spur[1], spur[2]
+        ratio = abs(1 / w["carrier"])
+        t_sun = t2 / ratio
+        if stage is not None and stage.mesh_efficiency is not None:
+            eta1 = np.full_like(n, stage.mesh_efficiency)
+        elif stage is not None:
+            eta1 = sp.mesh_efficiency(stage, t_sun, w_in * (1 - w["carrier"]), eta0,
+                                      case.lubricant.roughness_Ra_um)
+        else:
+            raise CaseError("a [first_stage] section is required for the sun-planet mesh")
+        r, z4, z5 = zp / zs, cyc.lobe_count, cyc.pin_count
+        eta_train = (1 + r * eta1 * z5 / (z5 - z4 * eta2)) / ratio
+        eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
+        p_in = p_out / eta_train
+        losses["first_stage"] = p_out / eta_lossless_1 - p_out
+        losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
+        mesh_eff["first_stage"] = eta1
+    losses["drag"] = case.friction.drag_torque_Nmm * 1e-3 * w_in
+    return Efficiency(n, t2, temp, p_out, losses, loads, "power_flow", tuple(notes), mesh_eff)
+
+
+def _rv_split(case, n, t2, temp):
+    """The RV paper's split/virtual power method at each operating point (mesh
+    efficiencies as declared)."""
+    from .power_flow import rv_split_power
+
+    if case.drive != "rv":
+        raise CaseError(f"method = 'rv_split_power' needs drive = 'rv', not {case.drive!r}")
+    z = case.rv
+    eta1 = z.mesh_efficiency
+    p_in = np.empty_like(n)
+    r = rv_split_power(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count, 1.0, eta1, eta1)
+    w_out = n * 2 * math.pi / 60 / r.ratio
+    p_out = t2 * np.abs(w_out)
+    p_in[:] = p_out / r.efficiency
+    losses = {"sun_planet_mesh": p_in * r.loss_L1_W, "cycloid_mesh": p_in * r.loss_L2_W}
+    return Efficiency(n, t2, temp, p_out, losses, "analytic", "rv_split_power",
+                      ("RV paper Eqs. 8-15 with the declared mesh efficiency",),
+                      {"sun_planet": np.full_like(n, eta1), "cycloid": np.full_like(n, eta1)})
