@@ -18,8 +18,7 @@ venv: $(VENV)/.installed
 
 demo: $(VENV)/.installed
 	$(BIN)/toothfem check $(CASE)
-	$(BIN)/toothfem geometry $(CASE) --out $(OUT)/geometry
-	$(BIN)/toothfem contact $(CASE) --positions 36 --out $(OUT)/contact
+	$(BIN)/toothfem run $(CASE) --out $(OUT)
 
 test: $(VENV)/.installed
 	$(BIN)/python -m pytest -q tests

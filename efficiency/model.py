@@ -514,3 +514,27 @@ def _rv_split(case, n, t2, temp):
     return Efficiency(n, t2, temp, p_out, losses, "analytic", "rv_split_power",
                       ("RV paper Eqs. 8-15 with the declared mesh efficiency",),
                       {"sun_planet": np.full_like(n, eta1), "cycloid": np.full_like(n, eta1)})
+
+
+def operating_point(case, **kw):
+    """(input speed [rpm], output torque [N m]) of the case's [operating] table: the declared
+    output torque, or the output torque that the declared input torque or power gives
+    through the model's own efficiency (fixed point T2 = i T1 eta(T2); ``kw`` as
+    :func:`evaluate`)."""
+    op = case.operating
+    ratio = abs(case.ratio())
+    if op.output_torque_Nm:
+        return op.input_speed_rpm, op.output_torque_Nm
+    if op.input_torque_Nm:
+        t_in = op.input_torque_Nm
+    elif op.input_power_kW:
+        t_in = op.input_power_kW * 1e3 / (op.input_speed_rpm * 2 * math.pi / 60)
+    else:
+        raise CaseError("[operating] needs output_torque_Nm, input_torque_Nm or input_power_kW")
+    t2 = t_in * ratio
+    for _ in range(50):       # contraction: eta varies slowly with torque
+        new = t_in * ratio * float(evaluate(case, op.input_speed_rpm, t2, **kw).efficiency[0])
+        if abs(new - t2) < 1e-10 * t2:
+            break
+        t2 = new
+    return op.input_speed_rpm, t2

@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from . import __version__
-from .commands import check, contact, geometry
+from .commands import check, contact, efficiency, geometry, run
 
-COMMANDS = (check, geometry, contact)
+COMMANDS = (check, geometry, contact, efficiency, run)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -101,3 +101,60 @@ def sine_drawing(pair, crank_angle_rad=0.0, title=""):
     axes[1].set_title("close-up at the pitch point (+)")
     fig.tight_layout()
     return fig
+
+
+def efficiency_vs_torque(torque, curves: dict, measured=(), title=""):
+    """Efficiency [%] against output torque; ``curves`` label -> efficiency array;
+    ``measured``: (torque, efficiency, label) points."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5))
+    for label, eta in curves.items():
+        ax.plot(torque, 100 * np.asarray(eta), lw=1.5, label=label)
+    for t, e, label in measured:
+        ax.plot(t, 100 * e, "ko", ms=6)
+        ax.annotate(label, (t, 100 * e), textcoords="offset points", xytext=(-10, -14),
+                    fontsize=8, ha="right")
+    ax.set_xlabel("output torque [N m]")
+    ax.set_ylabel("efficiency [%]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def efficiency_map(x, y, eta, xlabel, ylabel, title=""):
+    """Catalogue-style efficiency chart: filled contours of efficiency [%] over a grid."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 5.5))
+    levels = np.unique(np.clip(np.round(np.linspace(np.nanmin(eta), np.nanmax(eta), 12)
+                                        * 100), 0, 100))
+    cs = ax.contourf(x, y, 100 * np.asarray(eta), levels=24, cmap="viridis")
+    lines = ax.contour(x, y, 100 * np.asarray(eta), levels=levels, colors="k",
+                       linewidths=0.5)
+    ax.clabel(lines, fmt="%.0f %%", fontsize=7)
+    fig.colorbar(cs, ax=ax, label="efficiency [%]")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def loss_shares(labels, shares: dict, title=""):
+    """Grouped bars: loss shares [% of input power] per component, one group per source."""
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    k = len(shares)
+    width = 0.8 / max(k, 1)
+    x = np.arange(len(labels))
+    for i, (src, vals) in enumerate(shares.items()):
+        ax.bar(x + (i - (k - 1) / 2) * width, [100 * vals.get(n, np.nan) for n in labels],
+               width, label=src)
+    ax.set_xticks(x, labels, rotation=20, ha="right", fontsize=8)
+    ax.set_ylabel("loss [% of input power]")
+    ax.grid(alpha=0.3, axis="y")
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig

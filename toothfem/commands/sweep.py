@@ -1,0 +1,85 @@
+"""`toothfem sweep CASE --vary KEY=V1,V2,... [--vary ...] [--torque-Nm T1,T2] [--positions N]
+[--pins P] [--scheduler ADDRESS] [--workers N] [--cache-dir DIR | --no-cache] --out DIR`."""
+from __future__ import annotations
+
+import json
+
+
+def add_parser(sub):
+    p = sub.add_parser("sweep", help="designs x load cases x meshing positions through Dask; "
+                       "one CSV row per design and load case")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
+                   help="a dotted case key and its values, e.g. cycloid.eccentricity_mm=0.9,1.0;"
+                        " operating.* keys are load cases, the others designs (repeatable)")
+    p.add_argument("--torque-Nm", default=None, dest="torques", metavar="T1,T2,...",
+                   help="reducer output torques [N m] as load cases (default: the case's)")
+    p.add_argument("--positions", type=int, default=36,
+                   help="meshing positions over one pin or tooth pitch (default 36)")
+    p.add_argument("--pins", choices=("conventional", "integral", "rigid"), default=None,
+                   help="cycloid pin structure (default: the case's)")
+    p.add_argument("--scheduler", default=None, metavar="ADDRESS",
+                   help="Dask scheduler address (default: a local cluster)")
+    p.add_argument("--workers", type=int, default=None,
+                   help="worker processes of the local cluster (default: one per CPU)")
+    cache = p.add_mutually_exclusive_group()
+    cache.add_argument("--cache-dir", default=None,
+                       help="disk cache of influence tables (default: $TOOTHFEM_CACHE or "
+                            "~/.cache/toothfem)")
+    cache.add_argument("--no-cache", action="store_true", help="no disk cache")
+    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..sweep import sweep
+
+    vary = {}
+    for item in args.vary:
+        key, values = parse_vary(item)
+        if key in vary:
+            from ..errors import CaseError
+
+            raise CaseError(f"--vary {key} is given twice")
+        vary[key] = values
+    torques = None
+    if args.torques is not None:
+        torques = parse_values("--torque-Nm", args.torques)
+    result = sweep(args.case, vary, torques_Nm=torques, positions=args.positions,
+                   pins=args.pins, scheduler=args.scheduler, n_workers=args.workers,
+                   out=args.out, cache_dir=False if args.no_cache else args.cache_dir,
+                   progress=True)
+    summary = json.loads((result.out / "sweep.json").read_text())
+    print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    return 0
+
+
+def parse_vary(item: str):
+    """'KEY=V1,V2' -> (KEY, [V1, V2]) with each value an int, float or string."""
+    from ..errors import CaseError
+
+    key, sep, values = item.partition("=")
+    if not sep or not key.strip():
+        raise CaseError(f"--vary {item!r}: expected KEY=V1,V2,...")
+    return key.strip(), parse_values(f"--vary {key.strip()}", values)
+
+
+def parse_values(name: str, text: str) -> list:
+    from ..errors import CaseError
+
+    out = []
+    for token in text.split(","):
+        token = token.strip()
+        if not token:
+            raise CaseError(f"{name}: empty value in {text!r}")
+        out.append(_number(token))
+    return out
+
+
+def _number(token: str):
+    for kind in (int, float):
+        try:
+            return kind(token)
+        except ValueError:
+            pass
+    return token
