@@ -15,7 +15,7 @@ Components by drive:
   ``output_mechanism`` (pins in holes, Eqs. 37-39), ``churning`` (Eq. 42), ``drag``.
 * cycloid: ``pin_contacts`` (pins sliding on the disc for the integral housing; for
   conventional pins the pin turns in its groove when the groove slides more easily, see
-  :func:`_pin_contact_mu`), ``crank_bearings`` (the disc's crank-hole bearings: the output
+  :func:`_pin_contact_mu`; ``friction.pin_groove_coefficient`` 0 = ideal rolling), ``crank_bearings`` (the disc's crank-hole bearings: the output
   mechanism of an RV-type drive), ``first_stage`` (involute spur stage), ``drag``.
 * rv: the cycloid components on the case's ``[cycloid]`` geometry plus the spur stage, or
   the RV paper's split-power method (``method="rv_split_power"``).
@@ -405,12 +405,12 @@ def _sine(case, n, t2, temp, visc, loads, positions):
 def _pin_contact_mu(case, mu_disc):
     """Friction that resists sliding at a pin: the disc contact's (integral housing), or
     for a pin free to turn in its groove the smaller of that and the groove's Coulomb
-    coefficient: the pin turns until the two friction torques balance, so the interface
+    coefficient ``friction.pin_groove_coefficient``: the pin turns until the two friction torques balance, so the interface
     that slides more easily takes the sliding (loss mu F v_s either way, v_s the sliding
     speed of a fixed pin, since the groove radius is the pin radius)."""
     if case.cycloid.pin_structure == "integral":
         return mu_disc
-    return np.minimum(mu_disc, case.friction.coefficient)
+    return np.minimum(mu_disc, case.friction.pin_groove_coefficient)
 
 
 def _cycloid_stage(case):
@@ -453,7 +453,7 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
     mu_disc, _ = _contact_mu(case, table, force, ph, crank, eta0, notes)
     mu = _pin_contact_mu(case, mu_disc)
     if cyc.pin_structure == "conventional":
-        share = np.mean(mu_disc > case.friction.coefficient)
+        share = np.mean(mu_disc > case.friction.pin_groove_coefficient)
         notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
                      "loaded contacts (groove friction below the disc contact's)")
     pins = cyc.disc_count * _mesh_loss(table, force, mu, crank)

@@ -38,6 +38,7 @@ from ..efficiency.friction import hertz_line, reduced_modulus
 from ..errors import ToothfemError, check_range
 from ..geometry import cycloid as cy
 from . import contact
+from .cache import content_key
 from .elastic import Body, plane_modulus
 from .load_sharing import LoadSharing, hertz_fields
 from .mesh import Refinement, mesh_rings
@@ -324,18 +325,41 @@ def housing_body(model, zones, refinements, keep_below, transform=None):
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
+#: Bump when the discretisation behind the influence tables changes (mesh sizes, patches,
+#: pin table angles): it is part of :meth:`CycleSolver.cache_key`, so old files go unused.
+TABLES_VERSION = 1
+
+
 @dataclass(eq=False)
 class CycleSolver:
-    """Influence coefficients of the disc for a set of positions from one factorisation."""
+    """Influence coefficients of the disc for a set of positions from one factorisation.
+
+    ``cache`` (a :class:`toothfem.fem.cache.DiskCache`, or None) keeps the torque-independent
+    tables on disk under :meth:`cache_key`: a solver for a design already in it builds no
+    mesh and factorises nothing. Without it nothing is read or written."""
     model: CycloidFEModel
     positions_rad: np.ndarray
     b_ref: float = 1e-4
     elements_per_bref: int = 5
     equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
+    cache: object = None                 # DiskCache of the influence tables, or None
+
+    @cached_property
+    def _geometry(self):
+        """(candidate contacts per position, MeshingState): kinematics only, no mesh."""
+        return _positions(self.model, self.positions_rad)
+
+    @cached_property
+    def _pin(self):
+        """The conventional pin's compliance model (None for the other structures)."""
+        if self.model.pin_structure != "conventional":
+            return None
+        return PinModel(self.model.geometry.pin_radius_m, self.model.youngs_modulus,
+                        self.model.poisson_ratio, self.b_ref / 2, self.model.plane)
 
     @cached_property
     def _setup(self):
-        pos, state = _positions(self.model, self.positions_rad)
+        pos, state = self._geometry
         if self.equal_springs is not None:
             return pos, state, None, None
         g = self.model.geometry
@@ -377,11 +401,8 @@ class CycleSolver:
             centres = np.concatenate(pts_h, axis=1)
             pin = housing_body(self.model, zones,
                                [Refinement(centres, hb / 5, hb, 20 * hb)], keep_below=hb / 2)
-        elif self.model.pin_structure == "conventional":
-            pin = PinModel(g.pin_radius_m, self.model.youngs_modulus,
-                           self.model.poisson_ratio, self.b_ref / 2, self.model.plane)
         else:
-            pin = None
+            pin = self._pin
         return pos, state, disc, pin
 
     @cached_property
@@ -406,6 +427,60 @@ class CycleSolver:
         self._influence[p] = 0.5 * (c + c.T)
         return self._influence[p]
 
+    def cache_key(self) -> str:
+        """Hash of what the influence tables depend on: geometry, holes, material, pin
+        structure, plane, positions, b_ref and mesh density. Not the torque, and not the
+        face width (the tables are per unit length)."""
+        m = self.model
+        return content_key("CycleSolver", TABLES_VERSION, m.geometry, m.holes,
+                           m.youngs_modulus, m.poisson_ratio, m.pin_structure, m.plane,
+                           m.housing_outer_radius if m.pin_structure == "integral" else None,
+                           np.asarray(self.positions_rad, float), self.b_ref,
+                           self.elements_per_bref)
+
+    def tables(self) -> dict:
+        """The torque-independent arrays of the solve: ``influence_<p>`` (C_p, C_p) for
+        every position and, for conventional pins, ``pin_table``. Taken from ``cache``
+        when it holds them (no mesh, no factorisation), else computed and stored there."""
+        if self.equal_springs is not None:
+            raise ToothfemError("the equal-springs limit has no influence tables")
+        n = len(self._geometry[0])
+        if self.cache is not None and len(self._influence) < n:
+            hit = self.cache.load(self.cache_key())
+            if hit is not None:
+                try:
+                    self.adopt(hit)
+                except ToothfemError:      # stale or foreign file: recompute, overwrite
+                    self._influence.clear()
+        computed = len(self._influence) < n or (self._pin is not None
+                                                and "table" not in vars(self._pin))
+        out = {f"influence_{p}": self.influence(p) for p in range(n)}
+        if self._pin is not None:
+            out["pin_table"] = self._pin.table
+        if computed and self.cache is not None:
+            self.cache.store(self.cache_key(), out)
+        return out
+
+    def adopt(self, tables) -> None:
+        """Use ``tables`` (as returned by :meth:`tables`, e.g. from another process) instead
+        of computing them; refused (ToothfemError) if they do not fit these positions."""
+        pos = self._geometry[0]
+        for p, q in enumerate(pos):
+            c = np.asarray(tables.get(f"influence_{p}", np.empty(0)), float)
+            if c.shape != (q.pins.size, q.pins.size) or not np.all(np.isfinite(c)):
+                raise ToothfemError(f"influence table of position {p} does not fit: shape "
+                                    f"{c.shape}, expected {(q.pins.size, q.pins.size)}")
+        if len(tables) != len(pos) + (self._pin is not None):
+            raise ToothfemError(f"{len(tables)} tables for {len(pos)} positions")
+        if self._pin is not None:
+            t = np.asarray(tables.get("pin_table", np.empty(0)), float)
+            if t.shape != self._pin.angles.shape:
+                raise ToothfemError(f"pin table shape {t.shape} does not fit "
+                                    f"{self._pin.angles.shape}")
+            self._pin.table = t          # fills the cached_property
+        for p in range(len(pos)):
+            self._influence[p] = np.asarray(tables[f"influence_{p}"], float)
+
     def disc_field(self, p: int, load_sharing: LoadSharing):
         """(disc Body, displacement dofs) at position p under the solved contact forces
         (Hertz strips of b_ref pressing along the inward normal), disc frame."""
@@ -418,7 +493,9 @@ class CycleSolver:
     def solve(self, torque: float, progress=None) -> LoadSharing:
         """Load sharing at every position for the disc torque (N m)."""
         check_range("torque", torque, 0, None, lo_open=True)
-        pos, state, _, pin = self._setup
+        if self.cache is not None and self.equal_springs is None:
+            self.tables()
+        (pos, state), pin = self._geometry, self._pin
         m = self.model
         q_load = torque / m.face_width
         zb = m.geometry.pin_count

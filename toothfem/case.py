@@ -300,6 +300,9 @@ class Friction(_Section):
     coefficient: float = _f(0.0, 1.0, default=0.05)
     bearing_coefficient: float = _f(0.0, 0.1, default=0.0015)
     output_pin_coefficient: float = _f(0.0, 1.0, default=0.05)
+    pin_groove_coefficient: float = _f(0.0, 1.0, default=0.0,
+                                       doc="conventional pins sliding in their housing "
+                                           "grooves (0: pins roll freely)")
     mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
                        default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
     boundary_coefficient: float = _f(0.0, 1.0, default=0.0,
