@@ -199,6 +199,21 @@ def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None) 
     return _table(state, recs, loads)
 
 
+@lru_cache(maxsize=4)
+def _cycle_solver(cycloid, material, positions):
+    """The FE cycle-mode solver of a disc (one factorisation, influence coefficients kept;
+    a new torque costs no new solve)."""
+    from ..fem import cycloid_fe as cf
+
+    g = cycloid.geometry()
+    model = cf.CycloidFEModel(g, cycloid.holes_si(), material.youngs_modulus_GPa * 1e9,
+                              material.poisson_ratio, cycloid.face_width_mm * 1e-3,
+                              cycloid.pin_structure, "strain",
+                              cycloid.housing_outer_radius_mm * 1e-3)
+    return cf.CycleSolver(model, np.linspace(0.0, 2 * math.pi / g.pin_count, positions,
+                                             endpoint=False))
+
+
 @lru_cache(maxsize=16)
 def cycloid_table(cycloid, material, loads="analytic", positions=36, torque_ref=None
                   ) -> MeshTable:
@@ -211,16 +226,10 @@ def cycloid_table(cycloid, material, loads="analytic", positions=36, torque_ref=
     phis = np.linspace(0.0, 2 * math.pi / g.pin_count, positions, endpoint=False)
     state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
     width = cycloid.face_width_mm * 1e-3
-    if loads == "analytic":
-        recs = [analytic_split(state, 1.0, width, _e_star(material))]
+    if loads == "analytic":     # the seed's rigid split ignores modifications (all gaps 0)
+        recs = [analytic_split(state, 1.0, width, _e_star(material), in_mesh_gap_m=math.inf)]
     else:
-        from ..fem import cycloid_fe as cf
-        from ..fem.cycloid_fe import CycloidFEModel
-
-        model = CycloidFEModel(g, cycloid.holes_si(), material.youngs_modulus_GPa * 1e9,
-                               material.poisson_ratio, width, cycloid.pin_structure, "strain",
-                               cycloid.housing_outer_radius_mm * 1e-3)
-        solver = cf.CycleSolver(model, phis)
+        solver = _cycle_solver(cycloid, material, positions)
         recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
     return _table(state, recs, loads)
 
