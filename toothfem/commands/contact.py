@@ -47,17 +47,21 @@ def run(args) -> int:
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
     case = load_case(args.case)
-    if case.drive != "cycloid":
+    if case.cycloid is None:
         raise CaseError(f"{args.case}: drive = {case.drive!r}: the FE contact command handles "
-                        "cycloid drives so far (the sine pair is not yet modelled)")
+                        "cycloid discs ([cycloid] section) so far (the sine pair is not yet "
+                        "modelled)")
     if args.torque is not None:
         check_range("--torque-Nm", args.torque, 0, None, lo_open=True, error=CaseError)
     from dataclasses import replace
 
     if args.torque is not None:
         case = replace(case, operating=replace(case.operating, output_torque_Nm=args.torque))
-    if case.operating.output_torque_Nm in (None, 0):
-        raise CaseError(f"{args.case}: operating.output_torque_Nm is required (or --torque-Nm)")
+    if case.operating.output_torque_Nm in (None, 0):     # from the declared input
+        from ..efficiency.model import operating_point
+
+        case = replace(case, operating=replace(case.operating,
+                                               output_torque_Nm=operating_point(case)[1]))
     model = cf.model_from_case(case, args.pins)
     torque = cf.disc_torque(case)
     g = model.geometry

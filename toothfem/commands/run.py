@@ -25,9 +25,8 @@ def add_parser(sub):
 
 
 def _fe_available(case) -> bool:
-    if case.drive == "cycloid":
-        return True
-    return False
+    """A cycloid disc ([cycloid] section, also on rv cases) has an FE model."""
+    return case.cycloid is not None
 
 
 def run(args) -> int:
@@ -49,7 +48,7 @@ def run(args) -> int:
                        "Profiles: `geometry/*.csv` (x_mm, y_mm); checks: "
                        "`geometry/check.json`.", ""]
         # 2. contact
-        if fem and case.drive in ("cycloid", "sine"):
+        if fem:
             contact.run(argparse.Namespace(case=args.case, positions=args.positions,
                                            torque=None, mode="cycle", pins=None,
                                            field=args.field, out=tmp / "contact"))
