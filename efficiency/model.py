@@ -16,7 +16,9 @@ Components by drive:
 * cycloid: ``pin_contacts`` (pins sliding on the disc for the integral housing; for
   conventional pins the pin turns in its groove when the groove slides more easily, see
   :func:`_pin_contact_mu`; ``friction.pin_groove_coefficient`` 0 = ideal rolling), ``crank_bearings`` (the disc's crank-hole bearings: the output
-  mechanism of an RV-type drive), ``first_stage`` (involute spur stage), ``drag``.
+  mechanism of an RV-type drive), ``first_stage`` (involute spur stage), ``churning``
+  (Eq. 42 with a0 = the eccentricity and the crank speed, when ``lubricant.churning`` is
+  set), ``drag``.
 * rv: the cycloid components on the case's ``[cycloid]`` geometry plus the spur stage, or
   the RV paper's split-power method (``method="rv_split_power"``).
 
@@ -501,6 +503,10 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
         losses["first_stage"] = p_out / eta_lossless_1 - p_out
         losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
         mesh_eff["first_stage"] = eta1
+    lub = case.lubricant
+    if lub.churning != "none":        # Eq. 42 with a0 = the eccentricity, n = crank speed
+        losses["churning"] = lub.churning_scale * churning_lu_xu_2024(
+            cyc.eccentricity_mm, crank * 60 / (2 * math.pi), lub.kinematic_viscosity_mm2_s * visc)
     losses["drag"] = case.friction.drag_torque_Nmm * 1e-3 * w_in
     return Efficiency(n, t2, temp, p_out, losses, loads, "power_flow", tuple(notes), mesh_eff)
 

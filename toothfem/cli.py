@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from . import __version__
-from .commands import check, contact, efficiency, geometry, run
+from .commands import check, contact, efficiency, geometry, loop, run
 
-COMMANDS = (check, geometry, contact, efficiency, run)
+COMMANDS = (check, geometry, contact, efficiency, run, loop)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -35,6 +35,10 @@ class GeometryError(ToothfemError):
     """Geometry parameters that give a looped, cusped, undercut or interfering profile."""
 
 
+class MeasuredDataError(ToothfemError):
+    """Measured data that cannot be read: a bad header, no good row, or (strict) a bad row."""
+
+
 def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=False,
                 error=ToothfemError, why: str = ""):
     """Return ``value`` if it lies in the range, else raise ``error`` naming it.

@@ -1,0 +1,671 @@
+"""The catalog of physical effects the measured-data loop may add to the efficiency model.
+
+An :class:`Effect` is a piece of physics with named parameters in physical units (bounds,
+starting values), the case fields it sets (``apply(case, values) -> case`` through
+``dataclasses.replace``), the drives it acts on and the equation and source it comes from.
+It is never a curve fitted to the residual: its shape over speed, torque and oil temperature
+comes from the model, only its physical parameter is fitted.
+
+Most effects act through the case: the efficiency model evaluates the field they set. One
+acts through a loss term beside the model (written in :func:`Effect.route`):
+
+* ``load_sharing_clearance``: the analytic load split ignores the clearance of a modified
+  cycloid profile; the effect tabulates the change of the pin-contact and crank-bearing
+  losses over a grid of clearances with the contact model (rigid bodies on equal contact
+  springs, :func:`clearance_tables`), once per data set.
+
+The catalog (:func:`catalog`), by name:
+
+========================= ================================ ============== =================
+effect                    parameter (case field)           drives         source
+========================= ================================ ============== =================
+drag_torque               friction.drag_torque_Nmm         all            ISO/TR 14179-2
+churning                  lubricant.churning_scale         all            Lu & Xu Eq. 42
+viscosity_temperature     lubricant.vogel_B_C              all (oil T)    Vogel 1921
+mixed_lubrication         friction.boundary_coefficient    all (EHL law)  Johnson et al. 1972
+bearing_friction          friction.bearing_coefficient     all            Palmgren; SKF
+output_mechanism_friction friction.output_pin_coefficient  sine           Lu & Xu Eqs. 37-39
+load_sharing_clearance    cycloid.equidistant_modif..._mm  cycloid, rv    contact model
+pin_sliding               friction.pin_groove_coefficient  cycloid, rv    Malhotra 1983
+========================= ================================ ============== =================
+
+The sine pair has no route for ``pin_sliding`` (no pins in its mesh; its output pins are
+``output_mechanism_friction``) nor for ``load_sharing_clearance`` (the case has no field for
+a sine tooth modification, and the pair's analytic split takes every tooth within a fixed
+5 um of contact): both are cycloid/RV only. The cycloid and RV models have no pins-in-holes
+output mechanism (the disc drives the carrier through its crank bearings, which
+``bearing_friction`` covers), so ``output_mechanism_friction`` is sine only.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Callable
+
+import numpy as np
+
+from ..errors import ToothfemError, check_range
+from . import model as _model
+
+# ---------------------------------------------------------------------------------------
+# Records
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A fitted parameter: name (with unit), bounds and starting values (absolute)."""
+    name: str
+    unit: str
+    lo: float
+    hi: float
+    starts: tuple            # starting values tried before the fit (absolute)
+    typical: float           # scale of the fit (x_scale) and of a signature's step
+    doc: str = ""
+
+
+@dataclass(frozen=True)
+class Points:
+    """Operating points: input speed [rpm], output torque [N m], oil temperature [deg C]
+    or None (the lubricant's reference); arrays of shape (M,)."""
+    speed_rpm: np.ndarray
+    torque_Nm: np.ndarray
+    oil_temp_C: np.ndarray | None = None
+
+    @classmethod
+    def of(cls, data) -> "Points":
+        """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`."""
+        return cls(np.asarray(data.speed_rpm, float), np.asarray(data.torque_Nm, float),
+                   None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float))
+
+    def __len__(self):
+        return int(self.speed_rpm.size)
+
+
+@dataclass(frozen=True, eq=False)
+class Effect:
+    """A physical effect of the catalog (module docstring). ``values`` are tuples in the
+    order of ``parameters``."""
+    name: str
+    summary: str
+    equation: str
+    citation: str
+    parameters: tuple
+    drives: tuple
+    case_fields: tuple
+    set_fields: Callable          # (case, values) -> case with the effect's fields set
+    declared_by: Callable         # (case) -> str | None: the declaring field, if any
+    not_applicable: Callable | None = None   # (case, points) -> reason | None
+    loss_route: Callable | None = None       # (case) -> True if the effect is a loss term
+    extra_loss: Callable | None = None       # (case, points, evaluation, values, prep) -> W
+    prepare: Callable | None = None          # (case, points) -> prepared tables
+    linear_in: Callable | None = None        # (case) -> loss component proportional to the
+                                             # (single) parameter, or None
+
+    def __repr__(self):
+        return f"Effect({self.name!r})"
+
+    def apply(self, case, values):
+        """The case with this effect's fields set to ``values``."""
+        values = tuple(float(v) for v in values)
+        if len(values) != len(self.parameters):
+            raise ToothfemError(f"{self.name}: {len(values)} values for "
+                                f"{len(self.parameters)} parameters")
+        for p, v in zip(self.parameters, values):
+            check_range(f"{self.name}.{p.name}", v, p.lo, p.hi)
+        return self.set_fields(case, values)
+
+    def declared(self, case) -> str | None:
+        """The case field that already declares this effect (non-default), or None."""
+        return self.declared_by(case)
+
+    def applicable(self, case, points) -> str | None:
+        """Why the effect cannot act on this case and data (None: it can)."""
+        if case.drive not in self.drives:
+            return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
+        if self.not_applicable is not None:
+            return self.not_applicable(case, points)
+        return None
+
+    def route(self, case) -> str:
+        """'model': the efficiency model evaluates the field; 'loss': a loss term here."""
+        if self.loss_route is not None and self.loss_route(case):
+            return "loss"
+        return "model"
+
+    def linear_component(self, case) -> str | None:
+        """The loss component (a key of the losses) that is exactly proportional to this
+        effect's single parameter, nothing else depending on it; None if there is none.
+        Such an effect needs no new model evaluation when only its value changes."""
+        return None if self.linear_in is None else self.linear_in(case)
+
+    @property
+    def reference(self) -> tuple:
+        """Values at which a linear effect's component is evaluated, then scaled."""
+        return tuple(p.typical for p in self.parameters)
+
+
+# ---------------------------------------------------------------------------------------
+# Predictions with effects
+
+
+@dataclass(frozen=True)
+class Prediction:
+    """Efficiency and losses [W] at the points with a set of effects."""
+    efficiency: np.ndarray
+    output_power_W: np.ndarray
+    losses_W: dict
+    notes: tuple
+
+
+def with_effects(case, assignment):
+    """The case with every effect of ``assignment`` ({Effect: values}) applied: the case
+    a report states (the loss-term effects' fields set as well)."""
+    for eff, values in assignment.items():
+        case = eff.apply(case, values)
+    return case
+
+
+@dataclass(frozen=True)
+class _Losses:
+    """What an extra_loss function reads of an evaluation: the losses (after scaling)."""
+    losses_W: dict
+    output_power_W: np.ndarray
+
+
+def predict(case, points: Points, assignment=None, prepared=None, *, loads="analytic",
+            cache=None) -> Prediction:
+    """Efficiency of ``case`` with the effects ``assignment`` ({Effect: values}) at the
+    points. ``prepared`` holds the tables of effects that need them ({name: object},
+    :func:`prepare`); missing ones are computed here.
+
+    ``cache`` (a dict, optional) keeps model evaluations keyed by the values of the effects
+    that need one: an effect with a linear component (:meth:`Effect.linear_component`) is
+    evaluated at its reference value and its component scaled, so a change of its value
+    alone costs no evaluation (exact: the component is proportional to the parameter)."""
+    assignment = assignment or {}
+    prepared = {} if prepared is None else prepared
+    model_case, key, scale = case, [], {}
+    for eff, values in assignment.items():
+        if eff.route(case) != "model":
+            continue
+        comp = eff.linear_component(case)
+        if comp is not None:
+            ref = eff.reference
+            scale[comp] = scale.get(comp, 1.0) * float(values[0]) / ref[0]
+            values = ref
+        model_case = eff.apply(model_case, values)
+        key.append((eff.name, tuple(float(v) for v in values)))
+    key = tuple(sorted(key))
+    ev = None if cache is None else cache.get(key)
+    if ev is None:
+        ev = _model.evaluate(model_case, points.speed_rpm, points.torque_Nm,
+                             points.oil_temp_C, loads=loads)
+        if cache is not None:
+            cache[key] = ev
+    losses = dict(ev.losses_W)
+    for comp, k in scale.items():
+        losses[comp] = losses[comp] * k
+    view = _Losses(losses, ev.output_power_W)
+    for eff, values in assignment.items():
+        if eff.route(case) == "loss":
+            if eff.prepare is not None and eff.name not in prepared:
+                prepared[eff.name] = eff.prepare(case, points)
+            extra = eff.extra_loss(model_case, points, view, tuple(values),
+                                   prepared.get(eff.name))
+            losses[eff.name] = losses.get(eff.name, 0.0) + extra
+    p_out = ev.output_power_W
+    eta = p_out / (p_out + sum(losses.values()))
+    return Prediction(eta, p_out, losses, ev.notes)
+
+
+def prepare(effects, case, points) -> dict:
+    """Tables of the effects that need them for these points ({name: object})."""
+    return {e.name: e.prepare(case, points) for e in effects
+            if e.prepare is not None and e.route(case) == "loss"
+            and e.applicable(case, points) is None}
+
+
+# ---------------------------------------------------------------------------------------
+# Helpers
+
+
+def _default(section_cls, name):
+    f = {x.name: x for x in dataclasses.fields(section_cls)}[name]
+    return f.default
+
+
+def _declared_if_changed(section, name, label):
+    """declared_by(case) for a field that is declared when it differs from its default."""
+    def declared(case):
+        sec = getattr(case, section)
+        if sec is None:
+            return None
+        value = getattr(sec, name)
+        if value != _default(type(sec), name):
+            return f"{label} = {value!r}"
+        return None
+    return declared
+
+
+def _set(section, name):
+    """set_fields(case, values) for one field of one section."""
+    def setter(case, values):
+        sec = getattr(case, section)
+        return dataclasses.replace(case, **{section: dataclasses.replace(sec, **{name: values[0]})})
+    return setter
+
+
+def crank_speed_factor(case) -> float:
+    """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
+    from ..geometry.train import rv_speeds
+
+    cyc = case.cycloid
+    if case.drive == "rv":
+        z = case.rv
+        return abs(rv_speeds(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count)["planet"])
+    if case.first_stage is not None:
+        fs = case.first_stage
+        return abs(rv_speeds(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count,
+                             cyc.pin_count)["planet"])
+    return 1.0
+
+
+def _need_cycloid(case, points):
+    if case.cycloid is None or case.material is None:
+        return "needs the [cycloid] and [material] sections (disc, pins, contact stiffness)"
+    return None
+
+
+# ---------------------------------------------------------------------------------------
+# The effects
+
+
+def drag_torque() -> Effect:
+    """Load-independent drag torque on the input shaft (lip seals, bearing preload).
+
+    P_drag = T_drag omega_in: ISO/TR 14179-2:2001 counts seal losses as a load-independent
+    torque on the shaft (its seal-loss formula gives the torque from the shaft diameter);
+    a preloaded bearing pair adds a load-independent moment of the same kind (SKF,
+    'The SKF model for calculating the frictional moment', 2018: M_drag, M_seal)."""
+    return Effect(
+        name="drag_torque",
+        summary="load-independent drag on the input shaft (seals, bearing preload)",
+        equation="P = T_drag * omega_in",
+        citation="ISO/TR 14179-2:2001 (seal and no-load losses); SKF frictional moment "
+                 "model (2018), M_seal",
+        parameters=(Parameter("drag_torque_Nmm", "N mm", 0.0, 1e6, (5.0, 50.0, 500.0), 50.0,
+                              "drag torque on the input shaft"),),
+        drives=("sine", "cycloid", "rv"),
+        case_fields=("friction.drag_torque_Nmm",),
+        set_fields=_set("friction", "drag_torque_Nmm"),
+        declared_by=_declared_if_changed("friction", "drag_torque_Nmm",
+                                         "friction.drag_torque_Nmm"),
+        linear_in=lambda case: "drag")
+
+
+def _set_churning(case, values):
+    lub = dataclasses.replace(case.lubricant, churning="lu_xu_2024", churning_scale=values[0])
+    return dataclasses.replace(case, lubricant=lub)
+
+
+def churning() -> Effect:
+    """Oil agitation, splashing and seal drag that grow with speed and viscosity.
+
+    The sine paper's no-load loss (Lu & Xu 2024, Eq. 42, the form of ISO/TR 14179-1's
+    no-load gear loss): P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the centre
+    distance (eccentricity) [mm], n the eccentric's speed [rpm], nu the kinematic viscosity
+    at the oil temperature [mm^2/s]; the factor k is fitted (1 = the paper's law). On a
+    cycloid or RV drive the model takes a0 = the eccentricity and n = the crank speed."""
+    return Effect(
+        name="churning",
+        summary="speed- and viscosity-dependent no-load loss (oil agitation, splash)",
+        equation="P0 = k * 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW",
+        citation="Lu & Xu, Heliyon 10 (2024) e26300, Eq. 42; ISO/TR 14179-1:2001 (no-load "
+                 "loss)",
+        parameters=(Parameter("churning_scale", "-", 0.0, 100.0, (1.0, 0.3, 3.0), 1.0,
+                              "factor k on the Lu & Xu law"),),
+        drives=("sine", "cycloid", "rv"),
+        case_fields=("lubricant.churning", "lubricant.churning_scale"),
+        set_fields=_set_churning,
+        declared_by=lambda case: (f"lubricant.churning = {case.lubricant.churning!r}"
+                                  if case.lubricant.churning != "none" else None),
+        linear_in=lambda case: "churning")
+
+
+#: Oil temperatures must span at least this range [K] for the Vogel B to show.
+MIN_OIL_TEMP_SPAN_C = 5.0
+
+
+def _needs_temps(case, points):
+    t = points.oil_temp_C
+    if t is None:
+        return "the data has no oil_temp_C column (Vogel's law acts through T - T_ref)"
+    if np.ptp(t) < MIN_OIL_TEMP_SPAN_C:
+        return (f"the oil temperatures span {np.ptp(t):.1f} K < {MIN_OIL_TEMP_SPAN_C:g} K: "
+                "no leverage on the viscosity-temperature law")
+    return None
+
+
+def viscosity_temperature() -> Effect:
+    """The oil's own viscosity-temperature law instead of the library default.
+
+    Vogel (1921): eta(T) = A exp(B / (T + C)) (T in deg C), so eta(T)/eta(T_ref) =
+    exp(B/(T + C) - B/(T_ref + C)); the fitted B [deg C] sets how fast the viscosity falls
+    with temperature (C kept at the case's value; B and C together are not identifiable
+    from efficiency data over a few tens of kelvin). Acts on the EHL friction (eta0 in the
+    Xu regression and the film ratio) and on the churning law (nu)."""
+    return Effect(
+        name="viscosity_temperature",
+        summary="oil viscosity versus temperature (Vogel B), acting on EHL friction and "
+                "churning",
+        equation="eta(T)/eta(T_ref) = exp(B/(T + C) - B/(T_ref + C))",
+        citation="H. Vogel, Physikalische Zeitschrift 22 (1921) 645-646",
+        parameters=(Parameter("vogel_B_C", "deg C", 100.0, 5000.0,
+                              (1000.0, 600.0, 1500.0, 2500.0), 500.0, "Vogel B"),),
+        drives=("sine", "cycloid", "rv"),
+        case_fields=("lubricant.vogel_B_C",),
+        set_fields=_set("lubricant", "vogel_B_C"),
+        declared_by=_declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
+        not_applicable=_needs_temps)
+
+
+def _needs_ehl(case, points):
+    if case.friction.mesh_law != "ehl_xu2007":
+        return (f"friction.mesh_law = {case.friction.mesh_law!r} has no film ratio (the "
+                "blending acts on the EHL law)")
+    return None
+
+
+def mixed_lubrication() -> Effect:
+    """Asperity friction as the film ratio falls below full film.
+
+    mu = (1 - xi) mu_EHL + xi mu_b with xi = (1 - lambda/3)^2 for lambda = h_c/S < 3: the
+    load shared by the asperities (Johnson, Greenwood & Poon 1972) carries the boundary
+    friction mu_b; the shape of xi is the solid-fraction blending of the model
+    (efficiency/model.py, in the manner of Castro & Seabra 2008). Since lambda grows with
+    speed and viscosity, the extra loss is largest at low speed and high temperature."""
+    return Effect(
+        name="mixed_lubrication",
+        summary="boundary (asperity) friction blended in as the film ratio falls below 3",
+        equation="mu = (1 - xi) mu_EHL + xi mu_b, xi = (1 - lambda/3)^2",
+        citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Castro & Seabra (2008)",
+        parameters=(Parameter("boundary_coefficient", "-", 0.0, 0.3, (0.05, 0.01, 0.15), 0.05,
+                              "boundary friction coefficient mu_b"),),
+        drives=("sine", "cycloid", "rv"),
+        case_fields=("friction.boundary_coefficient",),
+        set_fields=_set("friction", "boundary_coefficient"),
+        declared_by=_declared_if_changed("friction", "boundary_coefficient",
+                                         "friction.boundary_coefficient"),
+        not_applicable=_needs_ehl)
+
+
+def bearing_friction() -> Effect:
+    """Load-dependent friction of the eccentric (sine) or crank (cycloid, RV) bearings.
+
+    M = mu_b F r (the SKF simplified frictional moment M = 0.5 mu P d; Palmgren's
+    load-dependent term), P = M omega_rel, with F the bearing force from the member's
+    equilibrium (sine paper Eq. 32). The fitted mu_b replaces the library's default; a case
+    that declares its own bearing coefficient is not refitted."""
+    return Effect(
+        name="bearing_friction",
+        summary="load-dependent friction of the eccentric/crank bearings",
+        equation="P = mu_b F r omega_rel",
+        citation="A. Palmgren, Ball and Roller Bearing Engineering (1959); SKF General "
+                 "Catalogue, M = 0.5 mu P d; Lu & Xu 2024 Eq. 32",
+        parameters=(Parameter("bearing_coefficient", "-", 0.0, 0.1,
+                              (0.0015, 0.0005, 0.005, 0.015), 0.002,
+                              "bearing friction coefficient mu_b"),),
+        drives=("sine", "cycloid", "rv"),
+        case_fields=("friction.bearing_coefficient",),
+        set_fields=_set("friction", "bearing_coefficient"),
+        declared_by=_declared_if_changed("friction", "bearing_coefficient",
+                                         "friction.bearing_coefficient"),
+        linear_in=lambda case: ("eccentric_bearing" if case.drive == "sine"
+                                else "crank_bearings"))
+
+
+def _needs_output_mechanism(case, points):
+    if case.output_mechanism is None:
+        return "needs the [output_mechanism] section"
+    return None
+
+
+def output_mechanism_friction() -> Effect:
+    """Sliding of the output pins in the planet's holes (pins-in-holes W mechanism).
+
+    Sine paper Eqs. 37-39: P = f_k sum(Q) v_k with sum(Q) = 4 T2/(pi R_w) and v_k = 2 a0
+    omega_rel; the fitted f_k replaces the library default."""
+    return Effect(
+        name="output_mechanism_friction",
+        summary="pins sliding in the holes of the pins-in-holes output mechanism",
+        equation="P = f_k (4 T2 / (pi R_w)) (2 a0 omega_rel)",
+        citation="Lu & Xu, Heliyon 10 (2024) e26300, Eqs. 37-39",
+        parameters=(Parameter("output_pin_coefficient", "-", 0.0, 0.3, (0.05, 0.02, 0.1),
+                              0.03, "pin-hole friction coefficient f_k"),),
+        drives=("sine",),
+        case_fields=("friction.output_pin_coefficient",),
+        set_fields=_set("friction", "output_pin_coefficient"),
+        declared_by=_declared_if_changed("friction", "output_pin_coefficient",
+                                         "friction.output_pin_coefficient"),
+        not_applicable=_needs_output_mechanism,
+        linear_in=lambda case: "output_mechanism")
+
+
+def _needs_conventional(case, points):
+    why = _need_cycloid(case, points)
+    if why:
+        return why
+    if case.cycloid.pin_structure != "conventional":
+        return (f"cycloid.pin_structure = {case.cycloid.pin_structure!r}: the pins are one "
+                "piece with the housing, no groove to slide in")
+    return None
+
+
+def pin_sliding() -> Effect:
+    """Conventional pins that slide in their housing grooves instead of rolling freely.
+
+    A pin free to turn takes the sliding at whichever interface resists less: the loss per
+    contact is min(mu_disc, mu_g) F v_s (efficiency/model.py); mu_g = 0 is ideal rolling.
+    The pins' sliding in the grooves is the loss mechanism of the roller/pin analyses of
+    Malhotra & Parameswaran (1983) and Gorla et al. (2008)."""
+    return Effect(
+        name="pin_sliding",
+        summary="conventional pins sliding in their grooves (Coulomb mu_g) instead of rolling",
+        equation="P = sum min(mu_disc, mu_g) F |v_s|",
+        citation="Malhotra & Parameswaran, Mech. Mach. Theory 18 (1983) 491-499; Gorla et "
+                 "al., J. Mech. Des. 130 (2008)",
+        parameters=(Parameter("pin_groove_coefficient", "-", 0.0, 0.3, (0.02, 0.005, 0.08),
+                              0.02, "groove friction coefficient mu_g"),),
+        drives=("cycloid", "rv"),
+        case_fields=("friction.pin_groove_coefficient",),
+        set_fields=_set("friction", "pin_groove_coefficient"),
+        declared_by=_declared_if_changed("friction", "pin_groove_coefficient",
+                                         "friction.pin_groove_coefficient"),
+        not_applicable=_needs_conventional)
+
+
+# ---------------------------------------------------------------------------------------
+# Clearance through the contact model
+
+#: Clearances [mm] at which the contact model is solved; the effect interpolates between.
+CLEARANCE_GRID_MM = (0.0, 0.0005, 0.001, 0.002, 0.003, 0.005, 0.0075, 0.01, 0.015, 0.02,
+                     0.03, 0.05)
+#: Disc torques at which each clearance's load split is solved (fractions between the
+#: data's smallest and largest, log-spaced); the table interpolates F/T between them.
+CLEARANCE_TORQUES = 8
+#: Meshing positions over one pin pitch (the efficiency model's default).
+CLEARANCE_POSITIONS = 36
+
+
+@lru_cache(maxsize=8)
+def contact_compliance(cycloid, material) -> float:
+    """Compliance of one pin contact [m per N/m of face width] for the equal-springs
+    contact model: the mean diagonal of the disc's FE influence matrix (plus the integral
+    housing's, which the cycle solver adds) at the candidate pins of one position, plus
+    for conventional pins the pin's own FE compliance averaged over contact angles within
+    45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
+    half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
+    terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
+    from ..fem import cycloid_fe as cf
+
+    cyc = cycloid
+    model = cf.CycloidFEModel(cyc.geometry(), cyc.holes_si(), material.youngs_modulus_GPa * 1e9,
+                              material.poisson_ratio, cyc.face_width_mm * 1e-3,
+                              cyc.pin_structure, "strain", cyc.housing_outer_radius_mm * 1e-3)
+    solver = cf.CycleSolver(model, np.array([0.0]))
+    c = float(np.mean(np.diag(solver.influence(0))))
+    if cyc.pin_structure == "conventional":
+        pin = cf.PinModel(model.geometry.pin_radius_m, model.youngs_modulus,
+                          model.poisson_ratio, solver.b_ref / 2, model.plane)
+        near = np.abs(pin.angles) <= math.pi / 4
+        c += float(np.mean(pin.table[near]))
+    return c
+
+
+@dataclass(frozen=True)
+class ClearanceTables:
+    """Per clearance (K,) and point (M,): the pin-contact and crank-bearing losses relative
+    to zero clearance, from the equal-springs contact model."""
+    clearance_mm: np.ndarray        # (K,)
+    pin_ratio: np.ndarray           # (K, M)
+    bearing_ratio: np.ndarray       # (K, M)
+    compliance: float               # m per N/m
+    contacts_mean: np.ndarray       # (K,) mean pins in contact at the largest torque
+
+
+def clearance_tables(case, points: Points, compliance=None,
+                     grid_mm=CLEARANCE_GRID_MM) -> ClearanceTables:
+    """Loss ratios over a grid of clearances (equidistant modification Delta r_z) at the
+    points, in the limit of rigid bodies on equal contact springs (``compliance`` m per
+    N/m; default :func:`contact_compliance`, from the FE).
+
+    Per clearance the cycle solver finds the contact set and forces at every position
+    (complementarity with the torque balance: fem/cycloid_fe.CycleSolver with
+    ``equal_springs``) at a few disc torques spanning the data; the friction of each contact
+    is the model's (same law, lubricant and oil temperature as the case), and the ratio
+    sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
+    bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
+    is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
+    from ..fem import cycloid_fe as cf
+    from ..geometry import cycloid as cy
+
+    cyc = case.cycloid
+    if compliance is None:
+        compliance = contact_compliance(cyc, case.material)
+    t_disc = points.torque_Nm / cyc.disc_count
+    lo, hi = float(np.min(t_disc)), float(np.max(t_disc))
+    torques = np.geomspace(lo, hi, CLEARANCE_TORQUES) if hi > lo * 1.01 else np.array([hi])
+    crank = np.abs(points.speed_rpm * 2 * math.pi / 60 * crank_speed_factor(case))
+    visc = _model.viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
+    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
+    pins, bearing, contacts = [], [], []
+    for c_mm in grid_mm:
+        cc = dataclasses.replace(cyc, equidistant_modification_mm=float(c_mm))
+        g = cc.geometry()
+        phis = np.linspace(0.0, 2 * math.pi / g.pin_count, CLEARANCE_POSITIONS, endpoint=False)
+        state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
+        model = cf.CycloidFEModel(g, cc.holes_si(), case.material.youngs_modulus_GPa * 1e9,
+                                  case.material.poisson_ratio, cc.face_width_mm * 1e-3,
+                                  cc.pin_structure, "strain", cc.housing_outer_radius_mm * 1e-3)
+        solver = cf.CycleSolver(model, phis, equal_springs=compliance)
+        records = [solver.solve(float(t)) for t in torques]
+        table = _model._table(state, records, "equal_springs")
+        force, ph = table.at(t_disc)
+        mu_disc, _ = _model._contact_mu(case, table, force, ph, crank, eta0, [])
+        mu = _model._pin_contact_mu(case, mu_disc)
+        pins.append(_model._mesh_loss(table, force, mu, crank))
+        res = _model._resultant(table, force)
+        bearing.append(np.mean(np.linalg.norm(res, axis=2), axis=1))
+        contacts.append(float(np.mean(records[-1].contacts_per_position)))
+    pins, bearing = np.array(pins), np.array(bearing)
+
+    def ratio(a):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = a / a[0]
+        return np.where(a[0] > 0, r, 1.0)
+
+    return ClearanceTables(np.asarray(grid_mm, float), ratio(pins), ratio(bearing),
+                           float(compliance), np.array(contacts))
+
+
+def _clearance_loss(case, points, ev, values, tables: ClearanceTables):
+    from scipy.interpolate import PchipInterpolator
+
+    c = float(values[0])
+    x = tables.clearance_mm
+    rp = PchipInterpolator(x, tables.pin_ratio, axis=0)(c)
+    rb = PchipInterpolator(x, tables.bearing_ratio, axis=0)(c)
+    pins = ev.losses_W.get("pin_contacts", 0.0)
+    bearings = ev.losses_W.get("crank_bearings", 0.0)
+    return (rp - 1.0) * pins + (rb - 1.0) * bearings
+
+
+def _declared_modification(case):
+    cyc = case.cycloid
+    if cyc is None:
+        return None
+    for name in ("equidistant_modification_mm", "move_distance_modification_mm",
+                 "rotation_modification_deg"):
+        if getattr(cyc, name) != 0:
+            return f"cycloid.{name} = {getattr(cyc, name)!r}"
+    return None
+
+
+def load_sharing_clearance(compliance=None) -> Effect:
+    """Clearance between disc and pins changing which pins carry the torque.
+
+    A positive equidistant modification Delta r_z opens a gap that grows away from the
+    pins of largest moment arm; under load the contact set is what closes (complementarity:
+    gap >= 0, F >= 0, F gap = 0, sum F l = T), so fewer pins carry more load at low torque
+    and the set grows with torque. The friction loss changes with it (the loaded pins
+    differ in sliding speed and pressure). The load split comes from the contact model in
+    the limit of rigid bodies on equal contact springs (``compliance``, default from the
+    FE; see :func:`clearance_tables`), tabulated over :data:`CLEARANCE_GRID_MM` once per
+    data set. The full FE cycle mode (about 25-50 s per geometry here) is the reference it
+    is checked against in the slow tests."""
+    return Effect(
+        name="load_sharing_clearance",
+        summary="disc-pin clearance (equidistant modification) changing the load split, "
+                "through the contact model",
+        equation="g_i = g0_i(Delta r_z) + k F_i - beta l_i >= 0, F_i >= 0, F_i g_i = 0, "
+                 "sum F_i l_i = T",
+        citation="Wang et al. (pin-housing paper, seeds), modifications Delta r_z, Delta R_z;"
+                 " toothfem fem/cycloid_fe.CycleSolver (complementarity)",
+        parameters=(Parameter("equidistant_modification_mm", "mm", 0.0, 0.05,
+                              (0.003, 0.001, 0.01, 0.03), 0.003,
+                              "clearance: equidistant modification Delta r_z"),),
+        drives=("cycloid", "rv"),
+        case_fields=("cycloid.equidistant_modification_mm",),
+        set_fields=_set("cycloid", "equidistant_modification_mm"),
+        declared_by=_declared_modification,
+        not_applicable=_need_cycloid,
+        loss_route=lambda case: True,
+        extra_loss=_clearance_loss,
+        prepare=lambda case, points: clearance_tables(case, points, compliance))
+
+
+# ---------------------------------------------------------------------------------------
+# The catalog
+
+NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication",
+         "bearing_friction", "output_mechanism_friction", "load_sharing_clearance",
+         "pin_sliding")
+
+
+def catalog(*, clearance_compliance=None) -> tuple:
+    """Every effect of the catalog (the order of :data:`NAMES`). ``clearance_compliance``
+    [m per N/m] fixes the contact springs of ``load_sharing_clearance`` instead of taking
+    them from the FE (one disc factorisation per design)."""
+    return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
+            bearing_friction(), output_mechanism_friction(),
+            load_sharing_clearance(clearance_compliance), pin_sliding())
+
+
+def by_name(name, effects=None) -> Effect:
+    """The catalog effect called ``name``."""
+    for e in effects or catalog():
+        if e.name == name:
+            return e
+    raise ToothfemError(f"effect {name!r} is not in the catalog; known: {list(NAMES)}")

@@ -1,0 +1,355 @@
+"""Measured efficiency data: CSV with the unit in each column name, provenance beside it.
+
+``load_measured(path, ratio=None)`` opens a CSV (and its sidecar ``<stem>.json``);
+``parse_measured(text, ...)`` validates text, so tests pass strings. The result is a
+:class:`MeasuredData` record of arrays.
+
+Columns (the unit is the suffix of the name; :data:`QUANTITIES` lists the units known):
+
+* required: ``input_speed_rpm``, ``output_torque_Nm`` and ``efficiency`` (a fraction;
+  ``efficiency_pct`` in percent) or ``input_torque_Nm`` (then the efficiency is
+  T2 / (|i| T1), which needs the reducer ratio ``ratio``);
+* optional: ``oil_temp_C``, ``time_h``, ``run_id`` (a label), ``efficiency_sigma`` (the
+  standard uncertainty of the efficiency, a fraction); any other numeric column is kept as
+  a further covariate of the residual analysis.
+
+Provenance: ``# key: value`` comment lines above the header, and the sidecar JSON (which
+wins on a clash). A sidecar ``sensors`` table gives the rig's torque sensors,
+``{"input_torque": {"range_Nm": 10, "accuracy": 0.001}, "output_torque": {...}}``;
+with it and an input-torque column each row gets an efficiency uncertainty
+sigma = eta sqrt((a1 R1 / T1)^2 + (a2 R2 / T2)^2) (the accuracy taken as one standard
+deviation of the reading, a conservative reading of a sensor's accuracy class); without an
+input-torque column the input torque is the one the efficiency implies, T2 / (|i| eta).
+
+Bad rows are refused one by one, with the line number and the reason (empty or missing
+value, NaN, not a number, efficiency <= 0 or > 1, speed or torque <= 0, efficiency and
+torques that disagree); every good row is kept. A bad header (a required column missing,
+a quantity in a unit not known, a column twice) refuses the whole file, naming the
+column. ``strict=True`` raises on the first bad row instead.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
+
+
+#: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
+#: value_canonical = factor * value + offset.
+QUANTITIES = {
+    "input_speed": {"rpm": (1.0, 0.0), "rad_s": (60.0 / (2 * math.pi), 0.0),
+                    "rps": (60.0, 0.0)},
+    "output_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
+    "input_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
+    "oil_temp": {"C": (1.0, 0.0), "K": (1.0, -273.15), "F": (5.0 / 9.0, -160.0 / 9.0)},
+    "time": {"h": (1.0, 0.0), "min": (1.0 / 60.0, 0.0), "s": (1.0 / 3600.0, 0.0)},
+    "efficiency_sigma": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
+    "efficiency": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
+}
+#: Canonical column names of the record.
+CANONICAL = {"input_speed": "input_speed_rpm", "output_torque": "output_torque_Nm",
+             "input_torque": "input_torque_Nm", "oil_temp": "oil_temp_C", "time": "time_h",
+             "efficiency": "efficiency", "efficiency_sigma": "efficiency_sigma"}
+#: Relative disagreement allowed between an efficiency column and T2 / (|i| T1) (the
+#: rounding of values written with 6-7 significant digits, with a wide margin).
+CONSISTENCY_RTOL = 1e-4
+#: Oil temperatures outside this range [deg C] are refused as misread.
+OIL_TEMP_RANGE_C = (-40.0, 250.0)
+
+
+@dataclass(frozen=True)
+class Rejected:
+    """A refused row: its line in the file (1-based, header and comments counted)."""
+    line: int
+    reason: str
+
+    def __str__(self):
+        return f"line {self.line}: {self.reason}"
+
+
+@dataclass(frozen=True)
+class MeasuredData:
+    """Measured operating points, arrays of shape (M,); optional columns None if absent."""
+    speed_rpm: np.ndarray
+    torque_Nm: np.ndarray                     # output torque
+    efficiency: np.ndarray                    # fraction, 0 < eta <= 1
+    oil_temp_C: np.ndarray | None = None
+    time_h: np.ndarray | None = None
+    run_id: np.ndarray | None = None          # labels (str)
+    input_torque_Nm: np.ndarray | None = None
+    sigma: np.ndarray | None = None           # standard uncertainty of the efficiency
+    extra: dict = field(default_factory=dict)  # further numeric covariates, name -> (M,)
+    lines: np.ndarray | None = None           # source line of each row
+    rejected: tuple = ()                      # Rejected rows
+    provenance: dict = field(default_factory=dict)
+    source: str = ""
+
+    def __len__(self):
+        return int(self.speed_rpm.size)
+
+    def covariates(self) -> dict:
+        """Every covariate in the data, name (with unit) -> (M,) array; ``run_id`` is a
+        label array, the others numbers."""
+        out = {"input_speed_rpm": self.speed_rpm, "output_torque_Nm": self.torque_Nm}
+        for name, arr in (("oil_temp_C", self.oil_temp_C), ("time_h", self.time_h),
+                          ("run_id", self.run_id)):
+            if arr is not None:
+                out[name] = arr
+        out.update(self.extra)
+        return out
+
+    def subset(self, index) -> "MeasuredData":
+        """The rows ``index`` (an index array or boolean mask)."""
+        def take(a):
+            return None if a is None else np.asarray(a)[index]
+        return MeasuredData(take(self.speed_rpm), take(self.torque_Nm), take(self.efficiency),
+                            take(self.oil_temp_C), take(self.time_h), take(self.run_id),
+                            take(self.input_torque_Nm), take(self.sigma),
+                            {k: v[index] for k, v in self.extra.items()}, take(self.lines),
+                            self.rejected, dict(self.provenance), self.source)
+
+
+def _column(name: str):
+    """(quantity, factor, offset) of a known column, ('run_id', None, None), or
+    (None, None, None) for a free covariate. Raises on a known quantity in an unknown
+    unit."""
+    if name == "run_id":
+        return "run_id", None, None
+    for q, units in QUANTITIES.items():     # efficiency_sigma before efficiency
+        if name == q or name.startswith(q + "_"):
+            unit = name[len(q) + 1:]
+            if q == "efficiency" and unit.startswith("sigma"):
+                continue
+            if unit not in units:
+                known = ", ".join(repr(u) if u else "(none)" for u in units)
+                raise MeasuredDataError(
+                    f"column {name!r}: unknown unit {unit!r} for {q}; known: {known}")
+            f, o = units[unit]
+            return q, f, o
+    return None, None, None
+
+
+def _number(text, name):
+    """(value, reason): the float in a cell, or None and why not."""
+    s = text.strip()
+    if s == "":
+        return None, f"{name} is empty"
+    try:
+        v = float(s)
+    except ValueError:
+        return None, f"{name} = {s!r} is not a number"
+    if math.isnan(v):
+        return None, f"{name} is NaN"
+    if math.isinf(v):
+        return None, f"{name} = {s} is not finite"
+    return v, None
+
+
+def sensor_sigma(eff, t_in, t_out, sensors) -> np.ndarray | None:
+    """Standard uncertainty of eta = T2 / (i T1) from the torque sensors' accuracy (a
+    fraction of range, taken as one standard deviation): eta sqrt((a1 R1/T1)^2 +
+    (a2 R2/T2)^2). None without both sensors or without input torques."""
+    if t_in is None or not sensors:
+        return None
+    try:
+        s1, s2 = (float(sensors[k]["accuracy"]) * float(sensors[k]["range_Nm"])
+                  for k in ("input_torque", "output_torque"))
+    except (KeyError, TypeError, ValueError):
+        raise MeasuredDataError("provenance 'sensors' needs input_torque and output_torque "
+                                "tables with range_Nm and accuracy (a fraction of range)") \
+            from None
+    return np.asarray(eff) * np.hypot(s1 / np.asarray(t_in), s2 / np.asarray(t_out))
+
+
+def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
+                   strict=False) -> MeasuredData:
+    """Validate CSV text into :class:`MeasuredData` (module docstring for the rules).
+
+    ``ratio``: the reducer's speed ratio (its magnitude is used), needed when the
+    efficiency comes from an input-torque column and used to check one against the other
+    when both are given. ``provenance``: a mapping merged over the header comments."""
+    lines = text.splitlines()
+    prov, start = {}, 0
+    while start < len(lines) and (lines[start].lstrip().startswith("#")
+                                  or not lines[start].strip()):
+        body = lines[start].lstrip().lstrip("#").strip()
+        if ":" in body:
+            k, v = body.split(":", 1)
+            prov[k.strip()] = v.strip()
+        start += 1
+    prov.update(provenance or {})
+    if start >= len(lines):
+        raise MeasuredDataError(f"{source}: no header line (columns with units, e.g. "
+                                "input_speed_rpm,output_torque_Nm,efficiency)")
+    reader = csv.reader(io.StringIO("\n".join(lines[start:])))
+    header = [h.strip() for h in next(reader)]
+    columns = {}                       # quantity or column name -> (index, factor, offset)
+    for j, name in enumerate(header):
+        if not name:
+            raise MeasuredDataError(f"{source}: column {j + 1} of the header has no name")
+        q, f, o = _column(name)
+        key = q or name
+        if key in columns:
+            raise MeasuredDataError(f"{source}: {key} appears twice in the header "
+                                    f"({header[columns[key][0]]!r} and {name!r})")
+        columns[key] = (j, f, o)
+    for q in ("input_speed", "output_torque"):
+        if q not in columns:
+            raise MeasuredDataError(f"{source}: missing column {CANONICAL[q]} (have "
+                                    f"{header})")
+    if "efficiency" not in columns and "input_torque" not in columns:
+        raise MeasuredDataError(f"{source}: missing column efficiency (or input_torque_Nm "
+                                f"with the reducer ratio); have {header}")
+    i_abs = None if ratio is None else abs(float(ratio))
+    if "efficiency" not in columns and i_abs is None:
+        raise MeasuredDataError(f"{source}: the efficiency comes from input_torque_Nm, which "
+                                "needs the reducer ratio (ratio=...)")
+    numeric = [k for k in columns if k != "run_id"]
+    rows, rejected, line_no = [], [], []
+    for k, cells in enumerate(reader):
+        line = start + 2 + k
+        if not cells or all(not c.strip() for c in cells):
+            continue
+        reason = None
+        if len(cells) != len(header):
+            reason = f"has {len(cells)} fields, the header has {len(header)}"
+        values = {}
+        for key in numeric if reason is None else ():
+            j, f, o = columns[key]
+            name = header[j]
+            v, why = _number(cells[j], name)
+            if why:
+                reason = why
+                break
+            values[key] = v if f is None else f * v + o
+        if reason is None:
+            reason = _check_row(values, i_abs)
+        if reason is None:
+            if "run_id" in columns:
+                values["run_id"] = cells[columns["run_id"][0]].strip()
+            rows.append(values)
+            line_no.append(line)
+        else:
+            if strict:
+                raise MeasuredDataError(f"{source}: line {line}: {reason}")
+            rejected.append(Rejected(line, reason))
+    if not rows:
+        why = "; ".join(str(r) for r in rejected[:3]) or "no data rows"
+        raise MeasuredDataError(f"{source}: no good row ({why})")
+
+    def col(key):
+        return None if key not in columns else np.array([r[key] for r in rows], float)
+
+    t_out, t_in = col("output_torque"), col("input_torque")
+    eff = col("efficiency")
+    if eff is None:
+        eff = t_out / (i_abs * t_in)
+    sigma = col("efficiency_sigma")
+    if sigma is None:
+        # without an input-torque column the reading it implies is T2 / (|i| eta)
+        implied = t_in if t_in is not None or i_abs is None else t_out / (i_abs * eff)
+        sigma = sensor_sigma(eff, implied, t_out, prov.get("sensors"))
+    run = None
+    if "run_id" in columns:
+        run = np.array([r["run_id"] for r in rows], dtype=object)
+    known = set(QUANTITIES) | {"run_id"}
+    extra = {k: col(k) for k in columns if k not in known}
+    return MeasuredData(col("input_speed"), t_out, eff, col("oil_temp"), col("time"), run,
+                        t_in, sigma, extra, np.array(line_no), tuple(rejected), prov, source)
+
+
+def _check_row(v, i_abs):
+    """Why a parsed row is refused, or None."""
+    if v["input_speed"] < 0:
+        return f"input_speed_rpm = {v['input_speed']:g} is negative"
+    if v["input_speed"] == 0:
+        return "input_speed_rpm = 0: no efficiency at standstill"
+    for q in ("output_torque", "input_torque"):
+        if q in v and v[q] <= 0:
+            return f"{CANONICAL[q]} = {v[q]:g} must be > 0 (the drive direction)"
+    eff = v.get("efficiency")
+    if eff is None:
+        eff = v["output_torque"] / (i_abs * v["input_torque"])
+        label = "efficiency T2/(|i| T1)"
+    else:
+        label = "efficiency"
+    if not 0 < eff <= 1:
+        return f"{label} = {eff:.6g} is outside (0, 1]"
+    if "efficiency" in v and "input_torque" in v and i_abs is not None:
+        from_torques = v["output_torque"] / (i_abs * v["input_torque"])
+        if abs(from_torques - eff) > CONSISTENCY_RTOL * eff:
+            return (f"efficiency = {eff:.6g} disagrees with T2/(|i| T1) = {from_torques:.6g} "
+                    f"(ratio {i_abs:g})")
+    if "efficiency_sigma" in v and not v["efficiency_sigma"] > 0:
+        return f"efficiency_sigma = {v['efficiency_sigma']:g} must be > 0"
+    if "oil_temp" in v and not OIL_TEMP_RANGE_C[0] <= v["oil_temp"] <= OIL_TEMP_RANGE_C[1]:
+        return (f"oil_temp_C = {v['oil_temp']:g} is outside [{OIL_TEMP_RANGE_C[0]:g}, "
+                f"{OIL_TEMP_RANGE_C[1]:g}]")
+    if "time" in v and v["time"] < 0:
+        return f"time_h = {v['time']:g} is negative"
+    return None
+
+
+def sidecar_path(path) -> Path:
+    """The provenance sidecar of a CSV: the same name with ``.json``."""
+    return Path(path).with_suffix(".json")
+
+
+def load_measured(path, *, ratio=None, strict=False) -> MeasuredData:
+    """Open a measured-data CSV and its sidecar ``<stem>.json`` (if present)."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8-sig")
+    except FileNotFoundError:
+        raise MeasuredDataError(f"{path}: no such measured-data file") from None
+    prov = {}
+    side = sidecar_path(path)
+    if side.exists():
+        try:
+            prov = json.loads(side.read_text())
+        except json.JSONDecodeError as exc:
+            raise MeasuredDataError(f"{side}: not valid JSON: {exc}") from None
+        if not isinstance(prov, dict):
+            raise MeasuredDataError(f"{side}: must hold a JSON object")
+    return parse_measured(text, ratio=ratio, provenance=prov, source=str(path), strict=strict)
+
+
+def from_case(case) -> MeasuredData:
+    """The case's ``[[measured]]`` points as :class:`MeasuredData` (no oil temperature)."""
+    pts = case.measured
+    if not pts:
+        raise MeasuredDataError(f"case {case.name!r} has no [[measured]] points")
+    return MeasuredData(np.array([p.input_speed_rpm for p in pts], float),
+                        np.array([p.output_torque_Nm for p in pts], float),
+                        np.array([p.efficiency for p in pts], float),
+                        lines=np.arange(len(pts)),
+                        provenance={"source": "; ".join(dict.fromkeys(
+                            p.source for p in pts if p.source))},
+                        source=f"case {case.name!r} [[measured]]")
+
+
+def to_csv(data: MeasuredData) -> str:
+    """CSV text of a record (canonical columns; the inverse of :func:`parse_measured`)."""
+    cols = {"input_speed_rpm": data.speed_rpm, "output_torque_Nm": data.torque_Nm}
+    if data.input_torque_Nm is not None:
+        cols["input_torque_Nm"] = data.input_torque_Nm
+    cols["efficiency"] = data.efficiency
+    for name, arr in (("oil_temp_C", data.oil_temp_C), ("time_h", data.time_h),
+                      ("run_id", data.run_id)):
+        if arr is not None:
+            cols[name] = arr
+    cols.update(data.extra)
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(list(cols))
+    for i in range(len(data)):
+        w.writerow([c[i] if isinstance(c[i], str) else f"{float(c[i]):.10g}"
+                    for c in cols.values()])
+    return buf.getvalue()

@@ -1,0 +1,298 @@
+"""The measured-data loop: effect catalog, synthetic rig data with an undeclared effect,
+selection, residual analysis, report and CLI.
+
+Synthetic data (efficiency/synthetic.py): 200 operating points of the case plus one catalog
+effect the case does not declare, torques read with the sine rig's sensor classes (0.1 % and
+0.2 % of range as one sigma, ranges matched to the reducer). The effect sizes are chosen so
+that the effect is clearly there (its RMS change of efficiency is several times the noise):
+the tests check the machinery, not the limit of detection.
+
+Recovery tolerance (TOLERANCE): relative error of the fitted parameter; 10 % for every
+effect (observed: at most 3 % with these seeds), 20 % for the clearance, whose loss
+saturates as the gap grows beyond the elastic approach.
+"""
+import dataclasses
+import json
+import math
+
+import numpy as np
+import pytest
+
+from toothfem import load_case
+from toothfem.efficiency import effects as fx
+from toothfem.efficiency import loop as lp
+from toothfem.efficiency import model as md
+from toothfem.efficiency import synthetic as sy
+
+R = dataclasses.replace
+#: Contact compliance [m per N/m] for the clearance effect in the fast tests (the FE value
+#: of the pin-housing disc is about 3.6e-11; the slow test takes it from the FE).
+FAST_COMPLIANCE = 5e-11
+CATALOG = fx.catalog(clearance_compliance=FAST_COMPLIANCE)
+TOLERANCE = {"drag_torque": 0.10, "churning": 0.10, "viscosity_temperature": 0.10,
+             "mixed_lubrication": 0.10, "bearing_friction": 0.10,
+             "output_mechanism_friction": 0.10, "pin_sliding": 0.10,
+             "load_sharing_clearance": 0.20}
+#: Held-out RMSE must fall at least this many times when the effect is found (the issue).
+RMSE_CUT = 3.0
+
+
+def _friction(case, **kw):
+    return R(case, friction=R(case.friction, **kw))
+
+
+def _lubricant(case, **kw):
+    return R(case, lubricant=R(case.lubricant, **kw))
+
+
+@pytest.fixture(scope="module")
+def cases(cases_dir):
+    return {n: load_case(cases_dir / f"{n}.toml")
+            for n in ("sine_prototype", "cycloid_pinhousing", "rv40e")}
+
+
+def scenario(cases, name):
+    """(case that does not declare the effect, truth values, generator keywords):
+    synthetic.reference_scenarios (its docstring says why each case is what it is)."""
+    return sy.reference_scenarios(cases["sine_prototype"], cases["cycloid_pinhousing"])[name]
+
+
+# ---------------------------------------------------------------------------------------
+# Catalog
+
+
+def test_catalog_names_and_records():
+    assert tuple(e.name for e in CATALOG) == fx.NAMES
+    assert set(fx.NAMES) >= {"drag_torque", "churning", "viscosity_temperature",
+                             "mixed_lubrication", "bearing_friction",
+                             "output_mechanism_friction", "load_sharing_clearance",
+                             "pin_sliding"}
+    for e in CATALOG:
+        assert e.citation and e.equation and e.case_fields
+        for p in e.parameters:
+            assert p.unit and p.lo < p.hi and p.typical > 0
+            assert all(p.lo <= s <= p.hi for s in p.starts)
+
+
+@pytest.mark.parametrize("name", fx.NAMES)
+def test_apply_sets_its_fields_by_copy(cases, name):
+    eff = fx.by_name(name, CATALOG)
+    case = cases["rv40e"] if "sine" not in eff.drives else cases["sine_prototype"]
+    p = eff.parameters[0]
+    value = 0.5 * (p.starts[0] + p.hi) if p.hi < 1e5 else 123.0
+    new = eff.apply(case, (value,))
+    assert new is not case
+    section, field = eff.case_fields[-1].split(".")
+    assert getattr(getattr(new, section), field) == pytest.approx(value)
+    assert getattr(getattr(case, section), field) != pytest.approx(value)   # not mutated
+    with pytest.raises(Exception, match="outside the valid range"):
+        eff.apply(case, (p.hi * 2 + 1,))
+
+
+def test_declared_and_applicable(cases):
+    sine, cyc, rv = cases["sine_prototype"], cases["cycloid_pinhousing"], cases["rv40e"]
+    pts = fx.Points(np.array([500.0]), np.array([20.0]))
+    cands, skipped = lp.candidates_of(sine, pts, CATALOG)
+    assert cands == ["drag_torque", "mixed_lubrication"]
+    assert "declared" in skipped["churning"] and "declared" in skipped["bearing_friction"]
+    assert "oil_temp_C" in skipped["viscosity_temperature"]
+    assert "not for drive 'sine'" in skipped["pin_sliding"]
+    assert "not for drive 'sine'" in skipped["load_sharing_clearance"]
+    cands, skipped = lp.candidates_of(cyc, pts, CATALOG)
+    assert "integral" in skipped["pin_sliding"]
+    assert "not for drive 'cycloid'" in skipped["output_mechanism_friction"]
+    assert "load_sharing_clearance" in cands and "bearing_friction" in cands
+    cands, skipped = lp.candidates_of(rv, pts, CATALOG)
+    assert "declared" in skipped["pin_sliding"]          # rv40e declares groove 0.05
+
+
+def test_linear_components_are_exact(cases):
+    """Scaling a linear effect's component equals evaluating the case with its value."""
+    sine = _lubricant(_friction(cases["sine_prototype"], bearing_coefficient=0.0015,
+                                output_pin_coefficient=0.05), churning="none")
+    cat = {e.name: e for e in CATALOG}
+    pts = fx.Points(np.array([200.0, 800, 1400]), np.array([10.0, 20, 28]),
+                    np.array([30.0, 50, 90]))
+    a = {cat["drag_torque"]: (33.0,), cat["bearing_friction"]: (0.0042,),
+         cat["output_mechanism_friction"]: (0.021,), cat["churning"]: (2.5,),
+         cat["viscosity_temperature"]: (1400.0,)}
+    direct = md.predict(fx.with_effects(sine, a), pts.speed_rpm, pts.torque_Nm, pts.oil_temp_C)
+    np.testing.assert_allclose(fx.predict(sine, pts, a, cache={}).efficiency, direct,
+                               rtol=1e-12)
+
+
+def test_churning_on_a_cycloid_is_the_sine_law(cases):
+    """The loss-term route uses Lu & Xu Eq. 42 with a0 = eccentricity, n = crank speed."""
+    cyc = cases["cycloid_pinhousing"]
+    pts = fx.Points(np.array([1000.0]), np.array([100.0]))
+    eff = fx.by_name("churning", CATALOG)
+    p = fx.predict(cyc, pts, {eff: (2.0,)})
+    n_crank = 1000.0 * fx.crank_speed_factor(cyc)
+    want = 2.0 * md.churning_lu_xu_2024(1.0, n_crank, 68.0)
+    assert p.losses_W["churning"][0] == pytest.approx(want)
+    # 2K-V: planets (cranks) at w_c - (z_s/z_p)(1 - w_c) = (1 - 40)/121 of the input
+    assert fx.crank_speed_factor(cyc) == pytest.approx(39 / 121)
+
+
+def test_clearance_starts_at_the_analytic_split(cases):
+    """At zero clearance the equal-springs split is F proportional to the moment arm (the
+    analytic split), so the loss ratios are exactly 1; a clearance loads fewer pins."""
+    cyc = cases["cycloid_pinhousing"]
+    pts = fx.Points(np.array([500.0, 1500.0]), np.array([50.0, 167.0]))
+    t = fx.clearance_tables(cyc, pts, FAST_COMPLIANCE, grid_mm=(0.0, 0.005))
+    np.testing.assert_allclose(t.pin_ratio[0], 1.0)
+    assert t.contacts_mean[0] == pytest.approx(20.0)
+    assert t.contacts_mean[1] < 12
+    assert np.all(t.pin_ratio[1] < 1.0)     # the pins near the pitch point slide least
+
+
+# ---------------------------------------------------------------------------------------
+# Residual analysis
+
+
+def test_residual_trends_follow_the_right_covariate():
+    rng = np.random.default_rng(0)
+    x, y = rng.uniform(0, 1, 200), rng.uniform(0, 1, 200)
+    runs = np.array([f"r{k % 4}" for k in range(200)], dtype=object)
+    r = 0.01 * np.sin(3 * x) + rng.normal(0, 0.002, 200)
+    trends = {t.covariate: t for t in lp.residual_trends(r, {"x": x, "y": y, "run": runs})}
+    # signal std about 0.003 against noise 0.002: R^2 about 0.7
+    assert trends["x"].follows and trends["x"].r2 > 0.5
+    assert not trends["y"].follows and not trends["run"].follows
+    assert trends["run"].kind == "levels" and trends["x"].kind == "numeric"
+
+
+# ---------------------------------------------------------------------------------------
+# Undeclared effects: named, recovered, error cut
+
+
+@pytest.mark.parametrize("name", fx.NAMES)
+def test_loop_finds_each_catalog_effect(cases, name):
+    case, truth, kw = scenario(cases, name)
+    assert fx.by_name(name, CATALOG).declared(case) is None
+    data = sy.generate(case, {name: truth}, n_points=200, seed=1, catalog=CATALOG, **kw)
+    rep = lp.run_loop(case, data, CATALOG)
+    assert [e.name for e in rep.effects] == [name], rep.stop_reason
+    (param,) = rep.effects[0].parameters.values()
+    assert param["value"] == pytest.approx(truth[0], rel=TOLERANCE[name])
+    assert rep.baseline.rmse >= RMSE_CUT * rep.final.rmse
+    assert rep.unexplained == ()
+    assert rep.stop_reason.startswith("nothing helps")
+
+
+def test_loop_finds_two_effects_at_once(cases):
+    case = _friction(cases["sine_prototype"], output_pin_coefficient=0.05)
+    data = sy.generate(case, {"drag_torque": (20.0,), "output_mechanism_friction": (0.03,)},
+                       seed=2, catalog=CATALOG)
+    rep = lp.run_loop(case, data, CATALOG)
+    found = {e.name: next(iter(e.parameters.values()))["value"] for e in rep.effects}
+    assert set(found) == {"drag_torque", "output_mechanism_friction"}
+    assert found["drag_torque"] == pytest.approx(20.0, rel=0.1)
+    assert found["output_mechanism_friction"] == pytest.approx(0.03, rel=0.1)
+    assert rep.baseline.rmse >= RMSE_CUT * rep.final.rmse
+
+
+def test_effect_outside_the_catalog_is_unexplained(cases):
+    """A running-in loss that decays with operating time: no catalog effect depends on
+    time, so the residual still follows time_h after the loop (a catalog effect may take
+    up its mean; the report says what remains)."""
+    case = cases["sine_prototype"]
+    data = sy.generate(case, {}, extra_loss=sy.running_in(0.05, 5.0), seed=3,
+                       catalog=CATALOG)
+    rep = lp.run_loop(case, data, CATALOG)
+    assert "time_h" in rep.unexplained
+    after = {t.covariate: t for t in rep.trends_after}
+    assert after["time_h"].r2 > 0.5
+    assert not after["input_speed_rpm"].follows and not after["output_torque_Nm"].follows
+
+
+def test_no_effect_adds_nothing(cases):
+    case = _lubricant(_friction(cases["sine_prototype"], bearing_coefficient=0.0015,
+                                output_pin_coefficient=0.05), churning="none",
+                      vogel_B_C=1000.0)
+    data = sy.generate(case, {}, oil_temp_C=(20, 100), seed=100, catalog=CATALOG)
+    rep = lp.run_loop(case, data, CATALOG)
+    assert rep.effects == () and rep.unexplained == ()
+    assert rep.stop_reason.startswith("nothing helps")
+    assert len(rep.steps[0].candidates) == 6
+
+
+def test_small_data_reports_what_it_would_take(cases, cases_dir):
+    """One point: no selection; each candidate's closing value is reported."""
+    from toothfem.efficiency.measured import load_measured
+
+    case = cases["sine_prototype"]
+    data = load_measured(cases_dir.parent / "data" / "sine_prototype_rig.csv",
+                         ratio=case.ratio())
+    rep = lp.run_loop(case, data, CATALOG)
+    assert not rep.selection and rep.effects == ()
+    assert rep.baseline.rmse == pytest.approx(0.0089, abs=0.002)   # 83.36 % against 82.47 %
+    drag = next(c for c in rep.closing if c.name == "drag_torque")
+    assert drag.rmse < 1e-4 and 1.0 < drag.values[0] < 20.0
+    assert rep.sigma[0] == pytest.approx(0.020, abs=0.001)          # the rig's 2 points
+
+
+# ---------------------------------------------------------------------------------------
+# Report and CLI
+
+
+def _cli(argv):
+    import argparse
+
+    from toothfem import cli
+    from toothfem.commands import loop as cmd
+
+    if any(getattr(c, "__name__", "").endswith(".loop") for c in cli.COMMANDS):
+        return cli.main(argv)
+    parser = argparse.ArgumentParser()
+    cmd.add_parser(parser.add_subparsers(dest="command"))
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+def test_cli_writes_report(cases, cases_dir, tmp_path):
+    case_file = cases_dir / "sine_prototype.toml"
+    data = sy.generate(cases["sine_prototype"], {"drag_torque": (20.0,)}, n_points=60, seed=4)
+    csv = sy.write(data, tmp_path / "rig.csv")
+    out = tmp_path / "loop"
+    assert _cli(["loop", str(case_file), str(csv), "--out", str(out)]) == 0
+    rep = json.loads((out / "report.json").read_text())
+    assert rep["baseline"]["rmse"] > 3 * rep["final"]["rmse"]
+    assert [e["name"] for e in rep["effects"]] == ["drag_torque"]
+    assert rep["effects"][0]["parameters"]["drag_torque_Nmm"]["value"] == pytest.approx(
+        20.0, rel=0.1)
+    assert rep["unexplained"] == []
+    assert rep["final_case_fields"]["friction.drag_torque_Nmm"] == pytest.approx(
+        rep["effects"][0]["parameters"]["drag_torque_Nmm"]["value"])
+    md_text = (out / "report.md").read_text()
+    assert "held-out RMSE" in md_text and "drag_torque" in md_text
+    for png in ("residuals_before.png", "residuals_after.png"):
+        assert (out / png).stat().st_size > 10_000
+
+
+def test_cli_case_points_and_bad_file(cases_dir, tmp_path):
+    case_file = cases_dir / "rv40e.toml"
+    assert _cli(["loop", str(case_file), "--out", str(tmp_path / "a"),
+                 "--effects", "drag_torque,bearing_friction"]) == 0
+    rep = json.loads((tmp_path / "a" / "report.json").read_text())
+    assert rep["selection"] is False and rep["n_points"] == 1
+    assert {c["name"] for c in rep["closing"]} == {"drag_torque", "bearing_friction"}
+    bad = tmp_path / "bad.csv"
+    bad.write_text("input_speed_rpm,output_torque_furlong,efficiency\n1,2,0.5\n")
+    from toothfem.errors import ToothfemError
+    try:
+        code = _cli(["loop", str(case_file), str(bad), "--out", str(tmp_path / "b")])
+    except ToothfemError as exc:          # not registered in toothfem.cli yet
+        assert "unknown unit 'furlong'" in str(exc)
+    else:
+        assert code == 2
+    assert not (tmp_path / "b").exists()
+
+
+def test_report_json_is_strict_json(cases):
+    data = sy.generate(cases["sine_prototype"], {}, n_points=20, seed=5, catalog=CATALOG)
+    rep = lp.run_loop(cases["sine_prototype"], data, CATALOG)
+    text = json.dumps(rep.to_dict(), allow_nan=False)
+    d = json.loads(text)
+    assert set(d) >= {"baseline", "final", "effects", "unexplained"}
+    assert math.isfinite(d["baseline"]["rmse"]) and math.isfinite(d["final"]["rmse"])
