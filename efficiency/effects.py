@@ -571,13 +571,10 @@ def clearance_tables(case, points: Points, compliance=None,
                                   cc.pin_structure, "strain", cc.housing_outer_radius_mm * 1e-3)
         solver = cf.CycleSolver(model, phis, equal_springs=compliance)
         records = [solver.solve(float(t)) for t in torques]
-        table = _model._table(state, records, "equal_springs")
-        force, ph = table.at(t_disc)
-        mu_disc, _ = _model._contact_mu(case, table, force, ph, crank, eta0, [])
-        mu = _model._pin_contact_mu(case, mu_disc)
-        pins.append(_model._mesh_loss(table, force, mu, crank))
-        res = _model._resultant(table, force)
-        bearing.append(np.mean(np.linalg.norm(res, axis=2), axis=1))
+        table = _model.table_from_records(state, records, "equal_springs")
+        loss, f_bearing = _model.disc_contact_losses(case, table, t_disc, crank, eta0)
+        pins.append(loss)
+        bearing.append(f_bearing)
         contacts.append(float(np.mean(records[-1].contacts_per_position)))
     pins, bearing = np.array(pins), np.array(bearing)
 

@@ -149,7 +149,7 @@ class MeshTable:
         return t * f, np.sqrt(t) * p
 
 
-def _table(state, records, loads):
+def table_from_records(state, records, loads):
     """A MeshTable from a meshing state (unit crank speed) and load-sharing records."""
     loaded = np.zeros(state.shape, bool)
     for r in records:
@@ -198,7 +198,7 @@ def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None) 
                                 "which this installation does not have") from None
         recs = sine_fe.load_table(sine, material, phis,
                                   [f * torque_ref for f in FE_TORQUE_FRACTIONS])
-    return _table(state, recs, loads)
+    return table_from_records(state, recs, loads)
 
 
 @lru_cache(maxsize=4)
@@ -233,7 +233,7 @@ def cycloid_table(cycloid, material, loads="analytic", positions=36, torque_ref=
     else:
         solver = _cycle_solver(cycloid, material, positions)
         recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
-    return _table(state, recs, loads)
+    return table_from_records(state, recs, loads)
 
 
 # ---------------------------------------------------------------------------------------
@@ -446,6 +446,25 @@ def _cycloid_stage(case):
     return cyc, {"input": 1.0, "crank": 1.0, "disc": w["moving"], "carrier": w["moving"]}, None
 
 
+def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None):
+    """Pin-contact loss of one cycloid disc [W] and the mean resultant of its pin forces
+    [N] (what its crank bearings carry), at disc torques ``torque_disc`` (M,), crank
+    speeds relative to the pin ring [rad/s] and inlet viscosities [Pa s], from a meshing
+    ``table`` (any load source: analytic, FE or another contact model's records through
+    :func:`table_from_records`)."""
+    notes = [] if notes is None else notes
+    force, ph = table.at(torque_disc)
+    mu_disc, _ = _contact_mu(case, table, force, ph, crank_speed, eta0, notes)
+    mu = _pin_contact_mu(case, mu_disc)
+    if case.cycloid.pin_structure == "conventional":
+        share = np.mean(mu_disc > case.friction.pin_groove_coefficient)
+        notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
+                     "loaded contacts (groove friction below the disc contact's)")
+    loss = _mesh_loss(table, force, mu, crank_speed)
+    f_bearing = np.mean(np.linalg.norm(_resultant(table, force), axis=2), axis=1)
+    return loss, f_bearing
+
+
 def _cycloid(case, n, t2, temp, visc, loads, positions):
     if case.material is None:
         raise CaseError("a [material] section is required for the contact losses")
@@ -458,18 +477,9 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
     t_disc = t2 / cyc.disc_count          # even split for losses (load factor is for strength)
     torque_ref = float(np.max(t_disc)) if loads == "fem" else None
     table = cycloid_table(cyc, case.material, loads, positions, torque_ref)
-    force, ph = table.at(t_disc)
-    # the disc's crank angle speed relative to the pin ring: the crank's absolute speed
     eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
-    mu_disc, _ = _contact_mu(case, table, force, ph, crank, eta0, notes)
-    mu = _pin_contact_mu(case, mu_disc)
-    if cyc.pin_structure == "conventional":
-        share = np.mean(mu_disc > case.friction.pin_groove_coefficient)
-        notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
-                     "loaded contacts (groove friction below the disc contact's)")
-    pins = cyc.disc_count * _mesh_loss(table, force, mu, crank)
-    res = _resultant(table, force)                                      # (M, P, 2) per disc
-    f_bearing = np.mean(np.linalg.norm(res, axis=2), axis=1)
+    pins_disc, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0, notes)
+    pins = cyc.disc_count * pins_disc
     r_b = cyc.disc_holes.crank_hole_radius_mm * 1e-3
     if r_b <= 0:
         r_b = cyc.eccentricity_mm * 1e-3 * 10     # no holes declared: a nominal crank radius
