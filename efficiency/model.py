@@ -178,9 +178,26 @@ def _e_star(material):
 FE_TORQUE_FRACTIONS = (0.1, 0.3, 1.0, 2.0)
 
 
+@lru_cache(maxsize=4)
+def _sine_solver(sine, material, output_mechanism, positions):
+    """The FE cycle-mode solver of a sine pair (one factorisation per body)."""
+    from types import SimpleNamespace
+
+    from ..fem import sine_fe
+
+    model = sine_fe.model_from_case(SimpleNamespace(drive="sine", sine=sine, material=material,
+                                                    output_mechanism=output_mechanism))
+    phis = np.linspace(0.0, model.pair.crank_pitch_rad, positions, endpoint=False)
+    return sine_fe.CycleSolver(model, phis)
+
+
 @lru_cache(maxsize=16)
-def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None) -> MeshTable:
-    """Meshing table of a sine pair (one tooth pitch of the crank)."""
+def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None,
+               output_mechanism=None) -> MeshTable:
+    """Meshing table of a sine pair (one tooth pitch of the crank). FE loads: the planet
+    held at the inner edge of its output-pin holes (``output_mechanism``), see
+    fem/sine_fe.py; P_h is the FE pressure where Hertz fails (every loaded contact of the
+    prototype)."""
     from ..fem.load_sharing import analytic_split
     from ..geometry import sine as sg
 
@@ -191,13 +208,8 @@ def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None) 
     if loads == "analytic":
         recs = [analytic_split(state, 1.0, width, _e_star(material), SINE_IN_MESH_GAP_M)]
     else:
-        try:
-            from ..fem import sine_fe
-        except ImportError:
-            raise ToothfemError("loads = 'fem' for the sine pair needs toothfem.fem.sine_fe, "
-                                "which this installation does not have") from None
-        recs = sine_fe.load_table(sine, material, phis,
-                                  [f * torque_ref for f in FE_TORQUE_FRACTIONS])
+        solver = _sine_solver(sine, material, output_mechanism, positions)
+        recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
     return table_from_records(state, recs, loads)
 
 
@@ -370,7 +382,7 @@ def _sine(case, n, t2, temp, visc, loads, positions):
     p_out = t2 * np.abs(w_planet)
     notes = []
     torque_ref = float(np.max(t2)) if loads == "fem" else None
-    table = sine_table(st, case.material, loads, positions, torque_ref)
+    table = sine_table(st, case.material, loads, positions, torque_ref, om)
     force, ph = table.at(t2)
     eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
     mu, _ = _contact_mu(case, table, force, ph, crank, eta0, notes)

@@ -106,10 +106,10 @@ def test_contact_command_writes_results(cases_dir, tmp_path, capsys):
         assert (out / png).stat().st_size > 5_000
 
 
-def test_contact_command_refuses_sine_and_bad_torque(cases_dir, tmp_path, capsys):
-    assert cli.main(["contact", str(cases_dir / "sine_prototype.toml"), "--out",
-                     str(tmp_path / "o")]) == 2
-    assert "cycloid drives so far" in capsys.readouterr().err
+def test_contact_command_refuses_bad_torque_and_pins_on_sine(cases_dir, tmp_path, capsys):
+    assert cli.main(["contact", str(cases_dir / "sine_prototype.toml"), "--pins", "integral",
+                     "--out", str(tmp_path / "o")]) == 2
+    assert "--pins applies to cycloid drives" in capsys.readouterr().err
     assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--torque-Nm", "-5",
                      "--out", str(tmp_path / "o")]) == 2
     assert "--torque-Nm = -5.0 is outside the valid range (0, inf)" in capsys.readouterr().err
@@ -173,3 +173,23 @@ def test_run_command_cycloid_with_fe(cases_dir, tmp_path, capsys):
     assert abs(f["efficiency"] - a["efficiency"]) < 0.01
     assert (out / "contact" / "load_sharing.csv").exists()
     assert "## Contact (FE, cycle mode)" in (out / "report.md").read_text()
+
+
+@pytest.mark.slow
+def test_contact_command_sine_pair(cases_dir, tmp_path, capsys):
+    """The sine pair through the CLI: multi-tooth contact, FE pressure where Hertz fails,
+    the planet's field from the detailed mode at the worst position."""
+    out = tmp_path / "sine"
+    assert cli.main(["contact", str(cases_dir / "sine_prototype.toml"), "--positions", "6",
+                     "--torque-Nm", "28", "--out", str(out)]) == 0
+    s = json.loads((out / "summary.json").read_text())
+    assert s["pins_in_contact_max"] >= 2                   # teeth sharing the load
+    assert s["torque_equilibrium_max_rel_error"] < 1e-8
+    assert s["ph_from_fe_contacts"] == s["hertz_invalid_contacts"] > 0
+    assert abs(s["detailed_check_at_worst_position"]["max_force_ratio_detailed_to_cycle"]
+               - 1) < 0.02                                 # issue 3: modes within 2 %
+    for png in ("load_per_pin.png", "von_mises.png", "von_mises_contact.png"):
+        assert (out / png).stat().st_size > 5_000
+    rows = (out / "load_sharing.csv").read_text().splitlines()
+    assert rows[0] == ("position_deg,contact_id,force_N,moment_arm_mm,half_width_mm,ph_MPa,"
+                       "gap_mm") and len(rows) > 6

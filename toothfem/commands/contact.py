@@ -9,8 +9,8 @@ import numpy as np
 
 
 def add_parser(sub):
-    p = sub.add_parser("contact", help="FE load sharing, Hertz pressure and transmission error "
-                       "over one meshing period (cycloid drives)")
+    p = sub.add_parser("contact", help="FE load sharing, Hertz or FE pressure and transmission "
+                       "error over one meshing period (cycloid discs, sine pair)")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--positions", type=int, default=36,
                    help="meshing positions over one pin pitch (default 36)")
@@ -47,10 +47,9 @@ def run(args) -> int:
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
     case = load_case(args.case)
-    if case.cycloid is None:
-        raise CaseError(f"{args.case}: drive = {case.drive!r}: the FE contact command handles "
-                        "cycloid discs ([cycloid] section) so far (the sine pair is not yet "
-                        "modelled)")
+    if case.cycloid is None and case.drive != "sine":
+        raise CaseError(f"{args.case}: drive = {case.drive!r} has no profile geometry "
+                        "([cycloid] disc or sine pair) to put in contact")
     if args.torque is not None:
         check_range("--torque-Nm", args.torque, 0, None, lo_open=True, error=CaseError)
     from dataclasses import replace
@@ -62,28 +61,14 @@ def run(args) -> int:
 
         case = replace(case, operating=replace(case.operating,
                                                output_torque_Nm=operating_point(case)[1]))
-    model = cf.model_from_case(case, args.pins)
-    torque = cf.disc_torque(case)
-    g = model.geometry
-    phis = np.linspace(0, 2 * math.pi / g.pin_count, args.positions, endpoint=False)
     progress = lambda it: tqdm(it, desc=f"{args.mode} mode", unit="position")  # noqa: E731
     with atomic_dir(args.out) as tmp:
-        if args.mode == "cycle":
-            solver = cf.CycleSolver(model, phis)
-            ls = solver.solve(torque, progress=progress)
-            worst = int(np.argmax(ls.force.max(axis=1)))
-            detail = None
-            if args.field == "detailed":
-                detail = cf.solve_detailed(model, phis[worst], torque)
-                disc, u = detail.disc, detail.disc_displacement
-            elif args.field == "structural":
-                disc, u = solver.disc_field(worst, ls)
+        if case.drive == "sine":
+            ls, phis, worst, detail, body, u, centre, label, summary = _sine(case, args,
+                                                                           progress)
         else:
-            results = [cf.solve_detailed(model, phi, torque) for phi in progress(phis)]
-            ls = _stack([r.load_sharing for r in results])
-            worst = int(np.argmax(ls.force.max(axis=1)))
-            detail = results[worst]
-            disc, u = detail.disc, detail.disc_displacement
+            ls, phis, worst, detail, body, u, centre, label, summary = _cycloid(case, args,
+                                                                              progress)
         with open(tmp / "load_sharing.csv", "w", newline="") as fh:
             w = csv.writer(fh)
             w.writerow(COLUMNS)
@@ -91,8 +76,7 @@ def run(args) -> int:
                 w.writerow([f"{v:.9g}" if isinstance(v, float) else v for v in row])
         summary = {
             "case": case.name, "mode": args.mode, "positions": args.positions,
-            "pin_structure": model.pin_structure,
-            "output_torque_Nm": case.operating.output_torque_Nm, "disc_torque_Nm": torque,
+            "output_torque_Nm": case.operating.output_torque_Nm, **summary,
             "pins_in_contact_max": int(ls.contacts_per_position.max()),
             "pins_in_contact_min": int(ls.contacts_per_position.min()),
             "max_force_N": float(ls.force.max()),
@@ -115,21 +99,88 @@ def run(args) -> int:
                 "dofs": int(detail.dofs)}
         fig = plots.load_per_contact(ls)
         fig.savefig(tmp / "load_per_pin.png", dpi=120)
-        if args.field != "none":
-            vtu = export.write_vtu(tmp / "disc_worst_position.vtu", disc, u)
+        if body is not None:
+            vtu = export.write_vtu(tmp / f"{label}_worst_position.vtu", body, u)
             kind = "detailed" if detail is not None else "structural"
             plots.field_png(vtu, tmp / "von_mises.png",
                             title=f"von Mises ({kind}), worst position {np.degrees(phis[worst]):.2f}"
-                                  " deg, disc frame")
+                                  f" deg, {label} frame")
             k = int(np.argmax(ls.force[worst]))
-            centre = _disc_frame_point(g, phis[worst], ls.point[worst, k])
             b = max(float(ls.half_width[worst, k]), 1e-6)
             plots.field_png(vtu, tmp / "von_mises_contact.png", zoom_centre=centre,
-                            zoom_radius=6 * b, title=f"contact zone of pin {k} ({kind})")
+                            zoom_radius=6 * b, title=f"contact zone of contact "
+                            f"{int(ls.contact_id[worst, k])} ({kind})")
             summary["files"] += [vtu.name, "von_mises.png", "von_mises_contact.png"]
         (tmp / "summary.json").write_text(json.dumps(summary, indent=2))
     print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
     return 0
+
+
+def _cycloid(case, args, progress):
+    """Cycle or detailed mode of a cycloid disc; the field at the worst position."""
+    from ..fem import cycloid_fe as cf
+
+    model = cf.model_from_case(case, args.pins)
+    torque = cf.disc_torque(case)
+    g = model.geometry
+    phis = np.linspace(0, 2 * math.pi / g.pin_count, args.positions, endpoint=False)
+    detail = disc = u = None
+    if args.mode == "cycle":
+        solver = cf.CycleSolver(model, phis)
+        ls = solver.solve(torque, progress=progress)
+        worst = int(np.argmax(ls.force.max(axis=1)))
+        if args.field == "detailed":
+            detail = cf.solve_detailed(model, phis[worst], torque)
+            disc, u = detail.disc, detail.disc_displacement
+        elif args.field == "structural":
+            disc, u = solver.disc_field(worst, ls)
+    else:
+        results = [cf.solve_detailed(model, phi, torque) for phi in progress(phis)]
+        ls = _stack([r.load_sharing for r in results])
+        worst = int(np.argmax(ls.force.max(axis=1)))
+        detail = results[worst]
+        if args.field != "none":
+            disc, u = detail.disc, detail.disc_displacement
+    k = int(np.argmax(ls.force[worst]))
+    centre = _disc_frame_point(g, phis[worst], ls.point[worst, k])
+    summary = {"pin_structure": model.pin_structure, "disc_torque_Nm": torque}
+    return ls, phis, worst, detail, disc, u, centre, "disc", summary
+
+
+def _sine(case, args, progress):
+    """Cycle or detailed mode of the sine pair; the planet's field at the worst position
+    (always from the detailed mode: the cycle mode has no stress field of its own)."""
+    from ..errors import CaseError
+    from ..fem import sine_fe
+    from ..geometry import sine
+
+    if args.pins is not None:
+        raise CaseError("--pins applies to cycloid drives, not to the sine pair")
+    model = sine_fe.model_from_case(case)
+    torque = sine_fe.planet_torque(case)
+    phis = np.arange(args.positions) * model.pair.crank_pitch_rad / args.positions
+    detail = body = u = None
+    if args.mode == "cycle":
+        ls = sine_fe.CycleSolver(model, phis).solve(torque, progress=progress)
+        worst = int(np.argmax(ls.force.max(axis=1)))
+        if args.field != "none":
+            detail = sine_fe.solve_detailed(model, phis[worst], torque)
+    else:
+        results = [sine_fe.solve_detailed(model, phi, torque) for phi in progress(phis)]
+        ls = _stack([r.load_sharing for r in results])
+        worst = int(np.argmax(ls.force.max(axis=1)))
+        detail = results[worst]
+    if detail is not None and args.field != "none":
+        body, u = detail.planet, detail.planet_displacement
+    k = int(np.argmax(ls.force[worst]))
+    c, th = sine.planet_pose(model.pair, phis[worst])
+    d = ls.point[worst, k] - c[:, 0]
+    centre = np.array([math.cos(-th[0]) * d[0] - math.sin(-th[0]) * d[1],
+                       math.sin(-th[0]) * d[0] + math.cos(-th[0]) * d[1]])
+    summary = {"planet_torque_Nm": torque,
+               "planet_bore_radius_mm": model.planet_bore_radius * 1e3,
+               "ring_outer_radius_mm": model.ring_outer_radius * 1e3}
+    return ls, phis, worst, detail, body, u, centre, "planet", summary
 
 
 def _disc_frame_point(g, phi, point):

@@ -25,8 +25,9 @@ def add_parser(sub):
 
 
 def _fe_available(case) -> bool:
-    """A cycloid disc ([cycloid] section, also on rv cases) has an FE model."""
-    return case.cycloid is not None
+    """A cycloid disc ([cycloid] section, also on rv cases) and the sine pair have FE
+    models."""
+    return case.cycloid is not None or case.drive == "sine"
 
 
 def run(args) -> int:
