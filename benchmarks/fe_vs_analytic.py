@@ -30,14 +30,7 @@ def variants():
         ph, cycloid=dataclasses.replace(cyc, equidistant_modification_mm=0.010,
                                         move_distance_modification_mm=-0.010))
     yield "RV-40E (assumed disc)", load_case(ROOT / "cases" / "rv40e.toml")
-    sine = load_case(ROOT / "cases" / "sine_prototype.toml")
-    try:
-        from toothfem.fem import sine_fe
-        if not hasattr(sine_fe, "load_table"):
-            raise ImportError
-        yield "sine prototype (rig)", sine
-    except ImportError:
-        print("(sine FE model not available: the sine case is skipped)")
+    yield "sine prototype (rig)", load_case(ROOT / "cases" / "sine_prototype.toml")
 
 
 def main():
@@ -59,7 +52,6 @@ def main():
         dt = time.perf_counter() - t0
         a, f = res["analytic"], res["fem"]
         key = "mesh" if case.drive == "sine" else "pin_contacts"
-        tf = m.cycloid_table if case.drive != "sine" else m.sine_table
         rows.append((label, speed, torque, 100 * a.efficiency[0], 100 * f.efficiency[0],
                      a.losses_W[key][0], f.losses_W[key][0], dt, f.notes))
         grid = np.linspace(0.1, 1.0, 19) * torque
@@ -69,7 +61,6 @@ def main():
         ax.set_title(label, fontsize=9)
         ax.set_xlabel("output torque [N m]")
         ax.grid(alpha=0.3)
-        _ = tf
     axes[0].set_ylabel("efficiency [%]")
     axes[0].legend()
     fig.tight_layout()
