@@ -93,7 +93,8 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     F_i = F_max l_i / r_a on the pins whose normal can carry the torque; F_max follows from
     sum F_i l_i = T exactly (the paper's Zb r_a^2/4 is its approximation, docs C4).
     Sine (sine paper Eqs. 16-19): F_i = F_0 cos(alpha_i) on the z_s tooth pairs in mesh
-    (here: within ``in_mesh_gap_m``), F_0 = T / sum cos^2(alpha_i) r_i, which is the same
+    (here: within ``in_mesh_gap_m`` once the rigid rotation of the moving member has closed
+    its first load-carrying pair), F_0 = T / sum cos^2(alpha_i) r_i, which is the same
     rule since r_i cos(alpha_i) is the moment arm.
 
     ``torque_Nm`` > 0 is the output torque carried by the moving member; the load-carrying
@@ -102,7 +103,13 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     check_range("torque_Nm", torque_Nm, 0, None, lo_open=True)
     check_range("face_width_m", face_width_m, 0, None, lo_open=True)
     arm = state.moment_arm
-    carry = (arm < 0) & (state.gap <= in_mesh_gap_m) & np.isfinite(state.gap)
+    finite = (arm < 0) & np.isfinite(state.gap)
+    # rigid rotation of the moving member that closes its first load-carrying pair (a pair
+    # with gap g and arm l closes by |l| theta): the gaps the in-mesh rule is applied to
+    theta = np.min(np.where(finite, state.gap / np.where(finite, -arm, 1.0), np.inf), axis=1)
+    theta = np.where(np.isfinite(theta), theta, 0.0)
+    gap = np.where(finite, state.gap + arm * theta[:, None], state.gap)
+    carry = finite & (gap <= in_mesh_gap_m)
     if state.drive == "sine":
         # cos(alpha) r = |l|: weight by |l| as well, F = F0 cos(alpha)
         weight = np.where(carry, np.cos(state.pressure_angle), 0.0)
@@ -119,7 +126,7 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     return LoadSharing(
         method="analytic", position_rad=state.position_rad, contact_id=state.contact_id,
         force=force, point=state.point, moment_arm=arm, half_width=b, ph=ph,
-        gap=np.where(force > 0, 0.0, state.gap),
+        gap=np.where(force > 0, 0.0, gap),
         transmission_error=np.zeros(state.position_rad.shape), torque=float(torque_Nm),
         face_width=float(face_width_m), pressure_from_fe=np.zeros_like(invalid),
         equivalent_radius=state.equivalent_radius, hertz_invalid=invalid)

@@ -9,6 +9,8 @@ rings are sampled densely there (:func:`refine_ring`).
 """
 from __future__ import annotations
 
+import threading
+
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -84,7 +86,9 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
 
     check_range("size_max", size_max, 0, None, lo_open=True, error=MeshError)
     names = names or ["outer"] + [f"hole{k}" for k in range(len(rings) - 1)]
-    gmsh.initialize()
+    # gmsh installs a Ctrl-C handler unless told not to, which Python allows only on the
+    # main thread (Dask runs tasks on worker threads)
+    gmsh.initialize(interruptible=threading.current_thread() is threading.main_thread())
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("body")

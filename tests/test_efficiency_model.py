@@ -155,3 +155,13 @@ def test_rv_general_method_with_friction_models(rv):
     assert closed == pytest.approx(0.2874, abs=1e-4)
     ef = m.evaluate(forced, 1500.0, 412.0)
     assert ef.mesh_efficiency["first_stage"][0] == 0.94
+
+
+def test_analytic_split_closes_the_first_pair_for_other_tooth_heights(sine):
+    """A shallower sine tooth (0.3 mm): the conjugate contact is not always on the loaded
+    flank, so the in-mesh rule applies after the planet's rigid rotation closes the first
+    load-carrying pair (found by the sweep helper: a fixed gap on the raw state left no
+    pair to carry the torque)."""
+    case = _with(sine, "sine", tooth_height_mm=0.3)
+    e = m.evaluate(case, 500.0, 28.0)
+    assert 0.5 < e.efficiency[0] < 1

@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from . import __version__
-from .commands import check, contact, efficiency, geometry, loop, run
+from .commands import check, contact, efficiency, geometry, loop, run, sweep
 
-COMMANDS = (check, geometry, contact, efficiency, run, loop)
+COMMANDS = (check, geometry, contact, efficiency, run, loop, sweep)
 
 
 def build_parser() -> argparse.ArgumentParser:

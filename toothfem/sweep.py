@@ -6,14 +6,16 @@
 designs; the sweep runs the Cartesian product of each. Every design x load case gives one
 row of ``sweep.csv``.
 
-How the work is split (DESIGN.md, Scale): per design one setup task (cycloid: meshes,
-factorisation and the influence tables of the cycle mode over ``positions`` crank angles,
-through :class:`~toothfem.fem.cycloid_fe.CycleSolver`; sine: the meshing state), and per
-load case one small task that takes the setup's result, so the load cases of a design reuse
-its factorisation wherever they run. The influence tables also go to the disk cache
-(:mod:`toothfem.fem.cache`) under a hash of the design's content, so a repeated sweep, or a
-design that differs only in keys the contact does not see (friction, lubricant ...), costs
-no new factorisation.
+How the work is split (DESIGN.md, Scale): one Dask task per design, which does the setup
+its load cases share (cycloid disc: meshes, factorisation and the influence tables of the
+cycle mode over ``positions`` crank angles, through
+:class:`~toothfem.fem.cycloid_fe.CycleSolver`; sine: the FE cycle solver or the meshing
+state) and then solves every load case on it. Designs that differ only in keys the contact
+does not read (friction, lubricant ...) share one task. The influence tables also go to the
+disk cache (:mod:`toothfem.fem.cache`) under a hash of their content, so a repeated sweep
+costs no new factorisation. Independent tasks keep both workers busy without round trips
+(Dask queues them and a worker starts its next design at once); a design's rows arrive
+together when it finishes.
 
 Rows are written as the tasks finish (``as_completed``) and flushed one by one into a
 temporary folder that becomes ``out`` only when the sweep ends (``toothfem.output.atomic_dir``):
@@ -21,15 +23,16 @@ a crash of the driver never leaves a half-written ``out``. A point that fails (a
 case refuses, a solver error, a lost worker) is a row with ``status = failed`` and its one-line
 error; the sweep goes on.
 
-Sine drives have no FE contact model yet: their rows use the seeds' analytic load split on
-the geometry's meshing state (``loads = analytic``; cycloid rows say ``fem``).
+Sine drives: the FE cycle mode of ``toothfem.fem.sine_fe`` (``loads = fem``, default), or
+with ``sine_loads = "analytic"`` the seeds' analytic load split on the geometry's meshing
+state (``loads = analytic``). Rows of a cycloid disc (cycloid and RV drives) always say
+``fem``.
 """
 from __future__ import annotations
 
 import copy
 import csv
 import dataclasses
-import functools
 import itertools
 import json
 import math
@@ -44,13 +47,9 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from .case import Case, case_to_dict, load_case, parse_case
+from .efficiency.model import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 
-#: Sine pair, analytic split: the tooth pairs within this normal gap carry load. The sine
-#: paper's Eqs. 16-19 sum over the z_s pairs "in mesh" without saying which; over a pitch of
-#: the prototype 2 to 5 load-carrying pairs lie within 5 um, the order of the elastic approach
-#: at the rated load (docs/derivations.md, S8). ASSUMPTION until the sine FE model exists.
-SINE_IN_MESH_GAP_M = 5e-6
 
 #: Columns after the design keys and load-case keys, in this order.
 RESULT_COLUMNS = ("output_torque_Nm", "loads", "max_force_N", "pins_in_contact_max",
@@ -61,7 +60,6 @@ RESULT_COLUMNS = ("output_torque_Nm", "loads", "max_force_N", "pins_in_contact_m
 MAX_POSITIONS = 3600
 
 _LOAD_SECTION = "operating"
-_DRIVES = ("cycloid", "sine")
 
 
 @dataclass(frozen=True)
@@ -78,22 +76,26 @@ class SweepResult:
 def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | None = None,
           positions: int = 36, pins: str | None = None, scheduler=None,
           n_workers: int | None = None, out, cache_dir=None, progress: bool = True,
-          on_row: Callable[[dict], Any] | None = None) -> SweepResult:
+          on_row: Callable[[dict], Any] | None = None,
+          sine_loads: str = "fem") -> SweepResult:
     """Run designs x load cases x meshing positions through Dask; write ``out/sweep.csv``.
 
-    ``case``: a :class:`~toothfem.case.Case` or the path of a case file (cycloid or sine).
+    ``case``: a :class:`~toothfem.case.Case` or the path of a case file: a sine drive or any
+    drive with a ``[cycloid]`` disc (cycloid, RV).
     ``vary``: dotted case key -> values; ``operating.*`` keys are load cases, all others
     designs. ``torques_Nm``: reducer output torques [N m] as further load cases (a cycloid
     disc carries disc_load_factor * T / disc_count, as in ``toothfem contact``). Without
-    them the torque is the case's ``operating.output_torque_Nm``, else its input torque
-    times the ratio (lossless).
-    ``positions``: meshing positions over one pin (cycloid) or ring-tooth (sine) pitch.
+    them the torque is the load case's ``operating.output_torque_Nm``, else the output
+    torque its input torque or power gives through the efficiency model
+    (``efficiency.model.operating_point``, as ``toothfem contact`` and ``run``).
+    ``positions``: meshing positions over one pin (cycloid disc) or ring-tooth (sine) pitch.
     ``pins``: cycloid pin structure override (conventional, integral, rigid).
     ``scheduler``: None for a LocalCluster of ``n_workers`` single-threaded processes
     (default: one per CPU), a scheduler address, or a ``distributed.Client``.
     ``cache_dir``: the disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
     ``~/.cache/toothfem``; False: none.
     ``on_row(row)`` is called after each row is written and flushed.
+    ``sine_loads``: "fem" (default) or "analytic".
 
     Raises CaseError before any work for an unknown key (naming the valid keys of its
     section), a value outside its key's own range, or a bad argument; a design refused only
@@ -105,7 +107,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
 
     if not isinstance(case, Case):
         case = load_case(case)
-    plan = _plan(case, vary, torques_Nm, positions, pins)
+    plan = _plan(case, vary, torques_Nm, positions, pins, sine_loads)
     cache = _cache(cache_dir)
     if scheduler is not None and n_workers is not None:
         raise CaseError("n_workers applies to the local cluster; a scheduler brings its own "
@@ -132,32 +134,21 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
             if on_row is not None:
                 on_row(row)
 
-        pending = _submit(client, plan, cache, emit)
-        from distributed import as_completed
-
-        for fut in as_completed(list(pending)):
-            base = pending.pop(fut)
-            try:
-                result = fut.result()
-            except Exception as exc:             # noqa: BLE001 -- recorded, the sweep goes on
-                emit(_failed(base, exc))
-            else:
-                emit({**base, **result, "status": "ok", "error": ""})
-            fut.release()
+        _run(client, plan, cache, emit)
         wall = time.perf_counter() - t0
         failed = sum(r["status"] != "ok" for r in rows)
         summary = {
             "case": case.name, "drive": case.drive,
-            "loads": "fem" if case.drive == "cycloid" else "analytic",
-            "vary": {k: list(v) for k, v in vary.items()},
-            "torques_Nm": None if torques_Nm is None else list(torques_Nm),
-            "positions": positions, "pins": pins, "designs": len(plan.designs),
+            "loads": plan.loads, "vary": plan.values,
+            "torques_Nm": None if torques_Nm is None else [float(t) for t in
+                                                           np.ravel(torques_Nm)],
+            "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
             "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
             "wall_s": wall, "scheduler": client.scheduler.address,
             "workers": len(client.nthreads()),
             "cache_dir": None if cache is None else str(cache.directory),
             "files": ["sweep.csv", "sweep.json"]}
-        if case.drive == "sine":
+        if plan.loads == "analytic":
             summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * 1e6
         (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
     out = Path(out)
@@ -176,19 +167,26 @@ class _Plan:
     load_cases: list         # [(values, output torque or None, operating changes)]
     positions: int
     pins: str | None
+    values: dict             # key -> the checked values (plain Python numbers, strings)
+    loads: str               # "fem" or "analytic"
 
 
-def _plan(case: Case, vary, torques_Nm, positions, pins) -> _Plan:
-    if case.drive not in _DRIVES:
-        raise CaseError(f"drive = {case.drive!r}: the sweep handles {list(_DRIVES)} drives")
+def _plan(case: Case, vary, torques_Nm, positions, pins, sine_loads="fem") -> _Plan:
+    if _kind(case) is None:
+        raise CaseError(f"drive = {case.drive!r} without a [cycloid] disc: the sweep handles "
+                        "sine drives and drives with a cycloid disc")
+    if sine_loads not in ("fem", "analytic"):
+        raise CaseError(f"sine_loads = {sine_loads!r} is not one of ['fem', 'analytic']")
+    loads = "analytic" if _kind(case) == "sine" and sine_loads == "analytic" else "fem"
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if isinstance(positions, bool) or int(positions) != positions:
         raise CaseError(f"positions = {positions!r} must be an integer")
     if pins is not None:
         from .fem.cycloid_fe import PIN_STRUCTURES
 
-        if case.drive != "cycloid":
-            raise CaseError(f"pins = {pins!r} applies to cycloid drives, not {case.drive!r}")
+        if _kind(case) != "cycloid":
+            raise CaseError(f"pins = {pins!r} applies to cycloid discs, not to drive = "
+                            f"{case.drive!r}")
         if pins not in PIN_STRUCTURES:
             raise CaseError(f"pins = {pins!r} is not one of {list(PIN_STRUCTURES)}")
     if not isinstance(vary, Mapping):
@@ -196,13 +194,18 @@ def _plan(case: Case, vary, torques_Nm, positions, pins) -> _Plan:
                         f"{type(vary).__name__}")
     checked = {}
     for key, values in vary.items():
+        if isinstance(values, np.ndarray):
+            values = values.tolist()
         if isinstance(values, (str, bytes)) or not isinstance(values, Sequence) or not values:
             raise CaseError(f"{key}: give a non-empty list of values, got {values!r}")
         parts = _resolve(case, key)
         checked[key] = (parts, [_check_value(case, parts, v) for v in values])
     load_keys = [k for k, (parts, _) in checked.items() if parts[0] == _LOAD_SECTION]
     design_keys = [k for k in checked if k not in load_keys]
-    torque_keys = {"operating.output_torque_Nm", "operating.input_torque_Nm"} & set(load_keys)
+    torque_keys = {"operating.output_torque_Nm", "operating.input_torque_Nm",
+                   "operating.input_power_kW"} & set(load_keys)
+    if isinstance(torques_Nm, np.ndarray):
+        torques_Nm = torques_Nm.tolist()
     if torques_Nm is not None:
         if isinstance(torques_Nm, (str, bytes)) or not isinstance(torques_Nm, Sequence) \
                 or not torques_Nm:
@@ -221,7 +224,15 @@ def _plan(case: Case, vary, torques_Nm, positions, pins) -> _Plan:
                                    *(checked[k][1] for k in load_keys)):
         ops = {checked[k][0][1]: v for k, v in zip(load_keys, combo[1:])}
         load_cases.append((dict(zip(load_keys, combo[1:])), combo[0], ops))
-    return _Plan(case, design_keys, load_keys, designs, load_cases, int(positions), pins)
+    return _Plan(case, design_keys, load_keys, designs, load_cases, int(positions), pins,
+                 {k: v for k, (_, v) in checked.items()}, loads)
+
+
+def _kind(case: Case):
+    """"cycloid" (a [cycloid] disc: cycloid and RV drives), "sine", or None."""
+    if case.cycloid is not None:
+        return "cycloid"
+    return "sine" if case.drive == "sine" else None
 
 
 def _sections(case: Case) -> list:
@@ -264,6 +275,8 @@ def _check_value(case: Case, parts: tuple, value):
         obj = getattr(obj, name)
     f = {f.name: f for f in dataclasses.fields(obj)}[parts[-1]]
     md, key = f.metadata, ".".join(parts)
+    if isinstance(value, np.generic):
+        value = value.item()
     if isinstance(value, bool) or not isinstance(value, (int, float, str)):
         raise CaseError(f"{key} = {value!r} must be a number or a string")
     if md.get("choices") is not None:
@@ -325,7 +338,7 @@ def _client(scheduler, n_workers):
         if scheduler is None:
             with LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
                               threads_per_worker=1, processes=True,
-                              dashboard_address=None) as cluster, Client(cluster) as client:
+                              dashboard_address=":0") as cluster, Client(cluster) as client:
                 yield client
         elif isinstance(scheduler, Client):
             yield scheduler
@@ -335,16 +348,37 @@ def _client(scheduler, n_workers):
     return owned()
 
 
-def _submit(client, plan: _Plan, cache, emit) -> dict:
-    """Submit the setup and load-case tasks; rows of designs refused on the driver are
-    emitted at once. Returns {load-case future: its row's fixed part}."""
+def _run(client, plan: _Plan, cache, emit) -> None:
+    """Run the plan on ``client``, calling ``emit(row)`` as each row is known: first the
+    rows refused on the driver, then those of each design task as it finishes."""
+    from distributed import as_completed
+
     prefix = f"toothfem-sweep-{uuid.uuid4().hex[:8]}"
     cache_dir = None if cache is None else str(cache.directory)
-    loads = "fem" if plan.case.drive == "cycloid" else "analytic"
-    setups, pending = {}, {}
+    pending = {}
+    for key, design, jobs in _groups(plan, emit):
+        fut = client.submit(_design_task, design, plan.pins, plan.positions, cache_dir,
+                            [member for _, member in jobs], plan.loads,
+                            key=f"{prefix}-{key}", pure=False)
+        pending[fut] = [base for base, _ in jobs]
+    for fut in as_completed(list(pending)):
+        bases = pending.pop(fut)
+        try:
+            results = fut.result()
+        except Exception as exc:             # noqa: BLE001 -- recorded, the sweep goes on
+            results = [{"status": "failed", "error": _message(exc)}] * len(bases)
+        for base, result in zip(bases, results):
+            emit({**base, **result})
+        fut.release()
+
+
+def _groups(plan: _Plan, emit) -> list:
+    """[(task key, design case, [(row base, member torque)])], one per setup key in the
+    order of the designs; the rows refused on the driver are emitted here."""
+    groups = {}
     for d, (dvalues, design) in enumerate(plan.designs):
         for lc, (lvalues, torque, ops) in enumerate(plan.load_cases):
-            base = {"design": d, "load_case": lc, **dvalues, **lvalues, "loads": loads,
+            base = {"design": d, "load_case": lc, **dvalues, **lvalues, "loads": plan.loads,
                     "output_torque_Nm": math.nan if torque is None else float(torque)}
             try:
                 if isinstance(design, Exception):
@@ -358,121 +392,117 @@ def _submit(client, plan: _Plan, cache, emit) -> dict:
                 emit(_failed(base, exc))
                 continue
             skey = _setup_key(design, plan.pins)
-            if skey not in setups:
-                setups[skey] = client.submit(_setup, design, plan.pins, plan.positions,
-                                             cache_dir, key=f"{prefix}-setup-{d}", pure=False)
-            fut = client.submit(_load, setups[skey], member, key=f"{prefix}-load-{d}-{lc}",
-                                pure=False)
-            pending[fut] = base
-    return pending
+            if skey not in groups:
+                groups[skey] = (f"design-{d}", design, [])
+            groups[skey][2].append((base, member))
+    return list(groups.values())
 
 
 def _output_torque(case: Case, torque, varied) -> float:
-    """Reducer output torque of a load case [N m]: ``torque`` if given, else the varied or
-    stated output torque, else the input torque times the ratio (lossless)."""
+    """Reducer output torque of a load case [N m]: ``torque`` if given, else the output
+    torque of its [operating] table (efficiency.model.operating_point); a varied input
+    torque or power overrides a stated output torque."""
     if torque is not None:
         return float(torque)
-    op = case.operating
-    if op.output_torque_Nm is not None and "input_torque_Nm" not in varied:
-        return float(op.output_torque_Nm)
-    if op.input_torque_Nm is not None:
-        return float(op.input_torque_Nm * abs(case.ratio()))
-    raise CaseError("no torque: give torques_Nm, operating.output_torque_Nm or "
-                    "operating.input_torque_Nm")
+    from .efficiency.model import operating_point
+
+    if varied & {"input_torque_Nm", "input_power_kW"} and "output_torque_Nm" not in varied:
+        case = dataclasses.replace(case, operating=dataclasses.replace(
+            case.operating, output_torque_Nm=None))
+    return float(operating_point(case)[1])
 
 
 def _member_torque(case: Case, output_torque: float) -> float:
     """Torque on the moving member: one cycloid disc (disc_load_factor T / disc_count,
     seed Eq. 6) or the sine planet (T)."""
     check_range("output_torque_Nm", output_torque, 0, None, lo_open=True, error=CaseError)
-    if case.drive == "cycloid":
+    if _kind(case) == "cycloid":
         st = case.cycloid
         return st.disc_load_factor * output_torque / st.disc_count
     return output_torque
 
 
 def _setup_key(case: Case, pins):
-    """Designs with equal keys share one setup task (equal contact geometry and material)."""
-    return (case.cycloid if case.drive == "cycloid" else case.sine, case.material, pins)
+    """Designs with equal keys share one setup task: what the FE models read (the stage,
+    the material, for the sine pair the output mechanism that holds the planet)."""
+    if _kind(case) == "cycloid":
+        return (case.cycloid, case.material, pins)
+    return (case.sine, case.material, case.output_mechanism)
 
 
 _SETUP_LOCK = threading.Lock()
 
 
-def _setup(case: Case, pins, positions: int, cache_dir):
-    """Worker task: what every load case of the design shares (a dict, picklable)."""
+def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
+                 loads: str) -> list:
+    """Worker task: one design (or designs with one setup key) and all its load cases.
+
+    The setup its load cases share comes first (cycloid disc: meshes, factorisation and
+    influence tables through CycleSolver, from the disk cache when there; sine: the FE
+    cycle solver, or the meshing state for the analytic split), then each load case on
+    it. One result per torque on the moving member; a ToothfemError fails the rows it
+    concerns, other exceptions propagate (Dask logs them, the driver records them)."""
     t0 = time.perf_counter()
-    with _SETUP_LOCK:            # gmsh keeps one model per process: one setup at a time
-        if case.drive == "sine":
-            from .efficiency.friction import reduced_modulus
-            from .geometry import sine
-
-            pair = case.sine.geometry()
-            chis = np.linspace(0, 2 * math.pi / pair.ring_teeth, positions, endpoint=False)
-            e, nu = case.material.youngs_modulus_GPa * 1e9, case.material.poisson_ratio
-            out = {"drive": "sine", "state": sine.meshing(pair, chis),
-                   "face_width": case.sine.face_width_mm * 1e-3,
-                   "e_star": float(reduced_modulus(e, nu, e, nu))}
-        else:
-            from .fem import cycloid_fe as cf
-            from .fem.cache import DiskCache
-
-            _gmsh_off_main_thread()
-            model = cf.model_from_case(case, pins)
-            phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, positions,
-                               endpoint=False)
-            cache = None if cache_dir is None else DiskCache(Path(cache_dir))
-            solver = cf.CycleSolver(model, phis, cache=cache)
-            out = {"drive": "cycloid", "model": model, "phis": phis,
-                   "tables": solver.tables()}
-    out["setup_s"] = time.perf_counter() - t0
+    try:
+        with _SETUP_LOCK:        # gmsh keeps one model per process: one setup at a time
+            solve = _prepare(case, pins, positions, cache_dir, loads)
+    except ToothfemError as exc:
+        failed = {"setup_s": time.perf_counter() - t0, "status": "failed",
+                  "error": _message(exc)}
+        return [failed] * len(member_torques)
+    setup_s = time.perf_counter() - t0
+    out = []
+    for torque in member_torques:
+        t1 = time.perf_counter()
+        try:
+            res = {**solve(torque), "status": "ok", "error": ""}
+        except ToothfemError as exc:
+            res = {"status": "failed", "error": _message(exc)}
+        out.append({**res, "setup_s": setup_s, "time_s": time.perf_counter() - t1})
     return out
 
 
-def _load(setup: dict, member_torque: float) -> dict:
-    """Worker task: one load case of a design from its setup; the summary columns."""
-    t0 = time.perf_counter()
-    if setup["drive"] == "sine":
-        from .fem.load_sharing import analytic_split
-
-        ls = analytic_split(setup["state"], member_torque, setup["face_width"],
-                            setup["e_star"], SINE_IN_MESH_GAP_M)
-        te = math.nan                       # the analytic split has no transmission error
-    else:
+def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
+    """Do the work the load cases of a design share; returns solve(member torque) ->
+    the summary columns."""
+    if _kind(case) == "cycloid":
         from .fem import cycloid_fe as cf
+        from .fem.cache import DiskCache
 
-        solver = cf.CycleSolver(setup["model"], setup["phis"])
-        solver.adopt(setup["tables"])
-        ls = solver.solve(member_torque)
-        te = float(np.degrees(ls.transmission_error.mean()) * 3600)
+        model = cf.model_from_case(case, pins)
+        phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, positions,
+                           endpoint=False)
+        cache = None if cache_dir is None else DiskCache(Path(cache_dir))
+        solver = cf.CycleSolver(model, phis, cache=cache)
+        solver.tables()                   # factorisation and influence, or the cache's
+        return lambda torque: _summary(solver.solve(torque))
+    if loads == "fem":
+        from .fem import sine_fe as sf
+
+        model = sf.model_from_case(case)
+        chis = np.arange(positions) * model.pair.crank_pitch_rad / positions
+        solver = sf.CycleSolver(model, chis)
+        solver.planet, solver.ring        # meshes, factorisations, influence tables
+        return lambda torque: _summary(solver.solve(torque))
+    from .efficiency.friction import reduced_modulus
+    from .fem.load_sharing import analytic_split
+    from .geometry import sine
+
+    pair = case.sine.geometry()
+    chis = np.arange(positions) * pair.crank_pitch_rad / positions
+    state = sine.meshing(pair, chis)
+    e, nu = case.material.youngs_modulus_GPa * 1e9, case.material.poisson_ratio
+    e_star = float(reduced_modulus(e, nu, e, nu))
+    return lambda torque: _summary(analytic_split(state, torque, pair.face_width_m, e_star,
+                                                  SINE_IN_MESH_GAP_M), transmission=False)
+
+
+def _summary(ls, transmission=True) -> dict:
+    """The result columns of a LoadSharing; the analytic split has no transmission error."""
+    te = float(np.degrees(ls.transmission_error.mean()) * 3600) if transmission else math.nan
     return {"max_force_N": float(ls.force.max()),
             "pins_in_contact_max": int(ls.contacts_per_position.max()),
-            "max_ph_MPa": float(ls.ph.max() / 1e6), "transmission_error_arcsec": te,
-            "setup_s": setup["setup_s"], "time_s": time.perf_counter() - t0}
-
-
-def _gmsh_off_main_thread():
-    """Let gmsh run in a Dask worker thread (once per process).
-
-    ``gmsh.initialize()`` installs a SIGINT handler unless told ``interruptible=False``,
-    and Python allows that only in the main thread; Dask runs tasks in worker threads.
-    Default ``interruptible`` to whether the caller is the main thread. (If
-    ``fem.mesh.mesh_rings`` passes it itself, this shim can go.)"""
-    import gmsh
-
-    init = gmsh.initialize
-    if getattr(init, "_toothfem_thread_aware", False):
-        return
-
-    @functools.wraps(init)
-    def initialize(*args, **kwargs):
-        if len(args) < 4:
-            kwargs.setdefault("interruptible",
-                              threading.current_thread() is threading.main_thread())
-        return init(*args, **kwargs)
-
-    initialize._toothfem_thread_aware = True
-    gmsh.initialize = initialize
+            "max_ph_MPa": float(ls.ph.max() / 1e6), "transmission_error_arcsec": te}
 
 
 # ---------------------------------------------------------------------------------------

@@ -1,5 +1,6 @@
 """`toothfem sweep CASE --vary KEY=V1,V2,... [--vary ...] [--torque-Nm T1,T2] [--positions N]
-[--pins P] [--scheduler ADDRESS] [--workers N] [--cache-dir DIR | --no-cache] --out DIR`."""
+[--pins P] [--sine-loads fem|analytic] [--scheduler ADDRESS] [--workers N]
+[--cache-dir DIR | --no-cache] --out DIR`."""
 from __future__ import annotations
 
 import json
@@ -18,6 +19,9 @@ def add_parser(sub):
                    help="meshing positions over one pin or tooth pitch (default 36)")
     p.add_argument("--pins", choices=("conventional", "integral", "rigid"), default=None,
                    help="cycloid pin structure (default: the case's)")
+    p.add_argument("--sine-loads", choices=("fem", "analytic"), default="fem",
+                   help="sine drives: FE cycle mode (fem, default) or the seeds' analytic "
+                        "split")
     p.add_argument("--scheduler", default=None, metavar="ADDRESS",
                    help="Dask scheduler address (default: a local cluster)")
     p.add_argument("--workers", type=int, default=None,
@@ -48,7 +52,7 @@ def run(args) -> int:
     result = sweep(args.case, vary, torques_Nm=torques, positions=args.positions,
                    pins=args.pins, scheduler=args.scheduler, n_workers=args.workers,
                    out=args.out, cache_dir=False if args.no_cache else args.cache_dir,
-                   progress=True)
+                   sine_loads=args.sine_loads, progress=True)
     summary = json.loads((result.out / "sweep.json").read_text())
     print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
     return 0

@@ -1,0 +1,115 @@
+"""Disk cache of the torque-independent arrays of an FE solve, keyed by content.
+
+A cycle-mode solve spends nearly all its time on what does not depend on the load: the
+meshes, the sparse factorisations and the influence matrices they give. Those arrays are
+kept here as numpy ``.npz`` files named by a hash of everything that determines them
+(:func:`content_key`), so a new torque on a known design, in this process or a later one,
+costs no mesh and no factorisation.
+
+Location: ``$TOOTHFEM_CACHE`` if set, else ``~/.cache/toothfem``. Writes are atomic (a
+temporary file in the same folder, then ``os.replace``), so a reader never sees half a
+file; a file that cannot be read back (truncated, corrupt, other format) counts as a miss
+and is recomputed and overwritten by the caller.
+"""
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+import os
+import tempfile
+import zipfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Mapping
+
+import numpy as np
+
+#: Environment variable naming the cache folder.
+CACHE_ENV = "TOOTHFEM_CACHE"
+#: Folder used when CACHE_ENV is not set.
+DEFAULT_DIR = Path("~/.cache/toothfem")
+
+
+def default_dir() -> Path:
+    """``$TOOTHFEM_CACHE`` if set and non-empty, else ``~/.cache/toothfem`` (expanded)."""
+    env = os.environ.get(CACHE_ENV, "")
+    return Path(env or DEFAULT_DIR).expanduser()
+
+
+def content_key(*parts) -> str:
+    """SHA-256 (hex) of a canonical encoding of ``parts``.
+
+    Handles dataclasses (class name and fields by name), numpy arrays (dtype, shape, bytes),
+    numbers (as exact binary floats, so 40 and 40.0 agree), strings, None, and sequences
+    and mappings of these. Equal content gives an equal key in any process and session.
+    """
+    h = hashlib.sha256()
+    _feed(h, parts)
+    return h.hexdigest()
+
+
+def _feed(h, x):
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        h.update(b"D" + type(x).__name__.encode() + b"(")
+        for f in dataclasses.fields(x):
+            h.update(f.name.encode() + b"=")
+            _feed(h, getattr(x, f.name))
+        h.update(b")")
+    elif isinstance(x, np.ndarray):
+        a = np.ascontiguousarray(x)
+        h.update(b"A" + a.dtype.str.encode() + repr(a.shape).encode())
+        h.update(a.tobytes())
+    elif x is None or isinstance(x, (bool, np.bool_)):
+        h.update(b"N" if x is None else (b"T" if x else b"F"))
+    elif isinstance(x, (int, float, np.integer, np.floating)):
+        h.update(b"f" + float(x).hex().encode())
+    elif isinstance(x, str):
+        h.update(b"s" + str(len(x)).encode() + b":" + x.encode())
+    elif isinstance(x, Mapping):
+        h.update(b"M" + str(len(x)).encode())
+        for k in sorted(x, key=str):
+            _feed(h, str(k))
+            _feed(h, x[k])
+    elif isinstance(x, (tuple, list)):
+        h.update(b"L" + str(len(x)).encode())
+        for v in x:
+            _feed(h, v)
+    else:
+        raise TypeError(f"content_key: cannot encode {type(x).__name__}")
+
+
+@dataclass(frozen=True)
+class DiskCache:
+    """A folder of ``<key>.npz`` files, each a mapping of names to numpy arrays."""
+    directory: Path = dataclasses.field(default_factory=default_dir)
+
+    def __post_init__(self):
+        object.__setattr__(self, "directory", Path(self.directory).expanduser())
+
+    def path(self, key: str) -> Path:
+        return self.directory / f"{key}.npz"
+
+    def load(self, key: str) -> dict[str, np.ndarray] | None:
+        """The arrays stored under ``key``, or None when absent or unreadable."""
+        path = self.path(key)
+        try:
+            with np.load(path, allow_pickle=False) as data:
+                return {name: data[name] for name in data.files}
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
+            return None        # corrupt or foreign: a miss; the caller's store replaces it
+
+    def store(self, key: str, arrays: Mapping[str, np.ndarray]) -> Path:
+        """Write ``arrays`` under ``key`` atomically; returns the file's path."""
+        self.directory.mkdir(parents=True, exist_ok=True)
+        path = self.path(key)
+        fd, tmp = tempfile.mkstemp(prefix=f".{key[:16]}.", suffix=".tmp", dir=self.directory)
+        try:
+            with os.fdopen(fd, "wb") as fh:
+                np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()})
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return path

@@ -1,0 +1,321 @@
+"""Design sweeps through Dask (toothfem.sweep, `toothfem sweep`) and the disk cache of
+influence tables (toothfem.fem.cache, CycleSolver.cache).
+
+Facts checked: a sweep row is the cycle solver's own result for that design and load case;
+load cases of a design share one setup; rows reach the temporary CSV one by one, and the
+output folder appears only when the sweep ends (none after a crash of the driver); a failed
+point is a row, not the end of the sweep; a new torque on a known design costs no
+factorisation, from memory or from disk; the cache key follows the geometry, not the torque.
+"""
+import argparse
+import csv
+import json
+import math
+
+import numpy as np
+import pytest
+import scipy.sparse.linalg
+
+from toothfem import CaseError, load_case
+from toothfem.commands import sweep as sweep_cmd
+from toothfem.fem import cycloid_fe as cf
+from toothfem.fem.cache import DiskCache, content_key
+from toothfem.fem.load_sharing import analytic_split
+from toothfem.sweep import RESULT_COLUMNS, SINE_IN_MESH_GAP_M, sweep
+
+ECC = "cycloid.eccentricity_mm"
+FAST = dict(positions=2, pins="rigid", progress=False)     # one small factorisation a design
+
+
+@pytest.fixture(scope="module")
+def cycloid(cases_dir):
+    return load_case(cases_dir / "cycloid_pinhousing.toml")
+
+
+@pytest.fixture(scope="module")
+def scheduler():
+    """One single-process, single-thread worker for the module's sweeps."""
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as cluster:
+        yield cluster.scheduler_address
+
+
+@pytest.fixture(scope="module")
+def cache_dir(tmp_path_factory):
+    return tmp_path_factory.mktemp("influence_cache")
+
+
+def _read(path):
+    with open(path, newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+def _temp_tables(out):
+    return list(out.parent.glob(f".{out.name}.*/sweep.csv"))
+
+
+def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, cache_dir,
+                                                          tmp_path):
+    out = tmp_path / "sw"
+    seen = []
+
+    def on_row(row):
+        (table,) = _temp_tables(out)          # written in the temporary folder ...
+        seen.append(len(_read(table)))        # ... and flushed row by row
+        assert not out.exists()
+
+    res = sweep(cycloid, {ECC: [1.0, 0.9]}, torques_Nm=[100, 200], scheduler=scheduler,
+                out=out, cache_dir=cache_dir, on_row=on_row, **FAST)
+    assert seen == [1, 2, 3, 4]
+    assert res.failed == 0 and res.table == out / "sweep.csv" and not _temp_tables(out)
+    rows = _read(res.table)
+    assert list(rows[0]) == ["design", "load_case", ECC] + list(RESULT_COLUMNS)
+    assert sorted((float(r[ECC]), float(r["output_torque_Nm"])) for r in rows) == [
+        (0.9, 100), (0.9, 200), (1.0, 100), (1.0, 200)]
+    by = {(float(r[ECC]), float(r["output_torque_Nm"])): r for r in rows}
+    for r in rows:
+        assert r["status"] == "ok" and r["error"] == "" and r["loads"] == "fem"
+        assert int(r["pins_in_contact_max"]) == 20          # half the pins carry (seed)
+        assert float(r["transmission_error_arcsec"]) > 0
+    # load cases of a design share one setup task
+    assert by[(1.0, 100)]["setup_s"] == by[(1.0, 200)]["setup_s"]
+    assert len(list(cache_dir.glob("*.npz"))) == 2
+    # the row is the cycle solver's own result (disc torque 1.1 * 100 / 2 N m)
+    model = cf.model_from_case(cycloid, "rigid")
+    phis = np.linspace(0, 2 * math.pi / 40, 2, endpoint=False)
+    ls = cf.CycleSolver(model, phis, cache=DiskCache(cache_dir)).solve(55.0)
+    assert float(by[(1.0, 100)]["max_force_N"]) == pytest.approx(ls.force.max(), rel=1e-8)
+    assert float(by[(1.0, 100)]["max_ph_MPa"]) == pytest.approx(ls.ph.max() / 1e6, rel=1e-8)
+    # nearly linear in the torque (Hertz adds a log); the smaller eccentricity loads harder
+    assert float(by[(1.0, 200)]["max_force_N"]) > 1.9 * float(by[(1.0, 100)]["max_force_N"])
+    assert float(by[(0.9, 100)]["max_force_N"]) > float(by[(1.0, 100)]["max_force_N"])
+    summary = json.loads((out / "sweep.json").read_text())
+    assert (summary["designs"], summary["load_cases"], summary["rows"]) == (2, 2, 4)
+
+
+def test_failed_points_are_rows_not_the_end(cycloid, scheduler, cache_dir, tmp_path):
+    """A design the case refuses (K1 = 1.2: looped profile) fails on the driver with the
+    case's own message; one the solver refuses (no crank holes to hold the disc) fails in
+    the worker; the valid design still runs."""
+    res = sweep(cycloid, {ECC: [1.0, 3.0], "cycloid.disc_holes.crank_hole_count": [2, 0]},
+                torques_Nm=[100], scheduler=scheduler, out=tmp_path / "sw",
+                cache_dir=cache_dir, **FAST)
+    rows = {(float(r[ECC]), int(r["cycloid.disc_holes.crank_hole_count"])): r
+            for r in _read(res.table)}
+    assert len(rows) == 4 and res.failed == 3
+    assert rows[(1.0, 2)]["status"] == "ok"
+    for holes in (2, 0):
+        r = rows[(3.0, holes)]
+        assert r["status"] == "failed" and r["max_force_N"] == ""
+        assert r["error"].startswith("cycloid.eccentricity_mm = 3.0 is outside the valid "
+                                     "range (0, 2.5)")
+    assert rows[(1.0, 0)]["status"] == "failed"
+    assert "crank holes" in rows[(1.0, 0)]["error"]
+
+
+def test_keys_and_values_checked_before_any_work(cycloid, tmp_path):
+    out = tmp_path / "sw"
+    with pytest.raises(CaseError, match=r"cycloid\.eccentricty_mm is not a known key; valid "
+                                        r"keys of \[cycloid\]: \[.*'eccentricity_mm'.*"
+                                        r"'disc_holes\.crank_hole_count'"):
+        sweep(cycloid, {"cycloid.eccentricty_mm": [1.0]}, out=out, progress=False)
+    with pytest.raises(CaseError, match=r"sine\.module_mm is not a key of a section of this "
+                                        r"case.*sections: \[.*'cycloid'"):
+        sweep(cycloid, {"sine.module_mm": [1.0]}, out=out, progress=False)
+    with pytest.raises(CaseError, match=r"^cycloid\.eccentricity_mm = -1\.0 is outside the "
+                                        r"valid range \(0, inf\)$"):
+        sweep(cycloid, {ECC: [1.0, -1.0]}, out=out, progress=False)
+    with pytest.raises(CaseError, match=r"cycloid\.pin_count = 40\.5 must be an integer"):
+        sweep(cycloid, {"cycloid.pin_count": [40.5]}, out=out, progress=False)
+    with pytest.raises(CaseError, match="one way"):
+        sweep(cycloid, {"operating.output_torque_Nm": [50.0]}, torques_Nm=[10], out=out,
+              progress=False)
+    with pytest.raises(CaseError, match="torques_Nm = -5 is outside"):
+        sweep(cycloid, {}, torques_Nm=[-5], out=out, progress=False)
+    assert not out.exists() and not _temp_tables(out)
+
+
+def test_driver_crash_leaves_no_output(cycloid, scheduler, cache_dir, tmp_path):
+    out = tmp_path / "sw"
+
+    def crash(row):
+        raise RuntimeError("driver died")
+
+    with pytest.raises(RuntimeError, match="driver died"):
+        sweep(cycloid, {}, torques_Nm=[100, 200], scheduler=scheduler, out=out,
+              cache_dir=cache_dir, on_row=crash, **FAST)
+    assert not out.exists() and not _temp_tables(out)
+
+
+def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
+    """The seeds' split on the meshing state (loads = analytic), linear in the torque; the
+    load case's output torque is what its input torque gives through the efficiency
+    model (as in `toothfem contact` and `run`)."""
+    from dataclasses import replace
+
+    from toothfem.efficiency.model import operating_point
+
+    case = load_case(cases_dir / "sine_prototype.toml")
+    res = sweep(case, {"operating.input_torque_Nm": [0.2, 0.4]}, positions=6,
+                scheduler=scheduler, out=tmp_path / "sw", cache_dir=False, progress=False,
+                sine_loads="analytic")
+    rows = sorted(_read(res.table), key=lambda r: float(r["output_torque_Nm"]))
+    assert [r["status"] for r in rows] == ["ok", "ok"]
+    t_out = [float(operating_point(replace(case, operating=replace(
+        case.operating, input_torque_Nm=t)))[1]) for t in (0.2, 0.4)]
+    assert [float(r["output_torque_Nm"]) for r in rows] == pytest.approx(t_out, rel=1e-8)
+    assert 0.8 * 79 * 0.2 < t_out[0] < 79 * 0.2
+    assert all(r["loads"] == "analytic" and r["transmission_error_arcsec"] == ""
+               for r in rows)
+    f = [float(r["max_force_N"]) for r in rows]
+    assert f[1] / f[0] == pytest.approx(t_out[1] / t_out[0], rel=1e-7)
+    from toothfem.efficiency.friction import reduced_modulus
+    from toothfem.geometry import sine
+
+    state = sine.meshing(case.sine.geometry(), np.linspace(0, 2 * math.pi / 80, 6,
+                                                           endpoint=False))
+    ls = analytic_split(state, t_out[1], 8e-3, reduced_modulus(212e9, 0.28, 212e9, 0.28),
+                        SINE_IN_MESH_GAP_M)
+    assert f[1] == pytest.approx(ls.force.max(), rel=1e-8)
+
+
+@pytest.mark.slow
+def test_sine_sweep_with_the_fe_model(cases_dir, scheduler, tmp_path):
+    """Sine rows use the FE model (loads = fem) by default, both load cases of the design
+    in one task on one factorisation."""
+    case = load_case(cases_dir / "sine_prototype.toml")
+    res = sweep(case, {}, torques_Nm=[15.8, 31.6], positions=2, scheduler=scheduler,
+                out=tmp_path / "sw", cache_dir=False, progress=False)
+    rows = sorted(_read(res.table), key=lambda r: float(r["output_torque_Nm"]))
+    assert [(r["status"], r["loads"]) for r in rows] == [("ok", "fem")] * 2, rows
+    assert rows[0]["setup_s"] == rows[1]["setup_s"]
+    assert float(rows[1]["max_force_N"]) > float(rows[0]["max_force_N"]) > 0
+    assert float(rows[0]["transmission_error_arcsec"]) > 0
+
+
+def test_cli_sweep(cases_dir, scheduler, cache_dir, tmp_path, capsys):
+    ap = argparse.ArgumentParser(prog="toothfem")
+    sweep_cmd.add_parser(ap.add_subparsers(dest="command"))
+    out = tmp_path / "cli"
+    args = ap.parse_args(["sweep", str(cases_dir / "cycloid_pinhousing.toml"), "--vary",
+                          f"{ECC}=1.0", "--torque-Nm", "100,200", "--positions", "2",
+                          "--pins", "rigid", "--scheduler", scheduler, "--cache-dir",
+                          str(cache_dir), "--out", str(out)])
+    assert args.func(args) == 0
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["rows"] == 2 and printed["failed"] == 0
+    assert [r["status"] for r in _read(out / "sweep.csv")] == ["ok", "ok"]
+    assert sweep_cmd.parse_vary("cycloid.pin_structure=integral,conventional") == (
+        "cycloid.pin_structure", ["integral", "conventional"])
+    assert sweep_cmd.parse_vary("material.poisson_ratio=0.3, 0.29") == (
+        "material.poisson_ratio", [0.3, 0.29])
+    for bad in ("cycloid.eccentricity_mm", "=1,2", "cycloid.eccentricity_mm=1,,2"):
+        with pytest.raises(CaseError):
+            sweep_cmd.parse_vary(bad)
+
+
+@pytest.mark.slow
+def test_local_cluster_two_workers_conventional_pins(cycloid, tmp_path):
+    """The default path: a LocalCluster of two worker processes, the case's own pins."""
+    res = sweep(cycloid, {ECC: [1.0, 0.95, 0.9]}, torques_Nm=[100, 167], positions=4,
+                pins="conventional", n_workers=2, out=tmp_path / "sw",
+                cache_dir=tmp_path / "cache", progress=False)
+    rows = _read(res.table)
+    assert len(rows) == 6 and res.failed == 0
+    summary = json.loads((res.out / "sweep.json").read_text())
+    assert summary["workers"] == 2
+    assert all(int(r["pins_in_contact_max"]) == 20 for r in rows)
+
+
+# ---------------------------------------------------------------------------------------
+# Disk cache of influence tables
+
+@pytest.fixture
+def splu_count(monkeypatch):
+    """Counts sparse factorisations (Body._lu imports splu when it factorises)."""
+    calls = []
+    real = scipy.sparse.linalg.splu
+
+    def counting(*args, **kwargs):
+        calls.append(1)
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(scipy.sparse.linalg, "splu", counting)
+    return calls
+
+
+def test_new_torque_costs_no_factorisation_in_memory_or_from_disk(cycloid, splu_count,
+                                                                  tmp_path):
+    """Conventional pins: the disc and the pin table are factorised once; a new torque on
+    the same solver, or on a fresh solver reading the disk cache, factorises nothing.
+    (A coarse patch, b_ref = 0.4 mm, keeps the pin's mesh small.)"""
+    model = cf.model_from_case(cycloid, "conventional")
+    phis = np.array([0.061])
+    cache = DiskCache(tmp_path)
+    coarse = dict(b_ref=4e-4)
+    first = cf.CycleSolver(model, phis, cache=cache, **coarse)
+    first.solve(55.0)
+    assert len(splu_count) == 2                   # disc + pin
+    again = first.solve(91.85)
+    assert len(splu_count) == 2                   # in memory
+    fresh = cf.CycleSolver(model, phis, cache=cache, **coarse)
+    from_disk = fresh.solve(91.85)
+    assert len(splu_count) == 2                   # from disk: no mesh, no factorisation
+    assert "_setup" not in vars(fresh)
+    assert np.array_equal(from_disk.force, again.force)
+
+
+def test_cache_key_follows_geometry_not_torque(cycloid):
+    from dataclasses import replace
+
+    model = cf.model_from_case(cycloid, "rigid")
+    phis = np.array([0.0, 0.05])
+
+    def key(m=model, p=phis, **kw):
+        return cf.CycleSolver(m, p, **kw).cache_key()
+
+    base = key()
+    assert key() == base                                        # stable
+    assert key(replace(model, face_width=0.02)) == base         # tables are per unit length
+    g = model.geometry
+    for other in (replace(model, geometry=replace(g, eccentricity_m=0.9e-3)),
+                  replace(model, geometry=replace(g, equidistant_m=1e-5)),
+                  replace(model, youngs_modulus=200e9),
+                  replace(model, pin_structure="conventional")):
+        assert key(other) != base
+    assert key(p=phis[:1]) != base and key(b_ref=2e-4) != base
+    assert content_key(40) == content_key(40.0) != content_key("40")
+
+
+def test_corrupt_cache_file_is_recomputed(cycloid, splu_count, tmp_path):
+    model = cf.model_from_case(cycloid, "rigid")
+    phis = np.array([0.061])
+    cache = DiskCache(tmp_path)
+    solver = cf.CycleSolver(model, phis, cache=cache)
+    path = cache.path(solver.cache_key())
+    path.write_bytes(b"not an npz file")
+    ls = solver.solve(55.0)
+    assert len(splu_count) == 1
+    assert set(cache.load(solver.cache_key())) == {"influence_0"}     # rewritten, readable
+    cf.CycleSolver(model, phis, cache=cache).solve(55.0)
+    assert len(splu_count) == 1
+    # a stale file that does not fit these positions is refused and overwritten too
+    cache.store(solver.cache_key(), {"influence_0": np.eye(3)})
+    again = cf.CycleSolver(model, phis, cache=cache).solve(55.0)
+    assert len(splu_count) == 2 and np.array_equal(again.force, ls.force)
+    assert not list(tmp_path.glob("*.tmp"))                           # atomic writes
+    # without a cache: the same numbers (the hook changes nothing else)
+    uncached = cf.CycleSolver(model, phis).solve(55.0)
+    assert len(splu_count) == 3 and np.array_equal(uncached.force, ls.force)
+
+
+def test_default_cache_dir_from_environment(monkeypatch, tmp_path):
+    from toothfem.fem.cache import default_dir
+
+    monkeypatch.setenv("TOOTHFEM_CACHE", str(tmp_path / "c"))
+    assert DiskCache().directory == tmp_path / "c" == default_dir()
+    monkeypatch.delenv("TOOTHFEM_CACHE")
+    assert default_dir().parts[-2:] == (".cache", "toothfem")
+    assert DiskCache(tmp_path).load("0" * 64) is None
