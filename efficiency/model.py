@@ -215,9 +215,10 @@ def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None,
 
 @lru_cache(maxsize=4)
 def _cycle_solver(cycloid, material, positions):
-    """The FE cycle-mode solver of a disc (one factorisation, influence coefficients kept;
-    a new torque costs no new solve)."""
+    """The FE cycle-mode solver of a disc (one factorisation, influence coefficients kept in
+    memory and in the disk cache, fem/cache.py: a new torque costs no new solve)."""
     from ..fem import cycloid_fe as cf
+    from ..fem.cache import DiskCache, default_dir
 
     g = cycloid.geometry()
     model = cf.CycloidFEModel(g, cycloid.holes_si(), material.youngs_modulus_GPa * 1e9,
@@ -225,7 +226,7 @@ def _cycle_solver(cycloid, material, positions):
                               cycloid.pin_structure, "strain",
                               cycloid.housing_outer_radius_mm * 1e-3)
     return cf.CycleSolver(model, np.linspace(0.0, 2 * math.pi / g.pin_count, positions,
-                                             endpoint=False))
+                                             endpoint=False), cache=DiskCache(default_dir()))
 
 
 @lru_cache(maxsize=16)

@@ -126,7 +126,9 @@ def _cycloid(case, args, progress):
     phis = np.linspace(0, 2 * math.pi / g.pin_count, args.positions, endpoint=False)
     detail = disc = u = None
     if args.mode == "cycle":
-        solver = cf.CycleSolver(model, phis)
+        from ..fem.cache import DiskCache, default_dir
+
+        solver = cf.CycleSolver(model, phis, cache=DiskCache(default_dir()))
         ls = solver.solve(torque, progress=progress)
         worst = int(np.argmax(ls.force.max(axis=1)))
         if args.field == "detailed":
