@@ -85,12 +85,11 @@ def _pin_loss(case, c_mm, springs, torque=120.0, speed=1000.0, positions=12):
                               case.material.poisson_ratio, cc.face_width_mm * 1e-3,
                               cc.pin_structure, "strain", cc.housing_outer_radius_mm * 1e-3)
     rec = cf.CycleSolver(model, phis, equal_springs=springs).solve(torque / cc.disc_count)
-    tab = md._table(state, [rec], "check")
+    tab = md.table_from_records(state, [rec], "check")
     t_disc = np.array([torque / cc.disc_count])
-    f, ph = tab.at(t_disc)
     crank = np.array([speed * 2 * math.pi / 60 * fx.crank_speed_factor(case)])
-    mu, _ = md._contact_mu(case, tab, f, ph, crank, case.lubricant.dynamic_viscosity_Pa_s, [])
-    loss = float(md._mesh_loss(tab, f, md._pin_contact_mu(case, mu), crank)[0])
+    loss = float(md.disc_contact_losses(case, tab, t_disc, crank,
+                                        case.lubricant.dynamic_viscosity_Pa_s)[0][0])
     return loss, float(np.mean(rec.contacts_per_position))
 
 
