@@ -51,10 +51,12 @@ def cycle_and_detailed(args):
     model = cf.model_from_case(case, "conventional")
     torque = cf.disc_torque(case)
     phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, 36, endpoint=False)
-    with tempfile.TemporaryDirectory() as cache:
-        os.environ["TOOTHFEM_CACHE"] = cache
+    from toothfem.fem.cache import DiskCache
+
+    with tempfile.TemporaryDirectory() as folder:
+        cache = DiskCache(Path(folder))
         t0 = time.perf_counter()
-        solver = cf.CycleSolver(model, phis)
+        solver = cf.CycleSolver(model, phis, cache=cache)
         ls = solver.solve(torque)
         cycle = time.perf_counter() - t0
         report("cycle mode, full cycle of 36 positions", cycle, "s", "< 30 s", cycle < 30)
@@ -63,10 +65,9 @@ def cycle_and_detailed(args):
         rep = time.perf_counter() - t0
         report("repeated load case, same solver (memory)", rep, "s", "< 3 s", rep < 3)
         t0 = time.perf_counter()
-        cf.CycleSolver(model, phis).solve(0.5 * torque)
+        cf.CycleSolver(model, phis, cache=cache).solve(0.5 * torque)
         disk = time.perf_counter() - t0
-        report("repeated load case, fresh solver (disk cache if any)", disk, "s", "< 3 s",
-               disk < 3)
+        report("repeated load case, fresh solver (disk cache)", disk, "s", "< 3 s", disk < 3)
     per_pos = cycle / len(phis)
     picks = [0] if args.quick else [0, 12, 25]
     ratios, times = [], []
@@ -132,6 +133,26 @@ def loop_time():
     report("loop on 200 points, slowest catalog effect", worst, "s", "< 60 s", worst < 60)
 
 
+def sweep_throughput(args):
+    """Design points per second through Dask with 1 and 2 workers (8 designs x 2 torques,
+    8 positions each, no disk cache), best of alternating runs (benchmarks/sweep_throughput.py)."""
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from sweep_throughput import throughput
+
+    case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
+    best = {1: 0.0, 2: 0.0}
+    for _ in range(1 if args.quick else 2):
+        for workers in (1, 2):
+            with tempfile.TemporaryDirectory() as tmp:
+                _, points_per_s, _, _ = throughput(case, 8, 8, None, workers,
+                                                   Path(tmp) / "sweep")
+            best[workers] = max(best[workers], points_per_s)
+    report("sweep throughput, 1 worker", best[1], "points/s")
+    report("sweep throughput, 2 workers", best[2], "points/s")
+    ratio = best[2] / best[1]
+    report("sweep throughput ratio 2 / 1 workers", ratio, "x", ">= 1.6 x", ratio >= 1.6)
+
+
 def peak_memory():
     own = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
     kids = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
@@ -141,7 +162,8 @@ def peak_memory():
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--quick", action="store_true", help="one detailed position only")
+    ap.add_argument("--quick", action="store_true",
+                    help="one detailed position, one sweep run per worker count")
     ap.add_argument("--run-peer", action="store_true",
                     help="rerun CalculiX at one position instead of reading its recorded time")
     args = ap.parse_args()
@@ -149,6 +171,7 @@ def main():
     cycle_and_detailed(args)
     efficiency_map()
     loop_time()
+    sweep_throughput(args)
     peak_memory()
     missed = [r[0] for r in RESULTS if r[4] is False]
     print("all targets met" if not missed else f"targets missed: {missed}")
