@@ -314,19 +314,18 @@ def _resultant(table, force):
 def _points(case, speed_rpm, torque_Nm, oil_temp_C):
     n = np.atleast_1d(np.asarray(speed_rpm, float))
     t = np.atleast_1d(np.asarray(torque_Nm, float))
+    temp = None if oil_temp_C is None else np.atleast_1d(np.asarray(oil_temp_C, float))
     try:
-        n, t = np.broadcast_arrays(n, t)
+        n, t, *rest = np.broadcast_arrays(n, t, *([] if temp is None else [temp]))
     except ValueError:
-        raise ToothfemError(f"speed_rpm {n.shape} and torque_Nm {t.shape} do not broadcast") \
-            from None
+        raise ToothfemError(f"speed_rpm {n.shape}, torque_Nm {t.shape} and oil_temp_C "
+                            f"{None if temp is None else temp.shape} do not broadcast") from None
     for name, arr, lo in (("speed_rpm", n, 0.0), ("torque_Nm", t, 0.0)):
         bad = ~np.isfinite(arr) | (arr <= lo)
         if np.any(bad):
             raise CaseError(f"{name} = {float(arr[bad].flat[0])!r} is outside the valid range "
                             f"({lo:g}, inf)")
-    temp = None
-    if oil_temp_C is not None:
-        temp = np.broadcast_to(np.asarray(oil_temp_C, float), n.shape).astype(float)
+    temp = rest[0] if rest else None
     return n.astype(float).ravel(), t.astype(float).ravel(), \
         None if temp is None else temp.ravel()
 
@@ -352,7 +351,8 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
 def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:
     """Efficiency (0..1) of ``case`` at arrays of operating points; shape of the
     broadcast inputs. Keywords as :func:`evaluate`."""
-    shape = np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm))
+    shape = np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm),
+                                np.shape(oil_temp_C) if oil_temp_C is not None else ())
     return evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency.reshape(shape)
 
 
@@ -543,11 +543,10 @@ def _rv_split(case, n, t2, temp):
         raise CaseError(f"method = 'rv_split_power' needs drive = 'rv', not {case.drive!r}")
     z = case.rv
     eta1 = z.mesh_efficiency
-    p_in = np.empty_like(n)
+    # the method is linear in the input power: the losses per watt of input, scaled
     r = rv_split_power(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count, 1.0, eta1, eta1)
-    w_out = n * 2 * math.pi / 60 / r.ratio
-    p_out = t2 * np.abs(w_out)
-    p_in[:] = p_out / r.efficiency
+    p_out = t2 * np.abs(n * 2 * math.pi / 60 / r.ratio)
+    p_in = p_out / r.efficiency
     losses = {"sun_planet_mesh": p_in * r.loss_L1_W, "cycloid_mesh": p_in * r.loss_L2_W}
     return Efficiency(n, t2, temp, p_out, losses, "analytic", "rv_split_power",
                       ("RV paper Eqs. 8-15 with the declared mesh efficiency",),

@@ -125,6 +125,9 @@ def test_predict_shape_and_bad_input(sine):
     n, t = np.meshgrid(np.linspace(100, 3000, 7), np.linspace(1, 30, 5))
     eta = m.predict(sine, n, t)
     assert eta.shape == (5, 7) and np.all((eta > 0) & (eta < 1))
+    # the oil temperature broadcasts too (a temperature sweep at one point)
+    hot = m.predict(sine, 500.0, 28.0, np.linspace(30.0, 90.0, 4))
+    assert hot.shape == (4,) and np.all(np.diff(hot) > 0)   # thinner oil, less churning
     with pytest.raises(CaseError, match=r"speed_rpm = -5.0 is outside the valid range \(0, inf\)"):
         m.predict(sine, [-5.0, 100.0], 10.0)
     with pytest.raises(CaseError, match="torque_Nm = nan"):
