@@ -180,15 +180,17 @@ FE_TORQUE_FRACTIONS = (0.1, 0.3, 1.0, 2.0)
 
 @lru_cache(maxsize=4)
 def _sine_solver(sine, material, output_mechanism, positions):
-    """The FE cycle-mode solver of a sine pair (one factorisation per body)."""
+    """The FE cycle-mode solver of a sine pair (one factorisation per body; hat tables in
+    the disk cache)."""
     from types import SimpleNamespace
 
     from ..fem import sine_fe
+    from ..fem.cache import DiskCache, default_dir
 
     model = sine_fe.model_from_case(SimpleNamespace(drive="sine", sine=sine, material=material,
                                                     output_mechanism=output_mechanism))
     phis = np.linspace(0.0, model.pair.crank_pitch_rad, positions, endpoint=False)
-    return sine_fe.CycleSolver(model, phis)
+    return sine_fe.CycleSolver(model, phis, cache=DiskCache(default_dir()))
 
 
 @lru_cache(maxsize=16)

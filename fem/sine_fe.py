@@ -59,6 +59,7 @@ from ..efficiency.friction import reduced_modulus
 from ..errors import ToothfemError, check_range
 from ..geometry import sine
 from . import contact
+from .cache import content_key
 from .elastic import Body, plane_modulus
 from .load_sharing import LoadSharing, hertz_fields
 from .mesh import Refinement, mesh_rings
@@ -284,7 +285,7 @@ class _GridBody:
 
     ``influence[d + D][i, j]``: approach (m, along the inward normal, hat-weighted) at hat
     j of tooth d per unit force (N/m) spread as hat i of tooth 0 (pressure hat_i / s)."""
-    body: Body
+    body: Body | None          # None when the tables came from the disk cache
     toothed: _Toothed
     n_hats: int
     influence: np.ndarray     # (2D+1, N, N)
@@ -446,14 +447,23 @@ class PositionResult:
     hat_moment: float = 0.0     # second moment of one hat about its centre / its area, m^2
 
 
+#: Bump when the discretisation behind the hat tables changes (part of the cache key).
+TABLES_VERSION = 1
+
+
 @dataclass(eq=False)
 class CycleSolver:
     """Influence coefficients of both bodies on their hat grids from one factorisation
-    each; contact at any crank angle from those tables (module docstring)."""
+    each; contact at any crank angle from those tables (module docstring).
+
+    ``cache`` (a :class:`toothfem.fem.cache.DiskCache`, or None) keeps each body's hat table
+    on disk under a key of what it depends on (pair, material, supports, plane, spacing,
+    reach; not the torque): a solver for a known design meshes and factorises nothing."""
     model: SineFEModel
     positions_rad: np.ndarray
     spacing: float = DEFAULT_SPACING
     select_gap: float = DEFAULT_SELECT_GAP
+    cache: object = None
 
     def __post_init__(self):
         self.positions_rad = np.atleast_1d(np.asarray(self.positions_rad, float))
@@ -473,14 +483,41 @@ class CycleSolver:
     @cached_property
     def planet(self) -> _GridBody:
         m = self.model
-        return _grid_body(_planet_toothed(m.pair), [_circle(m.planet_bore_radius)],
-                          ["profile", "bore"], "bore", self.spacing, m, self.reach)
+        return self._cached("planet", _planet_toothed(m.pair),
+                            lambda t: _grid_body(t, [_circle(m.planet_bore_radius)],
+                                                 ["profile", "bore"], "bore", self.spacing, m,
+                                                 self.reach))
 
     @cached_property
     def ring(self) -> _GridBody:
         m = self.model
-        return _grid_body(_ring_toothed(m.pair), [_circle(m.ring_outer_radius)],
-                          ["rim", "profile"], "rim", self.spacing, m, self.reach)
+        return self._cached("ring", _ring_toothed(m.pair),
+                            lambda t: _grid_body(t, [_circle(m.ring_outer_radius)],
+                                                 ["rim", "profile"], "rim", self.spacing, m,
+                                                 self.reach))
+
+    def cache_key(self, which: str) -> str:
+        """Hash of what a body's hat table depends on (not the torque, not the face
+        width: the tables are per unit length)."""
+        m = self.model
+        return content_key("SineCycleSolver", TABLES_VERSION, which, m.pair, m.youngs_modulus,
+                           m.poisson_ratio, m.planet_bore_radius, m.ring_outer_radius,
+                           m.plane, m.candidates, self.spacing, self.reach)
+
+    def _cached(self, which, toothed, build) -> _GridBody:
+        if self.cache is None:
+            return build(toothed)
+        key = self.cache_key(which)
+        hit = self.cache.load(key)
+        if hit is not None and "influence" in hit:
+            table = np.asarray(hit["influence"], float)
+            n = table.shape[1] if table.ndim == 3 else 0
+            if table.shape == (2 * self.reach + 1, n, n) and n >= 8 \
+                    and np.all(np.isfinite(table)):
+                return _GridBody(None, toothed, n, table, self.reach)
+        grid = build(toothed)                   # missing, stale or corrupt: compute, store
+        self.cache.store(key, {"influence": grid.influence})
+        return grid
 
     @cached_property
     def states(self):

@@ -210,3 +210,28 @@ def test_detailed_mode_mesh_convergence(model, torque):
     coarse = sf.solve_detailed(model, 0.0, torque, element_size=25e-6).load_sharing
     fine = sf.solve_detailed(model, 0.0, torque, element_size=15e-6).load_sharing
     assert abs(coarse.force.max() / fine.force.max() - 1) < 5e-3
+
+
+def test_disk_cache_of_the_hat_tables(cases_dir, tmp_path, monkeypatch):
+    """A second solver for the same pair reads both hat tables from the disk cache: no
+    mesh, no factorisation, the same load sharing; another support gets another key."""
+    from toothfem.fem.cache import DiskCache
+
+    case = load_case(cases_dir / "sine_prototype.toml")
+    model = sf.model_from_case(case)
+    chis = np.arange(3) * model.pair.crank_pitch_rad / 3
+    cache = DiskCache(tmp_path)
+    first = sf.CycleSolver(model, chis, spacing=70e-6, cache=cache).solve(20.0)
+    assert len(list(tmp_path.glob("*.npz"))) == 2          # planet and ring
+
+    def no_mesh(*a, **k):
+        raise AssertionError("meshed although the tables are in the cache")
+
+    monkeypatch.setattr(sf, "mesh_rings", no_mesh)
+    again = sf.CycleSolver(model, chis, spacing=70e-6, cache=cache).solve(20.0)
+    assert np.array_equal(first.force, again.force)
+    other = sf.model_from_case(case, ring_outer_radius_m=model.ring_outer_radius * 1.05)
+    s1 = sf.CycleSolver(model, chis, spacing=70e-6, cache=cache)
+    s2 = sf.CycleSolver(other, chis, spacing=70e-6, cache=cache)
+    assert s1.cache_key("ring") != s2.cache_key("ring")
+    assert s1.cache_key("planet") != s1.cache_key("ring")

@@ -479,9 +479,12 @@ def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
     if loads == "fem":
         from .fem import sine_fe as sf
 
+        from .fem.cache import DiskCache
+
         model = sf.model_from_case(case)
         chis = np.arange(positions) * model.pair.crank_pitch_rad / positions
-        solver = sf.CycleSolver(model, chis)
+        solver = sf.CycleSolver(model, chis,
+                                cache=None if cache_dir is None else DiskCache(Path(cache_dir)))
         solver.planet, solver.ring        # meshes, factorisations, influence tables
         return lambda torque: _summary(solver.solve(torque))
     from .efficiency.friction import reduced_modulus

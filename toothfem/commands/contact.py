@@ -163,7 +163,10 @@ def _sine(case, args, progress):
     phis = np.arange(args.positions) * model.pair.crank_pitch_rad / args.positions
     detail = body = u = None
     if args.mode == "cycle":
-        ls = sine_fe.CycleSolver(model, phis).solve(torque, progress=progress)
+        from ..fem.cache import DiskCache, default_dir
+
+        ls = sine_fe.CycleSolver(model, phis, cache=DiskCache(default_dir())).solve(
+            torque, progress=progress)
         worst = int(np.argmax(ls.force.max(axis=1)))
         if args.field != "none":
             detail = sine_fe.solve_detailed(model, phis[worst], torque)
