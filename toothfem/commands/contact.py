@@ -26,8 +26,9 @@ def add_parser(sub):
                         "mode only: the CalculiX peer's model); default: the case's")
     p.add_argument("--field", choices=("detailed", "structural", "none"), default="detailed",
                    help="stress field at the worst position: detailed (two-body FE with the "
-                        "contact zones resolved, ~1-2 min; default), structural (the cycle "
-                        "mode's loads smeared over b_ref, no contact-zone stress) or none")
+                        "contact zones resolved, ~1-2 min; default), structural (cycloid: the "
+                        "cycle mode's loads smeared over b_ref, no contact-zone stress; the "
+                        "sine pair always uses detailed) or none")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.set_defaults(func=run)
 
