@@ -174,8 +174,38 @@ def _e_star(material):
     return float(fr.reduced_modulus(e, material.poisson_ratio, e, material.poisson_ratio))
 
 
-#: Torques (fractions of the case's) at which FE load sharing is tabulated.
-FE_TORQUE_FRACTIONS = (0.1, 0.3, 1.0, 2.0)
+#: Torques, as fractions of the case's declared torque on the member, at which the FE load
+#: sharing is tabulated (fixed by the case, not by the points asked for, so a point's result
+#: does not depend on the other points of the call); outside the range F/T is held at the end
+#: value and the notes say so.
+FE_TORQUE_FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0)
+
+
+def _declared_torque(case) -> float | None:
+    """Output torque declared by [operating] (or input torque/power times the ratio,
+    lossless): the reference of the FE torque table."""
+    op = case.operating
+    ratio = abs(case.ratio())
+    if op.output_torque_Nm:
+        return float(op.output_torque_Nm)
+    if op.input_torque_Nm:
+        return float(op.input_torque_Nm) * ratio
+    if op.input_power_kW:
+        return op.input_power_kW * 1e3 / (op.input_speed_rpm * 2 * math.pi / 60) * ratio
+    return None
+
+
+def _fe_reference(case, member_torque, per_member: float, notes) -> float:
+    """Reference torque of the FE table on the member; a note where points fall outside."""
+    declared = _declared_torque(case)
+    ref = declared / per_member if declared else float(np.max(member_torque))
+    lo, hi = FE_TORQUE_FRACTIONS[0] * ref, FE_TORQUE_FRACTIONS[-1] * ref
+    out = (member_torque < lo) | (member_torque > hi)
+    if np.any(out):
+        notes.append(f"{int(out.sum())} point(s) outside the FE load table's torque range "
+                     f"{lo * per_member:.3g}-{hi * per_member:.3g} N m: the load split of the "
+                     "nearest end is scaled to them")
+    return ref
 
 
 @lru_cache(maxsize=4)
@@ -219,16 +249,15 @@ def sine_table(sine, material, loads="analytic", positions=36, torque_ref=None,
 def _cycle_solver(cycloid, material, positions):
     """The FE cycle-mode solver of a disc (one factorisation, influence coefficients kept in
     memory and in the disk cache, fem/cache.py: a new torque costs no new solve)."""
+    from types import SimpleNamespace
+
     from ..fem import cycloid_fe as cf
     from ..fem.cache import DiskCache, default_dir
 
-    g = cycloid.geometry()
-    model = cf.CycloidFEModel(g, cycloid.holes_si(), material.youngs_modulus_GPa * 1e9,
-                              material.poisson_ratio, cycloid.face_width_mm * 1e-3,
-                              cycloid.pin_structure, "strain",
-                              cycloid.housing_outer_radius_mm * 1e-3)
-    return cf.CycleSolver(model, np.linspace(0.0, 2 * math.pi / g.pin_count, positions,
-                                             endpoint=False), cache=DiskCache(default_dir()))
+    model = cf.model_from_case(SimpleNamespace(cycloid=cycloid, material=material))
+    return cf.CycleSolver(model, np.linspace(0.0, 2 * math.pi / model.geometry.pin_count,
+                                             positions, endpoint=False),
+                          cache=DiskCache(default_dir()))
 
 
 @lru_cache(maxsize=16)
@@ -270,9 +299,15 @@ def _contact_mu(case, table, force, ph, crank_speed, eta0, notes):
     roughness = math.sqrt(2.0) * lub.roughness_Ra_um * 1e-6 * 1.25   # composite RMS of two
     if f.mesh_law == "benedict_kelley":
         w = force / table.face_width
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore")
             mu[ok] = fr.benedict_kelley(w[ok], vs[ok], 2 * ve[ok], eta[ok],
                                         lub.roughness_Ra_um * 1e-6)
+        neg = ok & ~(mu > 0)
+        if np.any(neg):      # the log term of B-K turns negative at low load and speed
+            notes.append(f"Benedict-Kelley gives mu <= 0 at {int(neg.sum())} contact(s) "
+                         "(outside its range): taken as 0")
+            mu[neg] = 0.0
         return mu, lam
     e_prime = 2 * _e_star(case.material)
     with warnings.catch_warnings():
@@ -340,10 +375,15 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
         raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
     if method not in METHODS:
         raise CaseError(f"method = {method!r} is not one of {list(METHODS)}")
+    if isinstance(positions, bool) or int(positions) != positions:
+        raise CaseError(f"positions = {positions!r} must be an integer")
     check_range("positions", positions, 4, 720, error=CaseError)
     n, t, temp = _points(case, speed_rpm, torque_Nm, oil_temp_C)
     visc = viscosity_factor(case.lubricant, temp) * np.ones_like(n)
     if method == "rv_split_power":
+        if temp is not None or loads != "analytic":
+            raise CaseError("method = 'rv_split_power' takes the declared mesh efficiency: "
+                            "oil_temp_C and loads = 'fem' do not apply to it")
         return _rv_split(case, n, t, temp)
     if case.drive == "sine":
         return _sine(case, n, t, temp, visc, loads, positions)
@@ -353,9 +393,10 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
 def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:
     """Efficiency (0..1) of ``case`` at arrays of operating points; shape of the
     broadcast inputs. Keywords as :func:`evaluate`."""
-    shape = np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm),
-                                np.shape(oil_temp_C) if oil_temp_C is not None else ())
-    return evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency.reshape(shape)
+    eta = evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency
+    return eta.reshape(np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm),
+                                           np.shape(oil_temp_C) if oil_temp_C is not None
+                                           else ()))
 
 
 # ---------------------------------------------------------------------------------------
@@ -384,7 +425,7 @@ def _sine(case, n, t2, temp, visc, loads, positions):
     rel = np.abs(crank - w_planet)                          # crank relative to the planet
     p_out = t2 * np.abs(w_planet)
     notes = []
-    torque_ref = float(np.max(t2)) if loads == "fem" else None
+    torque_ref = _fe_reference(case, t2, 1.0, notes) if loads == "fem" else None
     table = sine_table(st, case.material, loads, positions, torque_ref, om)
     force, ph = table.at(t2)
     eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
@@ -396,19 +437,9 @@ def _sine(case, n, t2, temp, visc, loads, positions):
                      "the radii); "
                      + ("P_h there is the FE pressure" if np.any(table.pressure_from_fe) else
                         "P_h there is still Hertz's (analytic loads): use loads='fem'"))
-    # planet equilibrium: mesh resultant + pins (sum Q, Eq. 26, along -e) + bearing = 0
-    r_w = om.pin_hole_circle_radius_mm * 1e-3
-    sum_q = 4 * t2 / (math.pi * r_w)                                       # Eq. 26
-    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]   # (P, 2)
-    mesh_res = _resultant(table, force)                                    # (M, P, 2)
-    bearing = mesh_res - sum_q[:, None, None] * e_dir[None]
-    f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
-    ecc = case.friction.bearing_coefficient * om.eccentric_bearing_inner_radius_mm * 1e-3 \
-        * f_r1 * rel                                                       # Eq. 32
-    plain = om.plain_bearing_friction_torque_Nmm * 1e-3 * crank * np.ones_like(n)  # Eq. 34
     a0 = st.module_mm * (st.ring_teeth - st.planet_teeth) / 2
-    v_k = 2 * a0 * 1e-3 * rel                                              # Eq. 38
-    out_mech = case.friction.output_pin_coefficient * sum_q * v_k          # Eq. 39
+    ecc, out_mech = _w_mechanism(case, om, table, force, t2, a0, rel)
+    plain = om.plain_bearing_friction_torque_Nmm * 1e-3 * crank * np.ones_like(n)  # Eq. 34
     losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
               "output_mechanism": out_mech}
     lub = case.lubricant
@@ -416,13 +447,27 @@ def _sine(case, n, t2, temp, visc, loads, positions):
         losses["churning"] = lub.churning_scale * churning_lu_xu_2024(
             a0, n, lub.kinematic_viscosity_mm2_s * visc)
     losses["drag"] = case.friction.drag_torque_Nmm * 1e-3 * crank
-    # mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), then the
-    # K-H-V train by Chen & Angeles' method (closed form, power_flow.khv_efficiency)
-    eta_mesh = 1 - mesh / (t2 * rel)
-    c = st.ring_teeth / (st.ring_teeth - st.planet_teeth)
-    losses["mesh"] = p_out * c * (1 / eta_mesh - 1)
+    # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
+    # display: in a K-H-V stage the energy balance with the contact loss itself is exact
     return Efficiency(n, t2, temp, p_out, losses, loads, "power_flow", tuple(notes),
-                      {"sine": eta_mesh})
+                      {"sine": 1 - mesh / (t2 * rel)})
+
+
+def _w_mechanism(case, om, table, force, torque, a0_mm, rel):
+    """(eccentric bearing, pins-in-holes output mechanism) losses [W] of a K-H-V member
+    carrying ``torque`` (M,) out through pins in holes (sine paper Eqs. 26-39, derivations
+    7): the pins' load sum Q = 4T/(pi R_w) acts along -e on the member, the eccentric
+    bearing carries |mesh resultant - sum Q e| (the member's equilibrium), the pins slide
+    in their sleeves at 2 a0 w_rel (Eq. 38)."""
+    r_w = om.pin_hole_circle_radius_mm * 1e-3
+    sum_q = 4 * torque / (math.pi * r_w)                                   # Eq. 26
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]   # (P, 2)
+    bearing = _resultant(table, force) - sum_q[:, None, None] * e_dir[None]
+    f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
+    ecc = case.friction.bearing_coefficient * om.eccentric_bearing_inner_radius_mm * 1e-3 \
+        * f_r1 * rel                                                       # Eq. 32
+    out_mech = case.friction.output_pin_coefficient * sum_q * 2 * a0_mm * 1e-3 * rel  # 38-39
+    return ecc, out_mech
 
 
 # ---------------------------------------------------------------------------------------
@@ -480,6 +525,33 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None)
     return loss, f_bearing
 
 
+#: Samples of the angle between the pin resultant and a crank hole's tangent (its mean over
+#: a crank turn: the holes turn with the disc, the resultant with the crank).
+_CRANK_ANGLE_SAMPLES = 64
+
+
+def _crank_bearing_loss(case, cyc, f_resultant, t_disc, rel):
+    """Friction loss of one disc's crank-hole bearings (2K-V) [W]. The k holes at radius
+    R_c take the pin resultant F and the disc torque T between them, evenly: hole i carries
+    -F/k + T/(k R_c) t_i (t_i its tangent), so sum |F_i| = k <|a e - b t|> with a = F/k,
+    b = T/(k R_c), averaged over the angle between e and t (uniform over a crank turn).
+    Loss = f r_b sum |F_i| w_rel (Palmgren's load-dependent friction torque f F r_b)."""
+    h = cyc.disc_holes
+    k = h.crank_hole_count
+    r_b = h.crank_hole_radius_mm * 1e-3
+    r_c = h.crank_hole_circle_radius_mm * 1e-3
+    if k < 1 or r_b <= 0 or r_c <= 0:
+        raise CaseError("cycloid.disc_holes: crank_hole_count, crank_hole_radius_mm and "
+                        "crank_hole_circle_radius_mm are required for the crank-bearing loss "
+                        "of a 2K-V (RV-type) drive")
+    a = f_resultant / k
+    b = t_disc / (k * r_c)
+    psi = (np.arange(_CRANK_ANGLE_SAMPLES) + 0.5) * 2 * math.pi / _CRANK_ANGLE_SAMPLES
+    load = k * np.mean(np.sqrt(a[:, None] ** 2 + b[:, None] ** 2
+                               - 2 * a[:, None] * b[:, None] * np.cos(psi)), axis=1)
+    return case.friction.bearing_coefficient * load * r_b * rel
+
+
 def _cycloid(case, n, t2, temp, visc, loads, positions):
     if case.material is None:
         raise CaseError("a [material] section is required for the contact losses")
@@ -490,26 +562,33 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
     p_out = t2 * np.abs(w_in * w["carrier"])
     notes = []
     t_disc = t2 / cyc.disc_count          # even split for losses (load factor is for strength)
-    torque_ref = float(np.max(t_disc)) if loads == "fem" else None
+    torque_ref = _fe_reference(case, t_disc, cyc.disc_count, notes) if loads == "fem" \
+        else None
     table = cycloid_table(cyc, case.material, loads, positions, torque_ref)
     eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
     pins_disc, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0, notes)
     pins = cyc.disc_count * pins_disc
-    r_b = cyc.disc_holes.crank_hole_radius_mm * 1e-3
-    if r_b <= 0:
-        r_b = cyc.eccentricity_mm * 1e-3 * 10     # no holes declared: a nominal crank radius
-        notes.append("crank bearing radius not declared (cycloid.disc_holes): 10 x "
-                     "eccentricity assumed")
-    crank_b = cyc.disc_count * case.friction.bearing_coefficient * f_bearing * r_b * disc_rel
     eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
-    losses = {"crank_bearings": crank_b}
     mesh_eff = {"cycloid": eta2}
-    if spur is None:                                  # K-H-V: Chen-Angeles closed form
-        c = cyc.pin_count / (cyc.pin_count - cyc.lobe_count)
-        losses["pin_contacts"] = p_out * c * (1 / eta2 - 1)
+    if spur is None:
+        # K-H-V: the disc's torque leaves through pins in holes; its central eccentric
+        # bearing carries the pin resultant and the pins' load (as the sine planet)
+        om = case.output_mechanism
+        if om is None:
+            raise CaseError("a K-H-V cycloid drive (no [first_stage]) needs [output_mechanism] "
+                            "(pins in holes) for its output losses")
+        force, _ = table.at(t_disc)
+        ecc, out_mech = _w_mechanism(case, om, table, force, t_disc, cyc.eccentricity_mm,
+                                     disc_rel)
+        # the energy balance with the contact loss itself (Chen & Angeles' closed form
+        # agrees to first order)
+        losses = {"pin_contacts": pins, "eccentric_bearing": cyc.disc_count * ecc,
+                  "output_mechanism": cyc.disc_count * out_mech}
     else:                                             # 2K-V: power_flow.rv_power_flow form
         from . import spur as sp
 
+        losses = {"crank_bearings": cyc.disc_count * _crank_bearing_loss(
+            case, cyc, f_bearing, t_disc, disc_rel)}
         stage = case.first_stage
         zs, zp = spur[1], spur[2]
         ratio = abs(1 / w["carrier"])
@@ -522,6 +601,10 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
         else:
             raise CaseError("a [first_stage] section is required for the sun-planet mesh")
         r, z4, z5 = zp / zs, cyc.lobe_count, cyc.pin_count
+        if np.any(z5 - z4 * eta2 <= 0):
+            raise CaseError(f"the disc-pin mesh efficiency {float(np.min(eta2)):.4g} in the "
+                            f"crank frame is at or below z4/z5 = {z4 / z5:.4g}: the train "
+                            "self-locks (friction too high for these operating points)")
         eta_train = (1 + r * eta1 * z5 / (z5 - z4 * eta2)) / ratio
         eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
         p_in = p_out / eta_train
@@ -574,6 +657,7 @@ def operating_point(case, **kw):
     for _ in range(50):       # contraction: eta varies slowly with torque
         new = t_in * ratio * float(evaluate(case, op.input_speed_rpm, t2, **kw).efficiency[0])
         if abs(new - t2) < 1e-10 * t2:
-            break
+            return op.input_speed_rpm, new
         t2 = new
-    return op.input_speed_rpm, t2
+    raise ToothfemError(f"the output torque for the declared input did not converge "
+                        f"(last {t2:.6g} N m): the efficiency changes too fast with torque")

@@ -49,6 +49,7 @@ planet's zone nodes (fem.contact), the same rigid rotation and torque balance.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from functools import cached_property
@@ -500,9 +501,10 @@ class CycleSolver:
         """Hash of what a body's hat table depends on (not the torque, not the face
         width: the tables are per unit length)."""
         m = self.model
-        return content_key("SineCycleSolver", TABLES_VERSION, which, m.pair, m.youngs_modulus,
-                           m.poisson_ratio, m.planet_bore_radius, m.ring_outer_radius,
-                           m.plane, m.candidates, self.spacing, self.reach)
+        pair = dataclasses.replace(m.pair, face_width_m=1.0)     # per unit length
+        support = m.planet_bore_radius if which == "planet" else m.ring_outer_radius
+        return content_key("SineCycleSolver", TABLES_VERSION, which, pair, m.youngs_modulus,
+                           m.poisson_ratio, support, m.plane, self.spacing, self.reach)
 
     def _cached(self, which, toothed, build) -> _GridBody:
         if self.cache is None:

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from toothfem import CaseError, load_case
+from toothfem import CaseError, ToothfemError, load_case
 from toothfem.efficiency import model as m
 from toothfem.efficiency import spur
 from toothfem.efficiency.mesh_loss import mesh_loss
@@ -168,3 +168,62 @@ def test_analytic_split_closes_the_first_pair_for_other_tooth_heights(sine):
     case = _with(sine, "sine", tooth_height_mm=0.3)
     e = m.evaluate(case, 500.0, 28.0)
     assert 0.5 < e.efficiency[0] < 1
+
+
+def test_crank_bearings_carry_the_disc_torque(pinhousing):
+    """2K-V: the crank holes react the pin resultant and the disc torque; the summed
+    bearing load is at least T/R_c (the couple alone), so the loss is at least
+    f r_b (T/R_c) w_rel per disc (the reviewer's bound)."""
+    e = m.evaluate(pinhousing, 1815.0, 167.0)
+    cyc = pinhousing.cycloid
+    _, w, _ = m._cycloid_stage(pinhousing)
+    rel = abs(1815.0 * 2 * math.pi / 60 * (w["crank"] - w["disc"]))
+    h = cyc.disc_holes
+    couple = (167.0 / cyc.disc_count) / (h.crank_hole_circle_radius_mm * 1e-3)
+    bound = cyc.disc_count * pinhousing.friction.bearing_coefficient * couple \
+        * h.crank_hole_radius_mm * 1e-3 * rel
+    assert e.losses_W["crank_bearings"][0] > bound
+
+
+def test_plain_khv_cycloid_has_its_output_mechanism(pinhousing):
+    """Without a first stage the disc's torque leaves through pins in holes: the model
+    needs [output_mechanism] and then charges its sleeves and the eccentric bearing."""
+    from toothfem.case import OutputMechanism
+
+    khv = dataclasses.replace(pinhousing, first_stage=None, stated_ratio=None)
+    with pytest.raises(CaseError, match=r"needs \[output_mechanism\]"):
+        m.evaluate(khv, 1000.0, 100.0)
+    khv = dataclasses.replace(khv, output_mechanism=OutputMechanism(
+        pin_hole_circle_radius_mm=60.0, pin_radius_mm=8.0))
+    e = m.evaluate(khv, 1000.0, 100.0)
+    assert {"pin_contacts", "eccentric_bearing", "output_mechanism"} <= set(e.losses_W)
+    assert np.all(e.losses_W["output_mechanism"] > 0)
+
+
+def test_benedict_kelley_never_negative(pinhousing):
+    case = _with(pinhousing, "friction", mesh_law="benedict_kelley")
+    e = m.evaluate(case, np.array([10.0, 1815.0, 6000.0]), 167.0)
+    assert all(np.all(v >= 0) for v in e.losses_W.values())
+    assert np.all(e.efficiency < 1)
+
+
+def test_more_bad_input(sine, rv):
+    with pytest.raises(ToothfemError, match="do not broadcast"):
+        m.predict(sine, 500.0, [10.0, 20.0, 30.0], [40.0, 50.0])
+    with pytest.raises(CaseError, match="positions = 10.5 must be an integer"):
+        m.evaluate(sine, 500.0, 10.0, positions=10.5)
+    with pytest.raises(CaseError, match="oil_temp_C and loads = 'fem' do not apply"):
+        m.evaluate(rv, 1500.0, 400.0, 60.0, method="rv_split_power")
+
+
+@pytest.mark.slow
+def test_fe_loads_do_not_depend_on_the_other_points(pinhousing):
+    """The FE load table is fixed by the case's declared torque, not by the batch: a point's
+    efficiency is the same alone or beside a much larger torque (modified profile, where the
+    contact set changes most with torque)."""
+    case = _with(pinhousing, "cycloid", equidistant_modification_mm=0.01,
+                 move_distance_modification_mm=-0.01)
+    alone = m.evaluate(case, 1815.0, [20.0], loads="fem").efficiency[0]
+    beside = m.evaluate(case, 1815.0, [20.0, 2000.0], loads="fem")
+    assert beside.efficiency[0] == pytest.approx(alone, rel=1e-12)
+    assert any("outside the FE load table" in note for note in beside.notes)   # 2000 > 5 x 167

@@ -234,4 +234,5 @@ def test_disk_cache_of_the_hat_tables(cases_dir, tmp_path, monkeypatch):
     s1 = sf.CycleSolver(model, chis, spacing=70e-6, cache=cache)
     s2 = sf.CycleSolver(other, chis, spacing=70e-6, cache=cache)
     assert s1.cache_key("ring") != s2.cache_key("ring")
+    assert s1.cache_key("planet") == s2.cache_key("planet")     # the planet's own support
     assert s1.cache_key("planet") != s1.cache_key("ring")
