@@ -42,6 +42,7 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from functools import lru_cache
+from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
@@ -259,17 +260,7 @@ def _set(section, name):
 
 def crank_speed_factor(case) -> float:
     """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
-    from ..geometry.train import rv_speeds
-
-    cyc = case.cycloid
-    if case.drive == "rv":
-        z = case.rv
-        return abs(rv_speeds(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count)["planet"])
-    if case.first_stage is not None:
-        fs = case.first_stage
-        return abs(rv_speeds(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count,
-                             cyc.pin_count)["planet"])
-    return 1.0
+    return abs(_model.cycloid_speeds(case)[1]["crank"])
 
 
 def _need_cycloid(case, points):
@@ -510,10 +501,7 @@ def contact_compliance(cycloid, material) -> float:
     terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
     from ..fem import cycloid_fe as cf
 
-    cyc = cycloid
-    model = cf.CycloidFEModel(cyc.geometry(), cyc.holes_si(), material.youngs_modulus_GPa * 1e9,
-                              material.poisson_ratio, cyc.face_width_mm * 1e-3,
-                              cyc.pin_structure, "strain", cyc.housing_outer_radius_mm * 1e-3)
+    model = cf.model_from_case(SimpleNamespace(cycloid=cycloid, material=material))
     solver = cf.CycleSolver(model, np.array([0.0]))
     c = float(np.mean(np.diag(solver.influence(0))))
     if cyc.pin_structure == "conventional":
@@ -566,9 +554,7 @@ def clearance_tables(case, points: Points, compliance=None,
         g = cc.geometry()
         phis = np.linspace(0.0, 2 * math.pi / g.pin_count, CLEARANCE_POSITIONS, endpoint=False)
         state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
-        model = cf.CycloidFEModel(g, cc.holes_si(), case.material.youngs_modulus_GPa * 1e9,
-                                  case.material.poisson_ratio, cc.face_width_mm * 1e-3,
-                                  cc.pin_structure, "strain", cc.housing_outer_radius_mm * 1e-3)
+        model = cf.model_from_case(SimpleNamespace(cycloid=cc, material=case.material))
         solver = cf.CycleSolver(model, phis, equal_springs=compliance)
         records = [solver.solve(float(t)) for t in torques]
         table = _model.table_from_records(state, records, "equal_springs")

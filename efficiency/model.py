@@ -484,7 +484,7 @@ def _pin_contact_mu(case, mu_disc):
     return np.minimum(mu_disc, case.friction.pin_groove_coefficient)
 
 
-def _cycloid_stage(case):
+def cycloid_speeds(case):
     """(cycloid section, speeds for unit input speed, first stage or None)."""
     from ..geometry.train import khv_speeds, rv_speeds
 
@@ -555,7 +555,7 @@ def _crank_bearing_loss(case, cyc, f_resultant, t_disc, rel):
 def _cycloid(case, n, t2, temp, visc, loads, positions):
     if case.material is None:
         raise CaseError("a [material] section is required for the contact losses")
-    cyc, w, spur = _cycloid_stage(case)
+    cyc, w, spur = cycloid_speeds(case)
     w_in = n * 2 * math.pi / 60
     crank = np.abs(w_in * w["crank"])
     disc_rel = np.abs(w_in * (w["crank"] - w["disc"]))       # crank relative to the disc

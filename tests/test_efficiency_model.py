@@ -41,7 +41,7 @@ def test_pin_contact_loss_matches_mesh_loss_module(pinhousing):
     cyc = case.cycloid
     n_in, t2 = 1815.0, 167.0
     e = m.evaluate(case, n_in, t2, positions=36)
-    _, w, _ = m._cycloid_stage(case)
+    _, w, _ = m.cycloid_speeds(case)
     crank = abs(n_in * 2 * math.pi / 60 * w["crank"])
     g = cyc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, 36, endpoint=False)
@@ -176,7 +176,7 @@ def test_crank_bearings_carry_the_disc_torque(pinhousing):
     f r_b (T/R_c) w_rel per disc (the reviewer's bound)."""
     e = m.evaluate(pinhousing, 1815.0, 167.0)
     cyc = pinhousing.cycloid
-    _, w, _ = m._cycloid_stage(pinhousing)
+    _, w, _ = m.cycloid_speeds(pinhousing)
     rel = abs(1815.0 * 2 * math.pi / 60 * (w["crank"] - w["disc"]))
     h = cyc.disc_holes
     couple = (167.0 / cyc.disc_count) / (h.crank_hole_circle_radius_mm * 1e-3)
