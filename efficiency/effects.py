@@ -504,7 +504,7 @@ def contact_compliance(cycloid, material) -> float:
     model = cf.model_from_case(SimpleNamespace(cycloid=cycloid, material=material))
     solver = cf.CycleSolver(model, np.array([0.0]))
     c = float(np.mean(np.diag(solver.influence(0))))
-    if cyc.pin_structure == "conventional":
+    if cycloid.pin_structure == "conventional":
         pin = cf.PinModel(model.geometry.pin_radius_m, model.youngs_modulus,
                           model.poisson_ratio, solver.b_ref / 2, model.plane)
         near = np.abs(pin.angles) <= math.pi / 4
