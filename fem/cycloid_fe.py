@@ -34,12 +34,12 @@ from functools import cached_property
 
 import numpy as np
 
-from ..efficiency.friction import hertz_line, reduced_modulus
+from ..efficiency.friction import hertz_line
 from ..errors import ToothfemError, check_range
 from ..geometry import cycloid as cy
 from . import contact
 from .cache import content_key
-from .elastic import Body, plane_modulus
+from .elastic import Body, SameMaterial, plane_modulus
 from .load_sharing import LoadSharing, hertz_fields
 from .mesh import Refinement, mesh_rings
 
@@ -57,7 +57,7 @@ PIN_STRUCTURES = ("conventional", "integral", "rigid")
 
 
 @dataclass(frozen=True)
-class CycloidFEModel:
+class CycloidFEModel(SameMaterial):
     """A disc, its pins and material; torques in N m over the face width."""
     geometry: cy.CycloidGeometry
     holes: cy.DiscHolesSI
@@ -81,14 +81,6 @@ class CycloidFEModel:
         if self.holes.crank_hole_count < 1:
             raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1) to be held")
 
-    @property
-    def e_star(self) -> float:
-        return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
-                                     self.youngs_modulus, self.poisson_ratio))
-
-    @property
-    def e_plane(self) -> float:
-        return plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
 
 
 def model_from_case(case, pin_structure=None) -> CycloidFEModel:

@@ -11,6 +11,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..efficiency.friction import reduced_modulus
 from ..errors import ToothfemError, check_range
 
 
@@ -30,6 +31,21 @@ def plane_modulus(youngs_modulus, poisson_ratio, plane: str = "strain") -> float
     """E/(1 - nu^2) in plane strain, E in plane stress: the modulus of 2D contact formulas."""
     e, nu = float(youngs_modulus), float(poisson_ratio)
     return e / (1 - nu**2) if plane == "strain" else e
+
+
+class SameMaterial:
+    """Moduli of two bodies of one isotropic material (mixin for the FE models: needs
+    ``youngs_modulus``, ``poisson_ratio`` and ``plane``)."""
+
+    @property
+    def e_star(self) -> float:
+        """Hertz's reduced modulus E* of the pair (Johnson 1985)."""
+        return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
+                                     self.youngs_modulus, self.poisson_ratio))
+
+    @property
+    def e_plane(self) -> float:
+        return plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
 
 
 @dataclass(eq=False)

@@ -56,12 +56,12 @@ from functools import cached_property
 
 import numpy as np
 
-from ..efficiency.friction import reduced_modulus
 from ..errors import ToothfemError, check_range
 from ..geometry import sine
+from ..geometry.sine import _perp, _rot  # the same plane-vector helpers
 from . import contact
 from .cache import content_key
-from .elastic import Body, plane_modulus
+from .elastic import Body, SameMaterial
 from .load_sharing import LoadSharing, hertz_fields
 from .mesh import Refinement, mesh_rings
 
@@ -90,7 +90,7 @@ ARC_TABLE_POINTS = 2049
 
 # ---------------------------------------------------------------------------------------
 @dataclass(frozen=True)
-class SineFEModel:
+class SineFEModel(SameMaterial):
     """The sine pair, its material and the two supports (SI units)."""
     pair: sine.SineGearPair
     youngs_modulus: float
@@ -126,14 +126,6 @@ class SineFEModel:
     def face_width(self) -> float:
         return self.pair.face_width_m
 
-    @property
-    def e_star(self) -> float:
-        return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
-                                     self.youngs_modulus, self.poisson_ratio))
-
-    @property
-    def e_plane(self) -> float:
-        return plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
 
 
 #: Ring rim per module outside the ring's pitch circle when the case gives none (the
@@ -182,15 +174,6 @@ def planet_torque(case) -> float:
 
 # ---------------------------------------------------------------------------------------
 # toothed boundaries: arc length and the periodic hat grid
-
-def _perp(v):
-    return np.stack([-v[1], v[0]])
-
-
-def _rot(theta, v):
-    c, s = np.cos(theta), np.sin(theta)
-    return np.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
-
 
 @dataclass(eq=False)
 class _Toothed:

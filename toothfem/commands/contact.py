@@ -180,9 +180,7 @@ def _sine(case, args, progress):
         body, u = detail.planet, detail.planet_displacement
     k = int(np.argmax(ls.force[worst]))
     c, th = sine.planet_pose(model.pair, phis[worst])
-    d = ls.point[worst, k] - c[:, 0]
-    centre = np.array([math.cos(-th[0]) * d[0] - math.sin(-th[0]) * d[1],
-                       math.sin(-th[0]) * d[0] + math.cos(-th[0]) * d[1]])
+    centre = sine._rot(-th[0], ls.point[worst, k] - c[:, 0])     # planet frame
     summary = {"planet_torque_Nm": torque,
                "planet_bore_radius_mm": model.planet_bore_radius * 1e3,
                "ring_outer_radius_mm": model.ring_outer_radius * 1e3}
