@@ -39,6 +39,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import CaseError, ToothfemError, check_range
+from ..fem.hertz import reduced_modulus
 from . import friction as fr
 
 LOADS = ("analytic", "fem")
@@ -171,7 +172,7 @@ def table_from_records(state, records, loads):
 
 def _e_star(material):
     e = material.youngs_modulus_GPa * 1e9
-    return float(fr.reduced_modulus(e, material.poisson_ratio, e, material.poisson_ratio))
+    return float(reduced_modulus(e, material.poisson_ratio, e, material.poisson_ratio))
 
 
 #: Torques, as fractions of the case's declared torque on the member, at which the FE load

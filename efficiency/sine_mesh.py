@@ -33,7 +33,8 @@ from ..errors import ToothfemError, check_range
 from ..fem.load_sharing import LoadSharing, analytic_split
 from ..geometry import sine
 from ..geometry.kinematics import MeshingState
-from .friction import ALPHA_MINERAL_OIL, XU2007_COEFFICIENTS, reduced_modulus
+from ..fem.hertz import reduced_modulus
+from .friction import ALPHA_MINERAL_OIL, XU2007_COEFFICIENTS
 from .mesh_loss import MeshLoss, mesh_loss, stage_power
 
 __all__ = [

@@ -34,7 +34,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..efficiency.friction import hertz_line
+from .hertz import hertz_line
 from ..errors import ToothfemError, check_range
 from ..geometry import cycloid as cy
 from . import contact

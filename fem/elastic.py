@@ -11,7 +11,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..efficiency.friction import reduced_modulus
+from .hertz import reduced_modulus
 from ..errors import ToothfemError, check_range
 
 

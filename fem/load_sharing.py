@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..efficiency.friction import hertz_line
+from .hertz import hertz_line
 from ..errors import ToothfemError, check_range
 
 #: Hertz's half-space assumption is flagged when the half-width exceeds this fraction of the

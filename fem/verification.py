@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..efficiency.friction import hertz_line, reduced_modulus
+from .hertz import hertz_line, reduced_modulus
 from . import contact
 from .elastic import Body
 from .mesh import Refinement, mesh_rings, refine_ring

@@ -21,10 +21,9 @@ from toothfem.efficiency.friction import (
     central_film_thickness_line,
     coulomb,
     ehl_xu2007,
-    hertz_line,
     minimum_film_thickness_line,
-    reduced_modulus,
 )
+from toothfem.fem.hertz import hertz_line, reduced_modulus
 
 REL = 1e-12
 

@@ -171,7 +171,7 @@ def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
                for r in rows)
     f = [float(r["max_force_N"]) for r in rows]
     assert f[1] / f[0] == pytest.approx(t_out[1] / t_out[0], rel=1e-7)
-    from toothfem.efficiency.friction import reduced_modulus
+    from toothfem.fem.hertz import reduced_modulus
     from toothfem.geometry import sine
 
     state = sine.meshing(case.sine.geometry(), np.linspace(0, 2 * math.pi / 80, 6,

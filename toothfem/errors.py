@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 
 class ToothfemError(ValueError):
     """Base class of every error toothfem raises on bad input.
@@ -77,3 +79,22 @@ def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
     exc.param, exc.value, exc.lo, exc.hi = name, value, lo, hi
     exc.lo_open, exc.hi_open, exc.why = lo_open, hi_open, why
     return exc
+
+
+def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False, why=""):
+    """``value`` as a float array; raise ToothfemError naming the first bad element (the
+    vectorised :func:`check_range`)."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ToothfemError(f"{name} = {value!r} is not a number") from None
+    bad = ~np.isfinite(a)
+    if lo is not None:
+        bad |= (a <= lo) if lo_open else (a < lo)
+    if hi is not None:
+        bad |= (a >= hi) if hi_open else (a > hi)
+    if bad.any():
+        idx = tuple(int(i) for i in np.argwhere(bad)[0])
+        label = name if a.ndim == 0 else f"{name}[{','.join(map(str, idx))}]"
+        check_range(label, float(a[idx]), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why)
+    return a

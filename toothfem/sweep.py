@@ -487,7 +487,7 @@ def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
                                 cache=None if cache_dir is None else DiskCache(Path(cache_dir)))
         solver.planet, solver.ring        # meshes, factorisations, influence tables
         return lambda torque: _summary(solver.solve(torque))
-    from .efficiency.friction import reduced_modulus
+    from .fem.hertz import reduced_modulus
     from .fem.load_sharing import analytic_split
     from .geometry import sine
 

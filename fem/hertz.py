@@ -1,0 +1,54 @@
+"""Contact mechanics shared by the FE model and the efficiency model: the contact modulus
+and Hertz's line contact (Johnson, *Contact Mechanics*, 1985). SI arguments, vectorised
+over numpy arrays (all-scalar input gives float output).
+
+Conventions: ``E*`` with ``1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2`` is what
+:func:`reduced_modulus` returns and :func:`hertz_line` takes; the EHL film formulas of
+``toothfem.efficiency.friction`` take ``E' = 2 E*``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import checked_array as _array
+
+
+def float_or_array(x):
+    """A writable float copy of ``x``: a float for scalar input, else an array."""
+    x = np.array(x, dtype=float)          # a writable copy (inputs may be broadcast views)
+    return float(x) if x.ndim == 0 else x
+
+
+def reduced_modulus(e1, nu1, e2, nu2):
+    """Contact modulus E* [Pa] of two elastic bodies (Johnson 1985, Eq. 4.22/4.45).
+
+    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``.  E1, E2 in Pa (> 0); Poisson ratios in
+    (-1, 0.5].  Note: EHL film formulas use ``E' = 2 E*``.
+    """
+    e1 = _array("E1", e1, 0.0, lo_open=True, why="Young's modulus [Pa]")
+    e2 = _array("E2", e2, 0.0, lo_open=True, why="Young's modulus [Pa]")
+    nu1 = _array("nu1", nu1, -1.0, lo_open=True, hi=0.5, why="Poisson ratio")
+    nu2 = _array("nu2", nu2, -1.0, lo_open=True, hi=0.5, why="Poisson ratio")
+    return float_or_array(1.0 / ((1.0 - nu1**2) / e1 + (1.0 - nu2**2) / e2))
+
+
+def hertz_line(w_per_length, r_eq, e_reduced):
+    """Hertz line (2-D cylinder) contact: returns ``(p0, b)``.
+
+    Johnson, *Contact Mechanics* (1985), Eq. 4.45:
+    ``b = sqrt(4 w R / (pi E*))`` (semi-width, m) and ``p0 = 2 w / (pi b)
+    = sqrt(w E* / (pi R))`` (peak pressure, Pa).
+
+    w_per_length : load per unit contact length [N/m], > 0.
+    r_eq : equivalent radius 1/R = 1/R1 + 1/R2 [m], > 0 (concave body: negative R2).
+    e_reduced : E* [Pa] from :func:`reduced_modulus` (not E' = 2E*).
+    Valid for elastic, frictionless, non-conforming contact with b << R.
+    """
+    w = _array("w_per_length", w_per_length, 0.0, lo_open=True, why="load per length [N/m]")
+    r = _array("r_eq", r_eq, 0.0, lo_open=True, why="equivalent radius [m]")
+    e = _array("e_reduced", e_reduced, 0.0, lo_open=True, why="contact modulus E* [Pa]")
+    b = np.sqrt(4.0 * w * r / (math.pi * e))
+    p0 = 2.0 * w / (math.pi * b)
+    return float_or_array(p0), float_or_array(b)
