@@ -27,6 +27,7 @@ sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
 from toothfem.fem import cycloid_fe as cf  # noqa: E402
+from toothfem.fem.drives import drive_for
 
 TOLERANCE = 0.05   # issue 3, item 5e
 
@@ -57,14 +58,14 @@ def main(argv=None):
                        check=True)
     peer_pos, peer_pins = read_peer(folder, args.mesh_size_mm)
     case = load_case(args.case)
-    torque = cf.disc_torque(case)
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     zb = case.cycloid.pin_count
     fracs = [float(Fraction(r["position_fraction_of_pitch"])) for r in peer_pos]
     phis = np.array(fracs) * 2 * math.pi / zb
     results = {}
     for structure in ("rigid", "conventional"):
         t = time.perf_counter()
-        ls = cf.CycleSolver(cf.model_from_case(case, structure), phis).solve(torque)
+        ls = cf.CycleSolver(drive_for(case).fe_model(pin_structure=structure), phis).solve(torque)
         results[structure] = (ls, (time.perf_counter() - t) / len(phis))
     ls, t_ours = results["rigid"]
     print(f"peer mesh h_c = {args.mesh_size_mm} mm; toothfem cycle mode, rigid pins "

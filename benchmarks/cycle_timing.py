@@ -20,6 +20,7 @@ sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
 from toothfem.fem import cycloid_fe as cf  # noqa: E402
+from toothfem.fem.drives import drive_for
 
 
 def main(argv=None):
@@ -33,8 +34,8 @@ def main(argv=None):
                     help="run the peer at one position now instead of reading its results")
     args = ap.parse_args(argv)
     case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-    model = cf.model_from_case(case, args.pins)
-    torque = cf.disc_torque(case)
+    model = drive_for(case).fe_model(pin_structure=args.pins)
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, args.positions,
                        endpoint=False)
     t0 = time.perf_counter()

@@ -11,6 +11,7 @@ import numpy as np
 from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.plots import contacts_versus_torque
+from toothfem.fem.drives import drive_for
 
 ROOT = Path(__file__).resolve().parent.parent
 PHI = np.array([0.05])                     # one generic crank angle
@@ -18,7 +19,7 @@ TORQUES = np.array([10, 25, 50, 91.85, 150, 250, 400])
 
 if __name__ == "__main__":
     case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-    base = cf.model_from_case(case)
+    base = drive_for(case).fe_model()
     designs = {
         "unmodified": base.geometry,
         "equidistant +10 um, move -10 um": replace(base.geometry, equidistant_m=10e-6,

@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from toothfem import load_case
-from toothfem.efficiency import model as m
+from toothfem.efficiency import evaluation as m
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -46,10 +46,11 @@ def report(name, value, unit, target=None, ok=None):
 
 def cycle_and_detailed(args):
     from toothfem.fem import cycloid_fe as cf
+    from toothfem.fem.drives import drive_for
 
     case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-    model = cf.model_from_case(case, "conventional")
-    torque = cf.disc_torque(case)
+    model = drive_for(case).fe_model(pin_structure="conventional")
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, 36, endpoint=False)
     from toothfem.fem.cache import DiskCache
 
@@ -98,7 +99,7 @@ def cycle_and_detailed(args):
 
 
 def efficiency_map():
-    from toothfem.efficiency import model as m
+    from toothfem.efficiency import evaluation as m
 
     case = load_case(ROOT / "cases" / "sine_prototype.toml")
     speed, torque = m.operating_point(case)
@@ -118,6 +119,7 @@ def loop_time():
     from toothfem.efficiency import effects as fx
     from toothfem.efficiency import loop as lp
     from toothfem.efficiency import synthetic as sy
+    from toothfem.fem.drives import drive_for
 
     sine = load_case(ROOT / "cases" / "sine_prototype.toml")
     cyc = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")

@@ -13,7 +13,9 @@ from pathlib import Path
 import numpy as np
 
 from toothfem import load_case
-from toothfem.efficiency import model as m
+from toothfem.efficiency import evaluation as m
+from toothfem.efficiency.mesh_table import mesh_table
+from toothfem.fem.drives import drive_for
 from toothfem.plots import efficiency_vs_torque
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -42,9 +44,9 @@ def main():
           f"{100 * case.measured[0].efficiency:.2f}")
 
     # eccentric bearing: the planet's equilibrium with and without the pins' resultant
-    table = m.sine_table(case.sine, case.material)
+    table = mesh_table(drive_for(case))
     force, _ = table.at(np.array([t2]))
-    mesh_res = m._resultant(table, force)[0]
+    mesh_res = table.resultant(force)[0]
     e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
     sum_q = 4 * t2 / (math.pi * case.output_mechanism.pin_hole_circle_radius_mm * 1e-3)
     f_with = np.mean(np.linalg.norm(mesh_res - sum_q * e_dir, axis=1))

@@ -22,6 +22,7 @@ from toothfem import load_case  # noqa: E402
 from toothfem.fem import sine_fe as sf  # noqa: E402
 from toothfem.fem.load_sharing import analytic_split, hertz_fields  # noqa: E402
 from toothfem.geometry import sine  # noqa: E402
+from toothfem.fem.drives import drive_for
 
 ARCSEC = 180 * 3600 / math.pi
 
@@ -163,8 +164,8 @@ def main(argv=None):
     ap.add_argument("--skip-supports", action="store_true")
     args = ap.parse_args(argv)
     case = load_case(ROOT / "cases" / "sine_prototype.toml")
-    model = sf.model_from_case(case)
-    torque = sf.planet_torque(case)
+    model = drive_for(case).fe_model()
+    torque = drive_for(case).member_torque(case.to_si().declared_output_torque_Nm())
     cycle_figures(case, model, torque, args.positions)
     if not args.skip_detailed:
         detailed_figures(model, torque, [0.0, 0.3, 0.62])

@@ -64,9 +64,9 @@ def repeated_load(case, positions, pins):
     from toothfem.fem import cycloid_fe as cf
     from toothfem.fem.cache import DiskCache
 
-    model = cf.model_from_case(case, pins)
+    model = drive_for(case).fe_model(pin_structure=pins)
     phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, positions, endpoint=False)
-    torque = cf.disc_torque(case)
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     with tempfile.TemporaryDirectory() as tmp:
         cache = DiskCache(Path(tmp))
         t0 = time.perf_counter()
@@ -82,6 +82,7 @@ def repeated_load(case, positions, pins):
 
 def main(argv=None):
     from toothfem import load_case
+    from toothfem.fem.drives import drive_for
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--designs", type=int, default=8)

@@ -42,13 +42,17 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from types import SimpleNamespace
 from typing import Callable
 
 import numpy as np
 
 from ..errors import ToothfemError, check_range
-from . import model as _model
+from ..fem import cycloid_fe as cf
+from ..fem.drives import drive_for
+from .drive_losses import disc_contact_losses
+from .evaluation import evaluate
+from .lubricant import viscosity_factor
+from .mesh_table import table_from_records
 
 # ---------------------------------------------------------------------------------------
 # Records
@@ -201,8 +205,8 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
     key = tuple(sorted(key))
     ev = None if cache is None else cache.get(key)
     if ev is None:
-        ev = _model.evaluate(model_case, points.speed_rpm, points.torque_Nm,
-                             points.oil_temp_C, loads=loads)
+        ev = evaluate(model_case, points.speed_rpm, points.torque_Nm, points.oil_temp_C,
+                      loads=loads)
         if cache is not None:
             cache[key] = ev
     losses = dict(ev.losses_W)
@@ -260,7 +264,7 @@ def _set(section, name):
 
 def crank_speed_factor(case) -> float:
     """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
-    return abs(_model.cycloid_speeds(case)[1]["crank"])
+    return abs(drive_for(case).speeds()["crank"])
 
 
 def _need_cycloid(case, points):
@@ -491,7 +495,7 @@ CLEARANCE_POSITIONS = 36
 
 
 @lru_cache(maxsize=8)
-def contact_compliance(cycloid, material) -> float:
+def contact_compliance(drive) -> float:
     """Compliance of one pin contact [m per N/m of face width] for the equal-springs
     contact model: the mean diagonal of the disc's FE influence matrix (plus the integral
     housing's, which the cycle solver adds) at the candidate pins of one position, plus
@@ -499,12 +503,10 @@ def contact_compliance(cycloid, material) -> float:
     45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
     half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
     terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
-    from ..fem import cycloid_fe as cf
-
-    model = cf.model_from_case(SimpleNamespace(cycloid=cycloid, material=material))
-    solver = cf.CycleSolver(model, np.array([0.0]))
+    solver = drive.cycle_solver(1, cache=False)
+    model = solver.model
     c = float(np.mean(np.diag(solver.influence(0))))
-    if cycloid.pin_structure == "conventional":
+    if model.pin_structure == "conventional":
         pin = cf.PinModel(model.geometry.pin_radius_m, model.youngs_modulus,
                           model.poisson_ratio, solver.b_ref / 2, model.plane)
         near = np.abs(pin.angles) <= math.pi / 4
@@ -536,29 +538,26 @@ def clearance_tables(case, points: Points, compliance=None,
     sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
     bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
     is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
-    from ..fem import cycloid_fe as cf
-    from ..geometry import cycloid as cy
-
     cyc = case.cycloid
+    drive = drive_for(case)
     if compliance is None:
-        compliance = contact_compliance(cyc, case.material)
-    t_disc = points.torque_Nm / cyc.disc_count
+        compliance = contact_compliance(drive)
+    t_disc = drive.member_torque(points.torque_Nm, peak=False)
     lo, hi = float(np.min(t_disc)), float(np.max(t_disc))
     torques = np.geomspace(lo, hi, CLEARANCE_TORQUES) if hi > lo * 1.01 else np.array([hi])
     crank = np.abs(points.speed_rpm * 2 * math.pi / 60 * crank_speed_factor(case))
-    visc = _model.viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
+    visc = viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
     eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
     pins, bearing, contacts = [], [], []
     for c_mm in grid_mm:
-        cc = dataclasses.replace(cyc, equidistant_modification_mm=float(c_mm))
-        g = cc.geometry()
-        phis = np.linspace(0.0, 2 * math.pi / g.pin_count, CLEARANCE_POSITIONS, endpoint=False)
-        state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
-        model = cf.model_from_case(SimpleNamespace(cycloid=cc, material=case.material))
-        solver = cf.CycleSolver(model, phis, equal_springs=compliance)
+        d = drive_for(dataclasses.replace(case, cycloid=dataclasses.replace(
+            cyc, equidistant_modification_mm=float(c_mm))))
+        state = d.meshing(d.positions(CLEARANCE_POSITIONS))
+        solver = d.cycle_solver(CLEARANCE_POSITIONS, cache=False,
+                                solver_options={"equal_springs": compliance})
         records = [solver.solve(float(t)) for t in torques]
-        table = _model.table_from_records(state, records, "equal_springs")
-        loss, f_bearing = _model.disc_contact_losses(case, table, t_disc, crank, eta0)
+        table = table_from_records(state, records, "equal_springs")
+        loss, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0)
         pins.append(loss)
         bearing.append(f_bearing)
         contacts.append(float(np.mean(records[-1].contacts_per_position)))

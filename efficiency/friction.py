@@ -295,3 +295,10 @@ def coulomb(mu):
 
     law.__doc__ = f"Coulomb friction law, mu = {m:g} (see toothfem.efficiency.friction.coulomb)."
     return law
+
+
+def composite_roughness(ra_m):
+    """Composite RMS roughness S of two like surfaces [m] from each one's Ra [m]:
+    S = sqrt(Rq1^2 + Rq2^2) with Rq = 1.25 Ra (Gaussian heights). PLACEHOLDER: the
+    oracle-side helper settles the definition and its source."""
+    return np.sqrt(2.0) * 1.25 * np.asarray(ra_m, float)

@@ -64,22 +64,38 @@ def schlenk_mu(load_per_width_N_mm, sum_velocity_m_s, rho_red_mm, eta_oil_mPa_s,
         * ra_um ** 0.25 * x_l
 
 
-def mesh_efficiency(stage, sun_torque_Nm, relative_speed_rad_s, eta_oil_Pa_s, ra_um,
+def mesh_efficiency(stage, sun_torque_Nm, relative_speed_rad_s, eta_oil_Pa_s, ra_m,
                     planets: int | None = None):
     """Efficiency of the sun-planet mesh in the carrier frame, eta = 1 - mu_mz H_V.
 
-    ``stage``: the case's first_stage section (teeth, module, pressure angle, planets);
-    ``sun_torque_Nm`` and ``relative_speed_rad_s`` (sun relative to the carrier) arrays."""
+    Parameters
+    ----------
+    stage : toothfem.si.SpurStageSI
+        Teeth, module, pressure angle, face width and planets of the stage.
+    sun_torque_Nm, relative_speed_rad_s : array_like
+        Sun torque [N m] and the sun's speed relative to the carrier [rad/s].
+    eta_oil_Pa_s : array_like
+        Dynamic viscosity of the oil [Pa s].
+    ra_m : float
+        Arithmetic mean roughness Ra of the flanks [m].
+    planets : int, optional
+        Planets sharing the sun's torque (default: the stage's).
+
+    Returns
+    -------
+    numpy.ndarray
+        The mesh efficiency.
+    """
     z1, z2 = stage.sun_teeth, stage.planet_teeth
-    a = math.radians(stage.pressure_angle_deg)
-    m = stage.module_mm
+    a = stage.pressure_angle_rad
+    m_mm = stage.module_m * 1e3                             # Schlenk's law works in mm
     n_p = planets or stage.planet_count
-    r1 = z1 * m / 2                                         # mm
+    r1 = z1 * m_mm / 2                                      # mm
     f_bt = np.asarray(sun_torque_Nm, float) * 1e3 / (r1 * math.cos(a)) / n_p     # N
-    width = stage.face_width_mm if getattr(stage, "face_width_mm", None) else 10 * m
+    width = stage.face_width_m * 1e3                        # mm
     v_t = np.abs(np.asarray(relative_speed_rad_s, float)) * r1 * 1e-3          # m/s
     v_sum = 2 * v_t * math.sin(a)                           # sum velocity at the pitch point
-    rho1, rho2 = r1 * math.sin(a), z2 * m / 2 * math.sin(a)
+    rho1, rho2 = r1 * math.sin(a), z2 * m_mm / 2 * math.sin(a)
     rho_red = rho1 * rho2 / (rho1 + rho2)
-    mu = schlenk_mu(f_bt / width, v_sum, rho_red, np.asarray(eta_oil_Pa_s) * 1e3, ra_um)
+    mu = schlenk_mu(f_bt / width, v_sum, rho_red, np.asarray(eta_oil_Pa_s) * 1e3, ra_m * 1e6)
     return 1 - mu * loss_factor(z1, z2, a)

@@ -68,6 +68,10 @@ class CycloidFEModel(SameMaterial):
     plane: str = "strain"
     housing_outer_radius: float | None = None   # integral structure: clamped outer edge, m
 
+    def describe(self) -> dict:
+        """The model's choices as a report shows them."""
+        return {"pin_structure": self.pin_structure}
+
     def __post_init__(self):
         check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)
         check_range("face_width", self.face_width, 0, None, lo_open=True)
@@ -81,21 +85,6 @@ class CycloidFEModel(SameMaterial):
         if self.holes.crank_hole_count < 1:
             raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1) to be held")
 
-
-
-def model_from_case(case, pin_structure=None) -> CycloidFEModel:
-    """The FE model of a cycloid case; ``pin_structure`` overrides the case's."""
-    st = case.cycloid
-    return CycloidFEModel(st.geometry(), st.holes_si(), case.material.youngs_modulus_GPa * 1e9,
-                          case.material.poisson_ratio, st.face_width_mm * 1e-3,
-                          pin_structure or st.pin_structure, "strain",
-                          st.housing_outer_radius_mm * 1e-3)
-
-
-def disc_torque(case) -> float:
-    """Torque on one disc: disc_load_factor * output torque / disc_count (seed Eq. 6)."""
-    st = case.cycloid
-    return st.disc_load_factor * case.operating.output_torque_Nm / st.disc_count
 
 
 # ---------------------------------------------------------------------------------------
@@ -473,7 +462,15 @@ class CycleSolver:
         for p in range(len(pos)):
             self._influence[p] = np.asarray(tables[f"influence_{p}"], float)
 
-    def disc_field(self, p: int, load_sharing: LoadSharing):
+    #: the cycle mode smears its loads over the disc (no contact-zone stress): see
+    #: :meth:`structural_field`.
+    has_structural_field = True
+
+    def prepare(self) -> None:
+        """Build (or read from the cache) every torque-independent table now."""
+        self.tables()
+
+    def structural_field(self, p: int, load_sharing: LoadSharing):
         """(disc Body, displacement dofs) at position p under the solved contact forces
         (Hertz strips of b_ref pressing along the inward normal), disc frame."""
         pos, _, disc, _ = self._setup
@@ -576,6 +573,15 @@ class DetailedResult:
     dofs: int
     disc: object = None         # the disc Body (disc frame)
     disc_displacement: np.ndarray = None
+
+    @property
+    def member_body(self):
+        """The moving member's Body (the disc), as every drive's detailed result names it."""
+        return self.disc
+
+    @property
+    def member_displacement(self):
+        return self.disc_displacement
 
 
 def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,

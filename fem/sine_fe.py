@@ -126,6 +126,11 @@ class SineFEModel(SameMaterial):
     def face_width(self) -> float:
         return self.pair.face_width_m
 
+    def describe(self) -> dict:
+        """The model's supports as a report shows them."""
+        return {"planet_bore_radius_mm": self.planet_bore_radius * 1e3,
+                "ring_outer_radius_mm": self.ring_outer_radius * 1e3}
+
 
 
 #: Ring rim per module outside the ring's pitch circle when the case gives none (the
@@ -133,43 +138,30 @@ class SineFEModel(SameMaterial):
 RING_RIM_MODULES = 5.0
 
 
-def model_from_case(case, planet_bore_radius_m: float | None = None,
+def model_from_pair(pair, material, output_mechanism=None, *,
+                    planet_bore_radius_m: float | None = None,
                     ring_outer_radius_m: float | None = None, **kw) -> SineFEModel:
-    """The FE model of a sine case.
+    """The FE model of a sine pair (SI records: :class:`toothfem.si.MaterialSI`,
+    :class:`toothfem.si.OutputMechanismSI` or None); ``kw`` are :class:`SineFEModel`'s.
 
     Defaults (ASSUMPTIONS, the paper gives neither): the planet is held at the inner edge
     of its output-pin holes, R_w - (r_x + a0) (19.75 mm for the prototype; the holes
     themselves are not modelled: a solid web, stiffer than the real one), or at r1/2
     without an output mechanism; the ring is clamped at r2 + 5 m.
     """
-    if getattr(case, "drive", None) != "sine" or case.sine is None:
-        raise ToothfemError(f"case.drive = {getattr(case, 'drive', None)!r}: the sine FE "
-                            "model needs a sine case")
-    pair = case.sine.geometry()
     if planet_bore_radius_m is None:
-        om = case.output_mechanism
+        om = output_mechanism
         if om is not None:
-            planet_bore_radius_m = (om.pin_hole_circle_radius_mm - om.pin_radius_mm) * 1e-3 \
+            planet_bore_radius_m = om.pin_hole_circle_radius_m - om.pin_radius_m \
                 - pair.centre_distance_m
         else:
             planet_bore_radius_m = 0.5 * pair.planet_pitch_radius_m
     if ring_outer_radius_m is None:
         ring_outer_radius_m = pair.ring_pitch_radius_m + RING_RIM_MODULES * pair.module_m
-    return SineFEModel(pair, case.material.youngs_modulus_GPa * 1e9,
-                       case.material.poisson_ratio, float(planet_bore_radius_m),
-                       float(ring_outer_radius_m), **kw)
-
-
-def planet_torque(case) -> float:
-    """Torque (N m) carried by the planet at the case's operating point: the output torque
-    if given, else the input torque times the ratio |z1/(z2 - z1)| (79; lossless)."""
-    op = case.operating
-    if op.output_torque_Nm:
-        return float(op.output_torque_Nm)
-    if op.input_torque_Nm:
-        return float(op.input_torque_Nm) * abs(case.ratio())
-    raise ToothfemError("operating.output_torque_Nm or operating.input_torque_Nm is needed "
-                        "for the planet torque (or pass torque_Nm)")
+    return SineFEModel(pair=pair, youngs_modulus=material.youngs_modulus_Pa,
+                       poisson_ratio=material.poisson_ratio,
+                       planet_bore_radius=float(planet_bore_radius_m),
+                       ring_outer_radius=float(ring_outer_radius_m), **kw)
 
 
 # ---------------------------------------------------------------------------------------
@@ -458,6 +450,13 @@ class CycleSolver:
                     "surfaces: 1/500 to 1/5 of the module")
         check_range("select_gap", self.select_gap, 0, SELECT_GAP_MAX, lo_open=True)
 
+    #: the hat grids give no stress field of their own (the detailed mode does).
+    has_structural_field = False
+
+    def prepare(self) -> None:
+        """Build (or read from the cache) both bodies' hat tables now."""
+        self.planet, self.ring
+
     @property
     def reach(self) -> int:
         """Teeth between any two contact hats, at most (candidates on both sides, the ring
@@ -681,25 +680,6 @@ def _hertz_gap_fails(model, toothed, positions, beta, sel, sig_c, b, r_eq):
     return out
 
 
-def solve_cycle(case_or_model, n_positions: int = 36, torque_Nm: float | None = None,
-                progress=None, **kw) -> LoadSharing:
-    """Cycle mode over one tooth pitch (crank angles k 2 pi/z2 / n, k < n) at the planet
-    torque ``torque_Nm`` (default: the case's operating point, :func:`planet_torque`).
-    ``kw`` go to :class:`CycleSolver` (``spacing``, ``select_gap``)."""
-    n = int(check_range("n_positions", n_positions, 1, 3600))
-    if isinstance(case_or_model, SineFEModel):
-        model = case_or_model
-        if torque_Nm is None:
-            raise ToothfemError("torque_Nm is required with a SineFEModel (no operating point)")
-    else:
-        model = model_from_case(case_or_model)
-        if torque_Nm is None:
-            torque_Nm = planet_torque(case_or_model)
-    check_range("torque_Nm", torque_Nm, 0, None, lo_open=True)
-    phis = np.arange(n) * model.pair.crank_pitch_rad / n
-    return CycleSolver(model, phis, **kw).solve(torque_Nm, progress=progress)
-
-
 # ---------------------------------------------------------------------------------------
 # Detailed mode
 
@@ -729,6 +709,15 @@ class DetailedResult:
     ring_displacement: np.ndarray
     zone_gap: float
     min_gap_outside: float      # m, loaded gap at the check points outside the zones
+
+    @property
+    def member_body(self):
+        """The moving member's Body (the planet), as every drive's detailed result names it."""
+        return self.planet
+
+    @property
+    def member_displacement(self):
+        return self.planet_displacement
 
 
 def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,

@@ -49,16 +49,17 @@ def test_error_is_one_line_nonzero_exit(tmp_path, capsys, cases_dir):
     assert "no such case file" in capsys.readouterr().err
 
 
-def test_rv_case_has_no_profiles(cases_dir, tmp_path, capsys):
-    assert cli.main(["geometry", str(cases_dir / "rv40e.toml"), "--out", str(tmp_path / "o")]) == 2
-    assert "no profile geometry" in capsys.readouterr().err
-    assert not (tmp_path / "o").exists()
+def test_rv_case_profiles_come_from_its_disc(cases_dir, tmp_path, capsys):
+    """An RV case with its [cycloid] disc has a profile to write (issue 15 item 3; it was
+    refused before the drive abstraction)."""
+    assert cli.main(["geometry", str(cases_dir / "rv40e.toml"), "--out", str(tmp_path / "o")]) == 0
+    assert (tmp_path / "o" / "profile.csv").exists()
 
 
 def test_failed_run_leaves_no_half_written_folder(cases_dir, tmp_path, monkeypatch):
     """The CSV is written, then the drawing fails: the output folder must not appear, and an
     existing folder from an earlier run must stay as it was."""
-    from toothfem import plots
+    from toothfem.report import plots
 
     out = tmp_path / "geo"
     out.mkdir()

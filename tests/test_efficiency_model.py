@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from toothfem import CaseError, ToothfemError, load_case
-from toothfem.efficiency import model as m
+from toothfem.efficiency import evaluation as m
+from toothfem.efficiency.lubricant import viscosity_factor
+from toothfem.fem.drives import drive_for
 from toothfem.efficiency import spur
 from toothfem.efficiency.mesh_loss import mesh_loss
 from toothfem.fem.load_sharing import analytic_split
@@ -41,7 +43,7 @@ def test_pin_contact_loss_matches_mesh_loss_module(pinhousing):
     cyc = case.cycloid
     n_in, t2 = 1815.0, 167.0
     e = m.evaluate(case, n_in, t2, positions=36)
-    _, w, _ = m.cycloid_speeds(case)
+    w = drive_for(case).speeds()
     crank = abs(n_in * 2 * math.pi / 60 * w["crank"])
     g = cyc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, 36, endpoint=False)
@@ -52,7 +54,7 @@ def test_pin_contact_loss_matches_mesh_loss_module(pinhousing):
     # the model reports the pin loss through Chen-Angeles' closed form, which is first
     # order in the loss: (1/eta - 1) vs (1 - eta) differ by the loss fraction squared
     eta2 = float(e.mesh_efficiency["cycloid"][0])
-    p_virtual = t2 * abs(n_in * 2 * math.pi / 60 * (w["crank"] - w["disc"]))
+    p_virtual = t2 * abs(n_in * 2 * math.pi / 60 * (w["crank"] - w["member"]))
     assert (1 - eta2) * p_virtual == pytest.approx(by_module, rel=1e-12)
     assert by_module > 0
 
@@ -90,9 +92,9 @@ def test_sine_losses_add_up_and_trend(sine):
 
 def test_viscosity_temperature(rv):
     lub = rv.lubricant
-    assert m.viscosity_factor(lub, lub.reference_temperature_C) == pytest.approx(1.0)
+    assert viscosity_factor(lub, lub.reference_temperature_C) == pytest.approx(1.0)
     # VG 68: 68 mm2/s at 40 C, 8.7 at 100 C (typical data sheet); B = 900 within 5 %
-    assert 1 / m.viscosity_factor(lub, 100.0) == pytest.approx(68 / 8.7, rel=0.05)
+    assert 1 / viscosity_factor(lub, 100.0) == pytest.approx(68 / 8.7, rel=0.05)
     with pytest.raises(CaseError, match="oil_temp_C = -120.0 is outside the valid range"):
         m.evaluate(rv, 1500.0, 400.0, oil_temp_C=-120.0)
 
@@ -176,8 +178,8 @@ def test_crank_bearings_carry_the_disc_torque(pinhousing):
     f r_b (T/R_c) w_rel per disc (the reviewer's bound)."""
     e = m.evaluate(pinhousing, 1815.0, 167.0)
     cyc = pinhousing.cycloid
-    _, w, _ = m.cycloid_speeds(pinhousing)
-    rel = abs(1815.0 * 2 * math.pi / 60 * (w["crank"] - w["disc"]))
+    w = drive_for(pinhousing).speeds()
+    rel = abs(1815.0 * 2 * math.pi / 60 * (w["crank"] - w["member"]))
     h = cyc.disc_holes
     couple = (167.0 / cyc.disc_count) / (h.crank_hole_circle_radius_mm * 1e-3)
     bound = cyc.disc_count * pinhousing.friction.bearing_coefficient * couple \

@@ -13,6 +13,7 @@ from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.load_sharing import analytic_split
 from toothfem.geometry import cycloid as cy
+from toothfem.fem.drives import drive_for
 
 
 @pytest.fixture(scope="module")
@@ -22,7 +23,7 @@ def case(cases_dir):
 
 @pytest.fixture(scope="module")
 def model(case):
-    return cf.model_from_case(case, "conventional")
+    return drive_for(case).fe_model(pin_structure="conventional")
 
 
 PHIS = np.array([0.013, 0.061, 0.117])      # generic crank angles within one pin pitch
@@ -30,13 +31,13 @@ PHIS = np.array([0.013, 0.061, 0.117])      # generic crank angles within one pi
 
 @pytest.fixture(scope="module")
 def cycle(model, case):
-    return cf.CycleSolver(model, PHIS).solve(cf.disc_torque(case))
+    return cf.CycleSolver(model, PHIS).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
 
 
 def test_torque_equilibrium_every_position(cycle, case):
     """sum F_i l_i = T to 1e-8 relative (the solver imposes it as a constraint)."""
     assert np.all(np.abs(cycle.torque_residual()) < 1e-8)
-    assert cycle.torque == pytest.approx(cf.disc_torque(case))
+    assert cycle.torque == pytest.approx(drive_for(case).member_torque(case.operating.output_torque_Nm))
 
 
 def test_cycle_mode_physics(cycle):
@@ -56,7 +57,7 @@ def test_cycle_mode_physics(cycle):
 def test_rigid_body_limit_reproduces_seed(model, case):
     """Stiff bodies, equal springs: F_i = F_max l_i / r_a (pin-housing paper Eq. 10) on the
     20 pins with 0 < theta_b < pi; F_max from the exact sum of l_i^2 (Eq. 13 within 1e-4)."""
-    torque = cf.disc_torque(case)
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     ls = cf.CycleSolver(model, PHIS, equal_springs=1e-11).solve(torque)
     state = cy.meshing(model.geometry, PHIS)
     seed = analytic_split(state, torque, model.face_width, model.e_star)
@@ -72,21 +73,21 @@ def test_clearance_modification_loads_fewer_pins_harder(case, cycle):
     from dataclasses import replace
 
     g = replace(case.cycloid.geometry(), equidistant_m=10e-6, move_distance_m=-10e-6)
-    model = replace(cf.model_from_case(case, "conventional"), geometry=g)
-    mod = cf.CycleSolver(model, PHIS).solve(cf.disc_torque(case))
+    model = replace(drive_for(case).fe_model(pin_structure="conventional"), geometry=g)
+    mod = cf.CycleSolver(model, PHIS).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(mod.contacts_per_position < cycle.contacts_per_position)
     assert np.all(mod.force.max(axis=1) > 1.2 * cycle.force.max(axis=1))
     assert np.all(np.abs(mod.torque_residual()) < 1e-8)
     # more torque closes more clearance: the count rises with the load
-    more = cf.CycleSolver(model, PHIS[:1]).solve(3 * cf.disc_torque(case))
+    more = cf.CycleSolver(model, PHIS[:1]).solve(3 * drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert more.contacts_per_position[0] > mod.contacts_per_position[0]
 
 
 def test_new_torque_reuses_influence(model, case):
     s = cf.CycleSolver(model, PHIS[:1])
-    a = s.solve(cf.disc_torque(case))
+    a = s.solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
     infl = s._influence[0]
-    b = s.solve(2 * cf.disc_torque(case))
+    b = s.solve(2 * drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert s._influence[0] is infl
     assert b.force.max() > 1.9 * a.force.max()    # nearly linear (Hertz adds a log)
 
@@ -96,7 +97,7 @@ def test_new_torque_reuses_influence(model, case):
 def test_cycle_and_detailed_modes_agree(model, case, phi):
     """Maximum pin force within 2 % (measured 0.2 %, docs/fem.md); the detailed mode's
     nodal forces balance the torque exactly with their own moment arms."""
-    torque = cf.disc_torque(case)
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     det = cf.solve_detailed(model, phi, torque, elements_per_halfwidth=5)
     cyc = cf.CycleSolver(model, np.array([phi])).solve(torque)
     fd, fc = det.load_sharing.force[0], cyc.force[0]
@@ -113,10 +114,10 @@ def test_cycle_and_detailed_modes_agree(model, case, phi):
 def test_integral_housing_against_conventional(case):
     """The integral structure (pins one piece with a housing clamped at r = 112 mm) shares
     the load like the conventional pins within a few per cent and balances the torque."""
-    integral = cf.CycleSolver(cf.model_from_case(case, "integral"), PHIS[:2]).solve(
-        cf.disc_torque(case))
-    conventional = cf.CycleSolver(cf.model_from_case(case, "conventional"), PHIS[:2]).solve(
-        cf.disc_torque(case))
+    integral = cf.CycleSolver(drive_for(case).fe_model(pin_structure="integral"), PHIS[:2]).solve(
+        drive_for(case).member_torque(case.operating.output_torque_Nm))
+    conventional = cf.CycleSolver(drive_for(case).fe_model(pin_structure="conventional"), PHIS[:2]).solve(
+        drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(np.abs(integral.torque_residual()) < 1e-8)
     assert np.all(integral.contacts_per_position >= 19)
     ratio = integral.force.max(axis=1) / conventional.force.max(axis=1)
@@ -125,8 +126,8 @@ def test_integral_housing_against_conventional(case):
 
 @pytest.mark.slow
 def test_integral_cycle_and_detailed_agree(case):
-    model = cf.model_from_case(case, "integral")
-    torque = cf.disc_torque(case)
+    model = drive_for(case).fe_model(pin_structure="integral")
+    torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     det = cf.solve_detailed(model, 0.05, torque, elements_per_halfwidth=4)
     cyc = cf.CycleSolver(model, np.array([0.05])).solve(torque)
     assert abs(det.load_sharing.force.max() / cyc.force.max() - 1) < 0.02
@@ -139,7 +140,7 @@ def test_integral_housing_outline(case):
     chord sag, < 1e-4 relative)."""
     from shapely.geometry import Polygon
 
-    model = cf.model_from_case(case, "integral")
+    model = drive_for(case).fe_model(pin_structure="integral")
     inner, outer = cf.housing_rings(model, {})
     poly = Polygon(outer.T, [inner.T])
     assert poly.is_valid

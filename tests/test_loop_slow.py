@@ -10,7 +10,9 @@ import pytest
 from toothfem import load_case
 from toothfem.efficiency import effects as fx
 from toothfem.efficiency import loop as lp
-from toothfem.efficiency import model as md
+from toothfem.efficiency import drive_losses as md
+from toothfem.efficiency.mesh_table import table_from_records
+from toothfem.fem.drives import drive_for
 from toothfem.efficiency import synthetic as sy
 
 pytestmark = pytest.mark.slow
@@ -60,7 +62,7 @@ def test_clearance_with_fe_springs(cases):
     named, recovered within 20 %, error cut 3x."""
     cyc = cases["cycloid_pinhousing"]
     cat = fx.catalog()
-    comp = fx.contact_compliance(cyc.cycloid, cyc.material)
+    comp = fx.contact_compliance(drive_for(cyc))
     assert 2e-11 < comp < 8e-11          # 3.8e-11 m per N/m: disc plus integral housing
     data = sy.generate(cyc, {"load_sharing_clearance": (0.004,)}, torque_Nm=(50.0, 167.0),
                        seed=7, catalog=cat)
@@ -81,11 +83,9 @@ def _pin_loss(case, c_mm, springs, torque=120.0, speed=1000.0, positions=12):
     g = cc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, positions, endpoint=False)
     state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
-    model = cf.CycloidFEModel(g, cc.holes_si(), case.material.youngs_modulus_GPa * 1e9,
-                              case.material.poisson_ratio, cc.face_width_mm * 1e-3,
-                              cc.pin_structure, "strain", cc.housing_outer_radius_mm * 1e-3)
+    model = drive_for(R(case, cycloid=cc)).fe_model()
     rec = cf.CycleSolver(model, phis, equal_springs=springs).solve(torque / cc.disc_count)
-    tab = md.table_from_records(state, [rec], "check")
+    tab = table_from_records(state, [rec], "check")
     t_disc = np.array([torque / cc.disc_count])
     crank = np.array([speed * 2 * math.pi / 60 * fx.crank_speed_factor(case)])
     loss = float(md.disc_contact_losses(case, tab, t_disc, crank,
@@ -99,7 +99,7 @@ def test_equal_springs_against_fe_cycle_mode(cases):
     at 5 um (observed 0.713 against 0.739 at 3 um, 0.640 against 0.659 at 10 um), and the
     pins in contact within one."""
     cyc = cases["cycloid_pinhousing"]
-    comp = fx.contact_compliance(cyc.cycloid, cyc.material)
+    comp = fx.contact_compliance(drive_for(cyc))
     s0, _ = _pin_loss(cyc, 0.0, comp)
     f0, _ = _pin_loss(cyc, 0.0, None)
     s1, ns = _pin_loss(cyc, 0.005, comp)

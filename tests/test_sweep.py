@@ -22,6 +22,7 @@ from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.cache import DiskCache, content_key
 from toothfem.fem.load_sharing import analytic_split
 from toothfem.sweep import RESULT_COLUMNS, SINE_IN_MESH_GAP_M, sweep
+from toothfem.fem.drives import drive_for
 
 ECC = "cycloid.eccentricity_mm"
 FAST = dict(positions=2, pins="rigid", progress=False)     # one small factorisation a design
@@ -83,7 +84,7 @@ def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, ca
     assert by[(1.0, 100)]["setup_s"] == by[(1.0, 200)]["setup_s"]
     assert len(list(cache_dir.glob("*.npz"))) == 2
     # the row is the cycle solver's own result (disc torque 1.1 * 100 / 2 N m)
-    model = cf.model_from_case(cycloid, "rigid")
+    model = drive_for(cycloid).fe_model(pin_structure="rigid")
     phis = np.linspace(0, 2 * math.pi / 40, 2, endpoint=False)
     ls = cf.CycleSolver(model, phis, cache=DiskCache(cache_dir)).solve(55.0)
     assert float(by[(1.0, 100)]["max_force_N"]) == pytest.approx(ls.force.max(), rel=1e-8)
@@ -155,7 +156,7 @@ def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
     model (as in `toothfem contact` and `run`)."""
     from dataclasses import replace
 
-    from toothfem.efficiency.model import operating_point
+    from toothfem.efficiency import operating_point
 
     case = load_case(cases_dir / "sine_prototype.toml")
     res = sweep(case, {"operating.input_torque_Nm": [0.2, 0.4]}, positions=6,
@@ -251,7 +252,7 @@ def test_new_torque_costs_no_factorisation_in_memory_or_from_disk(cycloid, splu_
     """Conventional pins: the disc and the pin table are factorised once; a new torque on
     the same solver, or on a fresh solver reading the disk cache, factorises nothing.
     (A coarse patch, b_ref = 0.4 mm, keeps the pin's mesh small.)"""
-    model = cf.model_from_case(cycloid, "conventional")
+    model = drive_for(cycloid).fe_model(pin_structure="conventional")
     phis = np.array([0.061])
     cache = DiskCache(tmp_path)
     coarse = dict(b_ref=4e-4)
@@ -270,7 +271,7 @@ def test_new_torque_costs_no_factorisation_in_memory_or_from_disk(cycloid, splu_
 def test_cache_key_follows_geometry_not_torque(cycloid):
     from dataclasses import replace
 
-    model = cf.model_from_case(cycloid, "rigid")
+    model = drive_for(cycloid).fe_model(pin_structure="rigid")
     phis = np.array([0.0, 0.05])
 
     def key(m=model, p=phis, **kw):
@@ -290,7 +291,7 @@ def test_cache_key_follows_geometry_not_torque(cycloid):
 
 
 def test_corrupt_cache_file_is_recomputed(cycloid, splu_count, tmp_path):
-    model = cf.model_from_case(cycloid, "rigid")
+    model = drive_for(cycloid).fe_model(pin_structure="rigid")
     phis = np.array([0.061])
     cache = DiskCache(tmp_path)
     solver = cf.CycleSolver(model, phis, cache=cache)

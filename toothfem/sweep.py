@@ -47,7 +47,10 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from .case import Case, case_to_dict, load_case, parse_case
-from .efficiency.model import SINE_IN_MESH_GAP_M
+from .efficiency import operating_point
+from .fem.cache import DiskCache
+from .fem.drives import drive_for
+from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 
 
@@ -172,23 +175,26 @@ class _Plan:
 
 
 def _plan(case: Case, vary, torques_Nm, positions, pins, sine_loads="fem") -> _Plan:
-    if _kind(case) is None:
+    try:
+        drive = drive_for(case)
+    except CaseError:
         raise CaseError(f"drive = {case.drive!r} without a [cycloid] disc: the sweep handles "
-                        "sine drives and drives with a cycloid disc")
+                        "sine drives and drives with a cycloid disc") from None
     if sine_loads not in ("fem", "analytic"):
         raise CaseError(f"sine_loads = {sine_loads!r} is not one of ['fem', 'analytic']")
-    loads = "analytic" if _kind(case) == "sine" and sine_loads == "analytic" else "fem"
+    # the analytic split as a sweep's load source is offered for the sine pair (the
+    # cycloid's seed split needs no sweep: it ignores modifications)
+    loads = "analytic" if drive.kind == "sine" and sine_loads == "analytic" else "fem"
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if isinstance(positions, bool) or int(positions) != positions:
         raise CaseError(f"positions = {positions!r} must be an integer")
     if pins is not None:
-        from .fem.cycloid_fe import PIN_STRUCTURES
-
-        if _kind(case) != "cycloid":
+        choices = drive.fe_options.get("pin_structure")
+        if choices is None:
             raise CaseError(f"pins = {pins!r} applies to cycloid discs, not to drive = "
                             f"{case.drive!r}")
-        if pins not in PIN_STRUCTURES:
-            raise CaseError(f"pins = {pins!r} is not one of {list(PIN_STRUCTURES)}")
+        if pins not in choices:
+            raise CaseError(f"pins = {pins!r} is not one of {list(choices)}")
     if not isinstance(vary, Mapping):
         raise CaseError(f"vary must map case keys to lists of values, got "
                         f"{type(vary).__name__}")
@@ -226,13 +232,6 @@ def _plan(case: Case, vary, torques_Nm, positions, pins, sine_loads="fem") -> _P
         load_cases.append((dict(zip(load_keys, combo[1:])), combo[0], ops))
     return _Plan(case, design_keys, load_keys, designs, load_cases, int(positions), pins,
                  {k: v for k, (_, v) in checked.items()}, loads)
-
-
-def _kind(case: Case):
-    """"cycloid" (a [cycloid] disc: cycloid and RV drives), "sine", or None."""
-    if case.cycloid is not None:
-        return "cycloid"
-    return "sine" if case.drive == "sine" else None
 
 
 def _sections(case: Case) -> list:
@@ -317,7 +316,6 @@ def _design(base: dict, case: Case, changes: dict):
 
 
 def _cache(cache_dir):
-    from .fem.cache import DiskCache
 
     if cache_dir is False:
         return None
@@ -387,11 +385,11 @@ def _groups(plan: _Plan, emit) -> list:
                     design.operating, **ops))
                 t_out = _output_torque(loaded, torque, set(ops))
                 base["output_torque_Nm"] = t_out
-                member = _member_torque(loaded, t_out)
+                member = drive_for(loaded).member_torque(t_out)
             except ToothfemError as exc:
                 emit(_failed(base, exc))
                 continue
-            skey = _setup_key(design, plan.pins)
+            skey = (drive_for(design), plan.pins)   # what the FE models read
             if skey not in groups:
                 groups[skey] = (f"design-{d}", design, [])
             groups[skey][2].append((base, member))
@@ -404,30 +402,10 @@ def _output_torque(case: Case, torque, varied) -> float:
     torque or power overrides a stated output torque."""
     if torque is not None:
         return float(torque)
-    from .efficiency.model import operating_point
-
     if varied & {"input_torque_Nm", "input_power_kW"} and "output_torque_Nm" not in varied:
         case = dataclasses.replace(case, operating=dataclasses.replace(
             case.operating, output_torque_Nm=None))
     return float(operating_point(case)[1])
-
-
-def _member_torque(case: Case, output_torque: float) -> float:
-    """Torque on the moving member: one cycloid disc (disc_load_factor T / disc_count,
-    seed Eq. 6) or the sine planet (T)."""
-    check_range("output_torque_Nm", output_torque, 0, None, lo_open=True, error=CaseError)
-    if _kind(case) == "cycloid":
-        st = case.cycloid
-        return st.disc_load_factor * output_torque / st.disc_count
-    return output_torque
-
-
-def _setup_key(case: Case, pins):
-    """Designs with equal keys share one setup task: what the FE models read (the stage,
-    the material, for the sine pair the output mechanism that holds the planet)."""
-    if _kind(case) == "cycloid":
-        return (case.cycloid, case.material, pins)
-    return (case.sine, case.material, case.output_mechanism)
 
 
 _SETUP_LOCK = threading.Lock()
@@ -463,41 +441,18 @@ def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
 
 
 def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
-    """Do the work the load cases of a design share; returns solve(member torque) ->
-    the summary columns."""
-    if _kind(case) == "cycloid":
-        from .fem import cycloid_fe as cf
-        from .fem.cache import DiskCache
-
-        model = cf.model_from_case(case, pins)
-        phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, positions,
-                           endpoint=False)
-        cache = None if cache_dir is None else DiskCache(Path(cache_dir))
-        solver = cf.CycleSolver(model, phis, cache=cache)
-        solver.tables()                   # factorisation and influence, or the cache's
-        return lambda torque: _summary(solver.solve(torque))
-    if loads == "fem":
-        from .fem import sine_fe as sf
-
-        from .fem.cache import DiskCache
-
-        model = sf.model_from_case(case)
-        chis = np.arange(positions) * model.pair.crank_pitch_rad / positions
-        solver = sf.CycleSolver(model, chis,
-                                cache=None if cache_dir is None else DiskCache(Path(cache_dir)))
-        solver.planet, solver.ring        # meshes, factorisations, influence tables
-        return lambda torque: _summary(solver.solve(torque))
-    from .fem.hertz import reduced_modulus
-    from .fem.load_sharing import analytic_split
-    from .geometry import sine
-
-    pair = case.sine.geometry()
-    chis = np.arange(positions) * pair.crank_pitch_rad / positions
-    state = sine.meshing(pair, chis)
-    e, nu = case.material.youngs_modulus_GPa * 1e9, case.material.poisson_ratio
-    e_star = float(reduced_modulus(e, nu, e, nu))
-    return lambda torque: _summary(analytic_split(state, torque, pair.face_width_m, e_star,
-                                                  SINE_IN_MESH_GAP_M), transmission=False)
+    """Do the work the load cases of a design share (the FE cycle solver's meshes,
+    factorisations and influence tables, or the cache's; for the analytic split the
+    meshing state); returns solve(member torque) -> the summary columns."""
+    drive = drive_for(case)
+    if loads == "analytic":
+        state = drive.meshing(drive.positions(positions))
+        return lambda torque: _summary(drive.analytic_split(state, torque), transmission=False)
+    overrides = {} if pins is None else {"pin_structure": pins}
+    cache = False if cache_dir is None else DiskCache(Path(cache_dir))
+    solver = drive.cycle_solver(positions, cache=cache, **overrides)
+    solver.prepare()
+    return lambda torque: _summary(solver.solve(torque))
 
 
 def _summary(ls, transmission=True) -> dict:

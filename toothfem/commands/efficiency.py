@@ -6,7 +6,8 @@ import json
 
 
 def add_parser(sub):
-    from ..efficiency.model import LOADS, METHODS
+    from ..efficiency.evaluation import METHODS
+    from ..efficiency.mesh_table import LOADS
 
     p = sub.add_parser("efficiency", help="reducer efficiency and the loss of every component "
                        "at one operating point")
@@ -28,29 +29,10 @@ def add_parser(sub):
     p.set_defaults(func=run)
 
 
-def result(case, speed, torque, oil_temp=None, loads="analytic", method="power_flow") -> dict:
-    """The efficiency record of one operating point as a plain mapping (the JSON)."""
-    from ..efficiency.model import evaluate
-
-    e = evaluate(case, speed, torque, oil_temp, loads=loads, method=method)
-    shares = e.shares()
-    return {
-        "case": case.name, "loads": e.loads, "method": e.method,
-        "input_speed_rpm": float(speed), "output_torque_Nm": float(torque),
-        "oil_temp_C": oil_temp,
-        "efficiency": float(e.efficiency[0]),
-        "input_power_W": float(e.input_power_W[0]),
-        "output_power_W": float(e.output_power_W[0]),
-        "losses": {k: float(v[0]) for k, v in e.losses_W.items()},
-        "loss_shares": {k: float(v[0]) for k, v in shares.items()},
-        "mesh_efficiency": {k: float(v[0]) for k, v in e.mesh_efficiency.items()},
-        "notes": list(e.notes),
-    }
-
-
 def run(args) -> int:
     from ..case import load_case
-    from ..efficiency.model import operating_point
+    from ..efficiency import operating_point
+    from ..pipeline import efficiency_summary
 
     case = load_case(args.case)
     speed, torque = args.speed, args.torque
@@ -58,7 +40,7 @@ def run(args) -> int:
         speed0, torque0 = operating_point(case, loads=args.loads, method=args.method)
         speed = speed0 if speed is None else speed
         torque = torque0 if torque is None else torque
-    out = result(case, speed, torque, args.oil_temp, args.loads, args.method)
+    out = efficiency_summary(case, speed, torque, args.oil_temp, args.loads, args.method)
     if args.json:
         print(json.dumps(out, indent=2))
         return 0

@@ -5,19 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import pyplot
 
-def _plt():
-    import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def load_per_contact(ls, title=""):
     """Force per pin or tooth and P_h versus meshing position (two panels)."""
-    plt = _plt()
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7), sharex=True)
     deg = np.degrees(ls.position_rad)
     for c in np.flatnonzero(np.any(ls.force > 0, axis=0)):
@@ -38,7 +33,7 @@ def load_per_contact(ls, title=""):
 
 def contacts_versus_torque(torques, counts, max_forces, labels, title=""):
     """Pins in contact (and maximum force) versus torque, one line per design."""
-    plt = _plt()
+    plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.5))
     for n, f, lab in zip(counts, max_forces, labels):
         a1.plot(torques, n, "o-", label=lab)

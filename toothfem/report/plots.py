@@ -6,14 +6,9 @@ import math
 
 import numpy as np
 
+from . import pyplot
 
-def _plt():
-    import matplotlib
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 def _draw_polygon(ax, poly, scale=1e3, **kw):
@@ -30,9 +25,9 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title=""):
     loaded zone with the contact normals through the pitch point."""
     from shapely import affinity
 
-    from .geometry import cycloid as cy
+    from ..geometry import cycloid as cy
 
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6))
     disc = cy.disc_polygon(geom, holes)
     centre, rot = cy.disc_pose(geom, crank_angle_rad)
@@ -74,9 +69,9 @@ def sine_drawing(pair, crank_angle_rad=0.0, title=""):
     """Planet inside the ring at a crank angle; right: close-up at the pitch point."""
     from shapely import affinity
 
-    from .geometry import sine
+    from ..geometry import sine
 
-    plt = _plt()
+    plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6))
     ring = sine.ring_polygon(pair)
     planet = sine.planet_polygon(pair)
@@ -106,7 +101,7 @@ def sine_drawing(pair, crank_angle_rad=0.0, title=""):
 def efficiency_vs_torque(torque, curves: dict, measured=(), title=""):
     """Efficiency [%] against output torque; ``curves`` label -> efficiency array;
     ``measured``: (torque, efficiency, label) points."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5))
     for label, eta in curves.items():
         ax.plot(torque, 100 * np.asarray(eta), lw=1.5, label=label)
@@ -125,7 +120,7 @@ def efficiency_vs_torque(torque, curves: dict, measured=(), title=""):
 
 def efficiency_map(x, y, eta, xlabel, ylabel, title=""):
     """Catalogue-style efficiency chart: filled contours of efficiency [%] over a grid."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(8, 5.5))
     levels = np.unique(np.clip(np.round(np.linspace(np.nanmin(eta), np.nanmax(eta), 12)
                                         * 100), 0, 100))
@@ -143,7 +138,7 @@ def efficiency_map(x, y, eta, xlabel, ylabel, title=""):
 
 def loss_shares(labels, shares: dict, title=""):
     """Grouped bars: loss shares [% of input power] per component, one group per source."""
-    plt = _plt()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(9, 4.5))
     k = len(shares)
     width = 0.8 / max(k, 1)
@@ -158,3 +153,10 @@ def loss_shares(labels, shares: dict, title=""):
     ax.set_title(title)
     fig.tight_layout()
     return fig
+
+
+def drawing(drive):
+    """The drawing of a drive's pair (:func:`cycloid_drawing` or :func:`sine_drawing`)."""
+    draw = {"cycloid": lambda d: cycloid_drawing(d.geometry, d.stage.holes),
+            "sine": lambda d: sine_drawing(d.pair)}
+    return draw[drive.kind](drive)

@@ -1,0 +1,270 @@
+"""The loss of every component of each drive, from the lossless loads and speeds.
+
+Each loss is computed from the loads and speeds the component sees in the lossless train at
+the output torque (first order in the losses, the usual practice of ISO/TR 14179 and of the
+sine paper, Lu & Xu 2024, Eqs. 26-45). Components:
+
+* sine: ``mesh`` (contact friction over one meshing period), ``eccentric_bearing`` (Eq. 32
+  with the bearing force from the planet's equilibrium, Eqs. 26-31), ``plain_bearings``
+  (Eq. 34), ``output_mechanism`` (pins in holes, Eqs. 37-39), ``churning`` (Eq. 42),
+  ``drag``.
+* cycloid: ``pin_contacts`` (pins sliding on the disc for the integral housing; a
+  conventional pin turns in its groove when the groove slides more easily, see
+  :func:`pin_contact_mu`), then for a K-H-V drive ``eccentric_bearing`` and
+  ``output_mechanism`` (pins in holes, as the sine planet), for a 2K-V (RV-type) drive
+  ``crank_bearings`` (the disc's crank-hole bearings) and ``first_stage`` (involute spur
+  stage); ``churning`` (Eq. 42 with a0 = the eccentricity and the crank speed) and ``drag``.
+
+Each ``*_losses`` function returns a :class:`DriveLosses`; ``toothfem.efficiency.evaluate``
+turns it into the efficiency record.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import CaseError
+from ..fem.drives import drive_for
+from . import spur as sp
+from .contact_friction import contact_mu, sliding_loss
+from .lubricant import churning_lu_xu_2024
+from .mesh_table import fe_reference, mesh_table
+
+
+@dataclass(frozen=True, kw_only=True)
+class DriveLosses:
+    """Output power and the losses of every component at M points, arrays (M,)."""
+    output_power_W: np.ndarray
+    losses_W: dict
+    notes: tuple
+    mesh_efficiency: dict          # per stage, (M,)
+
+
+@dataclass(frozen=True, kw_only=True)
+class OperatingPoints:
+    """M operating points: input speed [rad/s], output torque [N m], oil temperature
+    [deg C] or None (the reference), viscosity factor eta(T)/eta_ref, the FE table's
+    reference output torque [N m] or None."""
+    input_speed_rad_s: np.ndarray
+    output_torque_Nm: np.ndarray
+    viscosity_factor: np.ndarray
+    loads: str
+    n_positions: int
+
+
+def _table(si, drive, points, member_torque, notes):
+    """The meshing table of the drive for these points' load source."""
+    ref = None
+    if points.loads == "fem":
+        declared = si.declared_output_torque_Nm()
+        ref = fe_reference(None if declared is None else
+                           drive.member_torque(declared, peak=False), member_torque, notes)
+    return mesh_table(drive, points.loads, points.n_positions, ref)
+
+
+def _common_losses(si, a0_m, crank_rad_s, visc, w_in):
+    """Churning (sine paper Eq. 42, when the lubricant names the law) and input drag [W]."""
+    lub = si.lubricant
+    out = {}
+    if lub.churning != "none":
+        out["churning"] = lub.churning_scale * churning_lu_xu_2024(
+            a0_m, crank_rad_s * 60 / (2 * math.pi), lub.kinematic_viscosity_m2_s * visc)
+    out["drag"] = si.friction.drag_torque_Nm * w_in
+    return out
+
+
+def w_mechanism(si, table, force, member_torque, a0_m, rel):
+    """(eccentric bearing, pins-in-holes output mechanism) losses [W] of a K-H-V member
+    carrying ``member_torque`` (M,) out through pins in holes (sine paper Eqs. 26-39,
+    docs/derivations.md 7): the pins' load sum Q = 4T/(pi R_w) acts along -e on the
+    member, the eccentric bearing carries |mesh resultant - sum Q e| (the member's
+    equilibrium), the pins slide in their sleeves at 2 a0 w_rel (Eq. 38)."""
+    om = si.output_mechanism
+    if om is None:
+        raise CaseError("a K-H-V drive (no [first_stage]) needs [output_mechanism] (pins in "
+                        "holes) for its output losses")
+    r_w = om.pin_hole_circle_radius_m
+    sum_q = 4 * member_torque / (math.pi * r_w)                            # Eq. 26
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]   # (P, 2)
+    bearing = table.resultant(force) - sum_q[:, None, None] * e_dir[None]
+    f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
+    ecc = si.friction.bearing_coefficient * om.eccentric_bearing_inner_radius_m * f_r1 * rel
+    out_mech = si.friction.output_pin_coefficient * sum_q * 2 * a0_m * rel   # Eqs. 38-39
+    return ecc, out_mech
+
+
+def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
+    """Losses of the sine reducer (Lu & Xu 2024, Eqs. 21-45)."""
+    pair = drive.pair
+    w = drive.speeds()
+    crank = points.input_speed_rad_s
+    w_planet = crank * w["member"]
+    rel = np.abs(crank - w_planet)                          # crank relative to the planet
+    t2 = points.output_torque_Nm
+    notes = []
+    table = _table(si, drive, points, t2, notes)
+    force, ph = table.at(t2)
+    eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
+    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes)
+    mesh = sliding_loss(table, force, mu, crank)
+    if np.any(table.hertz_invalid):
+        notes.append(f"Hertz's assumptions fail at {int(table.hertz_invalid.sum())} of "
+                     f"{table.hertz_invalid.size} loaded contacts (half-width not small against "
+                     "the radii); "
+                     + ("P_h there is the FE pressure" if np.any(table.pressure_from_fe) else
+                        "P_h there is still Hertz's (analytic loads): use loads='fem'"))
+    a0 = pair.centre_distance_m
+    ecc, out_mech = w_mechanism(si, table, force, t2, a0, rel)
+    plain = si.output_mechanism.plain_bearing_friction_torque_Nm * crank          # Eq. 34
+    losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
+              "output_mechanism": out_mech,
+              **_common_losses(si, a0, crank, points.viscosity_factor, crank)}
+    # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
+    # display: in a K-H-V stage the energy balance with the contact loss itself is exact
+    return DriveLosses(output_power_W=t2 * np.abs(w_planet), losses_W=losses,
+                       notes=tuple(notes), mesh_efficiency={"sine": 1 - mesh / (t2 * rel)})
+
+
+def pin_contact_mu(si, mu_disc):
+    """Friction that resists sliding at a pin: the disc contact's (integral housing), or
+    for a pin free to turn in its groove the smaller of that and the groove's Coulomb
+    coefficient ``friction.pin_groove_coefficient``: the pin turns until the two friction
+    torques balance, so the interface that slides more easily takes the sliding (loss
+    mu F v_s either way, v_s the sliding speed of a fixed pin, since the groove radius is
+    the pin radius)."""
+    if si.cycloid.pin_structure == "integral":
+        return mu_disc
+    return np.minimum(mu_disc, si.friction.pin_groove_coefficient)
+
+
+def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None):
+    """Pin-contact loss of one cycloid disc and the mean resultant of its pin forces.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+    table : toothfem.efficiency.mesh_table.MeshTable
+        Any load source: analytic, FE, or another contact model's records through
+        :func:`~toothfem.efficiency.mesh_table.table_from_records`.
+    torque_disc : numpy.ndarray
+        (M,) torque on the disc [N m].
+    crank_speed : numpy.ndarray
+        (M,) crank speed relative to the pin ring [rad/s].
+    eta0 : float or numpy.ndarray
+        Inlet dynamic viscosity [Pa s].
+    notes : list of str, optional
+        Validity notes are appended here.
+
+    Returns
+    -------
+    loss, f_bearing : numpy.ndarray
+        (M,) the loss [W] and the mean pin resultant [N] (what the crank bearings carry).
+    """
+    si = case.to_si()
+    notes = [] if notes is None else notes
+    force, ph = table.at(torque_disc)
+    mu_disc, _ = contact_mu(si, drive_for(si).e_star_Pa, table, force, ph, crank_speed, eta0,
+                            notes)
+    mu = pin_contact_mu(si, mu_disc)
+    if si.cycloid.pin_structure == "conventional":
+        share = np.mean(mu_disc > si.friction.pin_groove_coefficient)
+        notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
+                     "loaded contacts (groove friction below the disc contact's)")
+    loss = sliding_loss(table, force, mu, crank_speed)
+    f_bearing = np.mean(np.linalg.norm(table.resultant(force), axis=2), axis=1)
+    return loss, f_bearing
+
+
+#: Samples of the angle between the pin resultant and a crank hole's tangent (its mean over
+#: a crank turn: the holes turn with the disc, the resultant with the crank).
+CRANK_ANGLE_SAMPLES = 64
+
+
+def crank_bearing_loss(si, f_resultant, t_disc, rel):
+    """Friction loss of one disc's crank-hole bearings (2K-V) [W].
+
+    The k holes at radius R_c take the pin resultant F and the disc torque T between
+    them, evenly: hole i carries -F/k + T/(k R_c) t_i (t_i its tangent), so
+    sum |F_i| = k <|a e - b t|> with a = F/k, b = T/(k R_c), averaged over the angle
+    between e and t (uniform over a crank turn). Loss = f r_b sum |F_i| w_rel (Palmgren's
+    load-dependent friction torque f F r_b)."""
+    h = si.cycloid.holes
+    k = h.crank_hole_count
+    r_b = h.crank_hole_radius_m
+    r_c = h.crank_hole_circle_radius_m
+    if k < 1 or r_b <= 0 or r_c <= 0:
+        raise CaseError("cycloid.disc_holes: crank_hole_count, crank_hole_radius_mm and "
+                        "crank_hole_circle_radius_mm are required for the crank-bearing loss "
+                        "of a 2K-V (RV-type) drive")
+    a = f_resultant / k
+    b = t_disc / (k * r_c)
+    psi = (np.arange(CRANK_ANGLE_SAMPLES) + 0.5) * 2 * math.pi / CRANK_ANGLE_SAMPLES
+    load = k * np.mean(np.sqrt(a[:, None] ** 2 + b[:, None] ** 2
+                               - 2 * a[:, None] * b[:, None] * np.cos(psi)), axis=1)
+    return si.friction.bearing_coefficient * load * r_b * rel
+
+
+def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
+    """Sun-planet mesh efficiency in the carrier frame: declared, or Ohlendorf/Schlenk."""
+    stage = si.first_stage
+    if stage is not None and stage.mesh_efficiency is not None:
+        return np.full_like(t_sun, stage.mesh_efficiency)
+    if stage is None:
+        raise CaseError("a [first_stage] section is required for the sun-planet mesh")
+    return sp.mesh_efficiency(stage, t_sun, rel_sun, eta0, si.lubricant.roughness_Ra_m)
+
+
+def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
+    """Losses of a cycloid drive (K-H-V) or of an RV-type drive (2K-V)."""
+    cyc = si.cycloid
+    w = drive.speeds()
+    w_in = points.input_speed_rad_s
+    t2 = points.output_torque_Nm
+    crank = np.abs(w_in * w["crank"])
+    disc_rel = np.abs(w_in * (w["crank"] - w["member"]))     # crank relative to the disc
+    p_out = t2 * np.abs(w_in * w["output"])
+    notes = []
+    t_disc = drive.member_torque(t2, peak=False)   # even split for losses
+    table = _table(si, drive, points, t_disc, notes)
+    eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
+    pins_disc, f_bearing = disc_contact_losses(si, table, t_disc, crank, eta0, notes)
+    pins = drive.members * pins_disc
+    eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
+    mesh_eff = {"cycloid": eta2}
+    if not drive.two_stage:
+        # K-H-V: the disc's torque leaves through pins in holes; its central eccentric
+        # bearing carries the pin resultant and the pins' load (as the sine planet)
+        force, _ = table.at(t_disc)
+        ecc, out_mech = w_mechanism(si, table, force, t_disc, cyc.geometry.eccentricity_m,
+                                    disc_rel)
+        # the energy balance with the contact loss itself (Chen & Angeles' closed form
+        # agrees to first order)
+        losses = {"pin_contacts": pins, "eccentric_bearing": drive.members * ecc,
+                  "output_mechanism": drive.members * out_mech}
+    else:                      # 2K-V: the closed form of the general power flow
+        losses = {"crank_bearings": drive.members * crank_bearing_loss(
+            si, f_bearing, t_disc, disc_rel)}
+        ratio = abs(1 / w["output"])
+        eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
+        zs, zp = drive.first_teeth
+        r, z4, z5 = zp / zs, cyc.lobe_count, cyc.geometry.pin_count
+        if np.any(z5 - z4 * eta2 <= 0):
+            raise CaseError(f"the disc-pin mesh efficiency {float(np.min(eta2)):.4g} in the "
+                            f"crank frame is at or below z4/z5 = {z4 / z5:.4g}: the train "
+                            "self-locks (friction too high for these operating points)")
+        eta_train = (1 + r * eta1 * z5 / (z5 - z4 * eta2)) / ratio
+        eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
+        p_in = p_out / eta_train
+        losses["first_stage"] = p_out / eta_lossless_1 - p_out
+        losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
+        mesh_eff["first_stage"] = eta1
+    losses.update(_common_losses(si, cyc.geometry.eccentricity_m, crank,
+                                 points.viscosity_factor, w_in))
+    return DriveLosses(output_power_W=p_out, losses_W=losses, notes=tuple(notes),
+                       mesh_efficiency=mesh_eff)
+
+
+#: The loss model of each drive kind (toothfem.fem.drives.Drive.kind).
+LOSS_MODELS = {"cycloid": cycloid_losses, "sine": sine_losses}

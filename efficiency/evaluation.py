@@ -1,0 +1,180 @@
+"""Reducer efficiency at arrays of operating points: the prediction API.
+
+``evaluate(case, speed_rpm, torque_Nm, oil_temp_C)`` returns the losses in watts of each
+component (:mod:`toothfem.efficiency.drive_losses`) at arrays of operating points;
+``predict`` returns the efficiency alone; ``operating_point`` the case's declared point.
+The efficiency is ``P_out / (P_out + sum of losses)``. docs/efficiency.md has the equations
+and checks.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import CaseError, ToothfemError, check_range
+from ..fem.drives import drive_for
+from . import rv_paper
+from .drive_losses import LOSS_MODELS, OperatingPoints
+from .lubricant import viscosity_factor
+from .mesh_table import LOADS
+
+METHODS = ("power_flow", "rv_split_power")
+#: Positions per meshing period the efficiency model accepts: at least 4 to see the load
+#: move between contacts, at most 720 (0.5 deg of crank on a 1-tooth period).
+POSITIONS_RANGE = (4, 720)
+#: Fixed-point iterations and tolerance of the output torque for a declared input torque.
+OPERATING_MAX_ITER, OPERATING_RTOL = 50, 1e-10
+
+
+@dataclass(frozen=True, kw_only=True)
+class Efficiency:
+    """Losses of every component at M operating points (arrays of shape (M,))."""
+    speed_rpm: np.ndarray
+    torque_Nm: np.ndarray
+    oil_temp_C: np.ndarray | None
+    output_power_W: np.ndarray
+    losses_W: dict
+    loads: str
+    method: str
+    notes: tuple = ()
+    mesh_efficiency: dict = field(default_factory=dict)   # per stage, (M,)
+
+    @property
+    def input_power_W(self) -> np.ndarray:
+        return self.output_power_W + sum(self.losses_W.values())
+
+    @property
+    def efficiency(self) -> np.ndarray:
+        return self.output_power_W / self.input_power_W
+
+    def shares(self) -> dict:
+        """Each loss as a fraction of the input power (the sine paper's 'loss shares')."""
+        p = self.input_power_W
+        return {k: v / p for k, v in self.losses_W.items()}
+
+
+def _points(speed_rpm, torque_Nm, oil_temp_C):
+    n = np.atleast_1d(np.asarray(speed_rpm, float))
+    t = np.atleast_1d(np.asarray(torque_Nm, float))
+    temp = None if oil_temp_C is None else np.atleast_1d(np.asarray(oil_temp_C, float))
+    try:
+        n, t, *rest = np.broadcast_arrays(n, t, *([] if temp is None else [temp]))
+    except ValueError:
+        raise ToothfemError(f"speed_rpm {n.shape}, torque_Nm {t.shape} and oil_temp_C "
+                            f"{None if temp is None else temp.shape} do not broadcast") from None
+    for name, arr, lo in (("speed_rpm", n, 0.0), ("torque_Nm", t, 0.0)):
+        bad = ~np.isfinite(arr) | (arr <= lo)
+        if np.any(bad):
+            raise CaseError(f"{name} = {float(arr[bad].flat[0])!r} is outside the valid range "
+                            f"({lo:g}, inf)")
+    temp = rest[0] if rest else None
+    return n.astype(float).ravel(), t.astype(float).ravel(), \
+        None if temp is None else temp.ravel()
+
+
+def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
+             method="power_flow", positions=36) -> Efficiency:
+    """Losses of every component of ``case`` at the operating points.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+    speed_rpm, torque_Nm : array_like
+        Input speed [rpm] and output torque [N m]; broadcast together.
+    oil_temp_C : array_like, optional
+        Oil temperature [deg C]; None for the lubricant's reference temperature.
+    loads : {"analytic", "fem"}
+        The seeds' load split or the FE cycle solver's.
+    method : {"power_flow", "rv_split_power"}
+        The friction model of every component, or the RV paper's split-power method
+        with the declared mesh efficiency (RV cases only).
+    positions : int
+        Meshing positions over one period.
+
+    Returns
+    -------
+    Efficiency
+        Losses [W] per component, efficiency, notes on the laws' validity.
+    """
+    if loads not in LOADS:
+        raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
+    if method not in METHODS:
+        raise CaseError(f"method = {method!r} is not one of {list(METHODS)}")
+    if isinstance(positions, bool) or int(positions) != positions:
+        raise CaseError(f"positions = {positions!r} must be an integer")
+    check_range("positions", positions, *POSITIONS_RANGE, error=CaseError)
+    si = case.to_si()
+    n, t, temp = _points(speed_rpm, torque_Nm, oil_temp_C)
+    record = dict(speed_rpm=n, torque_Nm=t, oil_temp_C=temp)
+    if method == "rv_split_power":
+        if temp is not None or loads != "analytic":
+            raise CaseError("method = 'rv_split_power' takes the declared mesh efficiency: "
+                            "oil_temp_C and loads = 'fem' do not apply to it")
+        res = rv_paper.split_power_losses(si, n * 2 * math.pi / 60, t)
+        return Efficiency(**record, output_power_W=res.output_power_W,
+                          losses_W=res.losses_W, loads="analytic", method=method,
+                          notes=res.notes, mesh_efficiency=res.mesh_efficiency)
+    drive = drive_for(si)
+    points = OperatingPoints(
+        input_speed_rad_s=n * 2 * math.pi / 60, output_torque_Nm=t,
+        viscosity_factor=viscosity_factor(si.lubricant, temp) * np.ones_like(n),
+        loads=loads, n_positions=int(positions))
+    res = LOSS_MODELS[drive.kind](si, drive, points)
+    return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
+                      loads=loads, method=method, notes=res.notes,
+                      mesh_efficiency=res.mesh_efficiency)
+
+
+def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:
+    """Efficiency (0..1) of ``case`` at arrays of operating points.
+
+    Parameters
+    ----------
+    case, speed_rpm, torque_Nm, oil_temp_C, **kw
+        As :func:`evaluate`.
+
+    Returns
+    -------
+    numpy.ndarray
+        The efficiency, shape of the broadcast inputs.
+    """
+    eta = evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency
+    return eta.reshape(np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm),
+                                           np.shape(oil_temp_C) if oil_temp_C is not None
+                                           else ()))
+
+
+def operating_point(case, **kw):
+    """The case's declared operating point.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+    **kw
+        As :func:`evaluate` (load source, positions).
+
+    Returns
+    -------
+    speed_rpm, output_torque_Nm : float
+        The declared input speed [rpm] and output torque [N m]: the declared output torque,
+        or the output torque that the declared input torque or power gives through the
+        model's own efficiency (fixed point T2 = i T1 eta(T2)).
+    """
+    si = case.to_si()
+    op = si.operating
+    speed = op.input_speed_rpm
+    if op.output_torque_Nm:
+        return speed, op.output_torque_Nm
+    lossless = si.declared_output_torque_Nm()
+    if lossless is None:
+        raise CaseError("[operating] needs output_torque_Nm, input_torque_Nm or input_power_kW")
+    t2 = lossless
+    for _ in range(OPERATING_MAX_ITER):       # contraction: eta varies slowly with torque
+        new = lossless * float(evaluate(si, speed, t2, **kw).efficiency[0])
+        if abs(new - t2) < OPERATING_RTOL * t2:
+            return speed, new
+        t2 = new
+    raise ToothfemError(f"the output torque for the declared input did not converge "
+                        f"(last {t2:.6g} N m): the efficiency changes too fast with torque")

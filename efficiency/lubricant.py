@@ -1,0 +1,68 @@
+"""The oil: viscosity over temperature and the no-load (churning) loss law."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..errors import CaseError
+
+#: Highest oil temperature Vogel's law is used at [deg C] (above it mineral gear oils
+#: oxidise quickly and no catalogue viscosity data exist).
+VOGEL_T_MAX_C = 250.0
+#: Margin above Vogel's pole T = -C [K] below which the law is refused (it diverges there).
+VOGEL_POLE_MARGIN_K = 1.0
+
+
+def viscosity_factor(lubricant, oil_temp_C):
+    """eta(T)/eta(T_ref) by Vogel's law eta = A exp(B/(T + C)) (Vogel 1921; T in deg C).
+
+    Parameters
+    ----------
+    lubricant : toothfem.si.LubricantSI
+        Vogel's B and C [deg C] and the reference temperature.
+    oil_temp_C : array_like or None
+        Oil temperatures [deg C]; None means the reference temperature (factor 1).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The viscosity ratio, shape of ``oil_temp_C``.
+    """
+    if oil_temp_C is None:
+        return 1.0
+    t = np.asarray(oil_temp_C, float)
+    lo = -lubricant.vogel_C_C + VOGEL_POLE_MARGIN_K
+    bad = ~np.isfinite(t) | (t <= lo) | (t > VOGEL_T_MAX_C)
+    if np.any(bad):
+        raise CaseError(f"oil_temp_C = {float(t[bad].flat[0])!r} is outside the valid range "
+                        f"({lo:g}, {VOGEL_T_MAX_C:g}] of the Vogel law with C = "
+                        f"{lubricant.vogel_C_C:g} deg C")
+    b, c = lubricant.vogel_B_C, lubricant.vogel_C_C
+    return np.exp(b / (t + c) - b / (lubricant.reference_temperature_C + c))
+
+
+def churning_lu_xu_2024(centre_distance_m, speed_rpm, kinematic_viscosity_m2_s):
+    """No-load loss of the sine paper (Lu & Xu 2024), Eq. 42 [W].
+
+    P0 = 1e-7 a0 (n1/60)^(4/3) (nu/n1)^0.1 (nu + 90) kW with a0 in mm, n1 in rpm and nu in
+    mm^2/s (the law's own units; converted here). The printed 'z50' is read as the
+    viscosity nu50 (OCR of the same symbol as gamma50); the kW unit is the one that gives
+    the paper's 1.85 % share (docs/efficiency.md).
+
+    Parameters
+    ----------
+    centre_distance_m : float
+        a0 [m] (the eccentricity of a cycloid drive).
+    speed_rpm : array_like
+        Crank (input) speed [rpm].
+    kinematic_viscosity_m2_s : array_like
+        Oil kinematic viscosity at the operating temperature [m^2/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        The loss [W].
+    """
+    a0_mm = centre_distance_m * 1e3
+    n = np.asarray(speed_rpm, float)
+    nu = np.asarray(kinematic_viscosity_m2_s, float) * 1e6          # mm^2/s
+    return 1e-7 * a0_mm * (n / 60.0) ** (4.0 / 3.0) * (nu / n) ** 0.1 * (nu + 90.0) * 1e3

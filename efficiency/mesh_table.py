@@ -1,0 +1,152 @@
+"""The loaded contacts of one meshing period, from either load source.
+
+A :class:`MeshTable` flattens the contacts that carry load over (position, contact) with
+their kinematics at unit crank speed and their loads at a few member torques; the friction
+loss is then a vectorised sum over it at any operating point. ``loads='analytic'`` takes
+the seeds' split, ``loads='fem'`` the FE cycle solver of the drive (its influence tables in
+the disk cache).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import CaseError
+
+LOADS = ("analytic", "fem")
+
+#: Torques, as fractions of the case's declared torque on the member, at which the FE load
+#: sharing is tabulated (fixed by the case, not by the points asked for, so a point's result
+#: does not depend on the other points of the call); outside the range F/T is held at the end
+#: value and the notes say so.
+FE_TORQUE_FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0)
+#: Mesh tables kept per process (designs x load sources x torque references of one run).
+TABLES_KEPT = 16
+
+
+@dataclass(frozen=True, kw_only=True)
+class MeshTable:
+    """Loaded contacts of one meshing period, flattened over (position, contact).
+
+    Velocities are for a crank speed of 1 rad/s (they scale with it); loads are known at
+    ``torques`` (N m on the moving member) and interpolated as F/T and P_h/sqrt(T), which
+    is exact for the analytic split (one torque) and for a fixed contact set.
+    """
+    loads: str
+    n_positions: int
+    torques: np.ndarray            # (K,)
+    force: np.ndarray              # (K, N) N
+    ph: np.ndarray                 # (K, N) Pa
+    position: np.ndarray           # (N,) position index
+    vs: np.ndarray                 # (N,) |sliding speed| at unit crank speed, m/s
+    ve: np.ndarray                 # (N,) |entraining speed| at unit crank speed, m/s
+    r_eq: np.ndarray               # (N,) m
+    normal: np.ndarray             # (N, 2) fixed -> moving member
+    centre: np.ndarray             # (P, 2) centre of the moving member, m
+    face_width: float
+    pressure_from_fe: np.ndarray   # (N,) bool
+    hertz_invalid: np.ndarray      # (N,) bool
+
+    def at(self, torque):
+        """(force, ph) at moving-member torques ``torque`` (M,): arrays (M, N)."""
+        t = np.asarray(torque, float)[:, None]
+        if self.torques.size == 1:
+            f1 = self.force[0] / self.torques[0]
+            p1 = self.ph[0] / math.sqrt(self.torques[0])
+            return t * f1, np.sqrt(t) * p1
+        f_t = self.force / self.torques[:, None]
+        p_t = self.ph / np.sqrt(self.torques)[:, None]
+        tt = np.clip(t[:, 0], self.torques[0], self.torques[-1])
+        f = np.stack([np.interp(tt, self.torques, f_t[:, j]) for j in range(f_t.shape[1])], 1)
+        p = np.stack([np.interp(tt, self.torques, p_t[:, j]) for j in range(p_t.shape[1])], 1)
+        return t * f, np.sqrt(t) * p
+
+    def resultant(self, force):
+        """(M, P, 2) resultant contact force on the moving member at each position."""
+        m = force.shape[0]
+        out = np.zeros((m, self.n_positions, 2))
+        for k in range(2):
+            np.add.at(out[:, :, k], (slice(None), self.position), force * self.normal[:, k])
+        return out
+
+
+def table_from_records(state, records, loads):
+    """A :class:`MeshTable` from load-sharing records.
+
+    Parameters
+    ----------
+    state : toothfem.geometry.kinematics.MeshingState
+        Kinematics of the period at unit crank speed (the records' positions).
+    records : sequence of toothfem.fem.load_sharing.LoadSharing
+        Load sharing at increasing member torques (any source: analytic, FE, another
+        contact model).
+    loads : str
+        Name of the load source, kept on the table.
+
+    Returns
+    -------
+    MeshTable
+    """
+    loaded = np.zeros(state.shape, bool)
+    for r in records:
+        loaded |= r.force > 0
+    pos, con = np.nonzero(loaded)
+    return MeshTable(
+        loads=loads, n_positions=state.shape[0],
+        torques=np.array([r.torque for r in records]),
+        force=np.stack([r.force[pos, con] for r in records]),
+        ph=np.stack([r.ph[pos, con] for r in records]),
+        position=pos, vs=np.abs(state.sliding_velocity[pos, con]),
+        ve=np.abs(state.entrainment_velocity[pos, con]),
+        r_eq=np.abs(state.equivalent_radius[pos, con]),
+        normal=state.normal[pos, con], centre=np.asarray(state.centre),
+        face_width=records[0].face_width,
+        pressure_from_fe=np.any([r.pressure_from_fe[pos, con] for r in records], axis=0),
+        hertz_invalid=np.any([r.hertz_invalid[pos, con] for r in records], axis=0))
+
+
+@lru_cache(maxsize=TABLES_KEPT)
+def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
+               torque_ref: float | None = None) -> MeshTable:
+    """The meshing table of a drive over one period.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    loads : {"analytic", "fem"}
+        The seeds' split at unit torque, or the FE cycle solver at
+        ``FE_TORQUE_FRACTIONS`` of ``torque_ref``.
+    n_positions : int
+        Positions over the period.
+    torque_ref : float, optional
+        Reference member torque [N m] of the FE table (required for ``loads='fem'``).
+
+    Returns
+    -------
+    MeshTable
+    """
+    if loads not in LOADS:
+        raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
+    state = drive.meshing(drive.positions(n_positions), 1.0)
+    if loads == "analytic":
+        recs = [drive.analytic_split(state, 1.0)]
+    else:
+        solver = drive.cycle_solver(n_positions)
+        recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
+    return table_from_records(state, recs, loads)
+
+
+def fe_reference(declared_member_torque, member_torque, notes) -> float:
+    """Reference member torque of the FE table [N m]: the case's declared torque on the
+    member, else the largest asked for; a note where points fall outside the table."""
+    ref = declared_member_torque or float(np.max(member_torque))
+    lo, hi = FE_TORQUE_FRACTIONS[0] * ref, FE_TORQUE_FRACTIONS[-1] * ref
+    out = (member_torque < lo) | (member_torque > hi)
+    if np.any(out):
+        notes.append(f"{int(out.sum())} point(s) outside the FE load table's member-torque "
+                     f"range {lo:.3g}-{hi:.3g} N m: the load split of the nearest end is "
+                     "scaled to them")
+    return ref

@@ -1,0 +1,97 @@
+"""The sine-profile planet in its fixed ring (one-tooth-difference K-H-V pair)."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...errors import CaseError
+from ...geometry import sine as sg
+from ...geometry.train import khv_speeds
+from .. import sine_fe as sf
+from .base import Drive
+
+#: Teeth of the sine pair within this unloaded gap share the load in the analytic split:
+#: the order of the pair's elastic approach at the rig torque (Hertz approach of a few
+#: micrometres plus tooth bending); the FE model finds the set itself.
+SINE_IN_MESH_GAP_M = 5e-6
+
+
+@dataclass(frozen=True, kw_only=True)
+class SineDrive(Drive):
+    """The sine pair in SI (:class:`toothfem.si.SineStageSI`); the output mechanism (pins
+    in holes) sets where the FE model holds the planet."""
+    stage: object                   # toothfem.si.SineStageSI
+    material_si: object             # toothfem.si.MaterialSI
+    output_mechanism: object = None  # toothfem.si.OutputMechanismSI or None
+
+    kind = "sine"
+    member_name = "planet"
+    contact_name = "tooth"
+
+    @classmethod
+    def from_case(cls, si) -> "SineDrive":
+        if si.sine is None:
+            raise CaseError("a [sine] section is required for drive = 'sine'")
+        if si.material is None:
+            raise CaseError("a [material] section is required for the contact analyses")
+        return cls(stage=si.sine, material_si=si.material,
+                   output_mechanism=si.output_mechanism)
+
+    @property
+    def pair(self) -> sg.SineGearPair:
+        return self.stage.pair
+
+    @property
+    def period_rad(self) -> float:
+        return self.pair.crank_pitch_rad
+
+    @property
+    def members(self) -> int:
+        return 1
+
+    @property
+    def load_factor(self) -> float:
+        return 1.0
+
+    @property
+    def face_width_m(self) -> float:
+        return self.pair.face_width_m
+
+    @property
+    def material(self):
+        return self.material_si
+
+    @property
+    def analytic_in_mesh_gap_m(self) -> float:
+        return SINE_IN_MESH_GAP_M
+
+    def speeds(self) -> dict:
+        w = khv_speeds(self.pair.planet_teeth, self.pair.ring_teeth)
+        return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
+
+    def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
+        return sg.meshing(self.pair, positions_rad, crank_speed_rad_s)
+
+    def fe_model(self, **overrides):
+        return sf.model_from_pair(self.pair, self.material_si, self.output_mechanism,
+                                  **overrides)
+
+    def _new_cycle_solver(self, model, positions_rad, cache, **options):
+        return sf.CycleSolver(model, positions_rad, cache=cache, **options)
+
+    def solve_detailed(self, model, position_rad: float, member_torque_Nm: float):
+        return sf.solve_detailed(model, position_rad, member_torque_Nm)
+
+    def profiles(self, points_per_tooth: int):
+        """The planet's and the ring's profiles, each about its own centre."""
+        pair = self.pair
+        phi1 = np.linspace(0, 2 * np.pi, pair.planet_teeth * points_per_tooth, endpoint=False)
+        phi2 = np.linspace(0, 2 * np.pi * pair.ring_teeth / pair.planet_teeth,
+                           pair.ring_teeth * points_per_tooth, endpoint=False)
+        return ({"planet": sg.planet_profile(pair, phi1), "ring": sg.ring_profile(pair, phi2)},
+                {})
+
+    def member_frame_point(self, model, position_rad: float, point):
+        c, th = sg.planet_pose(model.pair, position_rad)
+        return sg._rot(-th[0], np.asarray(point, float) - c[:, 0])
