@@ -270,6 +270,20 @@ def test_near_contact_kinematics_against_finite_differences():
                        atol=1e-18)
 
 
+def test_foot_point_is_the_foot_of_the_perpendicular():
+    """foot_point: K - X(phi_ring) is along the ring normal (1e-15 m, rounding) and its
+    length is |gap|; inside the ring's material the gap is negative."""
+    phi = np.linspace(-0.2, 0.3, 9)
+    c = sine.ring_curve(PROTO, phi)
+    n = np.stack([-c.d1[1], c.d1[0]]) / np.hypot(*c.d1)
+    off = np.linspace(-20e-6, 20e-6, 9)
+    K = c.point + off * n
+    f2, gap = sine.foot_point(PROTO, K)
+    X = sine.ring_profile(PROTO, f2)
+    assert np.max(np.abs(K - X - gap * n)) < 1e-15
+    assert np.allclose(gap, off, rtol=1e-9, atol=1e-15)
+
+
 def test_mesh_repeats_after_one_tooth_pitch():
     """meshing(chi + 2 pi/z2) is meshing(chi) turned by 2 pi/z2 with the planet tooth index
     advanced by one (exact symmetry: gaps to 1e-15 m, rounding; points to 1e-13 m, the

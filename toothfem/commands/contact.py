@@ -156,6 +156,7 @@ def _sine(case, args, progress):
     from ..errors import CaseError
     from ..fem import sine_fe
     from ..geometry import sine
+    from ..geometry.vectors import rotate
 
     if args.pins is not None:
         raise CaseError("--pins applies to cycloid drives, not to the sine pair")
@@ -180,7 +181,7 @@ def _sine(case, args, progress):
         body, u = detail.planet, detail.planet_displacement
     k = int(np.argmax(ls.force[worst]))
     c, th = sine.planet_pose(model.pair, phis[worst])
-    centre = sine._rot(-th[0], ls.point[worst, k] - c[:, 0])     # planet frame
+    centre = rotate(ls.point[worst, k] - c[:, 0], -th[0])     # planet frame
     summary = {"planet_torque_Nm": torque,
                "planet_bore_radius_mm": model.planet_bore_radius * 1e3,
                "ring_outer_radius_mm": model.ring_outer_radius * 1e3}
