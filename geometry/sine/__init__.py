@@ -15,7 +15,8 @@ One job per module (each depends only on those above it):
 - ``limits``: bounds on the tooth height (regular envelope, no interference, no undercut
   of the contact path);
 - ``pair``: the :class:`SineGearPair` record, validated against those bounds;
-- ``meshing``: poses, closest approach, the ``MeshingState``, contact counts;
+- ``meshing``: poses, closest approach, the ``MeshingState``, contact counts, kinematics
+  at a chosen contact point;
 - ``drawing``: shapely polygons.
 
 Every public name is re-exported here: ``from toothfem.geometry import sine; sine.meshing``.
@@ -26,19 +27,19 @@ from .conjugate import (SeedPressureAngles, conjugate_contact, contact_crank_ang
 from .drawing import RING_RIM_MODULES, planet_polygon, ring_polygon
 from .limits import (ToothHeightLimits, check_tooth_height, max_tooth_height_m,
                      tooth_height_limits)
-from .meshing import (DEFAULT_CANDIDATES, Approach, closest_approach, contact_count,
-                      flank_window, meshing, pitch_point,
+from .meshing import (DEFAULT_CANDIDATES, Approach, ContactKinematics, closest_approach,
+                      contact_count, flank_window, kinematics_at, meshing, pitch_point,
                       planet_pose, planet_rotation)
 from .pair import MIN_PLANET_TEETH, SineGearPair
 from .profile import (ProfileCurve, ProfileParams, curvature_eq6, planet_curve,
                       planet_profile, profile_params)
 
 __all__ = [
-    "Approach", "DEFAULT_CANDIDATES", "MIN_PLANET_TEETH",
+    "Approach", "ContactKinematics", "DEFAULT_CANDIDATES", "MIN_PLANET_TEETH",
     "ProfileCurve", "ProfileParams", "RING_RIM_MODULES", "SeedPressureAngles",
     "SineGearPair", "ToothHeightLimits", "check_tooth_height", "closest_approach",
     "conjugate_contact", "contact_count", "contact_crank_angle", "curvature_eq6",
-    "distance_to_ring", "flank_window", "foot_point", "max_tooth_height_m",
+    "distance_to_ring", "flank_window", "foot_point", "kinematics_at", "max_tooth_height_m",
     "meshing", "pitch_point", "pitch_point_angle", "planet_curve", "planet_polygon",
     "planet_pose", "planet_profile", "planet_rotation", "pressure_angles", "profile_params",
     "ring_curve", "ring_polygon", "ring_profile", "seed_pressure_angles",

@@ -1,7 +1,7 @@
 """Meshing of the sine gear pair over the crank angle: the planet's pose, the closest
 approach of every candidate flank to the ring, the ``MeshingState`` (points, normals,
 gaps, moment arms, pressure angles, sliding and rolling speeds, curvature radii), the
-number of pairs in contact.
+number of pairs in contact, and the kinematics at any chosen contact point.
 
 Source: the sine paper (Y. Lu, L. Xu, Heliyon 10 (2024) e26300), Sec. 2; closest approach
 and the kinematic conventions in docs/derivations.md, S6 and S8.
@@ -301,7 +301,7 @@ def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
     of their flank (:func:`closest_approach`, on the parametric curves) and its normal gap,
     or gap = inf where the flank has no minimum of its own (the nearest point is the
     neighbouring flank's: reporting it twice would double a contact; the speeds of such a
-    column are those at the flank's end).
+    column are those at the flank's end, see :func:`kinematics_at` for any other point).
     ``point`` is the planet point, ``normal`` the ring normal there, pointing into the
     planet. ``pressure_angle``: between the normal and the velocity of the planet point
     about its own (fixed) axis, perpendicular to O1K (Eqs. 8-10). Velocities along
@@ -417,3 +417,84 @@ def contact_count(pair: SineGearPair, crank_angle_rad, gap_m: float,
         if candidates is not None or np.all(outer > gap_m) or k == kmax:
             return np.sum(gap <= gap_m, axis=1)
         k = min(2 * k, kmax)
+
+
+# ---------------------------------------------------------------------------------------
+# kinematics at a chosen contact point
+@dataclass(frozen=True)
+class ContactKinematics:
+    """Kinematics with a chosen planet point taken as the contact point (arrays of the
+    broadcast shape S of the inputs; points and normals (2, *S)); conventions as in
+    :func:`meshing` (velocities along t = k x n, n the ring normal into the planet).
+
+    Attributes
+    ----------
+    crank_angle, phi_planet : numpy.ndarray
+        chi and the planet parameter of the point (rad).
+    phi_ring : numpy.ndarray
+        Ring parameter of the point's foot on the ring (rad).
+    planet_point, ring_point, normal : numpy.ndarray, shape (2, ...)
+        The planet point and its foot point in the ring frame (m), the ring's unit normal.
+    gap : numpy.ndarray
+        Signed normal gap of the planet point (m).
+    sliding_velocity, entrainment_velocity, slide_to_roll : numpy.ndarray
+        Planet minus ring surface speed, (u1 + u2)/2 (m/s), and their ratio.
+    """
+    crank_angle: np.ndarray
+    phi_planet: np.ndarray
+    phi_ring: np.ndarray
+    planet_point: np.ndarray
+    ring_point: np.ndarray
+    normal: np.ndarray
+    gap: np.ndarray
+    sliding_velocity: np.ndarray
+    entrainment_velocity: np.ndarray
+    slide_to_roll: np.ndarray
+
+
+def kinematics_at(pair: SineGearPair, crank_angle_rad, phi, crank_speed_rad_s: float = 1.0,
+                  phi_rate=0.0) -> ContactKinematics:
+    """Sliding and entrainment speeds with planet point ``phi`` as the contact point, for
+    contacts that are not at a gap minimum (an FE contact on a loaded flank whose gap has
+    no minimum of its own, where :func:`meshing` reports the flank's end).
+
+    The planet side is the point itself, moving along the planet at ``phi_rate`` per unit
+    crank angle; the ring side is its foot point, whose parameter rate follows from
+    differentiating the foot-point condition (K - X) . X' = 0 over the crank angle:
+    phi2' = -(V + K' phi_rate) . X' / (-X'.X' + (K - X) . X''), V the planet's material
+    velocity per unit crank speed. The sliding speed does not depend on ``phi_rate``.
+    With ``phi_rate`` 0 (the default: the contact stays at one point of the planet, as at
+    a tip or a flank end) this is :func:`meshing`'s column without a minimum of its own;
+    with the rate of the conjugate contact, (z2/z1)/psi'(phi), it is the conjugate column.
+
+    Parameters
+    ----------
+    pair : SineGearPair
+    crank_angle_rad : array_like
+        Crank angles chi (rad).
+    phi : array_like
+        Planet parameter of the contact point (rad); broadcasts with the crank angles.
+    crank_speed_rad_s : float
+        Crank speed (rad/s).
+    phi_rate : array_like
+        d phi/d chi of the contact point along the planet (-); broadcasts.
+
+    Returns
+    -------
+    ContactKinematics
+    """
+    check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
+    g = profile_params(pair)
+    chi, f1, rate = np.broadcast_arrays(np.asarray(crank_angle_rad, float),
+                                        np.asarray(phi, float), np.asarray(phi_rate, float))
+    om = float(crank_speed_rad_s)
+    K1, T1, V = _placed(g, chi, f1, 1)
+    f2 = _foot(g, K1, _foot_start(g, K1))
+    X, X1, X2 = _ring(g, f2, 2)[:3]
+    n = perp(X1) / np.hypot(X1[0], X1[1])
+    d = K1 - X
+    j12 = -dot(X1, X1) + dot(d, X2)
+    rate2 = -(dot(V, X1) + dot(T1, X1) * rate) / j12 * om
+    sliding, entrain = _surface_speeds(V, T1, X1, perp(n), rate * om, rate2, om)
+    return ContactKinematics(chi, f1, f2, K1, X, n, dot(d, n), sliding, entrain,
+                             slide_to_roll(sliding, entrain))
