@@ -28,12 +28,12 @@ def unit(angle_rad):
 
 
 def dot(a, b):
-    """Scalar product a . b.
+    """Scalar product a . b = a_x b_x + a_y b_y.
 
     Parameters
     ----------
     a, b : array_like, shape (2, ...)
-        Vectors; the trailing axes broadcast.
+        The two vectors (symmetric); their trailing axes broadcast.
 
     Returns
     -------
@@ -48,11 +48,12 @@ def cross(a, b):
     Parameters
     ----------
     a, b : array_like, shape (2, ...)
-        Vectors; the trailing axes broadcast.
+        First and second factor (the order sets the sign); trailing axes broadcast.
 
     Returns
     -------
     numpy.ndarray, shape (...)
+        |a| |b| sin(angle from a to b).
     """
     return a[0] * b[1] - a[1] * b[0]
 

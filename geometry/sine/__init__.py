@@ -27,16 +27,16 @@ from .conjugate import (SeedPressureAngles, conjugate_contact, contact_crank_ang
 from .drawing import RING_RIM_MODULES, planet_polygon, ring_polygon
 from .limits import (ToothHeightLimits, check_tooth_height, max_tooth_height_m,
                      tooth_height_limits)
-from .meshing import (DEFAULT_CANDIDATES, Approach, ContactKinematics, closest_approach,
-                      contact_count, flank_window, kinematics_at, meshing, pitch_point,
-                      planet_pose, planet_rotation)
+from .meshing import (DEFAULT_CANDIDATES, Approach, ContactKinematics, PointPair,
+                      closest_approach, contact_count, flank_window, kinematics_at, meshing,
+                      pitch_point, planet_pose, planet_rotation)
 from .pair import MIN_PLANET_TEETH, SineGearPair
 from .profile import (ProfileCurve, ProfileParams, curvature_eq6, planet_curve,
                       planet_profile, profile_params)
 
 __all__ = [
     "Approach", "ContactKinematics", "DEFAULT_CANDIDATES", "MIN_PLANET_TEETH",
-    "ProfileCurve", "ProfileParams", "RING_RIM_MODULES", "SeedPressureAngles",
+    "PointPair", "ProfileCurve", "ProfileParams", "RING_RIM_MODULES", "SeedPressureAngles",
     "SineGearPair", "ToothHeightLimits", "check_tooth_height", "closest_approach",
     "conjugate_contact", "contact_count", "contact_crank_angle", "curvature_eq6",
     "distance_to_ring", "flank_window", "foot_point", "kinematics_at", "max_tooth_height_m",

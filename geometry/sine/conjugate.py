@@ -88,13 +88,13 @@ def pitch_point_angle(pair: SineGearPair, phi):
     Parameters
     ----------
     pair : SineGearPair
-    phi : array_like, shape (...)
-        Planet parameter (rad).
+    phi : array_like
+        Planet parameter of the point in contact (rad), any shape.
 
     Returns
     -------
-    numpy.ndarray, shape (...)
-        psi (rad).
+    numpy.ndarray
+        psi (rad), the shape of ``phi``; psi(phi + 2 pi/z1) = psi(phi) + 2 pi/z1.
     """
     return _psi(profile_params(pair), np.asarray(phi, float))[0]
 
@@ -229,8 +229,8 @@ def conjugate_contact(pair: SineGearPair, crank_angle_rad):
     Parameters
     ----------
     pair : SineGearPair
-    crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles chi (rad).
+    crank_angle_rad : float or array_like of shape (P,)
+        Crank angles chi (rad), not reduced to a pitch: phi* grows by 2 pi z2/z1 per turn.
 
     Returns
     -------
@@ -398,8 +398,8 @@ def seed_pressure_angles(pair: SineGearPair, phi) -> SeedPressureAngles:
     Parameters
     ----------
     pair : SineGearPair
-    phi : array_like, shape (...)
-        Planet parameter of the contact (rad).
+    phi : array_like
+        Planet parameter of the contact, p(phi) (rad); every field has its shape.
 
     Returns
     -------

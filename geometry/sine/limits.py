@@ -243,6 +243,7 @@ def max_tooth_height_m(pair: SineGearPair) -> float:
     Parameters
     ----------
     pair : SineGearPair
+        Its tooth height is not used: the bound is what it may be raised to.
 
     Returns
     -------

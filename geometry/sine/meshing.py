@@ -54,8 +54,8 @@ def planet_pose(pair: SineGearPair, crank_angle_rad):
     Parameters
     ----------
     pair : SineGearPair
-    crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles chi (rad).
+    crank_angle_rad : float or array_like of shape (P,)
+        Crank angle(s) chi (rad); a scalar gives P = 1.
 
     Returns
     -------
@@ -70,18 +70,19 @@ def planet_pose(pair: SineGearPair, crank_angle_rad):
 
 
 def planet_rotation(pair: SineGearPair, crank_angle_rad):
-    """Absolute planet rotation theta1 = -chi (z2 - z1)/z1.
+    """Absolute planet rotation theta1 = -chi (z2 - z1)/z1 (the second output of
+    :func:`planet_pose`, keeping the shape of its argument).
 
     Parameters
     ----------
     pair : SineGearPair
-    crank_angle_rad : array_like, shape (...)
-        Crank angles chi (rad).
+    crank_angle_rad : array_like
+        chi (rad), any shape, scalar included.
 
     Returns
     -------
-    numpy.ndarray, shape (...)
-        theta1 (rad).
+    numpy.ndarray
+        theta1 (rad), of that shape.
     """
     return np.asarray(crank_angle_rad, float) * profile_params(pair).w
 
@@ -93,7 +94,7 @@ def pitch_point(pair: SineGearPair, crank_angle_rad):
     ----------
     pair : SineGearPair
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles chi (rad).
+        Crank angles chi (rad): P turns with the crank.
 
     Returns
     -------
@@ -118,29 +119,23 @@ def _placed(g: ProfileParams, chi, phi, order=2):
 # ---------------------------------------------------------------------------------------
 # closest approach of planet flanks to the ring
 @dataclass(frozen=True)
-class Approach:
-    """Closest approach of planet flanks to the ring at crank angles (arrays of one shape
-    S, points and normals (2, *S)).
-
-    Where a flank has no local minimum of the gap of its own (``own`` False), the gap still
-    falls beyond the flank's end, the nearest point belongs to the neighbouring flank, and
-    the pair returned is the end point and its foot point.
+class PointPair:
+    """A planet point at crank angles chi and its foot on the ring (arrays of one shape S,
+    points and normals (2, *S)).
 
     Attributes
     ----------
     crank_angle : numpy.ndarray
         chi (rad).
     phi_planet, phi_ring : numpy.ndarray
-        Parameters of the closest points on the planet and the ring (rad).
+        Parameters of the planet point and of its foot on the ring (rad).
     planet_point, ring_point : numpy.ndarray, shape (2, ...)
-        The closest points in the ring frame (m).
+        The two points in the ring frame (m).
     normal : numpy.ndarray, shape (2, ...)
         The ring's unit normal at the ring point, pointing into the free space (toward the
         planet).
     gap : numpy.ndarray
         Normal gap (m): positive clearance, negative overlap.
-    own : numpy.ndarray of bool
-        The flank has a stationary point of the gap inside its half-open window.
     """
     crank_angle: np.ndarray
     phi_planet: np.ndarray
@@ -149,6 +144,22 @@ class Approach:
     ring_point: np.ndarray
     normal: np.ndarray
     gap: np.ndarray
+
+
+@dataclass(frozen=True)
+class Approach(PointPair):
+    """Closest approach of planet flanks to the ring: the :class:`PointPair` of the closest
+    points, and whether the flank has a minimum of its own.
+
+    Where a flank has no local minimum of the gap of its own (``own`` False), the gap still
+    falls beyond the flank's end, the nearest point belongs to the neighbouring flank, and
+    the pair returned is the end point and its foot point.
+
+    Attributes
+    ----------
+    own : numpy.ndarray of bool
+        The flank has a stationary point of the gap inside its half-open window.
+    """
     own: np.ndarray
 
 
@@ -391,12 +402,13 @@ def contact_count(pair: SineGearPair, crank_angle_rad, gap_m: float,
     ----------
     pair : SineGearPair
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles chi (rad).
+        Crank angles chi (rad); the count repeats after a crank pitch 2 pi/z2.
     gap_m : float
         Largest gap counted (m), >= 0.
     candidates : int, optional
-        Teeth searched on each side of the pitch point; None: grown until the outermost
-        ones are farther than ``gap_m``.
+        Teeth searched on each side of the pitch point (as in :func:`meshing`); None:
+        doubled from ``DEFAULT_CANDIDATES`` until the outermost ones are farther than
+        ``gap_m``.
 
     Returns
     -------
@@ -422,31 +434,17 @@ def contact_count(pair: SineGearPair, crank_angle_rad, gap_m: float,
 # ---------------------------------------------------------------------------------------
 # kinematics at a chosen contact point
 @dataclass(frozen=True)
-class ContactKinematics:
-    """Kinematics with a chosen planet point taken as the contact point (arrays of the
-    broadcast shape S of the inputs; points and normals (2, *S)); conventions as in
-    :func:`meshing` (velocities along t = k x n, n the ring normal into the planet).
+class ContactKinematics(PointPair):
+    """Kinematics with a chosen planet point taken as the contact point: the
+    :class:`PointPair` of that point (arrays of the broadcast shape of the inputs) and its
+    speeds, with the conventions of :func:`meshing` (velocities along t = k x n, n the ring
+    normal into the planet).
 
     Attributes
     ----------
-    crank_angle, phi_planet : numpy.ndarray
-        chi and the planet parameter of the point (rad).
-    phi_ring : numpy.ndarray
-        Ring parameter of the point's foot on the ring (rad).
-    planet_point, ring_point, normal : numpy.ndarray, shape (2, ...)
-        The planet point and its foot point in the ring frame (m), the ring's unit normal.
-    gap : numpy.ndarray
-        Signed normal gap of the planet point (m).
     sliding_velocity, entrainment_velocity, slide_to_roll : numpy.ndarray
         Planet minus ring surface speed, (u1 + u2)/2 (m/s), and their ratio.
     """
-    crank_angle: np.ndarray
-    phi_planet: np.ndarray
-    phi_ring: np.ndarray
-    planet_point: np.ndarray
-    ring_point: np.ndarray
-    normal: np.ndarray
-    gap: np.ndarray
     sliding_velocity: np.ndarray
     entrainment_velocity: np.ndarray
     slide_to_roll: np.ndarray

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 from ...errors import GeometryError, check_range
 from .limits import check_tooth_height
-from .profile import ProfileParams
+from .profile import profile_params
 
 #: Fewest planet teeth accepted (the case model's range starts there too).
 MIN_PLANET_TEETH = 10
@@ -57,25 +57,25 @@ class SineGearPair:
         check_range("face_width_m", self.face_width_m, 0, None, lo_open=True,
                     error=GeometryError)
         r1 = m * z1 / 2
-        a = check_range("tooth_height_m", self.tooth_height_m, 0, r1, lo_open=True,
-                        hi_open=True, error=GeometryError,
-                        why="Eq. 1 needs a < r1 (planet pitch radius)")
-        check_tooth_height(ProfileParams(int(z1), int(self.ring_teeth), float(m), float(a)))
+        check_range("tooth_height_m", self.tooth_height_m, 0, r1, lo_open=True,
+                    hi_open=True, error=GeometryError,
+                    why="Eq. 1 needs a < r1 (planet pitch radius)")
+        check_tooth_height(profile_params(self))
 
     @property
     def planet_pitch_radius_m(self) -> float:
         """r1 = m z1/2 (m)."""
-        return self.module_m * self.planet_teeth / 2
+        return profile_params(self).r1
 
     @property
     def ring_pitch_radius_m(self) -> float:
         """r2 = m z2/2 (m)."""
-        return self.module_m * self.ring_teeth / 2
+        return profile_params(self).r2
 
     @property
     def centre_distance_m(self) -> float:
         """a0 = r2 - r1 = m (z2 - z1)/2 (m)."""
-        return self.module_m * (self.ring_teeth - self.planet_teeth) / 2
+        return profile_params(self).a0
 
     @property
     def tooth_difference(self) -> int:

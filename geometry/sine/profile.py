@@ -82,10 +82,13 @@ def profile_params(pair: SineGearPair) -> ProfileParams:
     Parameters
     ----------
     pair : SineGearPair
+        Any record with ``planet_teeth``, ``ring_teeth``, ``module_m`` and
+        ``tooth_height_m``.
 
     Returns
     -------
     ProfileParams
+        Hashable (used as the key of the cached ring tables).
     """
     return ProfileParams(int(pair.planet_teeth), int(pair.ring_teeth), float(pair.module_m),
                          float(pair.tooth_height_m))
@@ -181,13 +184,14 @@ def planet_profile(pair: SineGearPair, phi) -> np.ndarray:
     Parameters
     ----------
     pair : SineGearPair
-    phi : array_like, shape (...)
-        Planet parameter, the polar angle of the point (rad).
+    phi : array_like
+        Planet parameter, the polar angle of the point (rad), any shape S; tooth j has its
+        tip at 2 pi j/z1.
 
     Returns
     -------
-    numpy.ndarray, shape (2, ...)
-        Points p(phi) (m).
+    numpy.ndarray
+        Points p(phi) (m), shape (2, *S).
     """
     return _planet(profile_params(pair), np.asarray(phi, float), 0)[0]
 
