@@ -37,6 +37,7 @@ import numpy as np
 from .hertz import hertz_line
 from ..errors import ToothfemError, check_range
 from ..geometry import cycloid as cy
+from ..geometry.vectors import rotate
 from . import contact
 from .cache import content_key
 from .elastic import Body, SameMaterial, plane_modulus
@@ -122,17 +123,12 @@ def _positions(model: CycloidFEModel, phis, state=None):
         normal = -cy.inward_normal(gen, psi)
         # contact angle on the pin, in the housing frame (the groove is fixed there)
         towards = -c_house / np.hypot(*c_house)
-        d = _rotate(-normal, -phi / g.lobe_count)
+        d = rotate(-normal, -phi / g.lobe_count)
         gamma = np.arctan2(towards[0] * d[1] - towards[1] * d[0], np.sum(towards * d, axis=0))
         out.append(_Position(float(phi), pins, c_disc, psi, point, normal,
                              state.moment_arm[p, pins], gamma, state.gap[p, pins],
                              state.equivalent_radius[p, pins], state.radius_moving[p, pins]))
     return out, state
-
-
-def _rotate(v, a):
-    c, s = np.cos(a), np.sin(a)
-    return np.stack([c * v[0] - s * v[1], s * v[0] + c * v[1]])
 
 
 def _disc_rings(model: CycloidFEModel, inserts=(), base_per_lobe=48):
@@ -603,8 +599,8 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     h = b_zone / elements_per_halfwidth
     rz = g.pin_radius_m
     theta_d = -crank_angle_rad / g.lobe_count
-    housing_centre = _rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
-                                                           math.sin(crank_angle_rad)]), -theta_d)
+    housing_centre = rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
+                                                          math.sin(crank_angle_rad)]), -theta_d)
     pin_rings, disc_psi, zone_angles = [], [], []
     for k in range(q.pins.size):
         c, n = q.pin_centre[:, k], q.normal[:, k]

@@ -58,7 +58,7 @@ import numpy as np
 
 from ..errors import ToothfemError, check_range
 from ..geometry import sine
-from ..geometry.sine import _perp, _rot  # the same plane-vector helpers
+from ..geometry.vectors import perp, rotate
 from . import contact
 from .cache import content_key
 from .elastic import Body, SameMaterial
@@ -220,7 +220,7 @@ class _Toothed:
     def inward_normal(self, sigma):
         """Unit normal into the material at arc length sigma."""
         d1 = self.curve(self.phi_of_sigma(sigma))[1]
-        return self.inward * _perp(d1) / np.hypot(*d1)
+        return self.inward * perp(d1) / np.hypot(*d1)
 
 
 def _planet_toothed(pair) -> _Toothed:
@@ -242,12 +242,10 @@ def _ring_toothed(pair) -> _Toothed:
 def ring_foot(pair, points):
     """(ring parameter phi2, signed normal gap, unit ring normal into the free space (2, N))
     of ring-frame points (2, N): the foot of the perpendicular on the ring profile."""
-    # the foot-point Newton of geometry.sine (private there; see docs/fem_sine.md)
-    g = sine._params(pair)
     K = np.asarray(points, float)
-    f2 = sine._foot(g, K, sine._ring_param_at(g, np.arctan2(K[1], K[0])))
+    f2, _ = sine.foot_point(pair, K)
     c = sine.ring_curve(pair, f2)
-    n = _perp(c.d1) / np.hypot(*c.d1)
+    n = perp(c.d1) / np.hypot(*c.d1)
     return f2, np.sum((K - c.point) * n, axis=0), n
 
 
@@ -340,7 +338,7 @@ def _hat_loads(body: Body, verts, facets, inward: int, n_hats: int):
     mesh, basis = body.mesh, body.basis
     seg = mesh.p[:, verts[1:]] - mesh.p[:, verts[:-1]]
     length = np.hypot(*seg)
-    normal = inward * _perp(seg) / length
+    normal = inward * perp(seg) / length
     h = np.repeat(np.arange(n_hats), 4)
     f = 2 * h + 2 + np.tile([-2, -1, 0, 1], n_hats)       # facet f joins vertex f and f+1
     a = np.tile([0.0, 0.5, 1.0, 0.5], n_hats)
@@ -537,7 +535,7 @@ class CycleSolver:
         hats = (j0 - k) * n + np.arange((2 * k + 1) * n)
         sigma = hats * s
         centre, theta = sine.planet_pose(pair, chi)
-        pts = _rot(theta[0], pl.toothed.point(sigma)) + centre
+        pts = rotate(pl.toothed.point(sigma), theta[0]) + centre
         f2, g0, nrm = ring_foot(pair, pts)
         sel = g0 < sel_gap
         if not np.any(sel):
@@ -670,7 +668,7 @@ def _hertz_gap_fails(model, toothed, positions, beta, sel, sig_c, b, r_eq):
     for i, (p, c) in enumerate(zip(pp, cc)):
         centre, theta = sine.planet_pose(pair, positions[p])
         sg = sig_c[p, c] + b[p, c] * np.array([-1.0, 0.0, 1.0])
-        pts = _rot(theta[0], toothed.point(sg)) + centre
+        pts = rotate(toothed.point(sg), theta[0]) + centre
         _, g, n = ring_foot(pair, pts)
         rel = pts - centre
         sep = g + beta[p] * (rel[0] * n[1] - rel[1] * n[0])
@@ -762,7 +760,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     th, centre = float(theta[0]), centre[:, 0]
 
     def placed(p):                   # planet frame -> ring frame
-        return _rot(th, p) + centre[:, None]
+        return rotate(p, th) + centre[:, None]
 
     n_tooth = int(math.ceil(pt.length / h))
     step = pt.length / n_tooth
@@ -804,7 +802,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     foot = kp - g0 * nrm
     rel = kp - centre[:, None]
     arm = rel[0] * nrm[1] - rel[1] * nrm[0]
-    load_p = contact.nodal_load_matrix(planet.basis.N, slave.dofs, _rot(-th, nrm))
+    load_p = contact.nodal_load_matrix(planet.basis.N, slave.dofs, rotate(nrm, -th))
     on_ring = contact.nearest_on_boundary(rm, "profile", foot) - 1e-6 * h * nrm
     load_r = ring.point_load_matrix(on_ring, nrm)
     hmat = contact.flexibility(planet, load_p) + contact.flexibility(ring, load_r)
@@ -834,7 +832,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     relc = kc - centre[:, None]
     armc = relc[0] * nc[1] - relc[1] * nc[0]
     pc_in = contact.nearest_on_boundary(pm, "profile", pc) + 1e-3 * h * pt.inward_normal(sc)
-    up = planet.point_load_matrix(pc_in, _rot(-th, nc)).T @ u_p
+    up = planet.point_load_matrix(pc_in, rotate(nc, -th)).T @ u_p
     rc_in = contact.nearest_on_boundary(rm, "profile", kc - gc * nc) - 1e-3 * h * nc
     ur = ring.point_load_matrix(rc_in, nc).T @ u_r
     loaded_gap = gc + sol.rigid * armc + up - ur

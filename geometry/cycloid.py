@@ -1,6 +1,8 @@
 """Cycloid disc geometry and cycloid-pin meshing kinematics.
 
-Notation (pin-housing paper, seeds/cycloid-pin-housing-integral-fem.txt, Sec. 2):
+Notation (the pin-housing paper: Y. Wang, G. Liu, H. Yu, H. Mao, K. He, R. Du, "Analysis of
+meshing characteristics of pins and pin housing integral structure in cycloidal planetary
+drive", Sec. 2):
 Zb pins of radius rz on a circle of radius Rz; disc with Za = Zb - 1 lobes; eccentricity
 A (= e); shortening coefficient K1 = A*Zb/Rz; disc and pin pitch radii r_a = A*Za,
 r_b = A*Zb.
@@ -40,22 +42,11 @@ import numpy as np
 
 from ..errors import GeometryError, check_range
 from .kinematics import MeshingState, equivalent_radius, slide_to_roll
+from .vectors import cross, perp, rotate, unit
 
 #: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
 _FOOT_TOL = 1e-14
 _FOOT_MAXITER = 50
-
-
-def _u(a):
-    return np.stack([np.cos(a), np.sin(a)])
-
-
-def _du(a):
-    return np.stack([-np.sin(a), np.cos(a)])
-
-
-def _cross(a, b):
-    return a[0] * b[1] - a[1] * b[0]
 
 
 @dataclass(frozen=True)
@@ -182,11 +173,11 @@ def theoretical_profile(g: _Generating | CycloidGeometry, psi, order=0):
     psi = np.asarray(psi, float)
     zb = g.zb
     if order == 0:
-        return g.rz_circle * _u(psi) - g.a * _u(zb * psi)
+        return g.rz_circle * unit(psi) - g.a * unit(zb * psi)
     if order == 1:
-        return g.rz_circle * _du(psi) - g.a * zb * _du(zb * psi)
+        return g.rz_circle * perp(unit(psi)) - g.a * zb * perp(unit(zb * psi))
     if order == 2:
-        return -g.rz_circle * _u(psi) + g.a * zb**2 * _u(zb * psi)
+        return -g.rz_circle * unit(psi) + g.a * zb**2 * unit(zb * psi)
     raise ValueError(f"order = {order!r} is outside the valid range [0, 2]")
 
 
@@ -196,7 +187,7 @@ def inward_normal(g, psi):
     psi = np.asarray(psi, float)
     k1 = g.k1
     s = 1 + k1**2 - 2 * k1 * np.cos((g.zb - 1) * psi)
-    return (k1 * _u(g.zb * psi) - _u(psi)) / np.sqrt(s)
+    return (k1 * unit(g.zb * psi) - unit(psi)) / np.sqrt(s)
 
 
 def working_profile(g, psi):
@@ -341,21 +332,19 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
 def pin_centres(geom: CycloidGeometry) -> np.ndarray:
     """(2, Zb) pin centres in the housing frame; pin 0 on +x."""
     theta = 2 * math.pi * np.arange(geom.pin_count) / geom.pin_count
-    return geom.pin_circle_radius_m * _u(theta)
+    return geom.pin_circle_radius_m * unit(theta)
 
 
 def disc_pose(geom: CycloidGeometry, crank_angle_rad):
     """(centre (2, P), rotation (P,)) of the disc for crank angles phi (K-H-V: -phi/Za)."""
     phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
-    return geom.eccentricity_m * _u(phi), -phi / geom.lobe_count
+    return geom.eccentricity_m * unit(phi), -phi / geom.lobe_count
 
 
 def to_disc_frame(geom, crank_angle_rad, points):
     """Housing-frame points (2, P, C) -> disc frame for each crank angle."""
     centre, rot = disc_pose(geom, crank_angle_rad)
-    d = points - centre[:, :, None]
-    c, s = np.cos(-rot)[:, None], np.sin(-rot)[:, None]
-    return np.stack([c * d[0] - s * d[1], s * d[0] + c * d[1]])
+    return rotate(points - centre[:, :, None], -rot[:, None])
 
 
 def seed_moment_arm(geom: CycloidGeometry, theta_b):
@@ -393,21 +382,21 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     omega = float(crank_speed_rad_s)
     omega_d = -omega / za                                    # disc angular velocity
     c = pin_centres(geom)[:, None, :]                        # (2, 1, C)
-    centre = geom.eccentricity_m * _u(phi)                   # (2, P)
-    pitch = geom.pin_pitch_radius_m * _u(phi)[:, :, None]    # (2, P, 1)
+    centre = geom.eccentricity_m * unit(phi)                 # (2, P)
+    pitch = geom.pin_pitch_radius_m * unit(phi)[:, :, None]  # (2, P, 1)
     d = pitch - c                                            # pin -> pitch point
     dist = np.hypot(d[0], d[1])                              # |P - C|, (P, C)
     n = d / dist                                             # normal into the disc
     k = c + geom.pin_radius_m * n                            # contact point
     rel = k - centre[:, :, None]
-    arm = _cross(rel, n)
+    arm = cross(rel, n)
     pressure = np.arccos(np.clip(np.abs(arm) / np.hypot(rel[0], rel[1]), 0.0, 1.0))
-    t = np.stack([-n[1], n[0]])                              # tangent k x n
+    t = perp(n)                                              # tangent k x n
     # disc material velocity at K: rotation about the pitch point (instant centre)
     kp = k - pitch
-    v_disc = omega_d * np.stack([-kp[1], kp[0]])
+    v_disc = omega_d * perp(kp)
     # contact point velocity: K = C + rz n, n = (P - C)/|P - C|
-    dp = geom.pin_pitch_radius_m * omega * _du(phi)[:, :, None]
+    dp = geom.pin_pitch_radius_m * omega * perp(unit(phi))[:, :, None]
     dn = (dp - n * np.sum(n * dp, axis=0)) / dist
     dk = geom.pin_radius_m * dn
     v_disc_t = np.sum(v_disc * t, axis=0)

@@ -270,6 +270,81 @@ def test_near_contact_kinematics_against_finite_differences():
                        atol=1e-18)
 
 
+@pytest.mark.parametrize("pair", PAIRS, ids=IDS)
+def test_kinematics_at_reduces_to_meshing(pair):
+    """kinematics_at is meshing's column where the contact points coincide: the conjugate
+    contact followed at its own rate d phi*/d chi = (z2/z1)/psi' (psi' by central
+    differences, h = 1e-6: 1e-8 relative, rounding eps |psi|/h with |psi| up to 6.4 rad),
+    and a flank without a minimum of its own at its end point, held there (rate 0: the
+    same formulas, 1e-12 relative). The sliding speed is the same number either way
+    (1e-12 relative)."""
+    om = 3.0
+    m = sine.meshing(pair, CRANK, crank_speed_rad_s=om)
+    r, c = _conj_columns(m)
+    fs = sine.conjugate_contact(pair, CRANK)
+    h = 1e-6
+    psid = (sine.pitch_point_angle(pair, fs + h) - sine.pitch_point_angle(pair, fs - h)) / (2 * h)
+    k = sine.kinematics_at(pair, CRANK, fs, om, pair.ring_teeth / pair.planet_teeth / psid)
+    U, vs = m.entrainment_velocity[r, c], m.sliding_velocity[r, c]
+    assert np.allclose(k.sliding_velocity, vs, rtol=1e-12, atol=1e-12 * np.max(np.abs(vs)))
+    assert np.allclose(k.entrainment_velocity, U, rtol=1e-8, atol=1e-8 * np.max(np.abs(U)))
+    assert np.allclose(k.planet_point.T, m.point[r, c], rtol=0, atol=1e-15)
+    rr, cc = np.where(~np.isfinite(m.gap))
+    j0 = np.round(CRANK * pair.ring_teeth / (2 * math.pi)).astype(int)
+    tooth = j0[rr] - sine.DEFAULT_CANDIDATES + cc // 2
+    ap = sine.closest_approach(pair, CRANK[rr], tooth, np.where(cc % 2, 1, -1))
+    assert not np.any(ap.own)
+    k = sine.kinematics_at(pair, CRANK[rr], ap.phi_planet, om)
+    U, vs = m.entrainment_velocity[rr, cc], m.sliding_velocity[rr, cc]
+    assert np.allclose(k.sliding_velocity, vs, rtol=1e-12, atol=1e-12 * np.max(np.abs(vs)))
+    assert np.allclose(k.entrainment_velocity, U, rtol=1e-12, atol=1e-12 * np.max(np.abs(U)))
+
+
+@pytest.mark.parametrize("pair", PAIRS, ids=IDS)
+def test_kinematics_at_arbitrary_point_against_finite_differences(pair):
+    """Off the conjugate contact, moving along the planet at chosen rates (0, 0.5, -1.3
+    per unit crank angle): the rolling speeds agree with central differences of the planet
+    point and of its foot on the ring over the crank angle (h = 1e-7 rad; 1e-5 relative:
+    the foot points move with the Newton tolerance 1e-12 rad), and the sliding speed is
+    that of a rotation about the pitch point P, omega_planet k x (K - P) (1e-12
+    relative)."""
+    om = 3.0
+    pitch = 2 * math.pi / pair.ring_teeth
+    chi = np.array([0.1, 0.45, 0.8]) * pitch
+    phi = (sine.conjugate_contact(pair, chi)
+           + np.array([0.3, -0.5, 0.7]) * math.pi / pair.planet_teeth)
+    rate = np.array([0.0, 0.5, -1.3])
+    h = 1e-7
+    k = sine.kinematics_at(pair, chi, phi, om, rate)
+    kp, km = (sine.kinematics_at(pair, chi + s, phi + rate * s, om, rate) for s in (h, -h))
+    assert np.all(k.gap > 0)
+    v_pl = (kp.planet_point - km.planet_point) / (2 * h) * om
+    v_ring = (kp.ring_point - km.ring_point) / (2 * h) * om
+    KP = k.planet_point - sine.pitch_point(pair, chi)
+    v_mat = om * sine.planet_rotation(pair, 1.0) * np.stack([-KP[1], KP[0]])
+    t = np.stack([-k.normal[1], k.normal[0]])
+    u1 = np.sum((v_pl - v_mat) * t, axis=0)
+    u2 = np.sum(v_ring * t, axis=0)
+    U = k.entrainment_velocity
+    assert np.allclose(U, 0.5 * (u1 + u2), rtol=1e-5, atol=1e-5 * np.max(np.abs(U)))
+    vs = np.sum(v_mat * t, axis=0)
+    assert np.allclose(k.sliding_velocity, vs, rtol=1e-12, atol=1e-12 * np.max(np.abs(vs)))
+
+
+def test_foot_point_is_the_foot_of_the_perpendicular():
+    """foot_point: K - X(phi_ring) is along the ring normal (1e-15 m, rounding) and its
+    length is |gap|; inside the ring's material the gap is negative."""
+    phi = np.linspace(-0.2, 0.3, 9)
+    c = sine.ring_curve(PROTO, phi)
+    n = np.stack([-c.d1[1], c.d1[0]]) / np.hypot(*c.d1)
+    off = np.linspace(-20e-6, 20e-6, 9)
+    K = c.point + off * n
+    f2, gap = sine.foot_point(PROTO, K)
+    X = sine.ring_profile(PROTO, f2)
+    assert np.max(np.abs(K - X - gap * n)) < 1e-15
+    assert np.allclose(gap, off, rtol=1e-9, atol=1e-15)
+
+
 def test_mesh_repeats_after_one_tooth_pitch():
     """meshing(chi + 2 pi/z2) is meshing(chi) turned by 2 pi/z2 with the planet tooth index
     advanced by one (exact symmetry: gaps to 1e-15 m, rounding; points to 1e-13 m, the

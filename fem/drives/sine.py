@@ -8,6 +8,7 @@ import numpy as np
 from ...errors import CaseError
 from ...geometry import sine as sg
 from ...geometry.train import khv_speeds
+from ...geometry.vectors import rotate
 from .. import sine_fe as sf
 from .base import Drive
 
@@ -94,4 +95,4 @@ class SineDrive(Drive):
 
     def member_frame_point(self, model, position_rad: float, point):
         c, th = sg.planet_pose(model.pair, position_rad)
-        return sg._rot(-th[0], np.asarray(point, float) - c[:, 0])
+        return rotate(np.asarray(point, float) - c[:, 0], -th[0])
