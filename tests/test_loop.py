@@ -19,10 +19,10 @@ import numpy as np
 import pytest
 
 from toothfem import load_case
-from toothfem.efficiency import effects as fx
+from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
 from toothfem.efficiency import model as md
-from toothfem.efficiency import synthetic as sy
+from toothfem.efficiency.loop import synthetic as sy
 
 R = dataclasses.replace
 #: Contact compliance [m per N/m] for the clearance effect in the fast tests (the FE value
@@ -219,7 +219,7 @@ def test_no_effect_adds_nothing(cases):
 
 def test_small_data_reports_what_it_would_take(cases, cases_dir):
     """One point: no selection; each candidate's closing value is reported."""
-    from toothfem.efficiency.measured import load_measured
+    from toothfem.efficiency.loop.measured import load_measured
 
     case = cases["sine_prototype"]
     data = load_measured(cases_dir.parent / "data" / "sine_prototype_rig.csv",

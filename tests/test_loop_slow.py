@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from toothfem import load_case
-from toothfem.efficiency import effects as fx
+from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
 from toothfem.efficiency import model as md
-from toothfem.efficiency import synthetic as sy
+from toothfem.efficiency.loop import synthetic as sy
 
 pytestmark = pytest.mark.slow
 R = dataclasses.replace

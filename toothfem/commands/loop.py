@@ -26,9 +26,9 @@ def add_parser(sub):
 
 def run(args) -> int:
     from ..case import load_case
-    from ..efficiency import effects as fx
+    from ..efficiency.loop import effects as fx
     from ..efficiency import loop as lp
-    from ..efficiency import measured as ms
+    from ..efficiency.loop import measured as ms
     from ..errors import ToothfemError
     from ..output import atomic_dir
 

@@ -47,8 +47,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import ToothfemError, check_range
-from . import model as _model
+from ...errors import ToothfemError, check_range
+from .. import model as _model
 
 # ---------------------------------------------------------------------------------------
 # Records
@@ -499,7 +499,7 @@ def contact_compliance(cycloid, material) -> float:
     45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
     half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
     terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
-    from ..fem import cycloid_fe as cf
+    from ...fem import cycloid_fe as cf
 
     model = cf.model_from_case(SimpleNamespace(cycloid=cycloid, material=material))
     solver = cf.CycleSolver(model, np.array([0.0]))
@@ -536,8 +536,8 @@ def clearance_tables(case, points: Points, compliance=None,
     sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
     bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
     is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
-    from ..fem import cycloid_fe as cf
-    from ..geometry import cycloid as cy
+    from ...fem import cycloid_fe as cf
+    from ...geometry import cycloid as cy
 
     cyc = case.cycloid
     if compliance is None:

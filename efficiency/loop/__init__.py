@@ -49,7 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ToothfemError
+from ...errors import ToothfemError
 from . import effects as fx
 
 

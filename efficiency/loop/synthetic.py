@@ -113,7 +113,7 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
     if torque_Nm is None:
         t_ref = max([m.output_torque_Nm for m in case.measured] or [0.0])
         if not t_ref:
-            from .model import operating_point
+            from ..model import operating_point
             t_ref = operating_point(case)[1]
         torque_Nm = (0.3 * t_ref, t_ref)
     rig = rig or Rig.matched(case, torque_Nm[1])

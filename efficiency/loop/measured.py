@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
+from ...errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
 
 
 #: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
