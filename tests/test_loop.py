@@ -1,7 +1,7 @@
 """The measured-data loop: effect catalog, synthetic rig data with an undeclared effect,
 selection, residual analysis, report and CLI.
 
-Synthetic data (efficiency/synthetic.py): 200 operating points of the case plus one catalog
+Synthetic data (efficiency/loop/synthetic.py): 200 operating points of the case plus one catalog
 effect the case does not declare, torques read with the sine rig's sensor classes (0.1 % and
 0.2 % of range as one sigma, ranges matched to the reducer). The effect sizes are chosen so
 that the effect is clearly there (its RMS change of efficiency is several times the noise):
