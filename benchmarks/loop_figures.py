@@ -15,10 +15,10 @@ import time
 from pathlib import Path
 
 from toothfem import load_case
-from toothfem.efficiency import effects as fx
+from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
-from toothfem.efficiency import synthetic as sy
-from toothfem.efficiency.measured import load_measured
+from toothfem.efficiency.loop import synthetic as sy
+from toothfem.efficiency.loop.measured import load_measured
 
 ROOT = Path(__file__).resolve().parent.parent
 R = dataclasses.replace

@@ -116,9 +116,9 @@ def efficiency_map():
 def loop_time():
     """The loop on 200 synthetic points: the slowest catalog case (pin sliding on the
     cycloid: FE clearance springs and EHL friction re-evaluated per step)."""
-    from toothfem.efficiency import effects as fx
+    from toothfem.efficiency.loop import effects as fx
     from toothfem.efficiency import loop as lp
-    from toothfem.efficiency import synthetic as sy
+    from toothfem.efficiency.loop import synthetic as sy
     from toothfem.fem.drives import drive_for
 
     sine = load_case(ROOT / "cases" / "sine_prototype.toml")

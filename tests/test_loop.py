@@ -1,7 +1,7 @@
 """The measured-data loop: effect catalog, synthetic rig data with an undeclared effect,
 selection, residual analysis, report and CLI.
 
-Synthetic data (efficiency/synthetic.py): 200 operating points of the case plus one catalog
+Synthetic data (efficiency/loop/synthetic.py): 200 operating points of the case plus one catalog
 effect the case does not declare, torques read with the sine rig's sensor classes (0.1 % and
 0.2 % of range as one sigma, ranges matched to the reducer). The effect sizes are chosen so
 that the effect is clearly there (its RMS change of efficiency is several times the noise):
@@ -19,11 +19,11 @@ import numpy as np
 import pytest
 
 from toothfem import load_case
-from toothfem.efficiency import effects as fx
+from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
 from toothfem.efficiency import lubricant as md
 from toothfem.efficiency import predict
-from toothfem.efficiency import synthetic as sy
+from toothfem.efficiency.loop import synthetic as sy
 
 R = dataclasses.replace
 #: Contact compliance [m per N/m] for the clearance effect in the fast tests (the FE value
@@ -220,7 +220,7 @@ def test_no_effect_adds_nothing(cases):
 
 def test_small_data_reports_what_it_would_take(cases, cases_dir):
     """One point: no selection; each candidate's closing value is reported."""
-    from toothfem.efficiency.measured import load_measured
+    from toothfem.efficiency.loop.measured import load_measured
 
     case = cases["sine_prototype"]
     data = load_measured(cases_dir.parent / "data" / "sine_prototype_rig.csv",

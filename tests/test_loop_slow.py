@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 
 from toothfem import load_case
-from toothfem.efficiency import effects as fx
+from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
 from toothfem.efficiency import drive_losses as md
+from toothfem.efficiency.loop import synthetic as sy
 from toothfem.efficiency.mesh_table import table_from_records
 from toothfem.fem.drives import drive_for
-from toothfem.efficiency import synthetic as sy
 
 pytestmark = pytest.mark.slow
 R = dataclasses.replace

@@ -9,8 +9,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from toothfem import load_case
-from toothfem.efficiency import measured as ms
-from toothfem.efficiency.measured import MeasuredDataError, load_measured, parse_measured
+from toothfem.efficiency.loop import measured as ms
+from toothfem.efficiency.loop.measured import MeasuredDataError, load_measured, parse_measured
 
 HEADER = "input_speed_rpm,output_torque_Nm,efficiency,oil_temp_C,time_h,run_id"
 

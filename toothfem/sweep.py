@@ -90,7 +90,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     disc carries disc_load_factor * T / disc_count, as in ``toothfem contact``). Without
     them the torque is the load case's ``operating.output_torque_Nm``, else the output
     torque its input torque or power gives through the efficiency model
-    (``efficiency.model.operating_point``, as ``toothfem contact`` and ``run``).
+    (``efficiency.operating_point``, as ``toothfem contact`` and ``run``).
     ``positions``: meshing positions over one pin (cycloid disc) or ring-tooth (sine) pitch.
     ``pins``: cycloid pin structure override (conventional, integral, rigid).
     ``scheduler``: None for a LocalCluster of ``n_workers`` single-threaded processes
@@ -398,7 +398,7 @@ def _groups(plan: _Plan, emit) -> list:
 
 def _output_torque(case: Case, torque, varied) -> float:
     """Reducer output torque of a load case [N m]: ``torque`` if given, else the output
-    torque of its [operating] table (efficiency.model.operating_point); a varied input
+    torque of its [operating] table (efficiency.operating_point); a varied input
     torque or power overrides a stated output torque."""
     if torque is not None:
         return float(torque)

@@ -26,11 +26,12 @@ def add_parser(sub):
 
 def run(args) -> int:
     from ..case import load_case
-    from ..efficiency import effects as fx
+    from ..efficiency.loop import effects as fx
     from ..efficiency import loop as lp
-    from ..efficiency import measured as ms
+    from ..efficiency.loop import measured as ms
     from ..errors import ToothfemError
     from ..output import atomic_dir
+    from ..report import loop as rl
 
     case = load_case(args.case)
     if args.measured:
@@ -57,9 +58,9 @@ def run(args) -> int:
             f: _field(final, f) for e in report.effects for f in e.case_fields}
         (tmp / "report.json").write_text(json.dumps(out, indent=2, default=_json) + "\n")
         for stage in ("before", "after"):
-            fig = lp.plot_residuals(report, stage)
+            fig = rl.plot_residuals(report, stage)
             fig.savefig(tmp / f"residuals_{stage}.png", dpi=110)
-        (tmp / "report.md").write_text(lp.markdown(report))
+        (tmp / "report.md").write_text(rl.markdown(report))
     b, f = report.baseline, report.final
     print(f"{case.name}: {report.n_points} points; held-out RMSE {100 * b.rmse:.3f} -> "
           f"{100 * f.rmse:.3f} points; effects: "

@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
+from ...errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
 
 
 #: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
@@ -74,7 +74,7 @@ class Rejected:
         return f"line {self.line}: {self.reason}"
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class MeasuredData:
     """Measured operating points, arrays of shape (M,); optional columns None if absent."""
     speed_rpm: np.ndarray
@@ -109,11 +109,13 @@ class MeasuredData:
         """The rows ``index`` (an index array or boolean mask)."""
         def take(a):
             return None if a is None else np.asarray(a)[index]
-        return MeasuredData(take(self.speed_rpm), take(self.torque_Nm), take(self.efficiency),
-                            take(self.oil_temp_C), take(self.time_h), take(self.run_id),
-                            take(self.input_torque_Nm), take(self.sigma),
-                            {k: v[index] for k, v in self.extra.items()}, take(self.lines),
-                            self.rejected, dict(self.provenance), self.source)
+        return MeasuredData(speed_rpm=take(self.speed_rpm), torque_Nm=take(self.torque_Nm),
+                            efficiency=take(self.efficiency), oil_temp_C=take(self.oil_temp_C),
+                            time_h=take(self.time_h), run_id=take(self.run_id),
+                            input_torque_Nm=take(self.input_torque_Nm), sigma=take(self.sigma),
+                            extra={k: v[index] for k, v in self.extra.items()},
+                            lines=take(self.lines), rejected=self.rejected,
+                            provenance=dict(self.provenance), source=self.source)
 
 
 def _column(name: str):
@@ -261,8 +263,11 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         run = np.array([r["run_id"] for r in rows], dtype=object)
     known = set(QUANTITIES) | {"run_id"}
     extra = {k: col(k) for k in columns if k not in known}
-    return MeasuredData(col("input_speed"), t_out, eff, col("oil_temp"), col("time"), run,
-                        t_in, sigma, extra, np.array(line_no), tuple(rejected), prov, source)
+    return MeasuredData(speed_rpm=col("input_speed"), torque_Nm=t_out, efficiency=eff,
+                        oil_temp_C=col("oil_temp"), time_h=col("time"), run_id=run,
+                        input_torque_Nm=t_in, sigma=sigma, extra=extra,
+                        lines=np.array(line_no), rejected=tuple(rejected), provenance=prov,
+                        source=source)
 
 
 def _check_row(v, i_abs):
@@ -326,9 +331,9 @@ def from_case(case) -> MeasuredData:
     pts = case.measured
     if not pts:
         raise MeasuredDataError(f"case {case.name!r} has no [[measured]] points")
-    return MeasuredData(np.array([p.input_speed_rpm for p in pts], float),
-                        np.array([p.output_torque_Nm for p in pts], float),
-                        np.array([p.efficiency for p in pts], float),
+    return MeasuredData(speed_rpm=np.array([p.input_speed_rpm for p in pts], float),
+                        torque_Nm=np.array([p.output_torque_Nm for p in pts], float),
+                        efficiency=np.array([p.efficiency for p in pts], float),
                         lines=np.arange(len(pts)),
                         provenance={"source": "; ".join(dict.fromkeys(
                             p.source for p in pts if p.source))},

@@ -5,8 +5,10 @@ output torque, optionally oil temperature; shuffled, so the measurement order an
 follow the grid), evaluates the case with the given catalog effects (and optionally a loss
 outside the catalog, e.g. :func:`running_in`), and measures the torques as a rig does:
 T1 = T2 / (|i| eta), each torque read with Gaussian noise of standard deviation
-accuracy x range (the sine paper's rig, Sec. 6.4: input sensor 10 N m at 0.1 %, output
-100 N m at 0.2 %; :class:`Rig`). The efficiency column is T2_read / (|i| T1_read).
+accuracy x range (the rig of Y. Lu, L. Xu, "Transmission efficiency of one tooth difference
+sine tooth profile planetary reducer", Heliyon 10 (2024) e26300, Sec. 6.4: input sensor
+10 N m at 0.1 %, output 100 N m at 0.2 %; :class:`Rig`). The efficiency column is
+T2_read / (|i| T1_read).
 
 The accuracy of a torque sensor is read here as one standard deviation, the conservative
 reading (a class figure is often a bound nearer 2-3 sigma). With the paper's own ranges the
@@ -25,14 +27,22 @@ from pathlib import Path
 
 import numpy as np
 
+from ..evaluation import operating_point
 from . import effects as fx
-from .evaluation import operating_point
 from .measured import MeasuredData, sidecar_path, to_csv
 
+#: Relative slack of the 1-2-5 step: a value on a step up to rounding (50 computed as
+#: 50.000000001) is that step, not the next.
+STEP_125_RTOL = 1e-12
+#: Default output-torque range of :func:`generate`: from this fraction of the reference
+#: torque up to it (30-100 %, the range of the tests and of the docs/loop.md figures).
+TORQUE_RANGE_FRACTION = 0.3
 
-@dataclass(frozen=True)
+
+@dataclass(frozen=True, kw_only=True)
 class Rig:
-    """Two torque sensors: range [N m] and accuracy (fraction of range, one sigma)."""
+    """Two torque sensors: range [N m] and accuracy (fraction of range, one sigma); the
+    defaults are the sine prototype's rig (Lu & Xu 2024, Sec. 6.4)."""
     input_range_Nm: float = 10.0
     input_accuracy: float = 0.001
     output_range_Nm: float = 100.0
@@ -55,9 +65,24 @@ class Rig:
 
     @classmethod
     def matched(cls, case, max_output_torque_Nm, min_efficiency=0.5) -> "Rig":
-        """Sensors of the paper's accuracy classes, ranged to the reducer: the next 1-2-5
-        step above the largest output torque and the largest input torque (at
-        ``min_efficiency``)."""
+        """Sensors of the paper's accuracy classes, ranged to the reducer.
+
+        Parameters
+        ----------
+        case : toothfem.Case
+            The reducer (its speed ratio i).
+        max_output_torque_Nm : float
+            Largest output torque of the test [N m].
+        min_efficiency : float
+            Lowest efficiency expected; sizes the input sensor for the largest input
+            torque T2 / (|i| eta).
+
+        Returns
+        -------
+        Rig
+            Ranges at the next 1-2-5 step above the largest output and input torques,
+            accuracies of the paper's rig.
+        """
         i = abs(case.ratio())
         return cls(input_range_Nm=_step_125(max_output_torque_Nm / (i * min_efficiency)),
                    output_range_Nm=_step_125(max_output_torque_Nm))
@@ -67,15 +92,27 @@ def _step_125(x) -> float:
     """Smallest of 1, 2, 5 x 10^k that is >= x."""
     k = math.floor(math.log10(x))
     for m in (1.0, 2.0, 5.0, 10.0):
-        if m * 10.0 ** k >= x * (1 - 1e-12):
+        if m * 10.0 ** k >= x * (1 - STEP_125_RTOL):
             return m * 10.0 ** k
     return 10.0 ** (k + 1)  # pragma: no cover
 
 
 def running_in(initial_fraction=0.05, time_constant_h=5.0):
     """A loss outside the catalog: running-in friction that decays with operating time,
-    P = f0 P_out exp(-t / tau) (f0 a fraction of the output power, tau in hours).
-    Returns ``loss(points, time_h, prediction) -> W``."""
+    P = f0 P_out exp(-t / tau).
+
+    Parameters
+    ----------
+    initial_fraction : float
+        f0, the loss at t = 0 as a fraction of the output power.
+    time_constant_h : float
+        tau [h].
+
+    Returns
+    -------
+    callable
+        ``loss(points, time_h, prediction) -> W`` ((M,) array), with a ``description``.
+    """
     def loss(points, time_h, prediction):
         return initial_fraction * prediction.output_power_W * np.exp(-time_h / time_constant_h)
     loss.description = (f"running-in loss {initial_fraction:g} P_out exp(-t/{time_constant_h:g} h)"
@@ -85,7 +122,24 @@ def running_in(initial_fraction=0.05, time_constant_h=5.0):
 
 def operating_points(n_points, *, speed_rpm=(100.0, 1500.0), torque_Nm=(5.0, 28.0),
                      oil_temp_C=None, rng=None):
-    """(speed, torque, temperature or None) drawn uniformly over the ranges, (M,) each."""
+    """Operating points drawn uniformly over the ranges.
+
+    Parameters
+    ----------
+    n_points : int
+        M, the number of points.
+    speed_rpm, torque_Nm : tuple of float
+        (low, high) input speed [rpm] and output torque [N m].
+    oil_temp_C : tuple of float, optional
+        (low, high) oil temperature [deg C]; None: no temperature.
+    rng : numpy.random.Generator, optional
+        Random source (default seeded with 0).
+
+    Returns
+    -------
+    tuple
+        (speed, torque, temperature or None), (M,) arrays.
+    """
     rng = rng or np.random.default_rng(0)
     n = rng.uniform(*speed_rpm, n_points)
     t = rng.uniform(*torque_Nm, n_points)
@@ -98,13 +152,43 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
              catalog=None, loads="analytic") -> MeasuredData:
     """Synthetic measured data (module docstring).
 
-    ``effects``: {effect name or Effect: parameter values} added to the case for the truth;
-    ``torque_Nm``: output torque range (default 30-100 % of the case's measured or operating
-    torque); ``oil_temp_C``: a range to draw from, or None (no column: the reference
-    temperature); ``hours``, ``runs``: the measurement time spread over the rows in their
-    (shuffled) order and the number of runs (``run_id``); ``extra_loss``: a loss outside the
-    catalog, ``f(points, time_h, prediction) -> W``; ``rig``: the sensors (default
-    :meth:`Rig.matched`)."""
+    Parameters
+    ----------
+    case : toothfem.Case
+        The reducer as declared.
+    effects : dict, optional
+        {effect name or Effect: parameter values} added to the case for the truth.
+    n_points : int
+        M, the number of rows.
+    rig : Rig, optional
+        The torque sensors (default :meth:`Rig.matched`).
+    speed_rpm : tuple of float
+        (low, high) input speed [rpm].
+    torque_Nm : tuple of float, optional
+        (low, high) output torque [N m]; default :data:`TORQUE_RANGE_FRACTION` of the
+        case's largest measured (else operating) torque up to that torque.
+    oil_temp_C : tuple of float, optional
+        (low, high) oil temperature [deg C] to draw from; None: no column (the
+        lubricant's reference temperature).
+    hours : float
+        Measurement time [h] spread over the rows in their (shuffled) order.
+    runs : int
+        Number of runs (``run_id``) the rows are split into, in order.
+    extra_loss : callable, optional
+        A loss outside the catalog, ``f(points, time_h, prediction) -> W``.
+    seed : int
+        Seed of the points and of the noise.
+    catalog : sequence of effects.Effect, optional
+        Catalog the effect names are looked up in (default :func:`effects.catalog`).
+    loads : str
+        Load sharing of the model, ``"analytic"`` or ``"fem"``.
+
+    Returns
+    -------
+    MeasuredData
+        The read efficiencies with their sigma, input torques, time and run; the truth,
+        sensors and noise in its provenance.
+    """
     rng = np.random.default_rng(seed)
     cat = catalog or fx.catalog()
     assignment = {}
@@ -115,13 +199,13 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
         t_ref = max([m.output_torque_Nm for m in case.measured] or [0.0])
         if not t_ref:
             t_ref = operating_point(case)[1]
-        torque_Nm = (0.3 * t_ref, t_ref)
+        torque_Nm = (TORQUE_RANGE_FRACTION * t_ref, t_ref)
     rig = rig or Rig.matched(case, torque_Nm[1])
     n, t2, temp = operating_points(n_points, speed_rpm=speed_rpm, torque_Nm=torque_Nm,
                                    oil_temp_C=oil_temp_C, rng=rng)
     time_h = np.linspace(0.0, hours, n_points)
     run = np.array([f"run{1 + k * runs // n_points}" for k in range(n_points)], dtype=object)
-    points = fx.Points(n, t2, temp)
+    points = fx.Points(speed_rpm=n, torque_Nm=t2, oil_temp_C=temp)
     pred = fx.predict(case, points, assignment, loads=loads)
     losses = sum(pred.losses_W.values())
     if extra_loss is not None:
@@ -136,7 +220,7 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
     truth = {e.name: dict(zip((p.name for p in e.parameters), v))
              for e, v in assignment.items()}
     prov = {
-        "source": "synthetic (toothfem.efficiency.synthetic.generate)",
+        "source": "synthetic (toothfem.efficiency.loop.synthetic.generate)",
         "case": case.name, "seed": seed, "truth": truth,
         "outside_catalog": getattr(extra_loss, "description", None) if extra_loss else None,
         "noise": "Gaussian torque readings, sigma = accuracy x range (one sigma)",
@@ -145,12 +229,27 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
     }
     base = fx.predict(case, points, loads=loads).efficiency
     prov["true_efficiency_rms_change"] = float(np.sqrt(np.mean((eta - base) ** 2)))
-    return MeasuredData(n, t2_read, eta_read, temp, time_h, run, t1_read, sigma, {},
-                        np.arange(2, n_points + 2), (), prov, "synthetic")
+    return MeasuredData(speed_rpm=n, torque_Nm=t2_read, efficiency=eta_read, oil_temp_C=temp,
+                        time_h=time_h, run_id=run, input_torque_Nm=t1_read, sigma=sigma,
+                        extra={}, lines=np.arange(2, n_points + 2), rejected=(),
+                        provenance=prov, source="synthetic")
 
 
 def write(data: MeasuredData, path) -> Path:
-    """Write ``data`` as CSV with its provenance in the sidecar JSON; returns the CSV path."""
+    """Write ``data`` as CSV with its provenance in the sidecar JSON.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The record to write.
+    path : str or pathlib.Path
+        The CSV path (folders are made); the sidecar is ``<stem>.json`` beside it.
+
+    Returns
+    -------
+    pathlib.Path
+        The CSV path.
+    """
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(to_csv(data))
@@ -168,7 +267,20 @@ def reference_scenarios(sine, cycloid) -> dict:
     default, so the others stay declared. Bearing friction and output-pin friction on the
     sine reducer, and bearing friction and pin sliding on a cycloid, are all losses
     proportional to T n: efficiency data cannot tell them apart, so the pin-sliding case
-    declares its bearing coefficient (0.002). Effect sizes: several times the rig noise."""
+    declares its bearing coefficient (0.002). Effect sizes: several times the rig noise.
+
+    Parameters
+    ----------
+    sine : toothfem.Case
+        The sine prototype case (cases/sine_prototype.toml).
+    cycloid : toothfem.Case
+        The pin-housing cycloid case (cases/cycloid_pinhousing.toml).
+
+    Returns
+    -------
+    dict
+        effect name -> (case, true values, keywords of :func:`generate`).
+    """
     r = dataclasses.replace
 
     def fric(case, **kw):

@@ -46,13 +46,13 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import ToothfemError, check_range
-from ..fem import cycloid_fe as cf
-from ..fem.drives import drive_for
-from .drive_losses import disc_contact_losses
-from .evaluation import evaluate
-from .lubricant import viscosity_factor
-from .mesh_table import table_from_records
+from ...errors import ToothfemError, check_range
+from ...fem import cycloid_fe as cf
+from ...fem.drives import drive_for
+from ..drive_losses import disc_contact_losses
+from ..evaluation import evaluate
+from ..lubricant import viscosity_factor
+from ..mesh_table import table_from_records
 
 # ---------------------------------------------------------------------------------------
 # Records

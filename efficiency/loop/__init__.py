@@ -1,0 +1,31 @@
+"""Close the loop with measured data: residuals, effect selection, report
+(installed as ``toothfem.efficiency.loop``).
+
+``run_loop(case, data)`` compares the model with measured efficiencies and adds physical
+effects from the catalog one at a time while they help. One job per module:
+
+* :mod:`.measured`: measured efficiency data (CSV with units in the column names, provenance
+  beside it) as a :class:`~.measured.MeasuredData` record;
+* :mod:`.effects`: the catalog of physical effects, each a parameter of the model with its
+  bounds, case fields, equation and source;
+* :mod:`.synthetic`: synthetic rig data (the model plus effects the case does not declare,
+  plus sensor noise) for the tests and the figures;
+* :mod:`.fit`: bounded least squares of a set of effects, BIC, k-fold held-out errors;
+* :mod:`.trends`: residual trends against the covariates, and each effect's signature;
+* :mod:`.selection`: forward-backward selection by BIC and held-out gain (:func:`run_loop`);
+* :mod:`.report`: the :class:`LoopReport` record and its JSON;
+* :mod:`.settings`: the thresholds of all of the above.
+
+Pictures and the Markdown text of a report are the reporting layer's
+(``toothfem.report.loop``): this package computes, it does not draw.
+"""
+from .fit import (AT_BOUND_REL, FD_STEP, FIT_TOL, Fit, HeldOut, Problem,  # noqa: F401
+                  at_bound)
+from .report import Candidate, Closing, EffectFit, LoopReport, Step  # noqa: F401
+from .selection import candidates_of, final_case, run_loop  # noqa: F401
+from .settings import Settings  # noqa: F401
+from .trends import Trend, residual_trends, signatures  # noqa: F401
+
+__all__ = ["AT_BOUND_REL", "FD_STEP", "FIT_TOL", "Candidate", "Closing", "EffectFit", "Fit",
+           "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
+           "candidates_of", "final_case", "residual_trends", "run_loop", "signatures"]

@@ -1,0 +1,27 @@
+"""The thresholds of the measured-data loop: selection, held-out error and residual trends.
+
+One record, shared by the fit (:mod:`.fit`: folds, seed, function evaluations), the residual
+analysis (:mod:`.trends`: trend level, share, levels, degree) and the selection
+(:mod:`.selection`: BIC and held-out gains, number of effects, aliasing).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True, kw_only=True)
+class Settings:
+    """Thresholds of the selection and of the residual analysis (the reason beside each)."""
+    folds: int = 5                 # k of the k-fold held-out error
+    delta_bic: float = 10.0        # BIC decrease an effect must bring ('very strong',
+                                   # Kass & Raftery 1995)
+    min_cv_gain: float = 0.02      # and at least this relative cut of the held-out error
+    max_effects: int = 4           # never more effects than this
+    min_points: int = 8            # below: no selection (no held-out error to speak of)
+    alpha_trend: float = 1e-3      # family-wise level of 'the residual follows x'
+    r2_trend: float = 0.05         # and at least this share of the residual variance
+    max_levels: int = 6            # a covariate with at most this many values: one mean each
+    degree: int = 3                # polynomial degree of a covariate's smooth trend
+    alias_bic: float = 2.0         # candidates within this BIC of the chosen one: aliased
+    seed: int = 0                  # fold assignment
+    max_nfev: int = 60             # function evaluations per least-squares fit
