@@ -297,7 +297,7 @@ def _contact_mu(case, table, force, ph, crank_speed, eta0, notes):
     ok = (force > 0) & (ve > 0) & (ph > 0)
     eta = np.broadcast_to(np.asarray(eta0, float)[:, None] if np.ndim(eta0) else eta0,
                           force.shape)
-    roughness = math.sqrt(2.0) * lub.roughness_Ra_um * 1e-6 * 1.25   # composite RMS of two
+    roughness = fr.composite_rms_roughness(lub.roughness_Ra_um * 1e-6)   # both flanks
     if f.mesh_law == "benedict_kelley":
         w = force / table.face_width
         with np.errstate(divide="ignore", invalid="ignore"), warnings.catch_warnings():
