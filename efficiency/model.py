@@ -623,7 +623,7 @@ def _cycloid(case, n, t2, temp, visc, loads, positions):
 def _rv_split(case, n, t2, temp):
     """The RV paper's split/virtual power method at each operating point (mesh
     efficiencies as declared)."""
-    from .power_flow import rv_split_power
+    from .rv_paper import rv_split_power
 
     if case.drive != "rv":
         raise CaseError(f"method = 'rv_split_power' needs drive = 'rv', not {case.drive!r}")

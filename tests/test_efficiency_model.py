@@ -5,10 +5,10 @@ import math
 import numpy as np
 import pytest
 
+from tests.oracles.mesh_loss import mesh_loss
 from toothfem import CaseError, ToothfemError, load_case
 from toothfem.efficiency import model as m
 from toothfem.efficiency import spur
-from toothfem.efficiency.mesh_loss import mesh_loss
 from toothfem.fem.load_sharing import analytic_split
 from toothfem.geometry import cycloid as cy
 
