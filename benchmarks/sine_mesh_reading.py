@@ -6,6 +6,10 @@ Run: .venv/bin/python benchmarks/sine_mesh_reading.py [--out docs/img/sine_mesh_
 Prints: one row per model / reading (efficiency range and the kinematic ranges behind it),
 the friction coefficient each structure would need to lose 2.04 %, and a search over all
 combinations of the open choices. Explanation: docs/sine_mesh_efficiency.md.
+
+The readings and our per-position model are the test oracle tests/oracles/sine_paper.py,
+not part of the installed package: the script puts the repository root on sys.path and
+imports it as ``tests.oracles.sine_paper`` (run it from a checkout, not an installed copy).
 """
 import argparse
 import itertools
@@ -19,9 +23,10 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from tests.oracles import sine_paper as sm  # noqa: E402
 from toothfem import load_case  # noqa: E402
-from toothfem.efficiency import sine_mesh as sm  # noqa: E402
 from toothfem.efficiency.friction import MixedLubricationWarning  # noqa: E402
+from toothfem.fem.drives.sine import SINE_IN_MESH_GAP_M  # noqa: E402
 
 PUB = sm.PAPER_PUBLISHED
 #: A reading "reproduces" a published number when within this many efficiency points
@@ -235,7 +240,7 @@ def plot(path, kin, cond, ours, coulomb, readings):
     a.legend(fontsize=7)
     fig.suptitle(f"Sine pair 79/80, m 0.9 mm, a 0.4 mm: n1 = {cond.input_speed_rpm:g} rpm, "
                  f"T1 = {cond.input_torque_Nm * 1e3:g} N mm, eta0 = "
-                 f"{cond.dynamic_viscosity_Pa_s:g} Pa s, Ra = {cond.roughness_m * 1e6:g} um")
+                 f"{cond.dynamic_viscosity_Pa_s:g} Pa s, Ra = {cond.roughness_Ra_m * 1e6:g} um")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -267,7 +272,7 @@ def main(argv=None):
                 if caught else "")
         rows.append(ours_row(f"ours: analytic split, gap {gap * 1e6:g} um, Xu EHL", res, note))
         ours_by_gap[gap] = res
-    ours = ours_by_gap[sm.DEFAULT_IN_MESH_GAP_M]
+    ours = ours_by_gap[SINE_IN_MESH_GAP_M]
     coulomb = {}
     for mu in COULOMB:
         coulomb[mu] = sm.mesh_efficiency(pair, cond, mu=mu, positions=args.positions)

@@ -82,7 +82,7 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
         sr = np.where(ve > 0, vs / np.where(ve > 0, ve, 1.0), 0.0)
         res = fr.ehl_xu2007(ph[ok], sr[ok], ve[ok], eta[ok],
                             np.broadcast_to(table.r_eq, force.shape)[ok],
-                            fr.composite_roughness(lub.roughness_Ra_m),
+                            fr.composite_rms_roughness(lub.roughness_Ra_m),
                             e_prime=2 * e_star_Pa,
                             pressure_viscosity=lub.pressure_viscosity_1_per_Pa)
     mu[ok] = res.mu

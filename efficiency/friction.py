@@ -33,6 +33,8 @@ __all__ = [
     "MixedLubricationWarning",
     "FrictionExtrapolationWarning",
     "FrictionResult",
+    "RQ_PER_RA",
+    "composite_rms_roughness",
     "central_film_thickness_line",
     "minimum_film_thickness_line",
     "ehl_xu2007",
@@ -42,8 +44,8 @@ __all__ = [
 
 #: Regression coefficients b1..b9 of Xu, Kahraman, Anderson & Maddock (2007), J. Mech.
 #: Des. 129(1) 58-68, Eq. for mu(SR, Ph, nu0, S, Ve, R); values as reproduced with these
-#: signs in public secondary sources (see docs/derivations.md, section 4).  The sine-paper
-#: seed (Table 1) prints b1 without its minus sign and rounds to 3 decimals.
+#: signs in public secondary sources (see docs/derivations.md, section 4).  The sine paper
+#: (Lu & Xu 2024, Table 1) prints b1 without its minus sign and rounds to 3 decimals.
 XU2007_COEFFICIENTS = (
     -8.916465,   # b1  constant in the exponent
     1.03303,     # b2  exponent of Ph [GPa]
@@ -64,6 +66,11 @@ LAMBDA_FULL_FILM = 3.0
 #: Default pressure-viscosity coefficient [1/Pa]: 20 GPa^-1, typical of mineral gear
 #: oils at moderate temperature (about 1e-8 .. 3e-8 1/Pa for mineral oils).
 ALPHA_MINERAL_OIL = 2.0e-8
+
+#: RMS roughness Rq per arithmetic mean roughness Ra of a ground or honed flank: 1.25
+#: (Niemann, Winter & Hoehn, *Maschinenelemente* Bd. 1, 2005); a Gaussian height
+#: distribution gives sqrt(pi/2) = 1.2533.
+RQ_PER_RA = 1.25
 
 #: E' = 2E* of steel on steel [Pa] (E = 210 GPa, nu = 0.3 both: E' = E/(1 - nu^2) = 230.8 GPa).
 E_PRIME_STEEL = 2.3e11
@@ -99,7 +106,35 @@ class FrictionResult:
     film_thickness: np.ndarray | float
 
 
-# --------------------------------------------------------------------------- helpers
+# --------------------------------------------------------------------------- roughness
+
+def composite_rms_roughness(ra1_m: float, ra2_m: float | None = None) -> float:
+    """Composite RMS roughness sigma = sqrt(Rq1^2 + Rq2^2) of two surfaces [m], from their
+    arithmetic mean roughness Ra through Rq = :data:`RQ_PER_RA` Ra.
+
+    sigma is the roughness of the film parameter lambda = h/sigma (Tallian 1967; Hamrock,
+    Schmid & Jacobson, *Fundamentals of Fluid Film Lubrication*, 2004), which
+    :func:`ehl_xu2007` computes with the same S it feeds the regression of Xu, Kahraman,
+    Anderson & Maddock (2007). The sources on Xu's S read here say "surface roughness, um"
+    and no more (docs/derivations.md, section 4); Lu & Xu (2024) feed the Ra of the flank.
+    Two flanks of Ra = 0.4 um give sigma = 0.707 um.
+
+    Parameters
+    ----------
+    ra1_m : float
+        Ra of the first surface [m], >= 0.
+    ra2_m : float, optional
+        Ra of the second surface [m], >= 0; None: the same as the first.
+
+    Returns
+    -------
+    float
+        sigma [m].
+    """
+    ra1 = float(check_range("ra1_m", ra1_m, 0.0, None))
+    ra2 = ra1 if ra2_m is None else float(check_range("ra2_m", ra2_m, 0.0, None))
+    return RQ_PER_RA * math.hypot(ra1, ra2)
+
 
 # --------------------------------------------------------------------------- EHL film
 
@@ -296,9 +331,3 @@ def coulomb(mu):
     law.__doc__ = f"Coulomb friction law, mu = {m:g} (see toothfem.efficiency.friction.coulomb)."
     return law
 
-
-def composite_roughness(ra_m):
-    """Composite RMS roughness S of two like surfaces [m] from each one's Ra [m]:
-    S = sqrt(Rq1^2 + Rq2^2) with Rq = 1.25 Ra (Gaussian heights). PLACEHOLDER: the
-    oracle-side helper settles the definition and its source."""
-    return np.sqrt(2.0) * 1.25 * np.asarray(ra_m, float)

@@ -1,16 +1,16 @@
-"""Reducer efficiency from the contact (efficiency/model.py, efficiency/spur.py)."""
+"""Reducer efficiency from the contact (efficiency/evaluation.py, drive_losses.py, spur.py)."""
 import dataclasses
 import math
 
 import numpy as np
 import pytest
 
+from tests.oracles.mesh_loss import mesh_loss
 from toothfem import CaseError, ToothfemError, load_case
 from toothfem.efficiency import evaluation as m
 from toothfem.efficiency.lubricant import viscosity_factor
 from toothfem.fem.drives import drive_for
 from toothfem.efficiency import spur
-from toothfem.efficiency.mesh_loss import mesh_loss
 from toothfem.fem.load_sharing import analytic_split
 from toothfem.geometry import cycloid as cy
 

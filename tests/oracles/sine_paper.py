@@ -1,23 +1,29 @@
-"""Mesh efficiency of the one-tooth-difference sine pair over the meshing position, and
-the readings of the sine paper that try to reproduce its published figures.
+"""Test oracle: the sine paper's mesh efficiency read literally, beside the same contacts
+integrated position by position.
 
-Source: Y. Lu, L. Xu, Heliyon 10 (2024) e26300 (``seeds/sine-profile-reducer-efficiency.txt``),
-Eqs. 3-5, 8-25, Tables 1-3, Sec. 6.2. Derivations, numbers and the verdict are in
-``docs/sine_mesh_efficiency.md``.
+Source: Y. Lu, L. Xu, "Transmission efficiency of one tooth difference sine tooth profile
+planetary reducer", Heliyon 10 (2024) e26300, Eqs. 3-5, 8-25, Tables 1-3, Sec. 6.2.
+Derivations, numbers and the verdict are in ``docs/sine_mesh_efficiency.md``. The
+production path is ``toothfem.efficiency`` (evaluation, drive_losses, contact_friction) (``mesh_table``, ``contact_mu``,
+``evaluate``); this module reproduces the paper to check it against (tests/test_sine_mesh.py)
+and feeds ``benchmarks/sine_mesh_reading.py``.
 
 Two models, side by side:
 
 * :func:`mesh_efficiency` -- ours. Crank positions over one mesh period (2 pi/z2), every
   candidate tooth pair of :func:`toothfem.geometry.sine.meshing`, the analytic load split
   (``F_i = F0 cos(alpha_i)`` on the pairs within ``in_mesh_gap_m`` whose moment arm can
-  carry the torque, paper Eqs. 16-19), Hertz pressure per contact, and the loss
-  ``sum mu_i F_i |v_s,i|`` (Eq. 21 in SI) with the EHL regression of Xu et al. (2007) or a
-  Coulomb coefficient (:func:`toothfem.efficiency.mesh_loss.mesh_loss`).
+  carry the torque, paper Eqs. 16-19; the gap is the model's ``SINE_IN_MESH_GAP_M``),
+  Hertz pressure per contact, and the loss ``sum mu_i F_i |v_s,i|`` (Eq. 21 in SI) with the
+  EHL regression of Xu et al. (2007) at the model's composite roughness, or a Coulomb
+  coefficient (:func:`tests.oracles.mesh_loss.mesh_loss`). The same contacts, loads and
+  friction as the model's analytic path, summed per position.
 * :func:`paper_mesh_efficiency` -- the paper's structure: one tooth pair followed along a
   planet flank (profile angle phi from tip to root, the "period pi/z1"), force
   ``F0 cos(alpha_k1)`` with F0 from Eq. 18, velocities from Eqs. 4-5 at the conjugate
-  contact, Eq. 23 with a choice of coefficients and units. A :class:`PaperReading` names
-  each choice; :data:`PAPER_READINGS` holds the ones tabulated in the docs.
+  contact, Eq. 23 with a choice of coefficients and units and the flank's Ra as the
+  paper's S_Ra. A :class:`PaperReading` names each choice; :data:`PAPER_READINGS` holds
+  the ones tabulated in the docs.
 
 Power (Eq. 25, Eq. 33): ``P = T1 omega_H``, the input power; the load torque of Eqs. 16-19
 is ``T2 = |i12| T1`` (lossless). SI throughout unless a reading says otherwise.
@@ -29,16 +35,18 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ToothfemError, check_range
-from ..fem.load_sharing import LoadSharing, analytic_split
-from ..geometry import sine
-from ..geometry.kinematics import MeshingState
-from ..fem.hertz import reduced_modulus
-from .friction import ALPHA_MINERAL_OIL, XU2007_COEFFICIENTS
+from toothfem.efficiency.friction import (ALPHA_MINERAL_OIL, XU2007_COEFFICIENTS,
+                                          composite_rms_roughness)
+from toothfem.fem.drives.sine import SINE_IN_MESH_GAP_M
+from toothfem.errors import ToothfemError, check_range
+from toothfem.fem.hertz import reduced_modulus
+from toothfem.fem.load_sharing import LoadSharing, analytic_split
+from toothfem.geometry import sine
+from toothfem.geometry.kinematics import MeshingState
+
 from .mesh_loss import MeshLoss, mesh_loss, stage_power
 
 __all__ = [
-    "DEFAULT_IN_MESH_GAP_M",
     "DEFAULT_POSITIONS",
     "DEFAULT_FLANK_SAMPLES",
     "TABLE1_COEFFICIENTS",
@@ -57,11 +65,6 @@ __all__ = [
     "paper_mesh_efficiency",
 ]
 
-#: Contacts closer than this before load are taken as loaded by the rigid analytic split.
-#: A choice, not a result: it stands in for the elastic approach (Hertz plus bending) that
-#: decides how many pairs share the load. For the prototype 3 / 5 / 10 um put 22 / 12 / 8 %
-#: of the load on the conjugate contact (docs/sine_mesh_efficiency.md, sec. 2).
-DEFAULT_IN_MESH_GAP_M = 5e-6
 #: Crank positions per mesh period (2 pi/z2) in :func:`mesh_efficiency`, at mid-intervals.
 DEFAULT_POSITIONS = 80
 #: Profile samples along one flank (tip to root, both included) in :func:`flank_kinematics`.
@@ -84,12 +87,15 @@ class SineMeshConditions:
     """Operating point of the mesh study (SI).
 
     ``input_torque_Nm`` is T1 on the crank; the planet (moving member) carries
-    ``|i12| T1`` (lossless). ``roughness_m`` is fed to the friction law as its S.
+    ``|i12| T1`` (lossless). ``roughness_Ra_m`` is the Ra of each flank (Table 3, the
+    case's ``lubricant.roughness_Ra_um``): :func:`mesh_efficiency` feeds the friction law
+    their composite RMS roughness as the model does, the paper's readings feed Ra itself
+    (Eq. 23's S_Ra).
     """
     input_speed_rpm: float
     input_torque_Nm: float
     dynamic_viscosity_Pa_s: float
-    roughness_m: float
+    roughness_Ra_m: float
     youngs_modulus_Pa: float
     poisson_ratio: float
     pressure_viscosity_1_per_Pa: float = ALPHA_MINERAL_OIL
@@ -99,7 +105,7 @@ class SineMeshConditions:
         check_range("input_torque_Nm", self.input_torque_Nm, 0, None, lo_open=True)
         check_range("dynamic_viscosity_Pa_s", self.dynamic_viscosity_Pa_s, 0, None,
                     lo_open=True)
-        check_range("roughness_m", self.roughness_m, 0, 1e-4)
+        check_range("roughness_Ra_m", self.roughness_Ra_m, 0, 1e-4)
         check_range("youngs_modulus_Pa", self.youngs_modulus_Pa, 0, None, lo_open=True)
         check_range("poisson_ratio", self.poisson_ratio, 0, 0.5, hi_open=True)
         check_range("pressure_viscosity_1_per_Pa", self.pressure_viscosity_1_per_Pa, 0, None,
@@ -124,7 +130,7 @@ class SineMeshConditions:
 #: Sine paper Table 3 (n1 = 300 rpm, T1 = 400 N mm, eta0 = 2e-8 MPa s = 0.02 Pa s,
 #: Ra = 0.4 um) with Table 2's material (E = 212 GPa, nu = 0.28).
 PAPER_TABLE3 = SineMeshConditions(input_speed_rpm=300.0, input_torque_Nm=0.4,
-                                  dynamic_viscosity_Pa_s=0.02, roughness_m=0.4e-6,
+                                  dynamic_viscosity_Pa_s=0.02, roughness_Ra_m=0.4e-6,
                                   youngs_modulus_Pa=212e9, poisson_ratio=0.28)
 
 
@@ -138,7 +144,7 @@ def conditions_from_case(case) -> SineMeshConditions:
     return SineMeshConditions(
         input_speed_rpm=op.input_speed_rpm, input_torque_Nm=op.input_torque_Nm,
         dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
-        roughness_m=lub.roughness_Ra_um * 1e-6,
+        roughness_Ra_m=lub.roughness_Ra_um * 1e-6,
         youngs_modulus_Pa=case.material.youngs_modulus_GPa * 1e9,
         poisson_ratio=case.material.poisson_ratio,
         pressure_viscosity_1_per_Pa=lub.pressure_viscosity_1_per_GPa * 1e-9)
@@ -149,10 +155,22 @@ def _ratio(pair) -> float:
     return -pair.planet_teeth / (pair.ring_teeth - pair.planet_teeth)
 
 
+class _EfficiencyRange:
+    """``max`` and ``min`` of an ``efficiency`` array (both results below)."""
+
+    @property
+    def max(self) -> float:
+        return float(np.max(self.efficiency))
+
+    @property
+    def min(self) -> float:
+        return float(np.min(self.efficiency))
+
+
 # --------------------------------------------------------------------------- our model
 
 @dataclass(frozen=True)
-class SineMeshEfficiency:
+class SineMeshEfficiency(_EfficiencyRange):
     """Per-position mesh efficiency of the physical model (P positions, C candidates).
 
     ``planet_angle_rad`` = crank angle x z2/z1: the planet's turn relative to the crank,
@@ -175,30 +193,23 @@ class SineMeshEfficiency:
         return float(np.mean(self.efficiency))
 
     @property
-    def max(self) -> float:
-        return float(np.max(self.efficiency))
-
-    @property
-    def min(self) -> float:
-        return float(np.min(self.efficiency))
-
-    @property
     def conjugate(self) -> np.ndarray:
         """(P, C) bool: the conjugate (gap 0) contact of each position."""
         return self.state.gap == 0
 
 
 def mesh_efficiency(pair, conditions: SineMeshConditions, crank_angle_rad=None, *,
-                    mu=None, in_mesh_gap_m: float = DEFAULT_IN_MESH_GAP_M,
+                    mu=None, in_mesh_gap_m: float = SINE_IN_MESH_GAP_M,
                     positions: int = DEFAULT_POSITIONS,
                     candidates: int = sine.DEFAULT_CANDIDATES) -> SineMeshEfficiency:
     """Mesh efficiency of a sine pair at crank angles (default: ``positions`` mid-points of
     one mesh period 2 pi/z2) from the analytic load split.
 
-    ``mu`` None: EHL friction of Xu et al. (2007) per contact (it warns with
-    ``MixedLubricationWarning`` where the film ratio is below its full-film range, which is
-    everywhere for the prototype); a number: Coulomb friction. Loss = sum mu F |v_s|,
-    efficiency = 1 - loss / (T1 omega_H).
+    ``mu`` None: EHL friction of Xu et al. (2007) per contact with S the composite RMS
+    roughness of the two flanks (:func:`toothfem.efficiency.friction.composite_rms_roughness`,
+    as the model); it warns with ``MixedLubricationWarning`` where the film ratio is below
+    its full-film range, which is everywhere for the prototype. A number: Coulomb
+    friction. Loss = sum mu F |v_s|, efficiency = 1 - loss / (T1 omega_H).
     """
     check_range("positions", positions, 1, None)
     if crank_angle_rad is None:
@@ -212,7 +223,8 @@ def mesh_efficiency(pair, conditions: SineMeshConditions, crank_angle_rad=None, 
                           in_mesh_gap_m)
     power = stage_power(torque, w, _ratio(pair))
     loss = mesh_loss(state, load, power, mu, eta0_Pa_s=conditions.dynamic_viscosity_Pa_s,
-                     roughness_m=conditions.roughness_m, e_prime_Pa=2 * conditions.e_star_Pa,
+                     roughness_m=composite_rms_roughness(conditions.roughness_Ra_m),
+                     e_prime_Pa=2 * conditions.e_star_Pa,
                      pressure_viscosity=conditions.pressure_viscosity_1_per_Pa)
     return SineMeshEfficiency(chi, chi * pair.ring_teeth / pair.planet_teeth, state, load,
                               loss, power)
@@ -417,7 +429,7 @@ PAPER_READINGS = {
 
 
 @dataclass(frozen=True)
-class PaperMeshEfficiency:
+class PaperMeshEfficiency(_EfficiencyRange):
     """Efficiency along one flank under a :class:`PaperReading` (arrays (N,), SI)."""
     reading: PaperReading
     kinematics: FlankKinematics
@@ -431,14 +443,6 @@ class PaperMeshEfficiency:
     loss_W: np.ndarray
     power_W: float
     efficiency: np.ndarray = field(repr=False)
-
-    @property
-    def max(self) -> float:
-        return float(np.max(self.efficiency))
-
-    @property
-    def min(self) -> float:
-        return float(np.min(self.efficiency))
 
     @property
     def mean(self) -> float:
@@ -494,7 +498,7 @@ def paper_mesh_efficiency(kinematics: FlankKinematics, conditions: SineMeshCondi
         fp, fu, fe, fr, fs = UNIT_SYSTEMS[reading.units]
         coef, expo = _COEFFICIENT_SETS[reading.coefficients]
         mu = xu2007_raw(ph * fp, sr, entrain * fu, conditions.dynamic_viscosity_Pa_s * fe,
-                        radius * fr, conditions.roughness_m * fs, coef, exponents=expo)
+                        radius * fr, conditions.roughness_Ra_m * fs, coef, exponents=expo)
         # no load or no sliding: no loss (mu may be 0 * inf = nan there)
         idle = (force == 0) | (sliding == 0)
         mu = np.where(idle, 0.0, mu)

@@ -1,9 +1,13 @@
-"""Mesh power loss over the meshing cycle from a load-sharing record.
+"""Test oracle: mesh power loss over the meshing cycle from a load-sharing record, as the
+sine paper writes it (Y. Lu, L. Xu, "Transmission efficiency of one tooth difference sine
+tooth profile planetary reducer", Heliyon 10 (2024) e26300, Eqs. 21 and 25).
 
-loss(phi) = sum_i mu_i F_i |v_s,i| (sine paper Eq. 21 in SI; the paper's 1e-3 is its unit
+loss(phi) = sum_i mu_i F_i |v_s,i| (Eq. 21 in SI; the paper's 1e-3 is its unit
 conversion), with mu_i from a friction law evaluated at each contact's own load, pressure,
 sliding and rolling speeds; mesh efficiency eta(phi) = 1 - loss / P, P the power through
-the stage (sine paper Eq. 25). Works on either load-sharing source (FE or analytic split).
+the stage (Eq. 25). Works on either load-sharing source (FE or analytic split). The
+production model sums the same loss over its flattened contact table
+(``toothfem.efficiency`` (evaluation, drive_losses, contact_friction)); the tests hold the two paths together.
 """
 from __future__ import annotations
 
@@ -11,8 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ToothfemError, check_range
-from .friction import ehl_xu2007
+from toothfem.efficiency.friction import ehl_xu2007
+from toothfem.errors import ToothfemError, check_range
 
 
 @dataclass(frozen=True)
@@ -41,7 +45,8 @@ def mesh_loss(state, load_sharing, power_W: float, mu=None, *, eta0_Pa_s=None,
 
     ``state``: MeshingState at the load sharing's positions with its crank speed (the
     velocities); ``mu``: a constant Coulomb coefficient, or None for the EHL regression of
-    Xu et al. (2007) with ``eta0_Pa_s``, ``roughness_m`` (composite RMS), ``e_prime_Pa`` and
+    Xu et al. (2007) with ``eta0_Pa_s``, ``roughness_m`` (the composite RMS roughness S,
+    :func:`toothfem.efficiency.friction.composite_rms_roughness`), ``e_prime_Pa`` and
     ``pressure_viscosity`` (1/Pa).
     """
     check_range("power_W", power_W, 0, None, lo_open=True)
