@@ -106,7 +106,7 @@ def test_rigid_rotation_changes_the_gap_by_beta_times_arm(model):
     allowed."""
     pair = model.pair
     beta = 25.0 / 206264.8
-    toothed = sf._planet_toothed(pair)
+    toothed = sf.grid._planet_toothed(pair)
     centre, th = sine.planet_pose(pair, 0.0)
     p = toothed.point(np.linspace(-1.3e-3, -0.3e-3, 11))     # tooth -1, flank +1
     k0 = rotate(p, th[0]) + centre
@@ -134,7 +134,7 @@ def test_pressure_from_fe_where_hertz_fails(solver, cycle, torque, monkeypatch):
     _, ph_hertz, _ = hertz_fields(cycle.force, cycle.face_width, cycle.equivalent_radius,
                                   solver.model.e_star)
     assert np.all(cycle.ph[loaded] > 1.2 * ph_hertz[loaded])
-    monkeypatch.setattr(sf, "HERTZ_GAP_RTOL", np.inf)
+    monkeypatch.setattr(sf.cycle, "HERTZ_GAP_RTOL", np.inf)   # where the cycle mode reads it
     lax = solver.solve(torque)
     valid = loaded & ~lax.hertz_invalid
     assert np.any(valid) and np.array_equal(lax.pressure_from_fe, lax.hertz_invalid & loaded)
@@ -229,7 +229,7 @@ def test_disk_cache_of_the_hat_tables(cases_dir, tmp_path, monkeypatch):
     def no_mesh(*a, **k):
         raise AssertionError("meshed although the tables are in the cache")
 
-    monkeypatch.setattr(sf, "mesh_rings", no_mesh)
+    monkeypatch.setattr(sf.grid, "mesh_rings", no_mesh)   # where the hat grids are meshed
     again = sf.CycleSolver(model, chis, spacing=70e-6, cache=cache).solve(20.0)
     assert np.array_equal(first.force, again.force)
     other = drive_for(case).fe_model(ring_outer_radius_m=model.ring_outer_radius * 1.05)

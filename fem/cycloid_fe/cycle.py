@@ -1,0 +1,268 @@
+"""Cycle mode of the cycloid disc: influence coefficients from one factorisation, the Hertz
+local approach and the complementarity solve per position (fem/cycloid_fe/__init__.py)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ..hertz import hertz_line
+from ...errors import ToothfemError, check_range
+from ...geometry import cycloid as cy
+from .. import contact
+from ..cache import content_key
+from ..elastic import Body
+from ..load_sharing import LoadSharing, hertz_fields
+from ..mesh import Refinement, mesh_rings
+from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_rings,
+                    _held_nodes, _Position, _positions, _window, housing_body, patch_loads,
+                    strip_width_correction)
+
+# ---------------------------------------------------------------------------------------
+# Cycle mode
+
+#: Bump when the discretisation behind the influence tables changes (mesh sizes, patches,
+#: pin table angles): it is part of :meth:`CycleSolver.cache_key`, so old files go unused.
+TABLES_VERSION = 1
+
+
+@dataclass(eq=False)
+class CycleSolver:
+    """Influence coefficients of the disc for a set of positions from one factorisation.
+
+    ``cache`` (a :class:`toothfem.fem.cache.DiskCache`, or None) keeps the torque-independent
+    tables on disk under :meth:`cache_key`: a solver for a design already in it builds no
+    mesh and factorises nothing. Without it nothing is read or written."""
+    model: CycloidFEModel
+    positions_rad: np.ndarray
+    b_ref: float = 1e-4
+    elements_per_bref: int = 5
+    equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
+    cache: object = None                 # DiskCache of the influence tables, or None
+
+    @cached_property
+    def _geometry(self):
+        """(candidate contacts per position, MeshingState): kinematics only, no mesh."""
+        return _positions(self.model, self.positions_rad)
+
+    @cached_property
+    def _pin(self):
+        """The conventional pin's compliance model (None for the other structures)."""
+        if self.model.pin_structure != "conventional":
+            return None
+        return PinModel(self.model.geometry.pin_radius_m, self.model.youngs_modulus,
+                        self.model.poisson_ratio, self.b_ref / 2, self.model.plane)
+
+    @cached_property
+    def _setup(self):
+        pos, state = self._geometry
+        if self.equal_springs is not None:
+            return pos, state, None, None
+        g = self.model.geometry
+        # windows: the span of each pin's contact parameter over the positions + patch
+        windows = {}
+        for p in pos:
+            for j, s in zip(p.pins, p.psi):
+                lo, hi = windows.get(j, (s, s))
+                windows[j] = (min(lo, s), max(hi, s))
+        pad = 3 * self.b_ref / g.pin_circle_radius_m
+        win = [(lo - pad, hi + pad) for lo, hi in windows.values()]
+        h = self.b_ref / self.elements_per_bref
+        rings, names = _disc_rings(self.model, [_window(g.generating(), lo, hi, h)
+                                                for lo, hi in win])
+        centres = np.concatenate([p.point for p in pos], axis=1)
+        bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
+                        refinements=[Refinement(centres, h, self.b_ref, 20 * self.b_ref)],
+                        names=names)
+        held = _held_nodes(bm, [n for n in names if n.startswith("crank")])
+        disc = Body(bm, self.model.youngs_modulus, self.model.poisson_ratio, held,
+                    self.model.plane)
+        if self.model.pin_structure == "integral":
+            # windows on the housing teeth: the contact direction on each pin (housing frame)
+            hb = self.b_ref / 2
+            tz, pts_h = {}, []
+            for p_idx, p in enumerate(pos):
+                k_h = state.point[p_idx, p.pins].T
+                c_h = cy.pin_centres(g)[:, p.pins]
+                pts_h.append(k_h)
+                ang = np.arctan2(k_h[1] - c_h[1], k_h[0] - c_h[0])
+                for j, a in zip(p.pins, ang):   # near a_j + pi: keep each pin's angles together
+                    a_j = 2 * math.pi * j / g.pin_count + math.pi
+                    tz.setdefault(j, []).append(a_j + math.remainder(a - a_j, 2 * math.pi))
+            zones = {}
+            for j, a in tz.items():
+                lo, hi = min(a) - 3 * hb / g.pin_radius_m, max(a) + 3 * hb / g.pin_radius_m
+                n = max(int(math.ceil((hi - lo) * g.pin_radius_m / (hb / 5))), 2)
+                zones[j] = np.linspace(lo, hi, n + 1)
+            centres = np.concatenate(pts_h, axis=1)
+            pin = housing_body(self.model, zones,
+                               [Refinement(centres, hb / 5, hb, 20 * hb)], keep_below=hb / 2)
+        else:
+            pin = self._pin
+        return pos, state, disc, pin
+
+    @cached_property
+    def _influence(self):
+        return {}
+
+    def influence(self, p: int):
+        """(C, C) disc compliance at position p's candidates (patch b_ref), per unit length;
+        computed once per position and kept (a new torque costs no new solve)."""
+        if p in self._influence:
+            return self._influence[p]
+        pos, state, disc, housing = self._setup
+        q = pos[p]
+        loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
+        u = disc.solve(loads.toarray())
+        c = loads.T @ u
+        if self.model.pin_structure == "integral":
+            kh = state.point[p, q.pins].T
+            nh = state.normal[p, q.pins].T
+            lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
+            c = c + lh.T @ housing.solve(lh.toarray())
+        self._influence[p] = 0.5 * (c + c.T)
+        return self._influence[p]
+
+    def cache_key(self) -> str:
+        """Hash of what the influence tables depend on: geometry, holes, material, pin
+        structure, plane, positions, b_ref and mesh density. Not the torque, and not the
+        face width (the tables are per unit length)."""
+        m = self.model
+        return content_key("CycleSolver", TABLES_VERSION, m.geometry, m.holes,
+                           m.youngs_modulus, m.poisson_ratio, m.pin_structure, m.plane,
+                           m.housing_outer_radius if m.pin_structure == "integral" else None,
+                           np.asarray(self.positions_rad, float), self.b_ref,
+                           self.elements_per_bref)
+
+    def tables(self) -> dict:
+        """The torque-independent arrays of the solve: ``influence_<p>`` (C_p, C_p) for
+        every position and, for conventional pins, ``pin_table``. Taken from ``cache``
+        when it holds them (no mesh, no factorisation), else computed and stored there."""
+        if self.equal_springs is not None:
+            raise ToothfemError("the equal-springs limit has no influence tables")
+        n = len(self._geometry[0])
+        if self.cache is not None and len(self._influence) < n:
+            hit = self.cache.load(self.cache_key())
+            if hit is not None:
+                try:
+                    self.adopt(hit)
+                except ToothfemError:      # stale or foreign file: recompute, overwrite
+                    self._influence.clear()
+        computed = len(self._influence) < n or (self._pin is not None
+                                                and "table" not in vars(self._pin))
+        out = {f"influence_{p}": self.influence(p) for p in range(n)}
+        if self._pin is not None:
+            out["pin_table"] = self._pin.table
+        if computed and self.cache is not None:
+            self.cache.store(self.cache_key(), out)
+        return out
+
+    def adopt(self, tables) -> None:
+        """Use ``tables`` (as returned by :meth:`tables`, e.g. from another process) instead
+        of computing them; refused (ToothfemError) if they do not fit these positions."""
+        pos = self._geometry[0]
+        for p, q in enumerate(pos):
+            c = np.asarray(tables.get(f"influence_{p}", np.empty(0)), float)
+            if c.shape != (q.pins.size, q.pins.size) or not np.all(np.isfinite(c)):
+                raise ToothfemError(f"influence table of position {p} does not fit: shape "
+                                    f"{c.shape}, expected {(q.pins.size, q.pins.size)}")
+        if len(tables) != len(pos) + (self._pin is not None):
+            raise ToothfemError(f"{len(tables)} tables for {len(pos)} positions")
+        if self._pin is not None:
+            t = np.asarray(tables.get("pin_table", np.empty(0)), float)
+            if t.shape != self._pin.angles.shape:
+                raise ToothfemError(f"pin table shape {t.shape} does not fit "
+                                    f"{self._pin.angles.shape}")
+            self._pin.table = t          # fills the cached_property
+        for p in range(len(pos)):
+            self._influence[p] = np.asarray(tables[f"influence_{p}"], float)
+
+    #: the cycle mode smears its loads over the disc (no contact-zone stress): see
+    #: :meth:`structural_field`.
+    has_structural_field = True
+
+    def prepare(self) -> None:
+        """Build (or read from the cache) every torque-independent table now."""
+        self.tables()
+
+    def structural_field(self, p: int, load_sharing: LoadSharing):
+        """(disc Body, displacement dofs) at position p under the solved contact forces
+        (Hertz strips of b_ref pressing along the inward normal), disc frame."""
+        pos, _, disc, _ = self._setup
+        q = pos[p]
+        f = load_sharing.force[p, q.pins] / self.model.face_width
+        loads = patch_loads(disc, "profile", q.point, -q.normal, self.b_ref)
+        return disc, disc.solve(loads @ f)
+
+    def solve(self, torque: float, progress=None) -> LoadSharing:
+        """Load sharing at every position for the disc torque (N m)."""
+        check_range("torque", torque, 0, None, lo_open=True)
+        if self.cache is not None and self.equal_springs is None:
+            self.tables()
+        (pos, state), pin = self._geometry, self._pin
+        m = self.model
+        q_load = torque / m.face_width
+        zb = m.geometry.pin_count
+        n_pos = len(pos)
+        force = np.zeros((n_pos, zb))
+        gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
+        beta = np.zeros(n_pos)
+        it = range(n_pos) if progress is None else progress(range(n_pos))
+        for p in it:
+            q = pos[p]
+            if self.equal_springs is not None:     # rigid-body limit: H = k I, linear
+                sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, q.gap,
+                                            q.arm, q_load)
+            else:
+                sol = self._solve_position(p, q, q_load, pin)
+            force[p, q.pins] = sol.force * m.face_width
+            gap[p, q.pins] = sol.gap
+            beta[p] = sol.rigid
+        return _record("cycle", m, state, force, gap, beta, torque)
+
+    def _solve_position(self, p, q, q_load, pin):
+        """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
+        m = self.model
+        e_p = m.e_plane
+        c_disc = self.influence(p)
+        lam = _seed_guess(q, q_load)
+        for _ in range(LOCAL_MAX_ITER):
+            b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
+            local = strip_width_correction(b, self.b_ref, e_p)
+            if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
+                local = local + strip_width_correction(b, self.b_ref / 2, e_p)
+            elif m.pin_structure == "conventional":
+                local = local + pin.compliance(q.gamma, b)
+            sol = contact.solve_contact(c_disc + np.diag(local), q.gap, q.arm, q_load)
+            done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
+            lam = sol.force
+            if done:
+                return sol
+        raise contact.ContactError("the Hertz local approach did not settle at "
+                                   f"crank angle {math.degrees(q.phi):.3f} deg")
+
+
+
+
+def _seed_guess(q: _Position, q_load):
+    w = np.where(q.arm < 0, -q.arm, 0.0)
+    return w * q_load / np.sum(w * -q.arm)
+
+
+def _half_width(lam, r_eq, e_star, q_load, arm):
+    """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
+    mean = q_load / np.sum(np.abs(arm[arm < 0])) if np.any(arm < 0) else q_load
+    return hertz_line(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)[1]
+
+
+def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:
+    b, ph, invalid = hertz_fields(force, model.face_width, state.equivalent_radius, model.e_star,
+                                  (state.radius_moving, state.radius_fixed))
+    return LoadSharing(
+        method=method, position_rad=state.position_rad, contact_id=state.contact_id,
+        force=force, point=state.point, moment_arm=state.moment_arm, half_width=b, ph=ph,
+        gap=np.where(force > 0, 0.0, gap), transmission_error=beta, torque=float(torque),
+        face_width=model.face_width, pressure_from_fe=np.zeros_like(invalid),
+        equivalent_radius=state.equivalent_radius, hertz_invalid=invalid)

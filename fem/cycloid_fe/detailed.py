@@ -1,0 +1,187 @@
+"""Detailed mode of the cycloid disc: two-body FE contact with the zones of one position
+refined (fem/cycloid_fe/__init__.py)."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..hertz import hertz_line
+from ...errors import ToothfemError, check_range
+from ...geometry import cycloid as cy
+from ...geometry.vectors import rotate
+from .. import contact
+from ..elastic import Body
+from ..load_sharing import LoadSharing, hertz_fields
+from ..mesh import Refinement, mesh_rings
+from .cycle import _record, _seed_guess
+from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing_body
+
+# ---------------------------------------------------------------------------------------
+# Detailed mode
+
+#: Slave zone half-width per estimated Hertz half-width (the contact must end inside it),
+#: and the safety factor on the seed's force when estimating that half-width.
+DETAILED_ZONE_REL, DETAILED_FORCE_MARGIN = 1.6, 1.6
+
+
+@dataclass(frozen=True)
+class DetailedResult:
+    """One position of the detailed mode: the load sharing plus the pressure profiles."""
+    load_sharing: LoadSharing
+    slave_points: list          # per candidate pin: (2, M) disc-frame points
+    pressure: list              # per candidate pin: (M,) Pa
+    pins: np.ndarray            # candidate pin indices
+    dofs: int
+    disc: object = None         # the disc Body (disc frame)
+    disc_displacement: np.ndarray = None
+
+    @property
+    def member_body(self):
+        """The moving member's Body (the disc), as every drive's detailed result names it."""
+        return self.disc
+
+    @property
+    def member_displacement(self):
+        return self.disc_displacement
+
+
+def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
+                   elements_per_halfwidth: int = 6) -> DetailedResult:
+    """Two-body FE contact at one crank angle with the contact zones refined and conforming.
+
+    The zone sizes come from the seed's force estimate times a margin; after the solve the
+    contact must end inside each slave zone (checked; ContactError otherwise).
+    """
+    check_range("torque", torque, 0, None, lo_open=True)
+    if model.pin_structure == "rigid":
+        raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
+    g = model.geometry
+    gen = g.generating()
+    (q,), state = _positions(model, [crank_angle_rad])
+    q_load = torque / model.face_width
+    f_est = _seed_guess(q, q_load) * DETAILED_FORCE_MARGIN
+    b_zone = float(np.max(hertz_line(np.max(f_est), np.abs(q.r_eq), model.e_star)[1]))
+    h = b_zone / elements_per_halfwidth
+    rz = g.pin_radius_m
+    theta_d = -crank_angle_rad / g.lobe_count
+    housing_centre = rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
+                                                          math.sin(crank_angle_rad)]), -theta_d)
+    pin_rings, disc_psi, zone_angles = [], [], []
+    for k in range(q.pins.size):
+        c, n = q.pin_centre[:, k], q.normal[:, k]
+        a0 = math.atan2(-n[1], -n[0])                # direction of the contact on the pin
+        half = 3 * b_zone / rz
+        n_zone = int(math.ceil(2 * half * rz / h))
+        t_zone = a0 + np.linspace(-half, half, n_zone + 1)
+        t_rest = a0 + np.linspace(half, 2 * math.pi - half, 73)[1:-1]
+        t = np.concatenate([t_zone, t_rest])
+        ring = c[:, None] + rz * np.stack([np.cos(t), np.sin(t)])
+        pin_rings.append(ring)
+        zone_angles.append(t_zone)
+        psi, _ = cy.foot_point(gen, ring[:, :n_zone + 1], np.full(n_zone + 1, q.psi[k]))
+        disc_psi.append(psi)
+    # disc outline: coarse samples, with each zone replaced by the pins' projections
+    rings, names = _disc_rings(model, disc_psi)
+    refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
+    disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
+                           names=names, keep_below=2 * h)
+    held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
+    disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
+    # slave bodies: one per pin (conventional) or the housing with every pin (integral)
+    kps = q.pin_centre - rz * q.normal
+    refine_pins = [Refinement(kps, h, 2 * b_zone, 40 * b_zone)]
+    groups = []                     # (body, [facets of each candidate pin])
+    if model.pin_structure == "integral":
+        c_t, s_t = math.cos(-theta_d), math.sin(-theta_d)
+        centre_h = g.eccentricity_m * np.array([math.cos(crank_angle_rad),
+                                                math.sin(crank_angle_rad)])
+
+        def to_disc(x):             # housing frame -> disc frame
+            d = x - centre_h[:, None]
+            return np.stack([c_t * d[0] - s_t * d[1], s_t * d[0] + c_t * d[1]])
+        zones = {int(j): t + theta_d for j, t in zip(q.pins, zone_angles)}
+        housing = housing_body(model, zones, refine_pins, 2 * h, to_disc)
+        p = housing.mesh.p
+        f_all = housing.body_mesh.rings["teeth"]
+        mid = 0.5 * (p[:, housing.mesh.facets[0, f_all]] + p[:, housing.mesh.facets[1, f_all]])
+        groups.append((housing, [f_all[np.hypot(*(mid - kps[:, k:k + 1]))
+                                       < DETAILED_ZONE_REL * b_zone]
+                                 for k in range(q.pins.size)]))
+    else:
+        for k, ring in enumerate(pin_rings):
+            c = q.pin_centre[:, k]
+            pm = mesh_rings([ring], size_max=rz / 4, refinements=refine_pins, keep_below=2 * h)
+            p = pm.mesh.p
+            outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
+            bnodes = pm.ring_nodes("outer")
+            held_pin = bnodes[np.sum((p[:, bnodes] - c[:, None]) * outward[:, None], axis=0) > 0]
+            pin = Body(pm, model.youngs_modulus, model.poisson_ratio, held_pin, model.plane)
+            f = pm.rings["outer"]
+            mid = 0.5 * (p[:, pm.mesh.facets[0, f]] + p[:, pm.mesh.facets[1, f]])
+            groups.append((pin, [f[np.hypot(*(mid - kps[:, k:k + 1]))
+                                   < DETAILED_ZONE_REL * b_zone]]))
+    slaves, h_blocks, master_pts, normals = [], [], [], []
+    dofs = disc.basis.N
+    k = 0
+    for body, facet_sets in groups:
+        group_dofs, group_normals = [], []
+        for f in facet_sets:
+            sl = contact.slave_surface(body, f)
+            psi, _ = cy.foot_point(gen, sl.points, np.full(sl.points.shape[1], q.psi[k]))
+            nrm = -cy.inward_normal(gen, psi)
+            group_dofs.append(sl.dofs)
+            group_normals.append(nrm)
+            slaves.append(sl)
+            master_pts.append(cy.working_profile(gen, psi))
+            normals.append(nrm)
+            k += 1
+        loads = contact.nodal_load_matrix(body.basis.N, np.concatenate(group_dofs, axis=1),
+                                          np.concatenate(group_normals, axis=1))
+        h_blocks.append(contact.flexibility(body, loads))
+        dofs += body.basis.N
+    proj = np.concatenate(master_pts, axis=1)
+    nrm = np.concatenate(normals, axis=1)
+    pts = np.concatenate([s.points for s in slaves], axis=1)
+    from scipy.linalg import block_diag
+
+    # evaluate the disc at the polygon point, a hair inside (the element finder needs it)
+    on_mesh = contact.nearest_on_boundary(disc_mesh, "profile", proj) - 1e-6 * h * nrm
+    hmat = block_diag(*h_blocks) + contact.flexibility(disc, disc.point_load_matrix(on_mesh, nrm))
+    g0 = np.sum((pts - proj) * nrm, axis=0)
+    c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
+    sol = contact.solve_contact(hmat, g0, c_rot, q_load)
+    u_disc = disc.solve(-(disc.point_load_matrix(on_mesh, nrm) @ sol.force))
+    # per pin
+    zb = g.pin_count
+    force = np.zeros((1, zb))
+    gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
+    pressures, start = [], 0
+    arm_fe = state.moment_arm.copy()
+    for k, sl in enumerate(slaves):
+        lam = sol.force[start:start + sl.points.shape[1]]
+        edge = np.concatenate([np.flatnonzero(lam > 0)])
+        if edge.size and np.any(np.hypot(*(sl.points[:, edge] - (q.pin_centre[:, k]
+                                - rz * q.normal[:, k])[:, None])) > 0.95 * DETAILED_ZONE_REL * b_zone):
+            raise contact.ContactError(f"pin {q.pins[k]}: the contact reaches the edge of the "
+                                       "refined zone; raise DETAILED_FORCE_MARGIN")
+        force[0, q.pins[k]] = lam.sum() * model.face_width
+        if lam.sum() > 0:   # the moment arm of the resultant of the nodal forces
+            arm_fe[0, q.pins[k]] = np.sum(lam * c_rot[start:start + lam.size]) / lam.sum()
+        gap[0, q.pins[k]] = 0.0 if lam.sum() > 0 else np.min(sol.gap[start:start + lam.size])
+        pressures.append(sl.pressure(lam))
+        start += lam.size
+    rec = _record("detailed", model, state, force, gap, np.array([sol.rigid]), torque)
+    # P_h: Hertz's on the FE force where its assumptions hold, the FE peak where they fail
+    # (b not small against the radii); the FE profiles stay in DetailedResult.pressure.
+    _, _, invalid = hertz_fields(force, model.face_width, state.equivalent_radius,
+                                 model.e_star, (state.radius_moving, state.radius_fixed))
+    ph = rec.ph.copy()
+    for k, pr in enumerate(pressures):
+        if invalid[0, q.pins[k]]:
+            ph[0, q.pins[k]] = float(np.max(pr))
+    import dataclasses
+
+    rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=invalid, moment_arm=arm_fe)
+    return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs, disc, u_disc)

@@ -1,0 +1,316 @@
+"""Cycle mode of the sine pair: contact at any crank angle from the hat tables, one
+factorisation per body (fem/sine_fe/__init__.py)."""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ...errors import ToothfemError, check_range
+from ...geometry import sine
+from ...geometry.vectors import rotate
+from .. import contact
+from ..cache import content_key
+from ..load_sharing import LoadSharing, hertz_fields
+from .grid import _circle, _grid_body, _GridBody, _planet_toothed, ring_foot, _ring_toothed
+from .model import SineFEModel
+
+#: Hertz's quadratic gap x^2/(2 R_eq) must match the exact loaded separation g0 + beta l
+#: at x = +-b (symmetric second difference) within this fraction of it, else the contact
+#: is flagged hertz_invalid (the rotation term or a varying curvature dominates).
+HERTZ_GAP_RTOL = 0.25
+
+#: Planet hats whose initial gap to the ring is below this (m) are contact unknowns; it is
+#: doubled (up to SELECT_GAP_MAX) when a hat in contact had an initial gap above
+#: SELECT_MARGIN times it, so that the selection never limits the contact set.
+DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN = 6e-6, 120e-6, 0.6
+
+#: Hat spacing along the surfaces in the cycle mode (m): 1/4 to 1/40 of the contact
+#: half-widths met at the prototype's load (0.1-1 mm); the mesh is s/2 along the surface.
+DEFAULT_SPACING = 35e-6
+
+# ---------------------------------------------------------------------------------------
+# Cycle mode
+
+@dataclass(frozen=True)
+class PositionResult:
+    """One crank angle of the cycle mode: the contact hats and their solution.
+
+    ``hat``: global planet hat indices (tooth * N + k) of the contact unknowns (H,);
+    ``point`` (2, H) ring frame; ``force`` (H,) N/m; ``pressure`` (H,) Pa (force over the
+    hat's integral s); ``column`` (H,) the meshing candidate each hat belongs to (-1: none);
+    ``sigma`` (H,) arc length along the planet profile (m)."""
+    crank_angle: float
+    hat: np.ndarray
+    point: np.ndarray
+    sigma: np.ndarray
+    g0: np.ndarray
+    arm: np.ndarray
+    force: np.ndarray
+    pressure: np.ndarray
+    gap: np.ndarray
+    column: np.ndarray
+    rotation: float
+    iterations: int
+    select_gap: float
+    hat_moment: float = 0.0     # second moment of one hat about its centre / its area, m^2
+
+
+#: Bump when the discretisation behind the hat tables changes (part of the cache key).
+TABLES_VERSION = 1
+
+
+@dataclass(eq=False)
+class CycleSolver:
+    """Influence coefficients of both bodies on their hat grids from one factorisation
+    each; contact at any crank angle from those tables (module docstring).
+
+    ``cache`` (a :class:`toothfem.fem.cache.DiskCache`, or None) keeps each body's hat table
+    on disk under a key of what it depends on (pair, material, supports, plane, spacing,
+    reach; not the torque): a solver for a known design meshes and factorises nothing."""
+    model: SineFEModel
+    positions_rad: np.ndarray
+    spacing: float = DEFAULT_SPACING
+    select_gap: float = DEFAULT_SELECT_GAP
+    cache: object = None
+
+    def __post_init__(self):
+        self.positions_rad = np.atleast_1d(np.asarray(self.positions_rad, float))
+        for x in self.positions_rad:
+            check_range("positions_rad", x)
+        m = self.model.pair.module_m
+        check_range("spacing", self.spacing, 0.002 * m, 0.2 * m, why="hat spacing along the "
+                    "surfaces: 1/500 to 1/5 of the module")
+        check_range("select_gap", self.select_gap, 0, SELECT_GAP_MAX, lo_open=True)
+
+    #: the hat grids give no stress field of their own (the detailed mode does).
+    has_structural_field = False
+
+    def prepare(self) -> None:
+        """Build (or read from the cache) both bodies' hat tables now."""
+        self.planet, self.ring
+
+    @property
+    def reach(self) -> int:
+        """Teeth between any two contact hats, at most (candidates on both sides, the ring
+        tooth a hat projects onto, one for the shift of the pitch point)."""
+        return 2 * self.model.candidates + 3
+
+    @cached_property
+    def planet(self) -> _GridBody:
+        m = self.model
+        return self._cached("planet", _planet_toothed(m.pair),
+                            lambda t: _grid_body(t, [_circle(m.planet_bore_radius)],
+                                                 ["profile", "bore"], "bore", self.spacing, m,
+                                                 self.reach))
+
+    @cached_property
+    def ring(self) -> _GridBody:
+        m = self.model
+        return self._cached("ring", _ring_toothed(m.pair),
+                            lambda t: _grid_body(t, [_circle(m.ring_outer_radius)],
+                                                 ["rim", "profile"], "rim", self.spacing, m,
+                                                 self.reach))
+
+    def cache_key(self, which: str) -> str:
+        """Hash of what a body's hat table depends on (not the torque, not the face
+        width: the tables are per unit length)."""
+        m = self.model
+        pair = dataclasses.replace(m.pair, face_width_m=1.0)     # per unit length
+        support = m.planet_bore_radius if which == "planet" else m.ring_outer_radius
+        return content_key("SineCycleSolver", TABLES_VERSION, which, pair, m.youngs_modulus,
+                           m.poisson_ratio, support, m.plane, self.spacing, self.reach)
+
+    def _cached(self, which, toothed, build) -> _GridBody:
+        if self.cache is None:
+            return build(toothed)
+        key = self.cache_key(which)
+        hit = self.cache.load(key)
+        if hit is not None and "influence" in hit:
+            table = np.asarray(hit["influence"], float)
+            n = table.shape[1] if table.ndim == 3 else 0
+            if table.shape == (2 * self.reach + 1, n, n) and n >= 8 \
+                    and np.all(np.isfinite(table)):
+                return _GridBody(None, toothed, n, table, self.reach)
+        grid = build(toothed)                   # missing, stale or corrupt: compute, store
+        self.cache.store(key, {"influence": grid.influence})
+        return grid
+
+    @cached_property
+    def states(self):
+        return sine.meshing(self.model.pair, self.positions_rad,
+                            candidates=self.model.candidates)
+
+    def solve_position(self, chi: float, torque: float) -> PositionResult:
+        """Contact at crank angle ``chi`` (rad) under the planet torque (N m)."""
+        check_range("torque", torque, 0, None, lo_open=True)
+        check_range("chi", chi)
+        sel_gap = self.select_gap
+        while True:
+            res = self._solve(float(chi), torque / self.model.face_width, sel_gap)
+            loaded = res.force > 0
+            # the contact stays inside the selection, and no hat left out (initial gap
+            # above sel_gap) can be closed by the rigid rotation
+            if (np.max(res.g0[loaded]) <= SELECT_MARGIN * sel_gap
+                    and res.rotation * np.max(np.abs(res.arm)) <= sel_gap):
+                return res
+            if 2 * sel_gap > SELECT_GAP_MAX:
+                raise contact.ContactError(
+                    f"crank angle {math.degrees(chi):.4f} deg: contact reaches hats with an "
+                    f"initial gap of {np.max(res.g0[loaded]) * 1e6:.1f} um; the load is too "
+                    "high for the candidate teeth (raise candidates)")
+            sel_gap *= 2
+
+    def _solve(self, chi, q_load, sel_gap) -> PositionResult:
+        pair = self.model.pair
+        pl, rg = self.planet, self.ring
+        n, s = pl.n_hats, pl.spacing
+        k = self.model.candidates
+        j0 = int(np.round(chi * pair.ring_teeth / (2 * math.pi)))
+        hats = (j0 - k) * n + np.arange((2 * k + 1) * n)
+        sigma = hats * s
+        centre, theta = sine.planet_pose(pair, chi)
+        pts = rotate(pl.toothed.point(sigma), theta[0]) + centre
+        f2, g0, nrm = ring_foot(pair, pts)
+        sel = g0 < sel_gap
+        if not np.any(sel):
+            raise contact.ContactError(f"crank angle {math.degrees(chi):.4f} deg: no planet "
+                                       "hat within the selection gap")
+        hats, sigma, pts, f2, g0, nrm = (hats[sel], sigma[sel], pts[:, sel], f2[sel], g0[sel],
+                                         nrm[:, sel])
+        rel = pts - centre
+        arm = rel[0] * nrm[1] - rel[1] * nrm[0]
+        # ring: the transported hats on the ring grid by linear interpolation, T^T H_r T
+        # with two weights per hat (1 - a on ring hat j, a on j + 1)
+        u = rg.toothed.sigma_of_phi(f2) / rg.spacing
+        j = np.floor(u).astype(int)
+        a = u - j
+        hmat = pl.matrix(hats)
+        for wa, ja in ((1 - a, j), (a, j + 1)):
+            for wb, jb in ((1 - a, j), (a, j + 1)):
+                hmat += wa[:, None] * wb[None, :] * rg.matrix(ja, jb)
+        hmat = 0.5 * (hmat + hmat.T)
+        sol = contact.solve_contact(hmat, g0, arm, q_load)
+        column = self._columns(chi, hats)
+        return PositionResult(chi, hats, pts, sigma, g0, arm, sol.force, sol.force / s,
+                              sol.gap, column, sol.rigid, sol.iterations, sel_gap, s**2 / 6)
+
+    def _columns(self, chi, hats):
+        j0 = int(np.round(chi * self.model.pair.ring_teeth / (2 * math.pi)))
+        tooth, cell = np.divmod(hats, self.planet.n_hats)
+        return _flank_columns(j0, self.model.candidates, tooth, cell >= self.planet.n_hats / 2)
+
+    def solve(self, torque: float, progress=None) -> LoadSharing:
+        """Load sharing at every position for the planet torque (N m)."""
+        check_range("torque", torque, 0, None, lo_open=True)
+        it = range(self.positions_rad.size)
+        if progress is not None:
+            it = progress(it)
+        results = [self.solve_position(self.positions_rad[p], torque) for p in it]
+        return _record("cycle", self.model, self.states, results, torque, self.planet.toothed)
+
+
+def _flank_columns(j0, k, tooth, upper):
+    """Column of sine.meshing (tooth j0-k+i, flank -1/+1 -> 2i, 2i+1) of points on planet
+    tooth ``tooth`` (its window from root to root), on flank +1 where ``upper`` (beyond the
+    tip). A loaded zone is not always around a flank's own gap minimum: the profiles are
+    so nearly conformal that a flank whose gap falls all the way to the neighbouring
+    flank's conjugate contact (meshing gap inf) carries load too."""
+    return 2 * (np.asarray(tooth) - (j0 - k)) + np.asarray(upper).astype(int)
+
+
+def _record(method, model: SineFEModel, state, results, torque, toothed) -> LoadSharing:
+    """Stack per-position contact solutions into a LoadSharing over the meshing columns.
+
+    Per loaded column: the force is the sum of its nodal or hat forces, the moment arm and
+    point those of the resultant; the curvature radii are taken at the resultant's point
+    (a column without a gap minimum of its own has its meshing point at a flank end).
+    P_h and b: Hertz's on the force where Hertz holds, else the FE peak and the
+    second-moment half-width b^2 = 4 int x^2 p / int p (``pressure_from_fe``). The gap of
+    a column with no contact unknown is its initial gap closed by the rigid rotation only
+    (beta l; the elastic part is left out)."""
+    pair, width = model.pair, model.face_width
+    n_pos, n_col = state.moment_arm.shape
+    force = np.zeros((n_pos, n_col))
+    arm = state.moment_arm.copy()
+    point = state.point.copy()
+    r_p, r_r = state.radius_moving.copy(), state.radius_fixed.copy()
+    gap = np.where(np.isfinite(state.gap), state.gap, np.inf)
+    beta = np.array([r.rotation for r in results])
+    fe_peak = np.zeros((n_pos, n_col))
+    fe_b = np.zeros((n_pos, n_col))
+    sig_c = np.full((n_pos, n_col), np.nan)
+    untouched = np.ones((n_pos, n_col), bool)
+    for p, r in enumerate(results):
+        if np.any((r.column < 0) | (r.column >= n_col)):
+            raise ToothfemError("a contact hat lies outside the candidate teeth")
+        if np.any(r.force[(r.column < 2) | (r.column >= n_col - 2)] > 0):
+            raise contact.ContactError(
+                f"crank angle {math.degrees(r.crank_angle):.4f} deg: the outermost candidate "
+                "teeth carry load; raise SineFEModel.candidates")
+        for c in np.unique(r.column):
+            k = r.column == c
+            lam = r.force[k]
+            untouched[p, c] = False
+            tot = lam.sum()
+            if tot <= 0:
+                gap[p, c] = np.min(r.gap[k])
+                continue
+            force[p, c] = tot * width
+            arm[p, c] = np.sum(lam * r.arm[k]) / tot
+            point[p, c] = (r.point[:, k] @ lam) / tot
+            sc = np.sum(lam * r.sigma[k]) / tot
+            sig_c[p, c] = sc
+            fe_peak[p, c] = np.max(r.pressure[k])
+            fe_b[p, c] = 2 * math.sqrt(np.sum(lam * (r.sigma[k] - sc) ** 2) / tot
+                                       + r.hat_moment)
+            gap[p, c] = 0.0
+        gap[p, untouched[p]] = gap[p, untouched[p]] + beta[p] * arm[p, untouched[p]]
+    loaded = force > 0
+    if np.any(loaded):
+        phi1 = toothed.phi_of_sigma(sig_c[loaded])
+        r_p[loaded] = 1 / sine.planet_curve(pair, phi1).curvature
+        f2, _, _ = ring_foot(pair, point[loaded].T)
+        r_r[loaded] = 1 / sine.ring_curve(pair, f2).curvature
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r_eq = 1 / (1 / r_p + 1 / r_r)
+    b, ph, invalid = hertz_fields(force, width, r_eq, model.e_star, (r_p, r_r))
+    if np.any(loaded & ~invalid):
+        sel = loaded & ~invalid
+        invalid[sel] = _hertz_gap_fails(model, toothed, state.position_rad, beta, sel, sig_c,
+                                        b, r_eq)
+    from_fe = loaded & invalid
+    b = np.where(from_fe, fe_b, b)
+    ph = np.where(from_fe, fe_peak, ph)
+    return LoadSharing(
+        method=method, position_rad=state.position_rad, contact_id=state.contact_id,
+        force=force, point=point, moment_arm=arm, half_width=b, ph=ph, gap=gap,
+        transmission_error=beta, torque=float(torque), face_width=width,
+        pressure_from_fe=from_fe, equivalent_radius=r_eq, hertz_invalid=invalid)
+
+
+def _hertz_gap_fails(model, toothed, positions, beta, sel, sig_c, b, r_eq):
+    """Hertz's quadratic gap against the exact loaded one. The separation that the elastic
+    approach must close is g0(x) + beta l(x): the initial gap plus the planet's rigid
+    rotation beta times the moment arm l(x) of the normal at x, which varies along a
+    curved flank (its second derivative is not small against 1/R_eq for these nearly
+    conformal profiles). The symmetric second difference of that separation over +-b about
+    the resultant, s(x+b) + s(x-b) - 2 s(x), must be b^2/R_eq within HERTZ_GAP_RTOL (a
+    linear part, a tilt, cancels)."""
+    pair = model.pair
+    pp, cc = np.nonzero(sel)
+    out = np.zeros(pp.size, bool)
+    for i, (p, c) in enumerate(zip(pp, cc)):
+        centre, theta = sine.planet_pose(pair, positions[p])
+        sg = sig_c[p, c] + b[p, c] * np.array([-1.0, 0.0, 1.0])
+        pts = rotate(toothed.point(sg), theta[0]) + centre
+        _, g, n = ring_foot(pair, pts)
+        rel = pts - centre
+        sep = g + beta[p] * (rel[0] * n[1] - rel[1] * n[0])
+        second = sep[0] + sep[2] - 2 * sep[1]
+        hertz = b[p, c] ** 2 / r_eq[p, c]
+        out[i] = abs(second - hertz) > HERTZ_GAP_RTOL * hertz
+    return out
