@@ -88,7 +88,8 @@ def cycle_figures(case, model, torque, n):
     # the seed's split (sine paper Eqs. 16-19) on the pairs within the FE's loaded deflection
     state = sine.meshing(model.pair, ls.position_rad)
     delta = np.max(ls.transmission_error[:, None] * np.abs(ls.moment_arm) * loaded, axis=1)
-    seed = analytic_split(state, torque, ls.face_width, model.e_star, float(np.mean(delta)))
+    seed = analytic_split(state, torque, ls.face_width, model.e_star, float(np.mean(delta)),
+                          weight="cos_pressure_angle")
     print(f"\nseed split (Eqs. 16-19) within the mean loaded deflection "
           f"{np.mean(delta) * 1e6:.2f} um: {np.min(seed.contacts_per_position)}-"
           f"{np.max(seed.contacts_per_position)} pairs, F_max {seed.force.max(axis=1).min():.1f}"

@@ -266,5 +266,11 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                        mesh_efficiency=mesh_eff)
 
 
+def bearing_component(drive) -> str:
+    """The loss component of the bearing that carries the moving member: the crank bearings
+    of a 2K-V drive, else the eccentric bearing (K-H-V: sine planet, plain cycloid disc)."""
+    return "crank_bearings" if drive.two_stage else "eccentric_bearing"
+
+
 #: The loss model of each drive kind (toothfem.fem.drives.Drive.kind).
 LOSS_MODELS = {"cycloid": cycloid_losses, "sine": sine_losses}

@@ -43,6 +43,11 @@ class ContactSolution:
 
 
 MAX_ITERATIONS = 200
+#: The candidates that touch first under the rigid motion start the active set: those whose
+#: gap there is within FIRST_TOUCH_RTOL of the largest initial gap (round-off of the
+#: subtraction g0 + r c, a few ulp of the gaps, far below any real clearance) plus
+#: FIRST_TOUCH_ATOL [m or rad] for all-zero gaps (unmodified profiles).
+FIRST_TOUCH_RTOL, FIRST_TOUCH_ATOL = 1e-9, 1e-15
 
 
 def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolution:
@@ -63,7 +68,8 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolu
                            "(or direction) has the wrong sign")
     # start from the candidates that touch first under the rigid motion
     r_first = np.min(-g0[able] / c[able]) if q < 0 else np.max(-g0[able] / c[able])
-    active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * 1e-9 + 1e-15)
+    active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * FIRST_TOUCH_RTOL
+                     + FIRST_TOUCH_ATOL)
     for it in range(1, max_iter + 1):
         idx = np.flatnonzero(active)
         k = idx.size

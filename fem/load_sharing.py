@@ -85,8 +85,12 @@ def hertz_fields(force, face_width, equivalent_radius, e_star, radii=None):
     return b, ph, invalid
 
 
+#: The seeds' two rules for the force on each load-carrying contact (see analytic_split).
+SPLIT_WEIGHTS = ("moment_arm", "cos_pressure_angle")
+
+
 def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: float,
-                   in_mesh_gap_m: float = 0.0) -> LoadSharing:
+                   in_mesh_gap_m: float = 0.0, *, weight: str) -> LoadSharing:
     """The seeds' load split on a :class:`~toothfem.geometry.kinematics.MeshingState`.
 
     Cycloid (pin-housing paper Eqs. 8-13): rigid pins, load proportional to the moment arm,
@@ -98,8 +102,12 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     rule since r_i cos(alpha_i) is the moment arm.
 
     ``torque_Nm`` > 0 is the output torque carried by the moving member; the load-carrying
-    contacts are those with negative moment arm (MeshingState convention).
+    contacts are those with negative moment arm (MeshingState convention). ``weight``
+    names the rule: "moment_arm" (the cycloid seed) or "cos_pressure_angle" (the sine
+    seed); a drive passes its own (:attr:`toothfem.fem.drives.Drive.analytic_weight`).
     """
+    if weight not in SPLIT_WEIGHTS:
+        raise ToothfemError(f"weight = {weight!r} is not one of {list(SPLIT_WEIGHTS)}")
     check_range("torque_Nm", torque_Nm, 0, None, lo_open=True)
     check_range("face_width_m", face_width_m, 0, None, lo_open=True)
     arm = state.moment_arm
@@ -110,17 +118,17 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     theta = np.where(np.isfinite(theta), theta, 0.0)
     gap = np.where(finite, state.gap + arm * theta[:, None], state.gap)
     carry = finite & (gap <= in_mesh_gap_m)
-    if state.drive == "sine":
+    if weight == "cos_pressure_angle":
         # cos(alpha) r = |l|: weight by |l| as well, F = F0 cos(alpha)
-        weight = np.where(carry, np.cos(state.pressure_angle), 0.0)
+        share = np.where(carry, np.cos(state.pressure_angle), 0.0)
     else:
-        weight = np.where(carry, -arm, 0.0)
-    denom = np.sum(weight * -arm, axis=1)
+        share = np.where(carry, -arm, 0.0)
+    denom = np.sum(share * -arm, axis=1)
     if np.any(denom <= 0):
         bad = int(np.flatnonzero(denom <= 0)[0])
         raise ToothfemError(f"no contact can carry the torque at position "
                             f"{math.degrees(state.position_rad[bad]):.3f} deg")
-    force = weight * (torque_Nm / denom)[:, None]
+    force = share * (torque_Nm / denom)[:, None]
     b, ph, invalid = hertz_fields(force, face_width_m, state.equivalent_radius, e_star_Pa,
                                   (state.radius_moving, state.radius_fixed))
     return LoadSharing(

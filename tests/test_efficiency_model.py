@@ -48,7 +48,8 @@ def test_pin_contact_loss_matches_mesh_loss_module(pinhousing):
     g = cyc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, 36, endpoint=False)
     state = cy.meshing(g, phis, crank, pin_motion="fixed")
-    ls = analytic_split(state, t2 / cyc.disc_count, cyc.face_width_mm * 1e-3, 1.14e11)
+    ls = analytic_split(state, t2 / cyc.disc_count, cyc.face_width_mm * 1e-3, 1.14e11,
+                        weight="moment_arm")
     ml = mesh_loss(state, ls, 1.0, mu=0.05)
     by_module = cyc.disc_count * ml.loss_W.mean()
     # the model reports the pin loss through Chen-Angeles' closed form, which is first

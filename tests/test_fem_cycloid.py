@@ -60,7 +60,7 @@ def test_rigid_body_limit_reproduces_seed(model, case):
     torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     ls = cf.CycleSolver(model, PHIS, equal_springs=1e-11).solve(torque)
     state = cy.meshing(model.geometry, PHIS)
-    seed = analytic_split(state, torque, model.face_width, model.e_star)
+    seed = analytic_split(state, torque, model.face_width, model.e_star, weight="moment_arm")
     assert np.all(ls.contacts_per_position == 20)
     assert np.allclose(ls.force, seed.force, rtol=1e-9, atol=1e-9)
     r_a = model.geometry.disc_pitch_radius_m

@@ -20,7 +20,7 @@ def setup(cases_dir):
     torque, crank = 91.85, 60.0
     fixed = cy.meshing(g, PHIS, crank, pin_motion="fixed")
     rolling = cy.meshing(g, PHIS, crank, pin_motion="rolling")
-    ls = analytic_split(fixed, torque, 0.01, 1.14e11)
+    ls = analytic_split(fixed, torque, 0.01, 1.14e11, weight="moment_arm")
     return fixed, rolling, ls, stage_power(torque, crank, -39)
 
 

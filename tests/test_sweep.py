@@ -178,7 +178,7 @@ def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
     state = sine.meshing(case.sine.geometry(), np.linspace(0, 2 * math.pi / 80, 6,
                                                            endpoint=False))
     ls = analytic_split(state, t_out[1], 8e-3, reduced_modulus(212e9, 0.28, 212e9, 0.28),
-                        SINE_IN_MESH_GAP_M)
+                        SINE_IN_MESH_GAP_M, weight="cos_pressure_angle")
     assert f[1] == pytest.approx(ls.force.max(), rel=1e-8)
 
 

@@ -362,7 +362,7 @@ class Case:
         for sec in required:
             if getattr(self, sec) is None:
                 raise CaseError(f"[{sec}] section is required for drive = {self.drive!r}")
-        if self.drive == "rv":
+        if self.rv is not None:           # the [rv] tooth numbers bind the stages
             z = self.rv
             for sec, pairs in (("first_stage", (("sun_teeth", z.sun_teeth),
                                                 ("planet_teeth", z.planet_teeth))),
@@ -382,16 +382,7 @@ class Case:
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see
         :mod:`toothfem.geometry.train` for the sign convention)."""
-        from .geometry import train
-        if self.drive == "sine":
-            return train.khv_ratio(self.sine.planet_teeth, self.sine.ring_teeth)
-        if self.drive == "rv":
-            return train.rv_ratio(self.rv.sun_teeth, self.rv.planet_teeth,
-                                  self.rv.disc_teeth, self.rv.pin_count)
-        if self.first_stage is not None:
-            return train.rv_ratio(self.first_stage.sun_teeth, self.first_stage.planet_teeth,
-                                  self.cycloid.lobe_count, self.cycloid.pin_count)
-        return train.khv_ratio(self.cycloid.lobe_count, self.cycloid.pin_count)
+        return _RATIO[self.drive](self)
 
     def to_si(self) -> si.CaseSI:
         """The case in SI records (:mod:`toothfem.si`): what fem/ and efficiency/ read.
@@ -402,6 +393,22 @@ class Case:
             object.__setattr__(self, "_si", cached)
         return cached
 
+
+def _cycloid_ratio(case: Case) -> float:
+    """A cycloid drive: K-H-V, or 2K-V behind a spur first stage."""
+    cyc, fs = case.cycloid, case.first_stage
+    if fs is not None:
+        return train.rv_ratio(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count, cyc.pin_count)
+    return train.khv_ratio(cyc.lobe_count, cyc.pin_count)
+
+
+#: The train ratio of each case drive, from the sections that drive requires.
+_RATIO = {
+    "sine": lambda c: train.khv_ratio(c.sine.planet_teeth, c.sine.ring_teeth),
+    "rv": lambda c: train.rv_ratio(c.rv.sun_teeth, c.rv.planet_teeth, c.rv.disc_teeth,
+                                   c.rv.pin_count),
+    "cycloid": _cycloid_ratio,
+}
 
 _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,

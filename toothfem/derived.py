@@ -14,12 +14,7 @@ def derived(case: Case) -> dict:
     out: dict = {"name": case.name, "drive": case.drive, "ratio": _r(case.ratio())}
     op = case.operating
     out["output_speed_rpm"] = _r(op.input_speed_rpm / case.ratio())
-    if case.drive == "cycloid":
-        out.update(_cycloid(case))
-    elif case.drive == "sine":
-        out.update(_sine(case))
-    else:
-        out.update(_rv(case))
+    out.update(_BY_CASE_DRIVE[case.drive](case))
     return out
 
 
@@ -93,3 +88,7 @@ def _rv(case: Case) -> dict:
     if case.operating.input_power_kW is not None:
         d["input_power_W"] = case.operating.input_power_kW * 1e3
     return d
+
+
+#: What `check` derives for each case drive (the case's sections differ by drive).
+_BY_CASE_DRIVE = {"cycloid": _cycloid, "sine": _sine, "rv": _rv}

@@ -6,7 +6,7 @@
 designs; the sweep runs the Cartesian product of each. Every design x load case gives one
 row of ``sweep.csv``.
 
-How the work is split (DESIGN.md, Scale): one Dask task per design, which does the setup
+How the work is split (docs/architecture.md): one Dask task per design, which does the setup
 its load cases share (cycloid disc: meshes, factorisation and the influence tables of the
 cycle mode over ``positions`` crank angles, through
 :class:`~toothfem.fem.cycloid_fe.CycleSolver`; sine: the FE cycle solver or the meshing

@@ -39,238 +39,24 @@ output mechanism (the disc drives the carrier through its crank bearings, which
 from __future__ import annotations
 
 import dataclasses
-import math
-from dataclasses import dataclass
-from functools import lru_cache
-from typing import Callable
 
 import numpy as np
 
-from ...errors import ToothfemError, check_range
-from ...fem import cycloid_fe as cf
+from ...errors import ToothfemError
 from ...fem.drives import drive_for
-from ..drive_losses import disc_contact_losses
-from ..evaluation import evaluate
-from ..lubricant import viscosity_factor
-from ..mesh_table import table_from_records
+from ..drive_losses import bearing_component
+from .clearance import clearance_tables, contact_compliance, load_sharing_clearance
+from .effect import (Effect, Parameter, Points, crank_speed_factor, declared_if_changed,
+                     needs_cycloid, predict, prepare, set_field, with_effects)
 
-# ---------------------------------------------------------------------------------------
-# Records
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A fitted parameter: name (with unit), bounds and starting values (absolute)."""
-    name: str
-    unit: str
-    lo: float
-    hi: float
-    starts: tuple            # starting values tried before the fit (absolute)
-    typical: float           # scale of the fit (x_scale) and of a signature's step
-    doc: str = ""
-
-
-@dataclass(frozen=True)
-class Points:
-    """Operating points: input speed [rpm], output torque [N m], oil temperature [deg C]
-    or None (the lubricant's reference); arrays of shape (M,)."""
-    speed_rpm: np.ndarray
-    torque_Nm: np.ndarray
-    oil_temp_C: np.ndarray | None = None
-
-    @classmethod
-    def of(cls, data) -> "Points":
-        """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`."""
-        return cls(np.asarray(data.speed_rpm, float), np.asarray(data.torque_Nm, float),
-                   None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float))
-
-    def __len__(self):
-        return int(self.speed_rpm.size)
-
-
-@dataclass(frozen=True, eq=False)
-class Effect:
-    """A physical effect of the catalog (module docstring). ``values`` are tuples in the
-    order of ``parameters``."""
-    name: str
-    summary: str
-    equation: str
-    citation: str
-    parameters: tuple
-    drives: tuple
-    case_fields: tuple
-    set_fields: Callable          # (case, values) -> case with the effect's fields set
-    declared_by: Callable         # (case) -> str | None: the declaring field, if any
-    not_applicable: Callable | None = None   # (case, points) -> reason | None
-    loss_route: Callable | None = None       # (case) -> True if the effect is a loss term
-    extra_loss: Callable | None = None       # (case, points, evaluation, values, prep) -> W
-    prepare: Callable | None = None          # (case, points) -> prepared tables
-    linear_in: Callable | None = None        # (case) -> loss component proportional to the
-                                             # (single) parameter, or None
-
-    def __repr__(self):
-        return f"Effect({self.name!r})"
-
-    def apply(self, case, values):
-        """The case with this effect's fields set to ``values``."""
-        values = tuple(float(v) for v in values)
-        if len(values) != len(self.parameters):
-            raise ToothfemError(f"{self.name}: {len(values)} values for "
-                                f"{len(self.parameters)} parameters")
-        for p, v in zip(self.parameters, values):
-            check_range(f"{self.name}.{p.name}", v, p.lo, p.hi)
-        return self.set_fields(case, values)
-
-    def declared(self, case) -> str | None:
-        """The case field that already declares this effect (non-default), or None."""
-        return self.declared_by(case)
-
-    def applicable(self, case, points) -> str | None:
-        """Why the effect cannot act on this case and data (None: it can)."""
-        if case.drive not in self.drives:
-            return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
-        if self.not_applicable is not None:
-            return self.not_applicable(case, points)
-        return None
-
-    def route(self, case) -> str:
-        """'model': the efficiency model evaluates the field; 'loss': a loss term here."""
-        if self.loss_route is not None and self.loss_route(case):
-            return "loss"
-        return "model"
-
-    def linear_component(self, case) -> str | None:
-        """The loss component (a key of the losses) that is exactly proportional to this
-        effect's single parameter, nothing else depending on it; None if there is none.
-        Such an effect needs no new model evaluation when only its value changes."""
-        return None if self.linear_in is None else self.linear_in(case)
-
-    @property
-    def reference(self) -> tuple:
-        """Values at which a linear effect's component is evaluated, then scaled."""
-        return tuple(p.typical for p in self.parameters)
-
-
-# ---------------------------------------------------------------------------------------
-# Predictions with effects
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """Efficiency and losses [W] at the points with a set of effects."""
-    efficiency: np.ndarray
-    output_power_W: np.ndarray
-    losses_W: dict
-    notes: tuple
-
-
-def with_effects(case, assignment):
-    """The case with every effect of ``assignment`` ({Effect: values}) applied: the case
-    a report states (the loss-term effects' fields set as well)."""
-    for eff, values in assignment.items():
-        case = eff.apply(case, values)
-    return case
-
-
-@dataclass(frozen=True)
-class _Losses:
-    """What an extra_loss function reads of an evaluation: the losses (after scaling)."""
-    losses_W: dict
-    output_power_W: np.ndarray
-
-
-def predict(case, points: Points, assignment=None, prepared=None, *, loads="analytic",
-            cache=None) -> Prediction:
-    """Efficiency of ``case`` with the effects ``assignment`` ({Effect: values}) at the
-    points. ``prepared`` holds the tables of effects that need them ({name: object},
-    :func:`prepare`); missing ones are computed here.
-
-    ``cache`` (a dict, optional) keeps model evaluations keyed by the values of the effects
-    that need one: an effect with a linear component (:meth:`Effect.linear_component`) is
-    evaluated at its reference value and its component scaled, so a change of its value
-    alone costs no evaluation (exact: the component is proportional to the parameter)."""
-    assignment = assignment or {}
-    prepared = {} if prepared is None else prepared
-    model_case, key, scale = case, [], {}
-    for eff, values in assignment.items():
-        if eff.route(case) != "model":
-            continue
-        comp = eff.linear_component(case)
-        if comp is not None:
-            ref = eff.reference
-            scale[comp] = scale.get(comp, 1.0) * float(values[0]) / ref[0]
-            values = ref
-        model_case = eff.apply(model_case, values)
-        key.append((eff.name, tuple(float(v) for v in values)))
-    key = tuple(sorted(key))
-    ev = None if cache is None else cache.get(key)
-    if ev is None:
-        ev = evaluate(model_case, points.speed_rpm, points.torque_Nm, points.oil_temp_C,
-                      loads=loads)
-        if cache is not None:
-            cache[key] = ev
-    losses = dict(ev.losses_W)
-    for comp, k in scale.items():
-        losses[comp] = losses[comp] * k
-    view = _Losses(losses, ev.output_power_W)
-    for eff, values in assignment.items():
-        if eff.route(case) == "loss":
-            if eff.prepare is not None and eff.name not in prepared:
-                prepared[eff.name] = eff.prepare(case, points)
-            extra = eff.extra_loss(model_case, points, view, tuple(values),
-                                   prepared.get(eff.name))
-            losses[eff.name] = losses.get(eff.name, 0.0) + extra
-    p_out = ev.output_power_W
-    eta = p_out / (p_out + sum(losses.values()))
-    return Prediction(eta, p_out, losses, ev.notes)
-
-
-def prepare(effects, case, points) -> dict:
-    """Tables of the effects that need them for these points ({name: object})."""
-    return {e.name: e.prepare(case, points) for e in effects
-            if e.prepare is not None and e.route(case) == "loss"
-            and e.applicable(case, points) is None}
-
-
-# ---------------------------------------------------------------------------------------
-# Helpers
-
-
-def _default(section_cls, name):
-    f = {x.name: x for x in dataclasses.fields(section_cls)}[name]
-    return f.default
-
-
-def _declared_if_changed(section, name, label):
-    """declared_by(case) for a field that is declared when it differs from its default."""
-    def declared(case):
-        sec = getattr(case, section)
-        if sec is None:
-            return None
-        value = getattr(sec, name)
-        if value != _default(type(sec), name):
-            return f"{label} = {value!r}"
-        return None
-    return declared
-
-
-def _set(section, name):
-    """set_fields(case, values) for one field of one section."""
-    def setter(case, values):
-        sec = getattr(case, section)
-        return dataclasses.replace(case, **{section: dataclasses.replace(sec, **{name: values[0]})})
-    return setter
-
-
-def crank_speed_factor(case) -> float:
-    """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
-    return abs(drive_for(case).speeds()["crank"])
-
-
-def _need_cycloid(case, points):
-    if case.cycloid is None or case.material is None:
-        return "needs the [cycloid] and [material] sections (disc, pins, contact stiffness)"
-    return None
+#: The catalog's public names; the records and the prediction machinery (:mod:`.effect`) and
+#: the clearance effect's tables (:mod:`.clearance`) are re-exported here for the loop's
+#: callers (``from toothfem.efficiency.loop import effects as fx``).
+__all__ = ["NAMES", "Effect", "Parameter", "Points", "by_name", "catalog", "churning",
+           "clearance_tables", "contact_compliance", "crank_speed_factor", "drag_torque",
+           "load_sharing_clearance", "mixed_lubrication", "output_mechanism_friction",
+           "pin_sliding", "predict", "prepare", "viscosity_temperature", "with_effects",
+           "bearing_friction"]
 
 
 # ---------------------------------------------------------------------------------------
@@ -294,8 +80,8 @@ def drag_torque() -> Effect:
                               "drag torque on the input shaft"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.drag_torque_Nmm",),
-        set_fields=_set("friction", "drag_torque_Nmm"),
-        declared_by=_declared_if_changed("friction", "drag_torque_Nmm",
+        set_fields=set_field("friction", "drag_torque_Nmm"),
+        declared_by=declared_if_changed("friction", "drag_torque_Nmm",
                                          "friction.drag_torque_Nmm"),
         linear_in=lambda case: "drag")
 
@@ -361,8 +147,8 @@ def viscosity_temperature() -> Effect:
                               (1000.0, 600.0, 1500.0, 2500.0), 500.0, "Vogel B"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("lubricant.vogel_B_C",),
-        set_fields=_set("lubricant", "vogel_B_C"),
-        declared_by=_declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
+        set_fields=set_field("lubricant", "vogel_B_C"),
+        declared_by=declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
         not_applicable=_needs_temps)
 
 
@@ -390,8 +176,8 @@ def mixed_lubrication() -> Effect:
                               "boundary friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.boundary_coefficient",),
-        set_fields=_set("friction", "boundary_coefficient"),
-        declared_by=_declared_if_changed("friction", "boundary_coefficient",
+        set_fields=set_field("friction", "boundary_coefficient"),
+        declared_by=declared_if_changed("friction", "boundary_coefficient",
                                          "friction.boundary_coefficient"),
         not_applicable=_needs_ehl)
 
@@ -414,11 +200,10 @@ def bearing_friction() -> Effect:
                               "bearing friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.bearing_coefficient",),
-        set_fields=_set("friction", "bearing_coefficient"),
-        declared_by=_declared_if_changed("friction", "bearing_coefficient",
+        set_fields=set_field("friction", "bearing_coefficient"),
+        declared_by=declared_if_changed("friction", "bearing_coefficient",
                                          "friction.bearing_coefficient"),
-        linear_in=lambda case: ("eccentric_bearing" if case.drive == "sine"
-                                else "crank_bearings"))
+        linear_in=lambda case: bearing_component(drive_for(case)))
 
 
 def _needs_output_mechanism(case, points):
@@ -441,15 +226,15 @@ def output_mechanism_friction() -> Effect:
                               0.03, "pin-hole friction coefficient f_k"),),
         drives=("sine",),
         case_fields=("friction.output_pin_coefficient",),
-        set_fields=_set("friction", "output_pin_coefficient"),
-        declared_by=_declared_if_changed("friction", "output_pin_coefficient",
+        set_fields=set_field("friction", "output_pin_coefficient"),
+        declared_by=declared_if_changed("friction", "output_pin_coefficient",
                                          "friction.output_pin_coefficient"),
         not_applicable=_needs_output_mechanism,
         linear_in=lambda case: "output_mechanism")
 
 
 def _needs_conventional(case, points):
-    why = _need_cycloid(case, points)
+    why = needs_cycloid(case, points)
     if why:
         return why
     if case.cycloid.pin_structure != "conventional":
@@ -475,157 +260,10 @@ def pin_sliding() -> Effect:
                               0.02, "groove friction coefficient mu_g"),),
         drives=("cycloid", "rv"),
         case_fields=("friction.pin_groove_coefficient",),
-        set_fields=_set("friction", "pin_groove_coefficient"),
-        declared_by=_declared_if_changed("friction", "pin_groove_coefficient",
+        set_fields=set_field("friction", "pin_groove_coefficient"),
+        declared_by=declared_if_changed("friction", "pin_groove_coefficient",
                                          "friction.pin_groove_coefficient"),
         not_applicable=_needs_conventional)
-
-
-# ---------------------------------------------------------------------------------------
-# Clearance through the contact model
-
-#: Clearances [mm] at which the contact model is solved; the effect interpolates between.
-CLEARANCE_GRID_MM = (0.0, 0.0005, 0.001, 0.002, 0.003, 0.005, 0.0075, 0.01, 0.015, 0.02,
-                     0.03, 0.05)
-#: Disc torques at which each clearance's load split is solved (fractions between the
-#: data's smallest and largest, log-spaced); the table interpolates F/T between them.
-CLEARANCE_TORQUES = 8
-#: Meshing positions over one pin pitch (the efficiency model's default).
-CLEARANCE_POSITIONS = 36
-
-
-@lru_cache(maxsize=8)
-def contact_compliance(drive) -> float:
-    """Compliance of one pin contact [m per N/m of face width] for the equal-springs
-    contact model: the mean diagonal of the disc's FE influence matrix (plus the integral
-    housing's, which the cycle solver adds) at the candidate pins of one position, plus
-    for conventional pins the pin's own FE compliance averaged over contact angles within
-    45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
-    half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
-    terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
-    solver = drive.cycle_solver(1, cache=False)
-    model = solver.model
-    c = float(np.mean(np.diag(solver.influence(0))))
-    if model.pin_structure == "conventional":
-        pin = cf.PinModel(model.geometry.pin_radius_m, model.youngs_modulus,
-                          model.poisson_ratio, solver.b_ref / 2, model.plane)
-        near = np.abs(pin.angles) <= math.pi / 4
-        c += float(np.mean(pin.table[near]))
-    return c
-
-
-@dataclass(frozen=True)
-class ClearanceTables:
-    """Per clearance (K,) and point (M,): the pin-contact and crank-bearing losses relative
-    to zero clearance, from the equal-springs contact model."""
-    clearance_mm: np.ndarray        # (K,)
-    pin_ratio: np.ndarray           # (K, M)
-    bearing_ratio: np.ndarray       # (K, M)
-    compliance: float               # m per N/m
-    contacts_mean: np.ndarray       # (K,) mean pins in contact at the largest torque
-
-
-def clearance_tables(case, points: Points, compliance=None,
-                     grid_mm=CLEARANCE_GRID_MM) -> ClearanceTables:
-    """Loss ratios over a grid of clearances (equidistant modification Delta r_z) at the
-    points, in the limit of rigid bodies on equal contact springs (``compliance`` m per
-    N/m; default :func:`contact_compliance`, from the FE).
-
-    Per clearance the cycle solver finds the contact set and forces at every position
-    (complementarity with the torque balance: fem/cycloid_fe.CycleSolver with
-    ``equal_springs``) at a few disc torques spanning the data; the friction of each contact
-    is the model's (same law, lubricant and oil temperature as the case), and the ratio
-    sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
-    bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
-    is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
-    cyc = case.cycloid
-    drive = drive_for(case)
-    if compliance is None:
-        compliance = contact_compliance(drive)
-    t_disc = drive.member_torque(points.torque_Nm, peak=False)
-    lo, hi = float(np.min(t_disc)), float(np.max(t_disc))
-    torques = np.geomspace(lo, hi, CLEARANCE_TORQUES) if hi > lo * 1.01 else np.array([hi])
-    crank = np.abs(points.speed_rpm * 2 * math.pi / 60 * crank_speed_factor(case))
-    visc = viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
-    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
-    pins, bearing, contacts = [], [], []
-    for c_mm in grid_mm:
-        d = drive_for(dataclasses.replace(case, cycloid=dataclasses.replace(
-            cyc, equidistant_modification_mm=float(c_mm))))
-        state = d.meshing(d.positions(CLEARANCE_POSITIONS))
-        solver = d.cycle_solver(CLEARANCE_POSITIONS, cache=False,
-                                solver_options={"equal_springs": compliance})
-        records = [solver.solve(float(t)) for t in torques]
-        table = table_from_records(state, records, "equal_springs")
-        loss, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0)
-        pins.append(loss)
-        bearing.append(f_bearing)
-        contacts.append(float(np.mean(records[-1].contacts_per_position)))
-    pins, bearing = np.array(pins), np.array(bearing)
-
-    def ratio(a):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            r = a / a[0]
-        return np.where(a[0] > 0, r, 1.0)
-
-    return ClearanceTables(np.asarray(grid_mm, float), ratio(pins), ratio(bearing),
-                           float(compliance), np.array(contacts))
-
-
-def _clearance_loss(case, points, ev, values, tables: ClearanceTables):
-    from scipy.interpolate import PchipInterpolator
-
-    c = float(values[0])
-    x = tables.clearance_mm
-    rp = PchipInterpolator(x, tables.pin_ratio, axis=0)(c)
-    rb = PchipInterpolator(x, tables.bearing_ratio, axis=0)(c)
-    pins = ev.losses_W.get("pin_contacts", 0.0)
-    bearings = ev.losses_W.get("crank_bearings", 0.0)
-    return (rp - 1.0) * pins + (rb - 1.0) * bearings
-
-
-def _declared_modification(case):
-    cyc = case.cycloid
-    if cyc is None:
-        return None
-    for name in ("equidistant_modification_mm", "move_distance_modification_mm",
-                 "rotation_modification_deg"):
-        if getattr(cyc, name) != 0:
-            return f"cycloid.{name} = {getattr(cyc, name)!r}"
-    return None
-
-
-def load_sharing_clearance(compliance=None) -> Effect:
-    """Clearance between disc and pins changing which pins carry the torque.
-
-    A positive equidistant modification Delta r_z opens a gap that grows away from the
-    pins of largest moment arm; under load the contact set is what closes (complementarity:
-    gap >= 0, F >= 0, F gap = 0, sum F l = T), so fewer pins carry more load at low torque
-    and the set grows with torque. The friction loss changes with it (the loaded pins
-    differ in sliding speed and pressure). The load split comes from the contact model in
-    the limit of rigid bodies on equal contact springs (``compliance``, default from the
-    FE; see :func:`clearance_tables`), tabulated over :data:`CLEARANCE_GRID_MM` once per
-    data set. The full FE cycle mode (about 25-50 s per geometry here) is the reference it
-    is checked against in the slow tests."""
-    return Effect(
-        name="load_sharing_clearance",
-        summary="disc-pin clearance (equidistant modification) changing the load split, "
-                "through the contact model",
-        equation="g_i = g0_i(Delta r_z) + k F_i - beta l_i >= 0, F_i >= 0, F_i g_i = 0, "
-                 "sum F_i l_i = T",
-        citation="Wang et al. (pin-housing paper, seeds), modifications Delta r_z, Delta R_z;"
-                 " toothfem fem/cycloid_fe.CycleSolver (complementarity)",
-        parameters=(Parameter("equidistant_modification_mm", "mm", 0.0, 0.05,
-                              (0.003, 0.001, 0.01, 0.03), 0.003,
-                              "clearance: equidistant modification Delta r_z"),),
-        drives=("cycloid", "rv"),
-        case_fields=("cycloid.equidistant_modification_mm",),
-        set_fields=_set("cycloid", "equidistant_modification_mm"),
-        declared_by=_declared_modification,
-        not_applicable=_need_cycloid,
-        loss_route=lambda case: True,
-        extra_loss=_clearance_loss,
-        prepare=lambda case, points: clearance_tables(case, points, compliance))
 
 
 # ---------------------------------------------------------------------------------------

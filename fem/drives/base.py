@@ -30,6 +30,8 @@ class Drive(abc.ABC):
     #: what the moving member and a contact are called in outputs.
     member_name: str = ""
     contact_name: str = ""
+    #: the seed's rule of the analytic split (toothfem.fem.load_sharing.SPLIT_WEIGHTS).
+    analytic_weight: str = ""
     #: options of :meth:`fe_model` with their choices (e.g. the cycloid's pin structure).
     fe_options: dict = {}
 
@@ -95,6 +97,11 @@ class Drive(abc.ABC):
     def member_frame_point(self, model, position_rad: float, point):
         """``point`` (2,) of the housing frame in the moving member's own frame."""
 
+    @property
+    def two_stage(self) -> bool:
+        """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
+        return False
+
     # -- shared by every drive ------------------------------------------------------------
     def positions(self, n_positions: int = DEFAULT_POSITIONS) -> np.ndarray:
         """``n_positions`` crank angles evenly over one meshing period, the period's end
@@ -135,7 +142,7 @@ class Drive(abc.ABC):
         from ..load_sharing import analytic_split
 
         return analytic_split(state, member_torque_Nm, self.face_width_m, self.e_star_Pa,
-                              self.analytic_in_mesh_gap_m)
+                              self.analytic_in_mesh_gap_m, weight=self.analytic_weight)
 
     def cycle_solver(self, n_positions: int = DEFAULT_POSITIONS, *, cache=True,
                      solver_options: dict | None = None, **overrides):

@@ -26,6 +26,7 @@ class CycloidDrive(Drive):
     kind = "cycloid"
     member_name = "disc"
     contact_name = "pin"
+    analytic_weight = "moment_arm"
     fe_options = {"pin_structure": cf.PIN_STRUCTURES}
 
     @classmethod

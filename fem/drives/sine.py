@@ -29,6 +29,7 @@ class SineDrive(Drive):
     kind = "sine"
     member_name = "planet"
     contact_name = "tooth"
+    analytic_weight = "cos_pressure_angle"
 
     @classmethod
     def from_case(cls, si) -> "SineDrive":

@@ -220,7 +220,7 @@ def mesh_efficiency(pair, conditions: SineMeshConditions, crank_angle_rad=None, 
     state = sine.meshing(pair, chi, w, candidates)
     torque = abs(_ratio(pair)) * conditions.input_torque_Nm
     load = analytic_split(state, torque, pair.face_width_m, conditions.e_star_Pa,
-                          in_mesh_gap_m)
+                          in_mesh_gap_m, weight="cos_pressure_angle")
     power = stage_power(torque, w, _ratio(pair))
     loss = mesh_loss(state, load, power, mu, eta0_Pa_s=conditions.dynamic_viscosity_Pa_s,
                      roughness_m=composite_rms_roughness(conditions.roughness_Ra_m),
