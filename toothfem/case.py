@@ -449,7 +449,23 @@ def _section(cls, mapping: Mapping[str, Any], name: str):
 
 
 def parse_case(mapping: Mapping[str, Any]) -> Case:
-    """Validate a case mapping (as read from TOML) into a :class:`Case`."""
+    """Validate a case mapping (as read from TOML) into a :class:`Case`.
+
+    Parameters
+    ----------
+    mapping : Mapping
+        Tables by section name (``case``, ``cycloid``, ``operating`` ...), keys with their
+        units in the name.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        One line naming the key, its value and the valid range.
+    """
     mapping = dict(mapping)
     head = mapping.pop("case", None)
     if not isinstance(head, Mapping):
@@ -484,7 +500,22 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
 
 
 def load_case(path) -> Case:
-    """Open a TOML case file and validate it; errors name the file."""
+    """Open a TOML case file and validate it.
+
+    Parameters
+    ----------
+    path : str or Path
+        The case file.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        The file's name, then the key, its value and the valid range.
+    """
     path = Path(path)
     try:
         with open(path, "rb") as fh:
@@ -500,7 +531,17 @@ def load_case(path) -> Case:
 
 
 def case_to_dict(case: Case) -> dict:
-    """Plain mapping of a case (the inverse of :func:`parse_case`)."""
+    """Plain mapping of a case, the inverse of :func:`parse_case`.
+
+    Parameters
+    ----------
+    case : Case
+
+    Returns
+    -------
+    dict
+        ``parse_case(case_to_dict(case)) == case``.
+    """
     out: dict[str, Any] = {"case": {k: getattr(case, k) for k in ("name", "drive", "source")
                                     if getattr(case, k) is not None}}
     if case.stated_ratio is not None:

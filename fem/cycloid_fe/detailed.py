@@ -26,7 +26,7 @@ from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing
 DETAILED_ZONE_REL, DETAILED_FORCE_MARGIN = 1.6, 1.6
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DetailedResult:
     """One position of the detailed mode: the load sharing plus the pressure profiles."""
     load_sharing: LoadSharing
@@ -184,4 +184,6 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     import dataclasses
 
     rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=invalid, moment_arm=arm_fe)
-    return DetailedResult(rec, [s.points for s in slaves], pressures, q.pins, dofs, disc, u_disc)
+    return DetailedResult(load_sharing=rec, slave_points=[s.points for s in slaves],
+                          pressure=pressures, pins=q.pins, dofs=dofs, disc=disc,
+                          disc_displacement=u_disc)

@@ -29,7 +29,7 @@ LOCAL_MAX_ITER, LOCAL_RTOL = 50, 1e-9
 PIN_STRUCTURES = ("conventional", "integral", "rigid")
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class CycloidFEModel(SameMaterial):
     """A disc, its pins and material; torques in N m over the face width."""
     geometry: cy.CycloidGeometry

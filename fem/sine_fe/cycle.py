@@ -35,7 +35,7 @@ DEFAULT_SPACING = 35e-6
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class PositionResult:
     """One crank angle of the cycle mode: the contact hats and their solution.
 
@@ -195,8 +195,10 @@ class CycleSolver:
         hmat = 0.5 * (hmat + hmat.T)
         sol = contact.solve_contact(hmat, g0, arm, q_load)
         column = self._columns(chi, hats)
-        return PositionResult(chi, hats, pts, sigma, g0, arm, sol.force, sol.force / s,
-                              sol.gap, column, sol.rigid, sol.iterations, sel_gap, s**2 / 6)
+        return PositionResult(crank_angle=chi, hat=hats, point=pts, sigma=sigma, g0=g0, arm=arm,
+                              force=sol.force, pressure=sol.force / s, gap=sol.gap,
+                              column=column, rotation=sol.rigid, iterations=sol.iterations,
+                              select_gap=sel_gap, hat_moment=s**2 / 6)
 
     def _columns(self, chi, hats):
         j0 = int(np.round(chi * self.model.pair.ring_teeth / (2 * math.pi)))

@@ -36,7 +36,7 @@ CHECK_SPACING, CHECK_OVERLAP_REL = 50e-6, 1e-2
 ZONE_PAD = 3
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class DetailedResult:
     """One crank angle of the detailed mode: the load sharing and the nodal solution."""
     load_sharing: LoadSharing
@@ -157,9 +157,10 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     sigma = pt.sigma_of_phi(phi)
     tooth = np.floor(sigma / pt.length).astype(int)
     column = _flank_columns(j0, k, tooth, sigma - tooth * pt.length >= 0.5 * pt.length)
-    nodes = PositionResult(chi, np.arange(slave.points.shape[1]), kp, sigma, g0, arm,
-                           sol.force, slave.pressure(sol.force), sol.gap, column, sol.rigid,
-                           sol.iterations, zone_gap)
+    nodes = PositionResult(crank_angle=chi, hat=np.arange(slave.points.shape[1]), point=kp,
+                           sigma=sigma, g0=g0, arm=arm, force=sol.force,
+                           pressure=slave.pressure(sol.force), gap=sol.gap, column=column,
+                           rotation=sol.rigid, iterations=sol.iterations, select_gap=zone_gap)
     # loaded gap outside the zones: every CHECK_SPACING on the candidate teeth
     n_chk = int(math.ceil(pt.length / CHECK_SPACING))
     sc = ((j0 - k) * n_chk + np.arange((2 * k + 1) * n_chk)) * (pt.length / n_chk)
@@ -179,5 +180,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     loaded_gap = gc + sol.rigid * armc + up - ur
     state = sine.meshing(pair, [chi], candidates=k)
     rec = _record("detailed", model, state, [nodes], torque, pt)
-    return DetailedResult(rec, nodes, planet.basis.N + ring.basis.N, planet, u_p, ring, u_r,
-                          zone_gap, float(np.min(loaded_gap)) if sc.size else np.inf)
+    return DetailedResult(load_sharing=rec, nodes=nodes, dofs=planet.basis.N + ring.basis.N,
+                          planet=planet, planet_displacement=u_p, ring=ring,
+                          ring_displacement=u_r, zone_gap=zone_gap,
+                          min_gap_outside=float(np.min(loaded_gap)) if sc.size else np.inf)

@@ -12,7 +12,7 @@ from ...geometry import sine
 from ..elastic import SameMaterial
 
 # ---------------------------------------------------------------------------------------
-@dataclass(frozen=True)
+@dataclass(frozen=True, kw_only=True)
 class SineFEModel(SameMaterial):
     """The sine pair, its material and the two supports (SI units)."""
     pair: sine.SineGearPair
