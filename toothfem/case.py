@@ -30,9 +30,6 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 INF = math.inf
-#: Face width of a spur first stage that declares none, in modules: ASSUMPTION, the middle
-#: of the usual 8-12 m of industrial spur gears (the RV paper gives no width).
-SPUR_DEFAULT_WIDTH_MODULES = 10.0
 
 
 def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
@@ -214,7 +211,7 @@ class SpurStage(_Section):
     module_mm: float = _f(0.0, None, lo_open=True, default=1.0)
     pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
     face_width_mm: float | None = _f(0.0, None, lo_open=True, default=None,
-                                     doc="default SPUR_DEFAULT_WIDTH_MODULES modules")
+                                     doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
     mesh_efficiency: float | None = _f(0.0, 1.0, lo_open=True, default=None,
                                        doc="declared; default: from the friction model")
 
@@ -389,7 +386,7 @@ class Case:
         Computed once per case (cached on the frozen record)."""
         cached = self.__dict__.get("_si")
         if cached is None:
-            cached = _case_si(self)
+            cached = si.from_case(self)
             object.__setattr__(self, "_si", cached)
         return cached
 
@@ -460,11 +457,8 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
     Returns
     -------
     Case
-
-    Raises
-    ------
-    CaseError
-        One line naming the key, its value and the valid range.
+        Validated; a bad value raises :class:`CaseError` naming the key, its value and the
+        valid range.
     """
     mapping = dict(mapping)
     head = mapping.pop("case", None)
@@ -556,64 +550,3 @@ def case_to_dict(case: Case) -> dict:
         out["published"] = dict(case.published)
     return out
 
-
-_MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
-
-
-def _case_si(case: Case) -> si.CaseSI:
-    """Convert every section of ``case`` to its SI record (the one place units change)."""
-    mat = case.material
-    cyc = case.cycloid
-    fs = case.first_stage
-    op = case.operating
-    lub = case.lubricant
-    fri = case.friction
-    om = case.output_mechanism
-    return si.CaseSI(
-        name=case.name, drive=case.drive, ratio=case.ratio(),
-        material=None if mat is None else si.MaterialSI(
-            youngs_modulus_Pa=mat.youngs_modulus_GPa * _GPA, poisson_ratio=mat.poisson_ratio,
-            density_kg_m3=mat.density_kg_m3),
-        cycloid=None if cyc is None else si.CycloidStageSI(
-            geometry=cyc.geometry(), holes=cyc.holes_si(),
-            face_width_m=cyc.face_width_mm * _MM, disc_count=cyc.disc_count,
-            pin_structure=cyc.pin_structure, disc_load_factor=cyc.disc_load_factor,
-            housing_outer_radius_m=cyc.housing_outer_radius_mm * _MM,
-            lobe_count=cyc.lobe_count),
-        first_stage=None if fs is None else si.SpurStageSI(
-            sun_teeth=fs.sun_teeth, planet_teeth=fs.planet_teeth,
-            planet_count=fs.planet_count, module_m=fs.module_mm * _MM,
-            pressure_angle_rad=math.radians(fs.pressure_angle_deg),
-            face_width_m=(fs.face_width_mm if fs.face_width_mm else
-                          SPUR_DEFAULT_WIDTH_MODULES * fs.module_mm) * _MM,
-            mesh_efficiency=fs.mesh_efficiency),
-        sine=None if case.sine is None else si.SineStageSI(pair=case.sine.geometry()),
-        rv=None if case.rv is None else si.RVTrainSI(
-            sun_teeth=case.rv.sun_teeth, planet_teeth=case.rv.planet_teeth,
-            disc_teeth=case.rv.disc_teeth, pin_count=case.rv.pin_count,
-            disc_count=case.rv.disc_count, mesh_efficiency=case.rv.mesh_efficiency),
-        operating=si.OperatingSI(
-            input_speed_rad_s=op.input_speed_rpm * 2 * math.pi / 60,
-            output_torque_Nm=op.output_torque_Nm or None,
-            input_torque_Nm=op.input_torque_Nm or None,
-            input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3),
-        lubricant=si.LubricantSI(
-            dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
-            kinematic_viscosity_m2_s=lub.kinematic_viscosity_mm2_s * _MM ** 2,
-            density_kg_m3=lub.density_kg_m3,
-            pressure_viscosity_1_per_Pa=lub.pressure_viscosity_1_per_GPa / _GPA,
-            reference_temperature_C=lub.reference_temperature_C,
-            roughness_Ra_m=lub.roughness_Ra_um * _UM, vogel_B_C=lub.vogel_B_C,
-            vogel_C_C=lub.vogel_C_C, churning=lub.churning,
-            churning_scale=lub.churning_scale),
-        friction=si.FrictionSI(
-            coefficient=fri.coefficient, bearing_coefficient=fri.bearing_coefficient,
-            output_pin_coefficient=fri.output_pin_coefficient,
-            pin_groove_coefficient=fri.pin_groove_coefficient, mesh_law=fri.mesh_law,
-            boundary_coefficient=fri.boundary_coefficient,
-            drag_torque_Nm=fri.drag_torque_Nmm * _MM),
-        output_mechanism=None if om is None else si.OutputMechanismSI(
-            pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
-            pin_radius_m=om.pin_radius_mm * _MM,
-            eccentric_bearing_inner_radius_m=om.eccentric_bearing_inner_radius_mm * _MM,
-            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM))
