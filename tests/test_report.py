@@ -37,7 +37,7 @@ def test_cad_profiles_read_back(cases_dir, tmp_path, capsys, name, profiles):
 
     out = tmp_path / "geo"
     assert cli.main(["geometry", str(cases_dir / f"{name}.toml"), "--out", str(out)]) == 0
-    assert f"to {out}" in capsys.readouterr().out
+    assert f"to {out.resolve()}" in capsys.readouterr().out
     for p in profiles:
         csv = np.loadtxt(out / f"{p}.csv", delimiter=",", skiprows=1)
         doc = ezdxf.readfile(out / f"{p}.dxf")

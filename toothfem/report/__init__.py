@@ -27,7 +27,7 @@ DPI = 120
 
 def save(fig, path, dpi: int = DPI):
     """Write ``fig`` to ``path`` (PNG) and close it (figures are not kept in memory)."""
-    fig.savefig(path, dpi=dpi)
+    fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.1)   # nothing clipped
     pyplot().close(fig)
     return path
 
