@@ -10,7 +10,7 @@ import numpy as np
 
 from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
-from toothfem.fem.plots import contacts_versus_torque
+from toothfem.report.contact import contacts_versus_torque
 from toothfem.fem.drives import drive_for
 
 ROOT = Path(__file__).resolve().parent.parent

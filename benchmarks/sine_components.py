@@ -16,7 +16,7 @@ from toothfem import load_case
 from toothfem.efficiency import evaluation as m
 from toothfem.efficiency.mesh_table import mesh_table
 from toothfem.fem.drives import drive_for
-from toothfem.plots import efficiency_vs_torque
+from toothfem.report.plots import Marked, efficiency_vs_torque
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -69,12 +69,13 @@ def main():
     no_churn = dataclasses.replace(case, lubricant=dataclasses.replace(case.lubricant,
                                                                        churning="none"))
     curves["toothfem without churning/seals"] = m.evaluate(no_churn, n1, torque).efficiency
-    measured = [(mp.output_torque_Nm, mp.efficiency, f"measured {100 * mp.efficiency:.2f} %")
-                for mp in case.measured]
-    measured.append((t2, pub["efficiency_computed"],
-                     f"paper's model {100 * pub['efficiency_computed']:.2f} %"))
-    fig = efficiency_vs_torque(torque, curves, measured,
-                               title=f"sine prototype at {n1:g} rpm, nu50 = 400 mm2/s")
+    marked = [Marked(x=mp.output_torque_Nm, y=mp.efficiency,
+                     label=f"measured {100 * mp.efficiency:.2f} %") for mp in case.measured]
+    marked.append(Marked(x=t2, y=pub["efficiency_computed"], kind="published",
+                         label=f"paper's model {100 * pub['efficiency_computed']:.2f} %"))
+    fig = efficiency_vs_torque(torque, curves, marked,
+                               title=f"Efficiency against output torque at {n1:g} rpm input, "
+                                     f"nu50 = 400 mm2/s\n{case.name}")
     out = ROOT / "docs" / "img" / "sine_efficiency_vs_torque.png"
     fig.savefig(out, dpi=110)
     print(f"wrote {out.relative_to(ROOT)}")

@@ -25,6 +25,9 @@ HERTZ_VALID_B_OVER_R = 0.1
 
 @dataclass(frozen=True)
 class LoadSharing:
+    """Load sharing over P meshing positions and C candidate contacts, SI throughout:
+    forces N (over the face width), lengths m, pressures Pa, angles rad (the transmission
+    error too: x 206265 for arcsec); shapes beside each field."""
     method: str                     # "analytic", "cycle" or "detailed"
     position_rad: np.ndarray        # (P,) crank angle
     contact_id: np.ndarray          # (P, C)

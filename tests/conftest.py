@@ -7,12 +7,6 @@ import pytest
 os.environ.setdefault("MPLBACKEND", "Agg")
 # the FE disk cache (fem/cache.py) in a fresh folder per test session, not the user's
 os.environ["TOOTHFEM_CACHE"] = tempfile.mkdtemp(prefix="toothfem-test-cache-")
-try:  # pyvista renders off-screen here (no display)
-    import pyvista
-
-    pyvista.OFF_SCREEN = True
-except ImportError:  # pragma: no cover
-    pass
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"

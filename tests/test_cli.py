@@ -1,5 +1,6 @@
 """The console script: `main(argv)` as a user calls it."""
 import json
+import re
 
 import numpy as np
 import pytest
@@ -103,8 +104,12 @@ def test_contact_command_writes_results(cases_dir, tmp_path, capsys):
     assert s["torque_equilibrium_max_rel_error"] < 1e-8
     vtu = meshio.read(out / "disc_worst_position.vtu")
     assert {"displacement", "von_mises"} <= set(vtu.point_data)
-    for png in ("load_per_pin.png", "von_mises.png", "von_mises_contact.png"):
+    for png in ("load_per_pin.png", "load_around_ring.png", "transmission_error.png",
+                "von_mises.png", "von_mises_contact.png"):
         assert (out / png).stat().st_size > 5_000
+    printed = capsys.readouterr().out     # a table on screen, the case's paper beside ours
+    assert "pins in contact, most" in printed and "published" in printed
+    assert f"to {out.resolve()}" in printed
 
 
 def test_contact_command_refuses_bad_torque_and_pins_on_sine(cases_dir, tmp_path, capsys):
@@ -159,6 +164,10 @@ def test_run_command_writes_report(cases_dir, tmp_path, capsys):
     assert 0.5 < d["analytic"]["efficiency"] < 1
     rows = (out / "efficiency_vs_torque.csv").read_text().splitlines()
     assert rows[0] == "output_torque_Nm,efficiency_analytic" and len(rows) == 51
+    printed = capsys.readouterr().out          # a table on screen, the folder by its name
+    assert re.search(r"^efficiency +% +[\d.]+ +83\.72$", printed, re.M)  # the paper beside
+    assert f"wrote the report to {(out / 'report.md').resolve()}" in printed
+    assert ".run." not in printed              # not the temporary folder's name
 
 
 @pytest.mark.slow
@@ -184,12 +193,14 @@ def test_contact_command_sine_pair(cases_dir, tmp_path, capsys):
     assert cli.main(["contact", str(cases_dir / "sine_prototype.toml"), "--positions", "6",
                      "--torque-Nm", "28", "--out", str(out)]) == 0
     s = json.loads((out / "summary.json").read_text())
-    assert s["pins_in_contact_max"] >= 2                   # teeth sharing the load
+    assert s["teeth_in_contact_max"] >= 2                  # teeth sharing the load
+    assert "pins_in_contact_max" not in s                  # the sine pair has teeth
     assert s["torque_equilibrium_max_rel_error"] < 1e-8
     assert s["ph_from_fe_contacts"] == s["hertz_invalid_contacts"] > 0
     assert abs(s["detailed_check_at_worst_position"]["max_force_ratio_detailed_to_cycle"]
                - 1) < 0.02                                 # issue 3: modes within 2 %
-    for png in ("load_per_pin.png", "von_mises.png", "von_mises_contact.png"):
+    for png in ("load_per_tooth.png", "load_around_ring.png", "transmission_error.png",
+                "von_mises.png", "von_mises_contact.png"):
         assert (out / png).stat().st_size > 5_000
     rows = (out / "load_sharing.csv").read_text().splitlines()
     assert rows[0] == ("position_deg,contact_id,force_N,moment_arm_mm,half_width_mm,ph_MPa,"

@@ -14,6 +14,7 @@ saturates as the gap grows beyond the elastic approach.
 import dataclasses
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -278,6 +279,9 @@ def test_cli_case_points_and_bad_file(cases_dir, tmp_path):
     rep = json.loads((tmp_path / "a" / "report.json").read_text())
     assert rep["selection"] is False and rep["n_points"] == 1
     assert {c["name"] for c in rep["closing"]} == {"drag_torque", "bearing_friction"}
+    md_text = (tmp_path / "a" / "report.md").read_text()   # no held-out error of 1 point
+    assert "| held-out RMSE [points] | – (none formed) | – (none formed) |" in md_text
+    assert re.search(r"\| drag_torque \| drag_torque_Nmm = [\d.e+-]+ N mm \|", md_text)
     bad = tmp_path / "bad.csv"
     bad.write_text("input_speed_rpm,output_torque_furlong,efficiency\n1,2,0.5\n")
     from toothfem.errors import ToothfemError

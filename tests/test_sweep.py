@@ -21,7 +21,7 @@ from toothfem.commands import sweep as sweep_cmd
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.cache import DiskCache, content_key
 from toothfem.fem.load_sharing import analytic_split
-from toothfem.sweep import RESULT_COLUMNS, SINE_IN_MESH_GAP_M, sweep
+from toothfem.sweep import SINE_IN_MESH_GAP_M, result_columns, sweep
 from toothfem.fem.drives import drive_for
 
 ECC = "cycloid.eccentricity_mm"
@@ -72,7 +72,8 @@ def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, ca
     assert seen == [1, 2, 3, 4]
     assert res.failed == 0 and res.table == out / "sweep.csv" and not _temp_tables(out)
     rows = _read(res.table)
-    assert list(rows[0]) == ["design", "load_case", ECC] + list(RESULT_COLUMNS)
+    assert list(rows[0]) == ["design", "load_case", ECC] + result_columns(drive_for(cycloid))
+    assert "pins_in_contact_max" in rows[0]                # a cycloid sweep counts pins
     assert sorted((float(r[ECC]), float(r["output_torque_Nm"])) for r in rows) == [
         (0.9, 100), (0.9, 200), (1.0, 100), (1.0, 200)]
     by = {(float(r[ECC]), float(r["output_torque_Nm"])): r for r in rows}
@@ -170,6 +171,7 @@ def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
     assert 0.8 * 79 * 0.2 < t_out[0] < 79 * 0.2
     assert all(r["loads"] == "analytic" and r["transmission_error_arcsec"] == ""
                for r in rows)
+    assert all(int(r["teeth_in_contact_max"]) >= 2 for r in rows)   # a sine sweep counts teeth
     f = [float(r["max_force_N"]) for r in rows]
     assert f[1] / f[0] == pytest.approx(t_out[1] / t_out[0], rel=1e-7)
     from toothfem.fem.hertz import reduced_modulus

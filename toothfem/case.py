@@ -274,6 +274,9 @@ class Operating(_Section):
     output_torque_Nm: float | None = _f(0.0, None, default=None)
     input_torque_Nm: float | None = _f(0.0, None, default=None)
     input_power_kW: float | None = _f(0.0, None, default=None)
+    rated_output_torque_Nm: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="rated output torque of the reducer (catalogue); check warns above it")
 
 
 @dataclass(frozen=True)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import cad
 from .case import Case, load_case
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
@@ -28,6 +29,12 @@ FIELDS = ("detailed", "structural", "none")
 CLOSE_UP_HALF_WIDTHS = 6.0
 #: Smallest half-width used for the close-up's zoom [m] (a contact with b = 0 in the record).
 CLOSE_UP_MIN_HALF_WIDTH_M = 1e-6
+#: Half-width [m] of the close-up of a structural field: its contact loads are strips of
+#: b_ref = 0.1 mm on a mesh refined over 20 b_ref around each contact
+#: (fem/cycloid_fe/cycle.py), so the view shows that refined zone, not a Hertz zone.
+STRUCTURAL_CLOSE_UP_M = 2e-3
+#: Points per pin or ring tooth of the fixed member's outlines drawn over a field.
+OUTLINE_POINTS_PER_TOOTH = 128
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -45,6 +52,10 @@ class ContactResult:
     member_point: np.ndarray        # worst contact in the member's frame, m
     member_name: str                # "disc" | "planet"
     summary: dict
+    contact_name: str = "contact"   # "pin" | "tooth" (the drive's words, for labels)
+    contacts_name: str = "contacts"  # "pins" | "teeth"
+    members: int = 1                # moving members sharing the output torque
+    outlines: tuple = ()            # fixed member's outlines, member frame at worst, (2, N) m
 
 
 def _output_torque(case: Case, torque_Nm) -> float:
@@ -120,12 +131,16 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         body, u = detail.member_body, detail.member_displacement
     k = int(np.argmax(ls.force[worst]))
     point = drive.member_frame_point(model, phis[worst], ls.point[worst, k])
+    outlines = tuple(drive.member_frame_point(model, phis[worst], o)
+                     for o in drive.fixed_outlines(OUTLINE_POINTS_PER_TOOTH)) \
+        if body is not None else ()
+    many = drive.contacts_name
     summary = {
         "case": case.name, "mode": mode, "positions": int(positions),
         "output_torque_Nm": output, f"{drive.member_name}_torque_Nm": torque,
         **model.describe(),
-        "pins_in_contact_max": int(ls.contacts_per_position.max()),
-        "pins_in_contact_min": int(ls.contacts_per_position.min()),
+        f"{many}_in_contact_max": int(ls.contacts_per_position.max()),
+        f"{many}_in_contact_min": int(ls.contacts_per_position.min()),
         "max_force_N": float(ls.force.max()),
         "max_ph_MPa": float(ls.ph.max() / 1e6),
         "transmission_error_arcsec": float(np.degrees(ls.transmission_error.mean()) * 3600),
@@ -145,7 +160,9 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
             "dofs": int(detail.dofs)}
     return ContactResult(case_name=case.name, mode=mode, load_sharing=ls, positions_rad=phis,
                          worst=worst, detail=detail, body=body, displacement=u,
-                         member_point=point, member_name=drive.member_name, summary=summary)
+                         member_point=point, member_name=drive.member_name, summary=summary,
+                         contact_name=drive.contact_name, contacts_name=many,
+                         members=drive.members, outlines=outlines)
 
 
 def stack_records(records):
@@ -163,43 +180,89 @@ CONTACT_COLUMNS = ("position_deg", "contact_id", "force_N", "moment_arm_mm", "ha
                    "ph_MPa", "gap_mm")
 
 
+def contact_labels(result: ContactResult):
+    """The :class:`toothfem.report.contact.ContactLabels` of a contact result."""
+    from .report.contact import ContactLabels
+
+    s = result.summary
+    return ContactLabels(case_name=result.case_name, contact=result.contact_name,
+                         contacts=result.contacts_name, member=result.member_name,
+                         members=result.members, output_torque_Nm=s["output_torque_Nm"],
+                         member_torque_Nm=s[f"{result.member_name}_torque_Nm"],
+                         mode=result.mode)
+
+
 def write_contact(result: ContactResult, folder: Path) -> dict:
     """Write load_sharing.csv, the pictures, the VTU field and summary.json into
-    ``folder`` (an existing folder); returns the summary with its file list."""
+    ``folder`` (an existing folder); returns the summary with its file list.
+
+    Pictures: ``load_per_<contact>.png`` (force and P_h per contact over the period),
+    ``load_around_ring.png``, ``transmission_error.png`` and, with a field,
+    ``von_mises.png`` (whole member) and ``von_mises_contact.png`` (close-up).
+    """
     import csv
 
     from .report import contact as report_contact
+    from .report import save
 
     folder = Path(folder)
     ls = result.load_sharing
+    labels = contact_labels(result)
     with open(folder / "load_sharing.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(CONTACT_COLUMNS)
         for row in ls.rows():
             w.writerow([f"{v:.9g}" if isinstance(v, float) else v for v in row])
-    summary = {**result.summary, "files": ["load_sharing.csv", "summary.json",
-                                           "load_per_pin.png"]}
-    report_contact.load_per_contact(ls).savefig(folder / "load_per_pin.png", dpi=120)
+    pictures = {f"load_per_{result.contact_name}.png": report_contact.load_per_contact,
+                "load_around_ring.png": report_contact.load_around_ring,
+                "transmission_error.png": report_contact.transmission_error}
+    for name, draw in pictures.items():
+        save(draw(ls, labels), folder / name)
+    summary = {**result.summary, "files": ["load_sharing.csv", "summary.json", *pictures]}
     if result.body is not None:
-        label = result.member_name
-        vtu = export.write_vtu(folder / f"{label}_worst_position.vtu", result.body,
-                               result.displacement)
-        kind = "detailed" if result.detail is not None else "structural"
-        worst = result.worst
-        report_contact.field_png(
-            vtu, folder / "von_mises.png",
-            title=f"von Mises ({kind}), worst position "
-                  f"{np.degrees(result.positions_rad[worst]):.2f} deg, {label} frame")
-        k = int(np.argmax(ls.force[worst]))
-        b = max(float(ls.half_width[worst, k]), CLOSE_UP_MIN_HALF_WIDTH_M)
-        report_contact.field_png(vtu, folder / "von_mises_contact.png",
-                                 zoom_centre=result.member_point,
-                                 zoom_radius=CLOSE_UP_HALF_WIDTHS * b,
-                                 title=f"contact zone of contact "
-                                       f"{int(ls.contact_id[worst, k])} ({kind})")
-        summary["files"] += [vtu.name, "von_mises.png", "von_mises_contact.png"]
+        vtu = export.write_vtu(folder / f"{result.member_name}_worst_position.vtu",
+                               result.body, result.displacement)
+        summary["files"] += [vtu.name, *field_pictures(result, vtu, folder)]
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary
+
+
+def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
+    """von_mises.png (the whole member) and von_mises_contact.png (close-up of the most
+    loaded contact) of the member's field ``vtu``, labelled structural or
+    contact-resolved; returns the names."""
+    from .report import contact as report_contact
+
+    labels = contact_labels(result)
+    ls, worst = result.load_sharing, result.worst
+    k = int(np.argmax(ls.force[worst]))
+    number = int(ls.contact_id[worst, k])
+    ph = float(ls.ph[worst, k] / 1e6)
+    b = max(float(ls.half_width[worst, k]), CLOSE_UP_MIN_HALF_WIDTH_M)
+    where = (f"{result.member_name} frame at the worst position "
+             f"({np.degrees(result.positions_rad[worst]):.2f} deg crank); "
+             f"{labels.torque_text}")
+    if result.detail is not None:
+        kind = "contact-resolved field (two-body FE, contact zones refined)"
+        radius = CLOSE_UP_HALF_WIDTHS * b
+        zone = (f"of the contact zone of {labels.contact} {number}: P_h {ph:.4g} MPa, "
+                f"half-width b = {b * 1e6:.3g} um")
+    else:
+        kind = (f"structural field (contact loads spread over strips: the Hertz stress, "
+                f"P_h {ph:.4g} MPa at {labels.contact} {number}, is not resolved)")
+        radius = STRUCTURAL_CLOSE_UP_M
+        zone = (f"near {labels.contact} {number}, structural field: the Hertz stress "
+                f"(P_h {ph:.4g} MPa) is not resolved")
+    draw = dict(outlines=result.outlines, mark=result.member_point)
+    report_contact.field_png(
+        vtu, folder / "von_mises.png",
+        title=f"von Mises stress of the {result.member_name}, {kind}\n{where}\n"
+              f"lines: the fixed member's {labels.contacts}; x: the most loaded {labels.contact}",
+        **draw)
+    report_contact.field_png(
+        vtu, folder / "von_mises_contact.png", zoom_centre=result.member_point,
+        zoom_radius=radius, title=f"Close-up {zone}\n{where}", **draw)
+    return ["von_mises.png", "von_mises_contact.png"]
 
 
 def _write_xy(path: Path, pts):
@@ -208,7 +271,11 @@ def _write_xy(path: Path, pts):
 
 
 def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict:
-    """Profiles (CSV x_mm,y_mm), drawing.png and check.json of a case into ``folder``.
+    """Profiles, drawing.png and check.json of a case into ``folder``.
+
+    Each profile (the disc's ``profile``; the sine pair's ``planet`` and ``ring``, each
+    about its own centre) as CSV (x_mm,y_mm), DXF (one closed LWPOLYLINE, mm) and SVG
+    (one closed path, mm).
 
     Returns
     -------
@@ -216,18 +283,22 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
         The derived quantities (``toothfem check``) with the files written.
     """
     from .derived import derived
-    from .report import plots
+    from .report import plots, save
 
     check_range("points_per_tooth", points_per_tooth, 8, 10000, error=CaseError)
     folder = Path(folder)
     summary = derived(case)
     drive = drive_for(case)
     profiles, checks = drive.profiles(points_per_tooth)
+    files = []
     for name, pts in profiles.items():
         _write_xy(folder / f"{name}.csv", pts)
+        cad.write_dxf(folder / f"{name}.dxf", pts, layer=name.upper())
+        cad.write_svg(folder / f"{name}.svg", pts)
+        files += [f"{name}.{ext}" for ext in ("csv", "dxf", "svg")]
     summary.update(checks)
-    summary["files"] = [f"{n}.csv" for n in profiles] + ["drawing.png", "check.json"]
-    plots.drawing(drive).savefig(folder / "drawing.png", dpi=120)
+    summary["files"] = files + ["drawing.png", "check.json"]
+    save(plots.drawing(drive, case_name=case.name), folder / "drawing.png")
     (folder / "check.json").write_text(json.dumps(summary, indent=2))
     return summary
 
@@ -260,6 +331,7 @@ class RunResult:
     efficiency: dict               # {source: efficiency_summary(...)} at the operating point
     speed_rpm: float
     output_torque_Nm: float
+    case: Case | None = None       # the case the run analysed
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
@@ -287,9 +359,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         Contact result, efficiency at the operating point, and the report's path
         (``out/report.md`` with its PNGs, CSV tables and VTU fields).
     """
-    import csv
-
-    from .report import plots
+    from .report import plots, save
+    from .report import summary as report_summary
 
     label = str(case) if not isinstance(case, Case) else "(in memory)"
     if not isinstance(case, Case):
@@ -310,22 +381,14 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                                        progress=progress)
             (tmp / "contact").mkdir()
             summ = write_contact(contact, tmp / "contact")
-            report += ["## Contact (FE, cycle mode)", "",
-                       "| quantity | value |", "|---|---|"]
-            for k in ("pins_in_contact_max", "pins_in_contact_min", "max_force_N",
-                      "max_ph_MPa", "transmission_error_arcsec",
-                      "transmission_error_ripple_arcsec", "hertz_invalid_contacts",
-                      "ph_from_fe_contacts", "torque_equilibrium_max_rel_error"):
-                if k in summ:
-                    v = summ[k]
-                    report.append(f"| {k} | {v:.6g} |" if isinstance(v, float) else
-                                  f"| {k} | {v} |")
-            report += ["", "![load per contact](contact/load_per_pin.png)", ""]
-            for png in ("von_mises.png", "von_mises_contact.png"):
-                if (tmp / "contact" / png).exists():
-                    report += [f"![{png}](contact/{png})", ""]
-            report += ["Per contact and position: `contact/load_sharing.csv`; fields: "
-                       "`contact/*.vtu`.", ""]
+            labels = contact_labels(contact)
+            report += [f"## Contact (FE, {contact.mode} mode)", "",
+                       *report_summary.markdown(report_summary.contact_rows(
+                           summ, labels, case.published)), ""]
+            report += [f"![{png}](contact/{png})\n" for png in summ["files"]
+                       if png.endswith(".png")]
+            report += [f"Per {labels.contact} and position: `contact/load_sharing.csv`; "
+                       "fields: `contact/*.vtu`.", ""]
         # 3. efficiency at the operating point, analytic and FE loads side by side
         speed, torque = operating_point(case)
         sources = ["analytic"] + (["fem"] if fem else [])
@@ -335,65 +398,95 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                                                           method="rv_split_power")
         (tmp / "efficiency.json").write_text(json.dumps(results, indent=2))
         names = list(dict.fromkeys(k for r in results.values() for k in r["losses"]))
-        report += ["## Efficiency", "",
-                   f"Operating point: {speed:g} rpm input, {torque:.4g} N m output.", "",
-                   "| | " + " | ".join(results) + " |",
-                   "|---|" + "---|" * len(results),
-                   "| efficiency [%] | " + " | ".join(f"{100 * r['efficiency']:.2f}"
-                                                     for r in results.values()) + " |"]
-        for n in names:
-            report.append(f"| {n} [W] | " + " | ".join(
-                f"{r['losses'][n]:.4g}" if n in r["losses"] else "–"
-                for r in results.values()) + " |")
+        point = f"{speed:g} rpm input, {torque:.4g} N m output"
+        report += ["## Efficiency", "", f"Operating point: {point}.", "",
+                   *report_summary.markdown(report_summary.efficiency_rows(
+                       results, case.published))]
         for src, r in results.items():
             for note in r["notes"]:
                 report.append(f"\n- {src}: {note}")
-        fig = plots.loss_shares(names, {s: r["loss_shares"] for s, r in results.items()},
-                                title="loss shares at the operating point")
-        fig.savefig(tmp / "loss_shares.png", dpi=110)
+        save(plots.loss_shares(names, {s: r["loss_shares"] for s, r in results.items()},
+                               title=f"Loss shares at the operating point ({point})\n"
+                                     f"{case.name}"), tmp / "loss_shares.png")
         report += ["", "![loss shares](loss_shares.png)", ""]
-        # efficiency versus torque with the measured points
-        t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
-        speed_curve = case.measured[0].input_speed_rpm if case.measured else speed
-        t_grid = np.linspace(0.02, 1.0, 50) * t_max
-        curves = {f"{s} loads": evaluate(case, speed_curve, t_grid, loads=s).efficiency
-                  for s in sources}
-        with open(tmp / "efficiency_vs_torque.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["output_torque_Nm"] + [f"efficiency_{s}" for s in sources])
-            for i, t in enumerate(t_grid):
-                w.writerow([f"{t:.6g}"] + [f"{curves[f'{s} loads'][i]:.6f}" for s in sources])
-        measured = [(m.output_torque_Nm, m.efficiency, f"measured {100 * m.efficiency:.2f} %")
-                    for m in case.measured]
-        pub = case.published
-        if "efficiency_computed" in pub and "rig_output_torque_max_Nm" in pub:
-            measured.append((pub["rig_output_torque_max_Nm"], pub["efficiency_computed"],
-                             f"paper's model {100 * pub['efficiency_computed']:.2f} %"))
-        plots.efficiency_vs_torque(t_grid, curves, measured,
-                                   title=f"efficiency at {speed_curve:g} rpm").savefig(
-            tmp / "efficiency_vs_torque.png", dpi=110)
-        report += [f"![efficiency vs torque](efficiency_vs_torque.png)", ""]
-        # catalogue charts: torque x speed, and torque x oil temperature
-        n_grid = np.linspace(0.1, 2.0, 60) * speed
-        tt, nn = np.meshgrid(t_grid, n_grid)
-        eta = evaluate(case, nn, tt).efficiency.reshape(nn.shape)
-        plots.efficiency_map(tt, nn, eta, "output torque [N m]", "input speed [rpm]",
-                             "efficiency map (analytic loads)").savefig(
-            tmp / "efficiency_map.png", dpi=110)
-        temps = np.linspace(20.0, 100.0, 41)
-        tt2, th = np.meshgrid(t_grid, temps)
-        eta_t = evaluate(case, speed_curve, tt2, th).efficiency.reshape(th.shape)
-        plots.efficiency_map(tt2, th, eta_t, "output torque [N m]", "oil temperature [deg C]",
-                             f"efficiency at {speed_curve:g} rpm over oil temperature").savefig(
-            tmp / "efficiency_temperature.png", dpi=110)
-        np.savetxt(tmp / "efficiency_map.csv",
-                   np.column_stack([tt.ravel(), nn.ravel(), eta.ravel()]), delimiter=",",
-                   header="output_torque_Nm,input_speed_rpm,efficiency", comments="",
-                   fmt="%.6g")
-        report += ["![efficiency map](efficiency_map.png)", "",
-                   "![efficiency over oil temperature](efficiency_temperature.png)", "",
-                   "Tables: `efficiency.json`, `efficiency_vs_torque.csv`, "
-                   "`efficiency_map.csv`.", ""]
+        report += _efficiency_charts(case, tmp, speed, torque, sources)
         (tmp / "report.md").write_text("\n".join(report) + "\n")
     return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
-                     speed_rpm=float(speed), output_torque_Nm=float(torque))
+                     speed_rpm=float(speed), output_torque_Nm=float(torque), case=case)
+
+
+#: Output torques of the efficiency curves and maps, as fractions of the largest torque of
+#: the case (its operating point or a measured point): from near no load to full load.
+TORQUE_GRID = np.linspace(0.02, 1.0, 50)
+#: Input speeds of the speed map, as fractions of the operating speed.
+SPEED_GRID = np.linspace(0.1, 2.0, 60)
+#: Oil temperatures of the temperature map [deg C].
+OIL_TEMPERATURE_GRID_C = np.linspace(20.0, 100.0, 41)
+
+
+def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sources) -> list:
+    """Efficiency against torque (with the measured and published points) and the two
+    catalogue maps into ``tmp``; returns the report's lines."""
+    import csv
+
+    from .report import plots, save
+    from .report.plots import Marked
+
+    t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
+    speed_curve = case.measured[0].input_speed_rpm if case.measured else speed
+    oil = f"oil at {case.lubricant.reference_temperature_C:g} deg C (the lubricant's reference)"
+    t_grid = TORQUE_GRID * t_max
+    curves = {s: evaluate(case, speed_curve, t_grid, loads=s).efficiency for s in sources}
+    with open(tmp / "efficiency_vs_torque.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["output_torque_Nm"] + [f"efficiency_{s}" for s in sources])
+        for i, t in enumerate(t_grid):
+            w.writerow([f"{t:.6g}"] + [f"{curves[s][i]:.6f}" for s in sources])
+    at = " (the measured points' speed)" if speed_curve != speed else ""
+    shown = {f"{s} loads, {speed_curve:g} rpm{at}": curves[s] for s in sources}
+    dashed = ()
+    if speed_curve != speed:            # the operating point's own speed as well
+        label = f"analytic loads, {speed:g} rpm (the operating point's speed)"
+        shown[label] = evaluate(case, speed, t_grid).efficiency
+        dashed = (label,)
+    eta_op = float(evaluate(case, speed, torque).efficiency[0])
+    marked = [Marked(x=torque, y=eta_op, kind="operating",
+                     label=f"operating point: {speed:g} rpm, {torque:.4g} N m, "
+                           f"{100 * eta_op:.2f} % (analytic)")]
+    marked += [Marked(x=m.output_torque_Nm, y=m.efficiency,
+                      label=f"measured {100 * m.efficiency:.2f} % ({m.input_speed_rpm:g} rpm, "
+                            f"{m.output_torque_Nm:g} N m)") for m in case.measured]
+    pub = case.published
+    if "efficiency_computed" in pub and "rig_output_torque_max_Nm" in pub:
+        rig = pub.get("rig_input_speed_rpm")
+        marked.append(Marked(x=pub["rig_output_torque_max_Nm"], y=pub["efficiency_computed"],
+                             kind="published",
+                             label=f"paper's model {100 * pub['efficiency_computed']:.2f} %"
+                                   + (f" ({rig:g} rpm)" if rig else "")))
+    save(plots.efficiency_vs_torque(
+        t_grid, shown, marked, dashed=dashed,
+        title=f"Efficiency against output torque; {oil}\n{case.name}"),
+        tmp / "efficiency_vs_torque.png")
+    # catalogue charts: torque x speed, and torque x oil temperature
+    tt, nn = np.meshgrid(t_grid, SPEED_GRID * speed)
+    eta = evaluate(case, nn, tt).efficiency.reshape(nn.shape)
+    save(plots.efficiency_map(
+        tt, nn, eta, "output torque [N m]", "input speed [rpm]",
+        f"Efficiency [%] over output torque and input speed (analytic loads); {oil}\n"
+        f"{case.name}", marked=[dataclasses.replace(m, y=speed) for m in marked[:1]]
+        + [Marked(x=m.output_torque_Nm, y=m.input_speed_rpm, label="measured")
+           for m in case.measured[:1]]),
+        tmp / "efficiency_map.png")
+    tt2, th = np.meshgrid(t_grid, OIL_TEMPERATURE_GRID_C)
+    eta_t = evaluate(case, speed_curve, tt2, th).efficiency.reshape(th.shape)
+    save(plots.efficiency_map(
+        tt2, th, eta_t, "output torque [N m]", "oil temperature [deg C]",
+        f"Efficiency [%] over output torque and oil temperature at {speed_curve:g} rpm "
+        f"input (analytic loads)\n{case.name}"), tmp / "efficiency_temperature.png")
+    np.savetxt(tmp / "efficiency_map.csv",
+               np.column_stack([tt.ravel(), nn.ravel(), eta.ravel()]), delimiter=",",
+               header="output_torque_Nm,input_speed_rpm,efficiency", comments="", fmt="%.6g")
+    return ["![efficiency vs torque](efficiency_vs_torque.png)", "",
+            "![efficiency map](efficiency_map.png)", "",
+            "![efficiency over oil temperature](efficiency_temperature.png)", "",
+            "Tables: `efficiency.json`, `efficiency_vs_torque.csv`, `efficiency_map.csv`.", ""]

@@ -54,10 +54,16 @@ from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 
 
-#: Columns after the design keys and load-case keys, in this order.
-RESULT_COLUMNS = ("output_torque_Nm", "loads", "max_force_N", "pins_in_contact_max",
+#: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
+#: drive's word (pins, teeth: :attr:`~toothfem.fem.drives.Drive.contacts_name`).
+RESULT_COLUMNS = ("output_torque_Nm", "loads", "max_force_N", "{contacts}_in_contact_max",
                   "max_ph_MPa", "transmission_error_arcsec", "setup_s", "time_s", "status",
                   "error")
+
+
+def result_columns(drive) -> list:
+    """:data:`RESULT_COLUMNS` in the words of ``drive`` (a Drive)."""
+    return [c.format(contacts=drive.contacts_name) for c in RESULT_COLUMNS]
 
 #: Largest number of meshing positions per design.
 MAX_POSITIONS = 3600
@@ -118,7 +124,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     if n_workers is not None:
         check_range("n_workers", n_workers, 1, 1024, error=CaseError)
     columns = (["design", "load_case"] + plan.design_keys + plan.load_keys
-               + list(RESULT_COLUMNS))
+               + result_columns(drive_for(case)))
     rows: list[dict] = []
     t0 = time.perf_counter()
     with atomic_dir(out) as tmp, _client(scheduler, n_workers) as client, \
@@ -447,19 +453,20 @@ def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
     drive = drive_for(case)
     if loads == "analytic":
         state = drive.meshing(drive.positions(positions))
-        return lambda torque: _summary(drive.analytic_split(state, torque), transmission=False)
+        return lambda torque: _summary(drive, drive.analytic_split(state, torque),
+                                       transmission=False)
     overrides = {} if pins is None else {"pin_structure": pins}
     cache = False if cache_dir is None else DiskCache(Path(cache_dir))
     solver = drive.cycle_solver(positions, cache=cache, **overrides)
     solver.prepare()
-    return lambda torque: _summary(solver.solve(torque))
+    return lambda torque: _summary(drive, solver.solve(torque))
 
 
-def _summary(ls, transmission=True) -> dict:
+def _summary(drive, ls, transmission=True) -> dict:
     """The result columns of a LoadSharing; the analytic split has no transmission error."""
     te = float(np.degrees(ls.transmission_error.mean()) * 3600) if transmission else math.nan
     return {"max_force_N": float(ls.force.max()),
-            "pins_in_contact_max": int(ls.contacts_per_position.max()),
+            f"{drive.contacts_name}_in_contact_max": int(ls.contacts_per_position.max()),
             "max_ph_MPa": float(ls.ph.max() / 1e6), "transmission_error_arcsec": te}
 
 

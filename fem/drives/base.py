@@ -27,9 +27,11 @@ class Drive(abc.ABC):
 
     #: "cycloid" or "sine": the key of per-drive tables elsewhere (loss models, labels).
     kind: str = ""
-    #: what the moving member and a contact are called in outputs.
+    #: what the moving member and a contact are called in outputs ("disc", "pin", "pins";
+    #: "planet", "tooth", "teeth"): labels and summary keys, never a branch.
     member_name: str = ""
     contact_name: str = ""
+    contacts_name: str = ""
     #: the seed's rule of the analytic split (toothfem.fem.load_sharing.SPLIT_WEIGHTS).
     analytic_weight: str = ""
     #: options of :meth:`fe_model` with their choices (e.g. the cycloid's pin structure).
@@ -95,7 +97,14 @@ class Drive(abc.ABC):
 
     @abc.abstractmethod
     def member_frame_point(self, model, position_rad: float, point):
-        """``point`` (2,) of the housing frame in the moving member's own frame."""
+        """``point`` (2,) or points (2, N) of the housing frame in the moving member's own
+        frame at one crank angle [m]."""
+
+    @abc.abstractmethod
+    def fixed_outlines(self, points_per_tooth: int = 48) -> list:
+        """Outlines of the fixed member's contact surfaces in the housing frame: a list of
+        closed (2, N) polylines [m] (each pin's circle; the ring's tooth profile), for
+        pictures of the moving member among them."""
 
     @property
     def two_stage(self) -> bool:

@@ -26,6 +26,7 @@ class CycloidDrive(Drive):
     kind = "cycloid"
     member_name = "disc"
     contact_name = "pin"
+    contacts_name = "pins"
     analytic_weight = "moment_arm"
     fe_options = {"pin_structure": cf.PIN_STRUCTURES}
 
@@ -115,6 +116,13 @@ class CycloidDrive(Drive):
                  "disc_polygon_valid": bool(disc.is_valid)})
 
     def member_frame_point(self, model, position_rad: float, point):
-        local = cy.to_disc_frame(model.geometry, [position_rad],
-                                 np.asarray(point, float).reshape(2, 1, 1))
-        return local[:, 0, 0]
+        pts = np.asarray(point, float)
+        local = cy.to_disc_frame(model.geometry, [position_rad], pts.reshape(2, 1, -1))
+        return local[:, 0, :].reshape(pts.shape)
+
+    def fixed_outlines(self, points_per_tooth: int = 48) -> list:
+        """Each pin's circle (pin j centred at angle 2 pi j / Zb)."""
+        g = self.geometry
+        t = np.linspace(0.0, 2 * math.pi, points_per_tooth, endpoint=False)
+        circle = g.pin_radius_m * np.stack([np.cos(t), np.sin(t)])
+        return [c[:, None] + circle for c in cy.pin_centres(g).T]

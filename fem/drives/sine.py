@@ -29,6 +29,7 @@ class SineDrive(Drive):
     kind = "sine"
     member_name = "planet"
     contact_name = "tooth"
+    contacts_name = "teeth"
     analytic_weight = "cos_pressure_angle"
 
     @classmethod
@@ -89,11 +90,17 @@ class SineDrive(Drive):
         """The planet's and the ring's profiles, each about its own centre."""
         pair = self.pair
         phi1 = np.linspace(0, 2 * np.pi, pair.planet_teeth * points_per_tooth, endpoint=False)
-        phi2 = np.linspace(0, 2 * np.pi * pair.ring_teeth / pair.planet_teeth,
-                           pair.ring_teeth * points_per_tooth, endpoint=False)
-        return ({"planet": sg.planet_profile(pair, phi1), "ring": sg.ring_profile(pair, phi2)},
-                {})
+        (ring,) = self.fixed_outlines(points_per_tooth)
+        return {"planet": sg.planet_profile(pair, phi1), "ring": ring}, {}
 
     def member_frame_point(self, model, position_rad: float, point):
         c, th = sg.planet_pose(model.pair, position_rad)
-        return rotate(np.asarray(point, float) - c[:, 0], -th[0])
+        pts = np.asarray(point, float)
+        return rotate(pts - c.reshape((2,) + (1,) * (pts.ndim - 1)), -th[0])
+
+    def fixed_outlines(self, points_per_tooth: int = 48) -> list:
+        """The ring's tooth profile (one closed polyline, ring centre at the origin)."""
+        pair = self.pair
+        phi = np.linspace(0, 2 * np.pi * pair.ring_teeth / pair.planet_teeth,
+                          pair.ring_teeth * points_per_tooth, endpoint=False)
+        return [sg.ring_profile(pair, phi)]

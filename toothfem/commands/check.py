@@ -19,9 +19,15 @@ def run(args) -> int:
     d = derived(case)
     if args.json:
         print(json.dumps(d, indent=2))
-    else:
-        print(f"{args.case}: OK")
-        width = max(len(k) for k in d)
-        for k, v in d.items():
-            print(f"  {k:<{width}}  {v}")
+        return 0
+    print(f"{args.case}: OK")
+    print(f"  ({d['ratio_sign_convention']})")
+    rows = {k: v for k, v in d.items() if k not in ("ratio_sign_convention", "warnings")}
+    if case.stated_ratio is not None:
+        rows["ratio"] = f"{d['ratio']:g}  (the case states {case.stated_ratio:g})"
+    width = max(len(k) for k in rows)
+    for k, v in rows.items():
+        print(f"  {k:<{width}}  {v}")
+    for w in d["warnings"]:
+        print(f"warning: {w}")
     return 0

@@ -1,7 +1,9 @@
-"""`toothfem contact CASE --positions N [--torque-Nm T] [--mode cycle|detailed] --out DIR`."""
+"""`toothfem contact CASE --positions N [--torque-Nm T] [--mode cycle|detailed] --out DIR
+[--json]`: a summary table on screen (the case's published figures beside), the files in DIR."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 
 def add_parser(sub):
@@ -26,6 +28,8 @@ def add_parser(sub):
                         "cycle mode's loads smeared over b_ref, no contact-zone stress; the "
                         "sine pair always uses detailed) or none")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--json", action="store_true",
+                   help="print the summary as JSON instead of a table")
     p.set_defaults(func=run)
 
 
@@ -35,7 +39,8 @@ def run(args) -> int:
     from ..case import load_case
     from ..errors import CaseError, check_range
     from ..output import atomic_dir
-    from ..pipeline import contact_analysis, write_contact
+    from ..pipeline import contact_analysis, contact_labels, write_contact
+    from ..report import summary as report_summary
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
     if args.torque is not None:
@@ -47,5 +52,11 @@ def run(args) -> int:
                               progress=progress)
     with atomic_dir(args.out) as tmp:
         summary = write_contact(result, tmp)
-    print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    if args.json:
+        print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+        return 0
+    rows = report_summary.contact_rows(summary, contact_labels(result), case.published)
+    print(report_summary.text(rows, title=f"{case.name}: {result.mode} mode, "
+                                          f"{summary['positions']} positions over one period"))
+    print(f"wrote {', '.join(summary['files'])} to {Path(args.out).resolve()}")
     return 0

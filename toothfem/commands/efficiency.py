@@ -33,6 +33,7 @@ def run(args) -> int:
     from ..case import load_case
     from ..efficiency import operating_point
     from ..pipeline import efficiency_summary
+    from ..report import summary as report_summary
 
     case = load_case(args.case)
     speed, torque = args.speed, args.torque
@@ -44,12 +45,13 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
-    print(f"{case.name}: {out['input_speed_rpm']:g} rpm, {out['output_torque_Nm']:g} N m, "
-          f"loads {out['loads']}, method {out['method']}")
-    print(f"  efficiency {100 * out['efficiency']:.2f} %  (input {out['input_power_W']:.2f} W,"
-          f" output {out['output_power_W']:.2f} W)")
-    for k, w in out["losses"].items():
-        print(f"  {k:<20s} {w:10.4f} W  {100 * out['loss_shares'][k]:6.2f} % of input")
+    rows = report_summary.efficiency_rows({f"{out['loads']} loads, {out['method']}": out},
+                                          case.published)
+    oil = ("the lubricant's reference" if out["oil_temp_C"] is None
+           else f"{out['oil_temp_C']:g} deg C")
+    print(report_summary.text(rows, title=f"{case.name}: {out['input_speed_rpm']:g} rpm input, "
+                                          f"{out['output_torque_Nm']:.4g} N m output, oil at "
+                                          f"{oil}"))
     for note in out["notes"]:
-        print(f"  note: {note}")
+        print(f"note: {note}")
     return 0

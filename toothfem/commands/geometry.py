@@ -1,10 +1,13 @@
-"""`toothfem geometry CASE --out DIR`: profiles as CSV, a drawing and a check summary."""
+"""`toothfem geometry CASE --out DIR`: profiles as CSV, DXF and SVG (mm), a drawing and a
+check summary."""
 from __future__ import annotations
+
+from pathlib import Path
 
 
 def add_parser(sub):
-    p = sub.add_parser("geometry", help="write the tooth profiles (CSV), a drawing (PNG) and "
-                       "a check summary (JSON)")
+    p = sub.add_parser("geometry", help="write the tooth profiles (CSV, DXF, SVG in mm), a "
+                       "drawing (PNG) and a check summary (JSON)")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--points-per-tooth", type=int, default=96,
@@ -22,5 +25,7 @@ def run(args) -> int:
     case = load_case(args.case)
     with atomic_dir(args.out) as tmp:
         summary = write_geometry(case, tmp, args.points_per_tooth)
-    print(f"wrote {', '.join(summary['files'])} to {args.out}")
+    print(f"wrote {', '.join(summary['files'])} to {Path(args.out).resolve()}")
+    for w in summary.get("warnings", ()):
+        print(f"warning: {w}")
     return 0

@@ -4,6 +4,7 @@ add the physical effects the data ask for, and report the error before and after
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 
 def add_parser(sub):
@@ -60,14 +61,17 @@ def run(args) -> int:
         for stage in ("before", "after"):
             fig = rl.plot_residuals(report, stage)
             fig.savefig(tmp / f"residuals_{stage}.png", dpi=110)
-        (tmp / "report.md").write_text(rl.markdown(report))
+        (tmp / "report.md").write_text(rl.markdown(report, effects=effects))
     b, f = report.baseline, report.final
-    print(f"{case.name}: {report.n_points} points; held-out RMSE {100 * b.rmse:.3f} -> "
-          f"{100 * f.rmse:.3f} points; effects: "
+    error = (f"held-out RMSE {100 * b.rmse:.3f} -> {100 * f.rmse:.3f} points"
+             if report.selection else
+             f"fit RMSE {100 * report.baseline_fit.rmse:.3f} points (too few points for a "
+             "held-out error)")
+    print(f"{case.name}: {report.n_points} points; {error}; effects: "
           f"{', '.join(e.name for e in report.effects) or 'none'}; unexplained: "
           f"{', '.join(report.unexplained) or 'nothing'}")
     print(f"  {report.stop_reason}")
-    print(f"wrote {args.out}/report.md")
+    print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
     return 0
 
 

@@ -15,16 +15,38 @@ def add_parser(sub):
                         "default structural (fast)")
     p.add_argument("--no-fem", action="store_true",
                    help="skip the FE contact; efficiency from the analytic split only")
+    p.add_argument("--json", action="store_true",
+                   help="print the efficiency and contact summaries as JSON instead of tables")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
+    import json
+
     from tqdm import tqdm
 
-    from ..pipeline import run_case
+    from ..pipeline import contact_labels, run_case
+    from ..report import summary as report_summary
 
     progress = lambda it: tqdm(it, desc="cycle mode", unit="position")  # noqa: E731
     res = run_case(args.case, args.out, positions=args.positions, field=args.field,
                    fem=not args.no_fem, progress=progress)
-    print(f"wrote the report to {res.report}")
+    report = res.report.resolve()
+    if args.json:
+        contact = None if res.contact is None else res.contact.summary
+        print(json.dumps({"efficiency": res.efficiency, "contact": contact,
+                          "report": str(report)}, indent=2))
+        return 0
+    case = res.case
+    print(report_summary.text(
+        report_summary.efficiency_rows(res.efficiency, case.published),
+        title=f"{case.name}: efficiency at {res.speed_rpm:g} rpm input, "
+              f"{res.output_torque_Nm:.4g} N m output"))
+    if res.contact is not None:
+        print()
+        print(report_summary.text(
+            report_summary.contact_rows(res.contact.summary, contact_labels(res.contact),
+                                        case.published),
+            title=f"contact ({res.contact.mode} mode)"))
+    print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")
     return 0

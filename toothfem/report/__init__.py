@@ -1,10 +1,13 @@
-"""The reporting layer: every picture and Markdown rendering; takes result records, never
-computes physics.
+"""The reporting layer: every picture, table and Markdown rendering; takes result records,
+never computes physics.
 
 ``toothfem.report.plots``: drawings and efficiency charts; ``toothfem.report.contact``: load
-sharing and stress fields; ``toothfem.report.loop``: the measured-data loop's residual plots
-and report.md text. matplotlib and pyvista are imported inside the functions that draw
-(Agg backend, off-screen), so ``import toothfem`` stays light.
+sharing, transmission error and stress fields; ``toothfem.report.summary``: the tables the
+commands print and report.md shows; ``toothfem.report.loop``: the measured-data loop's
+residual plots and report.md text. matplotlib is imported inside the functions that draw
+(Agg backend, off-screen: no display, no VTK window), so ``import toothfem`` stays light.
+Every picture's title names the case and the user's quantities with units; legends sit
+outside the data.
 """
 
 
@@ -16,3 +19,21 @@ def pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+#: Resolution of every PNG [dots per inch]: figures are sized in inches for a page width.
+DPI = 120
+
+
+def save(fig, path, dpi: int = DPI):
+    """Write ``fig`` to ``path`` (PNG) and close it (figures are not kept in memory)."""
+    fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.1)   # nothing clipped
+    pyplot().close(fig)
+    return path
+
+
+def wrap(text: str, width: int) -> str:
+    """``text`` with each of its lines wrapped at ``width`` characters (titles that fit)."""
+    import textwrap
+
+    return "\n".join(textwrap.fill(line, width) for line in text.split("\n"))

@@ -11,6 +11,8 @@ import math
 import numpy as np
 
 from ..efficiency.loop import LoopReport
+from ..efficiency.loop import effects as fx
+from ..errors import ToothfemError
 from . import pyplot
 
 #: Size [in] of one covariate's panel of the residual figure (legible at dpi 110).
@@ -22,8 +24,29 @@ MIN_POINTS_CORRELATION = 3
 
 
 
+#: Unit suffixes of covariate names -> the unit an axis shows (names carry their units).
+UNIT_SUFFIXES = (("_mm2_s", "mm²/s"), ("_rpm", "rpm"), ("_Nm", "N m"), ("_C", "deg C"),
+                 ("_kW", "kW"), ("_W", "W"), ("_mm", "mm"), ("_um", "um"), ("_h", "h"))
+
+
+def axis_label(name: str) -> str:
+    """'input_speed_rpm' -> 'input speed [rpm]' (a covariate's name with its unit)."""
+    for suffix, unit in UNIT_SUFFIXES:
+        if name.endswith(suffix):
+            return f"{name[:-len(suffix)].replace('_', ' ')} [{unit}]"
+    return name.replace("_", " ")
+
+
+def _trend_title(t) -> str:
+    """A panel's title: the trend test of the residual against its covariate."""
+    if t is None or not math.isfinite(t.r2):
+        return "no trend test (too few points or a constant covariate)"
+    return (f"trend of the residual: R² {t.r2:.2f}, p {t.p_value:.2g}"
+            + (" - it follows this covariate" if t.follows else ""))
+
+
 def plot_residuals(report: LoopReport, stage="before"):
-    """Residual [efficiency points] against every covariate of the data.
+    """Residual (measured - model) [efficiency points] against every covariate of the data.
 
     Parameters
     ----------
@@ -37,20 +60,26 @@ def plot_residuals(report: LoopReport, stage="before"):
     Returns
     -------
     matplotlib.figure.Figure
-        One panel per covariate, titled with the trend's R^2 and p-value (not shown).
+        One panel per covariate, titled with the trend test of the residual (R², p).
     """
     plt = pyplot()
     if stage == "before":
-        r, trends, title = report.baseline_fit.residual, report.trends_before, "baseline"
+        r, trends = report.baseline_fit.residual, report.trends_before
+        title = "the baseline model (the case as given)"
     else:
         r = report.final.residual if report.selection else report.final_fit.residual
-        trends, title = report.trends_after, "after the loop (held-out)"
+        trends = report.trends_after
+        added = ", ".join(e.name for e in report.effects) or "no effect"
+        title = (f"the final model (baseline + {added}), held-out residuals"
+                 if report.selection else
+                 "the final model (= baseline: too few points to select an effect)")
     covs = report.covariates
     k = max(len(covs), 1)
     cols = min(k, MAX_COLUMNS)
     rows = math.ceil(k / cols)
     fig, axes = plt.subplots(rows, cols, figsize=(PANEL_SIZE_IN[0] * cols,
-                                                  PANEL_SIZE_IN[1] * rows), squeeze=False)
+                                                  PANEL_SIZE_IN[1] * rows + 0.6),
+                             squeeze=False, layout="constrained")
     tr = {t.covariate: t for t in trends}
     for ax, (name, x) in zip(axes.flat, covs.items()):
         x = np.asarray(x)
@@ -58,21 +87,19 @@ def plot_residuals(report: LoopReport, stage="before"):
             levels = sorted(set(x.astype(str)))
             xi = np.array([levels.index(v) for v in x.astype(str)], float)
             ax.set_xticks(range(len(levels)), levels, rotation=45, fontsize=7)
-            ax.plot(xi, 100 * r, ".", ms=4, alpha=0.7)
+            ax.plot(xi, 100 * r, "o", ms=4, alpha=0.7)
         else:
-            ax.plot(x.astype(float), 100 * r, ".", ms=4, alpha=0.7)
+            ax.plot(x.astype(float), 100 * r, "o", ms=4, alpha=0.7)
         ax.axhline(0.0, color="k", lw=0.6)
-        t = tr.get(name)
-        label = name if t is None else (f"{name}: R² {t.r2:.2f}, p {t.p_value:.1g}"
-                                        + (" FOLLOWS" if t.follows else ""))
-        ax.set_title(label, fontsize=8)
-        ax.set_xlabel(name, fontsize=8)
-        ax.set_ylabel("residual [points]", fontsize=8)
+        ax.set_title(_trend_title(tr.get(name)), fontsize=8)
+        ax.set_xlabel(axis_label(name), fontsize=8)
+        ax.set_ylabel("measured - model [efficiency points]", fontsize=8)
+        ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(covs):]:
         ax.set_visible(False)
-    fig.suptitle(f"{report.case_name}: residual {title}; R² and p of the fitted model's "
-                 "residual", fontsize=9)
-    fig.tight_layout()
+    fig.suptitle(f"Residual of {title} against each covariate, {report.n_points} "
+                 f"measured point{'s' if report.n_points != 1 else ''}\n{report.case_name}",
+                 fontsize=9, x=0.01, ha="left")
     return fig
 
 
@@ -81,7 +108,8 @@ def _pct(x) -> str:
     return f"{100 * x:.3f}"
 
 
-def markdown(report: LoopReport, images=("residuals_before.png", "residuals_after.png")) -> str:
+def markdown(report: LoopReport, images=("residuals_before.png", "residuals_after.png"),
+             effects=None) -> str:
     """The report.md text of a loop.
 
     Parameters
@@ -90,6 +118,9 @@ def markdown(report: LoopReport, images=("residuals_before.png", "residuals_afte
         The loop's report.
     images : tuple of str
         Paths of the residual figures before and after, linked at the end.
+    effects : sequence of Effect, optional
+        The catalog the loop drew from, for the candidates' parameter names and units
+        (default :func:`toothfem.efficiency.loop.effects.catalog`).
 
     Returns
     -------
@@ -100,14 +131,15 @@ def markdown(report: LoopReport, images=("residuals_before.png", "residuals_afte
     """
     out = _header(report) + _errors(report) + _effects(report)
     if report.steps:
-        out += _steps(report)
+        out += _steps(report, effects)
     if not report.selection:
         out += _points(report)
     if report.closing:
         out += ["## What each candidate would need (too few points to select)", "",
-                "| effect | value(s) | RMSE after [points] | note |", "|---|---|---|---|"]
+                "| effect | parameter = value | RMSE after [points] | note |",
+                "|---|---|---|---|"]
         for c in report.closing:
-            out.append(f"| {c.name} | {', '.join(f'{v:.4g}' for v in c.values)} | "
+            out.append(f"| {c.name} | {_values(c.name, c.values, effects)} | "
                        f"{_pct(c.rmse)} | {c.note} |")
         out.append("")
     out += _trends(report)
@@ -139,17 +171,22 @@ def _header(report: LoopReport) -> list:
 
 def _errors(report: LoopReport) -> list:
     b, f = report.baseline, report.final
+    held = report.selection      # a held-out error exists only where points were held out
+    none = "– (none formed)"
     out = ["## Error before and after", "",
            "| | baseline | final |", "|---|---|---|",
-           f"| held-out RMSE [points] | {_pct(b.rmse)} | {_pct(f.rmse)} |",
-           f"| held-out max abs error [points] | {_pct(b.max_abs)} | {_pct(f.max_abs)} |",
+           f"| held-out RMSE [points] | {_pct(b.rmse) if held else none} | "
+           f"{_pct(f.rmse) if held else none} |",
+           f"| held-out max abs error [points] | {_pct(b.max_abs) if held else none} | "
+           f"{_pct(f.max_abs) if held else none} |",
            f"| fit RMSE [points] | {_pct(report.baseline_fit.rmse)} | "
            f"{_pct(report.final_fit.rmse)} |",
-           f"| mean residual [points] | {_pct(np.mean(report.baseline_fit.residual))} | "
+           f"| mean residual (measured - model) [points] | "
+           f"{_pct(np.mean(report.baseline_fit.residual))} | "
            f"{_pct(np.mean(report.final_fit.residual))} |", ""]
-    if not report.selection:
-        out += ["Held-out errors need data to hold out: with so few points the 'final' "
-                "column equals the baseline.", ""]
+    if not held:
+        out += [f"With {report.n_points} point(s) no held-out error can be formed (it needs "
+                "points to hold out); the 'final' model is the baseline.", ""]
     return out
 
 
@@ -169,14 +206,28 @@ def _effects(report: LoopReport) -> list:
     return out + [f"Stop: {report.stop_reason}", ""]
 
 
-def _steps(report: LoopReport) -> list:
+def _values(name: str, values, effects) -> str:
+    """'drag_torque_Nmm = 4.988 N mm': each fitted value with its parameter and unit (from
+    the catalog's effect of that name)."""
+    try:
+        params = fx.by_name(name, effects).parameters
+    except ToothfemError:
+        params = ()
+    if len(params) != len(values):
+        return ", ".join(f"{v:.4g}" for v in values)
+    return ", ".join(f"{p.name} = {v:.4g}" + (f" {p.unit}" if p.unit not in ("", "-") else "")
+                     for p, v in zip(params, values))
+
+
+def _steps(report: LoopReport, effects=None) -> list:
     out = ["## Selection steps", ""]
     for s in report.steps:
         out += [f"Step {s.index}: {s.reason}", "",
-                "| candidate | values | std. error | fit RMSE [points] | held-out weighted RMS "
+                "| candidate | parameter = value | std. error | fit RMSE [points] | held-out "
+                "weighted RMS "
                 "| ΔBIC | passes |", "|---|---|---|---|---|---|---|"]
         for c in s.candidates:
-            out.append(f"| {c.name} | {', '.join(f'{v:.4g}' for v in c.values)} | "
+            out.append(f"| {c.name} | {_values(c.name, c.values, effects)} | "
                        f"{', '.join(f'{v:.2g}' for v in c.stderr)} | {_pct(c.rmse)} | "
                        f"{c.cv_wrmse:.4g} | {c.delta_bic:+.1f} | "
                        f"{'yes' if c.passed else 'no'}"

@@ -3,12 +3,11 @@ calls show(); matplotlib is imported here only, so ``import toothfem`` stays lig
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from . import pyplot
-
-
 
 
 def _draw_polygon(ax, poly, scale=1e3, **kw):
@@ -20,7 +19,7 @@ def _draw_polygon(ax, poly, scale=1e3, **kw):
                 ec=kw.get("ec", "k"))
 
 
-def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title=""):
+def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     """Disc with holes placed at a crank angle among its pins; right: close-up of the
     loaded zone with the contact normals through the pitch point."""
     from shapely import affinity
@@ -28,7 +27,7 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title=""):
     from ..geometry import cycloid as cy
 
     plt = pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
     disc = cy.disc_polygon(geom, holes)
     centre, rot = cy.disc_pose(geom, crank_angle_rad)
     placed = affinity.translate(affinity.rotate(disc, float(rot[0]), origin=(0, 0),
@@ -58,21 +57,26 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title=""):
     w = 0.18 * r
     axes[1].set_xlim(cx - w, cx + w)
     axes[1].set_ylim(cy_ - w, cy_ + w)
-    axes[0].set_title(title or f"disc at crank angle {math.degrees(crank_angle_rad):.1f} deg "
-                      "(red: load-carrying pins)")
-    axes[1].set_title("close-up: normals through the pitch point (+)")
-    fig.tight_layout()
+    fig.suptitle(title or (
+        f"Cycloid disc ({geom.lobe_count} lobes) in {geom.pin_count} pins: pin circle "
+        f"radius {geom.pin_circle_radius_m * 1e3:g} mm, eccentricity "
+        f"{geom.eccentricity_m * 1e3:g} mm, pin radius {geom.pin_radius_m * 1e3:g} mm; crank "
+        f"angle {math.degrees(crank_angle_rad):.1f} deg" + (f"\n{case_name}" if case_name
+                                                            else "")),
+        fontsize=10, x=0.01, ha="left")
+    axes[0].set_title("disc among its pins (red: pins whose normal carries load)", fontsize=9)
+    axes[1].set_title("close-up: contact normals through the pitch point (+)", fontsize=9)
     return fig
 
 
-def sine_drawing(pair, crank_angle_rad=0.0, title=""):
+def sine_drawing(pair, crank_angle_rad=0.0, title="", case_name=""):
     """Planet inside the ring at a crank angle; right: close-up at the pitch point."""
     from shapely import affinity
 
     from ..geometry import sine
 
     plt = pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(12, 6))
+    fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
     ring = sine.ring_polygon(pair)
     planet = sine.planet_polygon(pair)
     rot = -crank_angle_rad * (pair.ring_teeth - pair.planet_teeth) / pair.planet_teeth
@@ -91,72 +95,160 @@ def sine_drawing(pair, crank_angle_rad=0.0, title=""):
     axes[1].set_xlim(px - w, px + w)
     axes[1].set_ylim(py - w, py + w)
     axes[1].plot(px, py, "k+", ms=10)
-    axes[0].set_title(title or f"sine pair {pair.planet_teeth}/{pair.ring_teeth} at crank "
-                      f"angle {math.degrees(crank_angle_rad):.1f} deg")
-    axes[1].set_title("close-up at the pitch point (+)")
-    fig.tight_layout()
+    fig.suptitle(title or (
+        f"Sine-profile pair: planet {pair.planet_teeth} teeth in ring {pair.ring_teeth} teeth, "
+        f"module {pair.module_m * 1e3:g} mm, tooth height {pair.tooth_height_m * 1e3:g} mm, "
+        f"centre distance {a0 * 1e3:g} mm; crank angle {math.degrees(crank_angle_rad):.1f} deg"
+        + (f"\n{case_name}" if case_name else "")), fontsize=10, x=0.01, ha="left")
+    axes[0].set_title("planet (blue) in the fixed ring (grey)", fontsize=9)
+    axes[1].set_title("close-up at the pitch point (+)", fontsize=9)
     return fig
 
 
-def efficiency_vs_torque(torque, curves: dict, measured=(), title=""):
-    """Efficiency [%] against output torque; ``curves`` label -> efficiency array;
-    ``measured``: (torque, efficiency, label) points."""
+@dataclass(frozen=True, kw_only=True)
+class Marked:
+    """A point drawn over a chart: where, and what it is (``kind`` picks its marker)."""
+    x: float
+    y: float                       # efficiency as a fraction, or the chart's y unit
+    label: str
+    kind: str = "measured"         # "measured" | "published" | "operating"
+
+
+#: Marker style of each kind of marked point (told apart in colour and shape).
+MARKERS = {"measured": dict(marker="o", color="k", ms=7, ls="none"),
+           "published": dict(marker="s", mfc="none", mec="#d62728", mew=1.8, ms=9, ls="none"),
+           "operating": dict(marker="*", color="#ff7f0e", mec="k", ms=13, ls="none")}
+
+
+def efficiency_vs_torque(torque, curves: dict, marked=(), title="", dashed=()):
+    """Efficiency [%] against output torque [N m].
+
+    Parameters
+    ----------
+    torque : (N,) array
+        Output torque [N m].
+    curves : dict
+        Label -> (N,) efficiency (fraction).
+    marked : sequence of Marked
+        Measured points, a paper's figures and the operating point (efficiency as fractions).
+    title : str
+    dashed : sequence of str
+        Labels of ``curves`` drawn dashed (e.g. another speed).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The curves, the points told apart by marker, the legend beside the axes.
+    """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 5))
+    fig, ax = plt.subplots(figsize=(10, 5.2), layout="constrained")
     for label, eta in curves.items():
-        ax.plot(torque, 100 * np.asarray(eta), lw=1.5, label=label)
-    for t, e, label in measured:
-        ax.plot(t, 100 * e, "ko", ms=6)
-        ax.annotate(label, (t, 100 * e), textcoords="offset points", xytext=(-10, -14),
-                    fontsize=8, ha="right")
+        ax.plot(torque, 100 * np.asarray(eta), lw=1.6, ls="--" if label in dashed else "-",
+                label=label)
+    for m in marked:
+        ax.plot(m.x, 100 * m.y, label=m.label, **MARKERS[m.kind])
     ax.set_xlabel("output torque [N m]")
     ax.set_ylabel("efficiency [%]")
+    ax.set_xlim(left=0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(title)
-    fig.tight_layout()
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    ax.set_title(title, loc="left", fontsize=10)
     return fig
 
 
-def efficiency_map(x, y, eta, xlabel, ylabel, title=""):
-    """Catalogue-style efficiency chart: filled contours of efficiency [%] over a grid."""
+#: Iso-efficiency lines of a map: at these quantiles of the map's values, so the lines
+#: spread over the area (a map is mostly a plateau with a steep edge at low torque).
+ISO_QUANTILES = np.linspace(5, 95, 8)
+#: Most labelled iso-lines (more crowd the steep edge).
+MAX_ISO_LABELS = 6
+
+
+def _iso_levels(pct) -> np.ndarray:
+    """Round iso-efficiency levels [%]: whole percent, or half percent on a flat map."""
+    q = np.nanpercentile(pct, ISO_QUANTILES)
+    for step in (1.0, 0.5, 0.1):
+        levels = np.unique(np.round(q / step) * step)
+        if len(levels) >= 4:
+            return levels
+    return levels
+
+
+def efficiency_map(x, y, eta, xlabel, ylabel, title="", marked=()):
+    """Catalogue-style efficiency chart: filled contours of efficiency [%] over a grid,
+    labelled iso-lines, and marked points (the operating point, measured points).
+
+    Parameters
+    ----------
+    x, y : (M, N) arrays
+        The grid (e.g. output torque [N m], input speed [rpm]).
+    eta : (M, N) array
+        Efficiency (fraction).
+    xlabel, ylabel, title : str
+    marked : sequence of Marked
+        Points over the map (their ``y`` in the map's y unit).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(8, 5.5))
-    levels = np.unique(np.clip(np.round(np.linspace(np.nanmin(eta), np.nanmax(eta), 12)
-                                        * 100), 0, 100))
-    cs = ax.contourf(x, y, 100 * np.asarray(eta), levels=24, cmap="viridis")
-    lines = ax.contour(x, y, 100 * np.asarray(eta), levels=levels, colors="k",
-                       linewidths=0.5)
-    ax.clabel(lines, fmt="%.0f %%", fontsize=7)
-    fig.colorbar(cs, ax=ax, label="efficiency [%]")
+    fig, ax = plt.subplots(figsize=(9.5, 5.8), layout="constrained")
+    pct = 100 * np.asarray(eta)
+    cs = ax.contourf(x, y, pct, levels=24, cmap="viridis")
+    levels = _iso_levels(pct)
+    lines = ax.contour(x, y, pct, levels=levels, colors="k", linewidths=0.6)
+    k = max(1, int(np.ceil(len(levels) / MAX_ISO_LABELS)))
+    ax.clabel(lines, levels=lines.levels[::-k], fmt="%g %%", fontsize=8, inline=True,
+              inline_spacing=4)
+    fig.colorbar(cs, ax=ax, label="efficiency [%]", pad=0.02)
+    for m in marked:
+        ax.plot(m.x, m.y, label=m.label, clip_on=False, **MARKERS[m.kind])
+    if marked:
+        fig.legend(loc="outside lower center", fontsize=8, frameon=False, ncol=len(marked))
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    fig.tight_layout()
+    ax.set_title(title, loc="left", fontsize=10)
     return fig
 
 
 def loss_shares(labels, shares: dict, title=""):
-    """Grouped bars: loss shares [% of input power] per component, one group per source."""
+    """Grouped bars: loss shares [% of input power] per component, one group per source.
+
+    Parameters
+    ----------
+    labels : sequence of str
+        Loss components.
+    shares : dict
+        Source (e.g. "analytic", "fem", a paper) -> {component: share of input power}.
+    title : str
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(9, 4.5))
+    fig, ax = plt.subplots(figsize=(10, 4.8), layout="constrained")
     k = len(shares)
     width = 0.8 / max(k, 1)
     x = np.arange(len(labels))
     for i, (src, vals) in enumerate(shares.items()):
-        ax.bar(x + (i - (k - 1) / 2) * width, [100 * vals.get(n, np.nan) for n in labels],
-               width, label=src)
-    ax.set_xticks(x, labels, rotation=20, ha="right", fontsize=8)
+        bars = ax.bar(x + (i - (k - 1) / 2) * width,
+                      [100 * vals.get(n, np.nan) for n in labels], width, label=src)
+        ax.bar_label(bars, fmt="%.2g", fontsize=7, padding=1)
+    ax.set_xticks(x, [n.replace("_", " ") for n in labels], rotation=20, ha="right",
+                  fontsize=8)
     ax.set_ylabel("loss [% of input power]")
     ax.grid(alpha=0.3, axis="y")
-    ax.legend(fontsize=8)
-    ax.set_title(title)
-    fig.tight_layout()
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False,
+              title="loads / method", title_fontsize=8)
+    ax.set_title(title, loc="left", fontsize=10)
     return fig
 
 
-def drawing(drive):
-    """The drawing of a drive's pair (:func:`cycloid_drawing` or :func:`sine_drawing`)."""
-    draw = {"cycloid": lambda d: cycloid_drawing(d.geometry, d.stage.holes),
-            "sine": lambda d: sine_drawing(d.pair)}
+def drawing(drive, case_name=""):
+    """The drawing of a drive's pair (:func:`cycloid_drawing` or :func:`sine_drawing`),
+    titled with its dimensions and ``case_name``."""
+    draw = {"cycloid": lambda d: cycloid_drawing(d.geometry, d.stage.holes,
+                                                 case_name=case_name),
+            "sine": lambda d: sine_drawing(d.pair, case_name=case_name)}
     return draw[drive.kind](drive)

@@ -1,0 +1,134 @@
+"""What an engineer sees (issue 15): CAD profiles that read back, `check` with its sign
+convention and rating warning, summary tables with the published figures beside ours, and
+contact pictures that name the user's torque and the drive's own words."""
+import json
+import re
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+from toothfem import cli, load_case
+from toothfem.fem.drives import drive_for
+
+
+def _area(xy) -> float:
+    """Shoelace area of a closed polygon (N, 2), the closing point not repeated."""
+    x, y = np.asarray(xy, float).T
+    return 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def _svg_points(path) -> np.ndarray:
+    """The (N, 2) points [mm] of the one closed path of an SVG, y back to up."""
+    d = ET.parse(path).getroot().find("{http://www.w3.org/2000/svg}path").get("d")
+    assert d.startswith("M ") and d.endswith(" Z")
+    pts = np.array([[float(v) for v in p.split(",")] for p in re.findall(r"[-\d.]+,[-\d.]+", d)])
+    return pts * [1.0, -1.0]
+
+
+@pytest.mark.parametrize("name, profiles", [("cycloid_pinhousing", ("profile",)),
+                                            ("rv40e", ("profile",)),
+                                            ("sine_prototype", ("planet", "ring"))])
+def test_cad_profiles_read_back(cases_dir, tmp_path, capsys, name, profiles):
+    """Every case with a disc or a sine pair writes DXF and SVG beside the CSV: in mm, one
+    closed polyline each, the CSV's points. Tolerances: the DXF stores doubles (area to
+    1e-9); the SVG writes 6 decimals of a mm (area to 1e-6)."""
+    import ezdxf
+
+    out = tmp_path / "geo"
+    assert cli.main(["geometry", str(cases_dir / f"{name}.toml"), "--out", str(out)]) == 0
+    assert f"to {out.resolve()}" in capsys.readouterr().out
+    for p in profiles:
+        csv = np.loadtxt(out / f"{p}.csv", delimiter=",", skiprows=1)
+        doc = ezdxf.readfile(out / f"{p}.dxf")
+        assert doc.header["$INSUNITS"] == 4                     # millimetres
+        (poly,) = doc.modelspace().query("LWPOLYLINE")
+        assert poly.closed and poly.dxf.layer == p.upper()
+        dxf = np.array(poly.get_points("xy"))
+        assert dxf.shape == csv.shape
+        assert _area(dxf) == pytest.approx(_area(csv), rel=1e-9)
+        np.testing.assert_allclose(dxf, csv, atol=1e-8)
+        svg = _svg_points(out / f"{p}.svg")
+        assert svg.shape == csv.shape
+        assert _area(svg) == pytest.approx(_area(csv), rel=1e-6)
+
+
+def test_check_states_the_convention_once_and_warns_above_the_rating(cases_dir, capsys):
+    assert cli.main(["check", str(cases_dir / "rv40e.toml")]) == 0
+    out = capsys.readouterr().out
+    assert out.count("i = n_input / n_output") == 1
+    assert "operating_output_torque_Nm" in out and "operating_input_power_W" in out
+    warning = [line for line in out.splitlines() if line.startswith("warning:")]
+    assert len(warning) == 1 and "x the rated 412 N m" in warning[0]
+    assert cli.main(["check", str(cases_dir / "sine_prototype.toml"), "--json"]) == 0
+    d = json.loads(capsys.readouterr().out)
+    assert d["ratio"] == -79 and d["warnings"] == []       # signed: the output turns back
+    assert d["operating_input_torque_Nm"] == pytest.approx(0.4, rel=1e-6)
+    # P_in = T_in omega_in: 0.4 N m at 300 rpm
+    assert d["operating_input_power_W"] == pytest.approx(0.4 * 300 * np.pi / 30, rel=1e-6)
+    assert d["operating_output_power_W"] == pytest.approx(
+        d["operating_efficiency_analytic"] * d["operating_input_power_W"], rel=1e-5)
+
+
+def test_efficiency_table_with_the_published_figures(cases_dir, capsys):
+    assert cli.main(["efficiency", str(cases_dir / "rv40e.toml"), "--method",
+                     "rv_split_power"]) == 0
+    out = capsys.readouterr().out
+    row = next(line for line in out.splitlines() if line.startswith("loss: cycloid_mesh"))
+    assert row.split()[-2:] == ["131.5", "131.5"]          # ours, the RV paper's L2
+    assert "published: the paper's figure" in out
+
+
+def test_summary_rows_name_contacts_by_the_drive(cases_dir):
+    from toothfem.report.contact import ContactLabels
+    from toothfem.report import summary as rs
+
+    labels = ContactLabels(case_name="c", contact="tooth", contacts="teeth", member="planet",
+                           members=1, output_torque_Nm=28.0, member_torque_Nm=28.0,
+                           mode="cycle")
+    rows = rs.contact_rows({"teeth_in_contact_max": 3, "max_ph_MPa": 120.0}, labels,
+                           {"teeth_in_contact": 2, "max_contact_stress_MPa": 110.0})
+    by = {what: vals for what, _, vals in rows}
+    assert by["teeth in contact, most"] == {"ours": 3, "published": 2}
+    assert by["largest Hertz pressure P_h"] == {"ours": 120.0, "published": 110.0}
+    assert by["torque on the planet"] == {"ours": 28.0}
+    text = rs.text(rows)
+    assert text.splitlines()[0].split() == ["quantity", "unit", "ours", "published"]
+    assert "| teeth in contact, most |  | 3 | 2 |" in rs.markdown(rows)
+
+
+@pytest.mark.parametrize("name", ["cycloid_pinhousing", "sine_prototype"])
+def test_contact_pictures_name_the_users_torque(cases_dir, name):
+    """Titles carry the output torque the user asked for and the member's share, axes
+    their units, series the drive's words; legends sit outside the axes."""
+    from matplotlib.transforms import Bbox
+
+    from toothfem.report import contact as rc, pyplot
+
+    case = load_case(cases_dir / f"{name}.toml")
+    drive = drive_for(case)
+    torque = 167.0 if drive.kind == "cycloid" else 28.0
+    ls = drive.analytic_split(drive.meshing(drive.positions(8)), drive.member_torque(torque))
+    labels = rc.ContactLabels(case_name=case.name, contact=drive.contact_name,
+                              contacts=drive.contacts_name, member=drive.member_name,
+                              members=drive.members, output_torque_Nm=torque,
+                              member_torque_Nm=drive.member_torque(torque), mode="analytic")
+    share = {"cycloid": "91.85 N m on each of 2 discs", "sine": "28 N m on the planet"}
+    for draw in (rc.load_per_contact, rc.load_around_ring, rc.transmission_error):
+        fig = draw(ls, labels)
+        texts = [a.get_title(loc="left") for a in fig.axes] + [
+            fig._suptitle.get_text() if fig._suptitle else ""]
+        title = next(t for t in texts if "N m output" in t)
+        assert f"{torque:g} N m output" in title and share[drive.kind] in title
+        fig.canvas.draw()
+        legends = fig.legends + [a.get_legend() for a in fig.axes if a.get_legend()]
+        assert legends
+        for leg in legends:                  # beside or below the axes, not on the data
+            box = leg.get_window_extent()
+            for ax in fig.axes:
+                inter = Bbox.intersection(box, ax.get_window_extent())
+                assert inter is None or inter.width * inter.height < 1.0, draw.__name__
+        labels_y = " ".join(a.get_ylabel() for a in fig.axes)
+        assert re.search(r"\[(N|MPa|arcsec)\]", labels_y)
+        assert drive.contact_name in labels_y or draw is rc.transmission_error
+        pyplot().close(fig)

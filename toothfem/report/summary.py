@@ -1,0 +1,161 @@
+"""Summaries an engineer reads first: small tables of a contact analysis, an efficiency
+evaluation and a whole run, with the case's ``[published]`` figures beside ours.
+
+Each table is a list of rows ``(quantity, unit, {column: value})``; :func:`text` renders it
+for the terminal and :func:`markdown` for report.md, so the CLI and the report say the same.
+"""
+from __future__ import annotations
+
+import math
+
+#: Contact quantities of a summary (``toothfem contact``): summary key, what it is, unit.
+#: ``{contact}``/``{contacts}`` are the drive's words (pin/pins, tooth/teeth).
+CONTACT_QUANTITIES = (
+    ("{contacts}_in_contact_max", "{contacts} in contact, most", ""),
+    ("{contacts}_in_contact_min", "{contacts} in contact, fewest", ""),
+    ("max_force_N", "largest {contact} force", "N"),
+    ("max_ph_MPa", "largest Hertz pressure P_h", "MPa"),
+    ("transmission_error_arcsec", "transmission error, mean", "arcsec"),
+    ("transmission_error_ripple_arcsec", "transmission error, peak to peak", "arcsec"),
+    ("worst_position_deg", "worst position (largest force)", "deg crank"),
+    ("hertz_invalid_contacts", "contacts where Hertz fails (b not << R)", ""),
+    ("ph_from_fe_contacts", "of them with P_h from the FE", ""),
+    ("torque_equilibrium_max_rel_error", "torque equilibrium error", "relative"),
+)
+
+#: The papers' names of the figures a case may publish, by our summary key: a case's
+#: ``[published]`` value under one of these names is shown beside ours.
+PUBLISHED_NAMES = {
+    "{contacts}_in_contact_max": ("{contacts}_in_contact",),
+    "max_ph_MPa": ("max_contact_stress_MPa", "max_ph_MPa"),
+    "efficiency": ("efficiency", "efficiency_computed"),
+    "losses.sun_planet_mesh": ("loss_L1_W",),
+    "losses.cycloid_mesh": ("loss_L2_W",),
+}
+
+#: The column of the published figures and what it means (their conditions are the paper's).
+PUBLISHED = "published"
+PUBLISHED_NOTE = ("published: the paper's figure as the case file's [published] table quotes "
+                  "it, at the paper's own conditions (see the case file)")
+
+
+def _published(key: str, published: dict, words: dict):
+    """The case's published value for our ``key``, or None."""
+    names = PUBLISHED_NAMES.get(key, ())
+    if key.startswith("loss_shares."):
+        names = ("loss_share_" + key.split(".", 1)[1],)
+    for name in names:
+        name = name.format(**words)
+        if name in published:
+            return published[name]
+    return None
+
+
+def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
+    """The contact summary as rows, the case's published figures beside.
+
+    Parameters
+    ----------
+    summary : dict
+        :attr:`toothfem.pipeline.ContactResult.summary`.
+    labels : toothfem.report.contact.ContactLabels
+        The drive's words and the torques.
+    published : dict, optional
+        The case's ``[published]`` table.
+
+    Returns
+    -------
+    list of (quantity, unit, {column: value})
+    """
+    words = {"contact": labels.contact, "contacts": labels.contacts}
+    rows = [("output torque", "N m", {"ours": labels.output_torque_Nm}),
+            (f"torque on {'the' if labels.members == 1 else 'each'} {labels.member}", "N m",
+             {"ours": labels.member_torque_Nm})]
+    for template, what, unit in CONTACT_QUANTITIES:
+        key = template.format(**words)
+        if key in summary:
+            cols = {"ours": summary[key]}
+            pub = _published(template, published or {}, words)
+            if pub is not None:
+                cols[PUBLISHED] = pub
+            rows.append((what.format(**words), unit, cols))
+    return rows
+
+
+def efficiency_rows(results: dict, published: dict | None = None) -> list:
+    """Efficiency summaries side by side (one column per load source or method).
+
+    Parameters
+    ----------
+    results : dict
+        Column name -> :func:`toothfem.pipeline.efficiency_summary` mapping.
+    published : dict, optional
+        The case's ``[published]`` table.
+
+    Returns
+    -------
+    list of (quantity, unit, {column: value})
+        Efficiency [%], input and output power [W], each loss [W] and its share [%].
+    """
+    published = published or {}
+
+    def row(what, unit, key, get, scale=1.0):
+        cols = {src: get(r) * scale for src, r in results.items() if get(r) is not None}
+        pub = _published(key, published, {})
+        if pub is not None:
+            cols[PUBLISHED] = pub * scale
+        return what, unit, cols
+
+    rows = [row("efficiency", "%", "efficiency", lambda r: r["efficiency"], 100.0),
+            row("input power", "W", "input_power_W", lambda r: r["input_power_W"]),
+            row("output power", "W", "output_power_W", lambda r: r["output_power_W"])]
+    names = list(dict.fromkeys(k for r in results.values() for k in r["losses"]))
+    for n in names:
+        rows.append(row(f"loss: {n}", "W", f"losses.{n}", lambda r, n=n: r["losses"].get(n)))
+    for n in names:
+        rows.append(row(f"share: {n}", "% of input", f"loss_shares.{n}",
+                        lambda r, n=n: r["loss_shares"].get(n), 100.0))
+    return rows
+
+
+def _cell(v) -> str:
+    if v is None:
+        return "–"
+    if isinstance(v, bool) or isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            return "–"
+        return f"{v:.4g}" if abs(v) >= 1e-3 or v == 0 else f"{v:.2e}"
+    return str(v)
+
+
+def _columns(rows) -> list:
+    return list(dict.fromkeys(c for _, _, cols in rows for c in cols))
+
+
+def text(rows, title: str = "") -> str:
+    """The rows as an aligned plain-text table (the terminal's summary)."""
+    cols = _columns(rows)
+    head = ["quantity", "unit", *cols]
+    body = [[what, unit, *(_cell(vals.get(c)) for c in cols)] for what, unit, vals in rows]
+    width = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
+    fmt = lambda r: "  ".join(  # noqa: E731
+        (x.ljust(w) if i < 2 else x.rjust(w)) for i, (x, w) in enumerate(zip(r, width)))
+    lines = ([title] if title else []) + [fmt(head), fmt(["-" * w for w in width])]
+    lines += [fmt(r) for r in body]
+    if PUBLISHED in cols:
+        lines.append(PUBLISHED_NOTE)
+    return "\n".join(lines)
+
+
+def markdown(rows) -> list:
+    """The rows as a Markdown table (lines of report.md)."""
+    cols = _columns(rows)
+    out = ["| quantity | unit | " + " | ".join(cols) + " |",
+           "|---|---|" + "---|" * len(cols)]
+    out += [f"| {what} | {unit} | " + " | ".join(_cell(vals.get(c)) for c in cols) + " |"
+            for what, unit, vals in rows]
+    if PUBLISHED in cols:
+        out += ["", f"_{PUBLISHED_NOTE}_"]
+    return out
