@@ -274,9 +274,10 @@ class Operating(_Section):
     output_torque_Nm: float | None = _f(0.0, None, default=None)
     input_torque_Nm: float | None = _f(0.0, None, default=None)
     input_power_kW: float | None = _f(0.0, None, default=None)
-    rated_output_torque_Nm: float | None = _f(
+    rated_torque_Nm: float | None = _f(
         0.0, None, lo_open=True, default=None,
-        doc="rated output torque of the reducer (catalogue); check warns above it")
+        doc="rated output torque of the reducer (catalogue, datasheet): check warns above "
+            "it; the stiffness curve spans +-it")
 
 
 @dataclass(frozen=True)

@@ -59,13 +59,13 @@ def _operating(case: Case, warnings: list) -> dict:
          "operating_input_power_W": _r(p_in),
          "operating_output_power_W": _r(p_out),
          "operating_efficiency_analytic": _r(float(e.efficiency[0]), 6)}
-    rated = op.rated_output_torque_Nm
+    rated = op.rated_torque_Nm
     if rated is not None:
-        d["rated_output_torque_Nm"] = rated
+        d["rated_torque_Nm"] = rated
         if torque > rated:
             warnings.append(f"the operating point's output torque {torque:.4g} N m is "
                             f"{torque / rated:.2f} x the rated {rated:g} N m "
-                            "(operating.rated_output_torque_Nm)")
+                            "(operating.rated_torque_Nm)")
     return d
 
 
