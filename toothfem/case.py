@@ -277,6 +277,8 @@ class Operating(_Section):
     output_torque_Nm: float | None = _f(0.0, None, default=None)
     input_torque_Nm: float | None = _f(0.0, None, default=None)
     input_power_kW: float | None = _f(0.0, None, default=None)
+    rated_torque_Nm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                       doc="rated output torque of the datasheet")
 
 
 @dataclass(frozen=True)
@@ -326,6 +328,20 @@ class OutputMechanism(_Section):
 
 
 @dataclass(frozen=True)
+class Supports(_Section):
+    """The elastic supports in series with the mesh (``toothfem stiffness``): the rollers of
+    the crank bearings (RV: in the disc's crank holes) or of the eccentric bearing (K-H-V),
+    the crankshafts (span between their carrier bearings) and the output carrier."""
+    _section = "supports"
+    bearing_roller_count: int | None = _f(3, 200, integer=True, default=None)
+    bearing_roller_length_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    bearing_roller_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_span_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    carrier_stiffness_Nm_per_arcmin: float | None = _f(0.0, None, lo_open=True, default=None)
+
+
+@dataclass(frozen=True)
 class MeasuredPoint(_Section):
     _section = "measured"
     input_speed_rpm: float = _f(0.0, None, lo_open=True)
@@ -349,6 +365,7 @@ class Case:
     lubricant: Lubricant = field(default_factory=Lubricant)
     friction: Friction = field(default_factory=Friction)
     output_mechanism: OutputMechanism | None = None
+    supports: Supports | None = None
     measured: tuple[MeasuredPoint, ...] = ()
     published: Mapping[str, Any] = field(default_factory=dict)
 
@@ -406,7 +423,7 @@ class Case:
 _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
-    "friction": Friction, "output_mechanism": OutputMechanism,
+    "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 
@@ -510,6 +527,12 @@ def case_to_dict(case: Case) -> dict:
 
 
 _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
+_PER_ARCMIN = 180 * 60 / math.pi        # (N m/arcmin) -> N m/rad
+
+
+def _si_or_none(value, factor):
+    """``value * factor``, or None for a key the case leaves out."""
+    return None if value is None else value * factor
 
 
 def _case_si(case: Case) -> si.CaseSI:
@@ -521,6 +544,7 @@ def _case_si(case: Case) -> si.CaseSI:
     lub = case.lubricant
     fri = case.friction
     om = case.output_mechanism
+    sup = case.supports or Supports()
     return si.CaseSI(
         name=case.name, drive=case.drive, ratio=case.ratio(),
         material=None if mat is None else si.MaterialSI(
@@ -548,7 +572,16 @@ def _case_si(case: Case) -> si.CaseSI:
             input_speed_rad_s=op.input_speed_rpm * 2 * math.pi / 60,
             output_torque_Nm=op.output_torque_Nm or None,
             input_torque_Nm=op.input_torque_Nm or None,
-            input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3),
+            input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
+            rated_torque_Nm=op.rated_torque_Nm),
+        supports=si.SupportsSI(
+            bearing_roller_count=sup.bearing_roller_count,
+            bearing_roller_length_m=_si_or_none(sup.bearing_roller_length_mm, _MM),
+            bearing_roller_diameter_m=_si_or_none(sup.bearing_roller_diameter_mm, _MM),
+            crankshaft_diameter_m=_si_or_none(sup.crankshaft_diameter_mm, _MM),
+            crankshaft_span_m=_si_or_none(sup.crankshaft_span_mm, _MM),
+            carrier_stiffness_Nm_per_rad=_si_or_none(sup.carrier_stiffness_Nm_per_arcmin,
+                                                     _PER_ARCMIN)),
         lubricant=si.LubricantSI(
             dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
             kinematic_viscosity_m2_s=lub.kinematic_viscosity_mm2_s * _MM ** 2,

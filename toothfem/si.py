@@ -75,6 +75,7 @@ class OperatingSI:
     output_torque_Nm: float | None
     input_torque_Nm: float | None
     input_power_W: float | None
+    rated_torque_Nm: float | None = None     # the catalogue's rated output torque
 
     @property
     def input_speed_rpm(self) -> float:
@@ -119,6 +120,19 @@ class OutputMechanismSI:
 
 
 @dataclass(**_RECORD)
+class SupportsSI:
+    """The elastic supports in series with the mesh (torsional stiffness): the crank or
+    eccentric bearings' rollers, the crankshafts and the output carrier; None where the
+    case gives none (the drive then assumes a value and says so)."""
+    bearing_roller_count: int | None = None
+    bearing_roller_length_m: float | None = None
+    bearing_roller_diameter_m: float | None = None
+    crankshaft_diameter_m: float | None = None
+    crankshaft_span_m: float | None = None
+    carrier_stiffness_Nm_per_rad: float | None = None
+
+
+@dataclass(**_RECORD)
 class CaseSI:
     """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
     name: str
@@ -133,6 +147,7 @@ class CaseSI:
     lubricant: LubricantSI
     friction: FrictionSI
     output_mechanism: OutputMechanismSI | None
+    supports: SupportsSI = SupportsSI()
 
     def to_si(self) -> "CaseSI":
         """Itself: analyses accept a case or its SI record alike."""
@@ -149,3 +164,10 @@ class CaseSI:
         if op.input_power_W:
             return op.input_power_W / op.input_speed_rad_s * abs(self.ratio)
         return None
+
+    def rated_output_torque_Nm(self) -> tuple[float | None, bool]:
+        """(torque [N m], assumed): the rated output torque, else the declared one (assumed
+        True: the case names no rating); (None, True) if it declares neither."""
+        if self.operating.rated_torque_Nm:
+            return float(self.operating.rated_torque_Nm), False
+        return self.declared_output_torque_Nm(), True
