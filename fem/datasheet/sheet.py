@@ -108,13 +108,21 @@ class Datasheet:
             "compliance_shares": self.compliance_shares,
             "supports": self.supports,
             "positions": self.positions,
-            f"{self.contact_name}s_in_contact_at_rated_torque": float(
+            f"{plural(self.contact_name)}_in_contact_at_rated_torque": float(
                 self.loop.contacts[int(np.argmax(self.loop.torque_Nm))]),
             "friction_hysteresis": "not modelled (frictionless contact): the loop's "
                                    "width is the backlash",
         }
         out.update(self.extra)
         return out
+
+
+#: Plural of a drive's contact name in column names.
+PLURALS = {"tooth": "teeth"}
+
+
+def plural(name: str) -> str:
+    return PLURALS.get(name, name + "s")
 
 
 def _slope(model: TwistModel, t_lo: float, t_hi: float, side: int) -> float:

@@ -25,6 +25,11 @@ ARCSEC = ARCMIN / 60
 #: A contact counts as closed at zero torque when the rigid rotation leaves it a gap below
 #: this fraction of the largest gap it closes (rounding of the exact clearances).
 CLOSED_GAP_REL = 1e-9
+#: The limit of zero torque is the FE solution at this output torque [N m] of the flank's
+#: sign: its elastic part is below 1e-6 of the twist at 100 N m (linear-ish in the torque),
+#: while the rigid closing rotation of the clearances is all there (the sine pair's flanks
+#: close where their gap has no minimum of its own, so no gap table gives that rotation).
+ZERO_TORQUE_NM = 1e-4
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -49,16 +54,6 @@ def closing_rotation(state, side: int) -> np.ndarray:
         raise CaseError("a meshing position has no contact on the flank of a "
                         f"{'positive' if side > 0 else 'negative'} torque")
     return side * theta
-
-
-def closed_contacts(state, side: int) -> np.ndarray:
-    """(P,) contacts the rigid closing rotation brings to zero gap (unloaded)."""
-    arm = state.moment_arm
-    carry = (side * arm < 0) & np.isfinite(state.gap)
-    theta = np.abs(closing_rotation(state, side))
-    rest = np.where(carry, state.gap - theta[:, None] * np.abs(arm), np.inf)
-    scale = np.max(np.where(carry, state.gap, 0.0)) + 1e-30
-    return np.sum(rest <= CLOSED_GAP_REL * scale, axis=1)
 
 
 def resultant(load_sharing, state) -> np.ndarray:
@@ -122,12 +117,13 @@ class TwistModel:
         return self._memo[key]
 
     def _zero(self, side: int) -> TwistPoint:
+        """The mesh rotation at ZERO_TORQUE_NM of the flank's sign, every support at rest."""
+        near = self._loaded(side * ZERO_TORQUE_NM)
         n = self.positions_rad.size
-        paths = {"mesh": closing_rotation(self.state, side)}
-        unloaded = self._supports(0.0, 0.0, np.zeros((n, 2)))     # every support at rest
-        paths.update({name: np.zeros(n) for name in unloaded})
+        paths = {name: np.zeros(n) for name in near.paths}
+        paths["mesh"] = near.paths["mesh"]
         return TwistPoint(output_torque_Nm=0.0, total=paths["mesh"].copy(), paths=paths,
-                          contacts=closed_contacts(self.state, side))
+                          contacts=near.contacts)
 
     def _supports(self, t: float, tm: float, force) -> dict:
         """{path: (P,) rad} of every support at output torque t, member torque tm and the
