@@ -39,13 +39,14 @@ def hysteresis(sheet, title: str = ""):
         y0 = np.interp(x0, xs[np.argsort(xs)], ys[np.argsort(xs)])
         xr = np.array([x0, side * rated])
         ax.plot(xr, y0 + (xr - x0) / k, "--", color=colour, lw=1.5,
-                label=f"rigidity 50-100 %: {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin"
+                label=f"rigidity 50-100 % of rated: {sheet.rigidity_Nm_per_arcmin:.4g} "
+                      "N m/arcmin"
                 if side > 0 else None)
     lm = sheet.lost_motion_arcmin
     t_lm = 0.03 * rated
     ax.axvspan(-t_lm, t_lm, color="tab:orange", alpha=0.25,
                label=f"±3 % of rated: lost motion {lm:.3g} arcmin")
-    ax.annotate(f"backlash {sheet.backlash_arcmin:.3g} arcmin", xy=(0, 0),
+    ax.annotate(f"backlash {sheet.backlash_arcmin:.3f} arcmin", xy=(0, 0),
                 xytext=(0.05 * rated, -0.08 * np.ptp(th)), fontsize=9,
                 arrowprops=dict(arrowstyle="->", lw=0.8))
     ax.axhline(0, color="k", lw=0.5)
@@ -54,7 +55,7 @@ def hysteresis(sheet, title: str = ""):
     ax.set_ylabel("output twist [arcmin]")
     assumed = " (rated = operating torque, assumed)" if sheet.rated_torque_assumed else ""
     ax.set_title(title or f"torsional stiffness: rated torque {rated:.4g} N m{assumed}",
-                 fontsize=11)
+                 fontsize=10)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left")
     fig.tight_layout()
