@@ -237,3 +237,24 @@ def test_bad_input_names_the_key(case):
     with pytest.raises(CaseError, match="supports.bearing_roller_count = 1"):
         parse_case(d)
     assert len(loop_torques(167.0, 8)) == 41
+
+
+def test_unclosed_clearance_is_refused(drive, supports):
+    """A 50 um equidistant modification and a loop to 0.01 N m: one pin carries at every
+    position (the next pin's clearance is microns away), the curve would be backlash."""
+    g = replace(drive.geometry, equidistant_m=50e-6)
+    d = replace(drive, stage=replace(drive.stage, geometry=g))
+    solver = cf.CycleSolver(d.fe_model(), d.positions(3), equal_springs=SPRING,
+                            sides=(1, -1))
+    with pytest.raises(CaseError, match="torque_max_Nm = 0.01 .*backlash"):
+        datasheet(TwistModel(d, supports, solver), 167.0, torque_max_Nm=0.01)
+
+
+def test_cli_refuses_few_steps(cases_dir, tmp_path, capsys):
+    from toothfem.cli import main
+
+    rc = main(["stiffness", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
+               str(tmp_path / "out"), "--steps", "3"])
+    err = capsys.readouterr().err.strip().splitlines()
+    assert rc == 2 and len(err) == 1 and "steps = 3" in err[0]
+    assert not (tmp_path / "out").exists()

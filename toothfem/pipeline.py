@@ -335,9 +335,7 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
         files.append("split.csv")
     title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
              + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
-             + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin, lost motion "
-             f"{sheet.lost_motion_arcmin:.3g} arcmin, backlash {sheet.backlash_arcmin:.3f} "
-             "arcmin")
+             + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
     report_stiffness.hysteresis(sheet, title=title).savefig(folder / "hysteresis.png", dpi=120)
     report_stiffness.transmission_error(te).savefig(folder / "te.png", dpi=120)
     summary = {**result.summary, "files": files}

@@ -63,17 +63,9 @@ def hysteresis(sheet, title: str = ""):
 
 
 def transmission_error(te, title: str = ""):
-    """Loaded TE over the full period against crank angle and output angle, and the
-    amplitudes of its harmonics by order per output revolution.
-
-    Parameters
-    ----------
-    te : toothfem.fem.datasheet.transmission.LoadedTE
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
+    """The figure of a :class:`~toothfem.fem.datasheet.transmission.LoadedTE`: the TE over
+    the full period against crank angle (output angle on the top axis), and below the
+    amplitudes of its largest harmonics by order per output revolution."""
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
     arcsec = np.degrees(1.0) * 3600
@@ -89,8 +81,9 @@ def transmission_error(te, title: str = ""):
     top.set_xlabel("output angle [deg]")
     a1.grid(alpha=0.3)
     a1.legend(fontsize=8, loc="lower right")
+    pitches = f"{te.full_period_pitches} pitch" + ("es" if te.full_period_pitches > 1 else "")
     a1.set_title(title or f"loaded TE at {te.output_torque_Nm:.4g} N m over the full period "
-                 f"({te.full_period_pitches} pitches): peak-to-peak "
+                 f"({pitches}): peak-to-peak "
                  f"{te.peak_to_peak_arcsec:.3g} arcsec, RMS {te.rms_arcsec:.3g} arcsec",
                  fontsize=10)
     h = te.harmonics(12)
