@@ -91,7 +91,7 @@ class CycleSolver:
                     lo, hi = windows.get((j, side), (s, s))
                     windows[(j, side)] = (min(lo, s), max(hi, s))
         pad = 3 * self.b_ref / g.pin_circle_radius_m
-        win = _merged([(lo - pad, hi + pad) for lo, hi in windows.values()])
+        win = _merged([(j, lo - pad, hi + pad) for (j, _), (lo, hi) in windows.items()])
         h = self.b_ref / self.elements_per_bref
         rings, names = _disc_rings(self.model, [_window(g.generating(), lo, hi, h)
                                                 for lo, hi in win])
@@ -289,15 +289,19 @@ class CycleSolver:
 
 
 def _merged(windows):
-    """[(lo, hi)] of the windows [(lo, hi)] with overlapping ones joined (a pin near the tip
-    or root is a candidate for both torque signs; disjoint windows stay as they are)."""
-    out = []
-    for lo, hi in sorted(windows):
-        if out and lo <= out[-1][1]:
-            out[-1] = (out[-1][0], max(out[-1][1], hi))
+    """[(lo, hi)] of the windows [(pin, lo, hi)] with the overlapping windows of one pin
+    joined (a pin near the tip or root is a candidate for both torque signs); one window
+    per pin, as a one-sided solver has, stays as it is."""
+    out = {}
+    for j, lo, hi in windows:
+        spans = out.setdefault(j, [])
+        for k, (a, b) in enumerate(spans):
+            if lo <= b and a <= hi:
+                spans[k] = (min(a, lo), max(b, hi))
+                break
         else:
-            out.append((lo, hi))
-    return out
+            spans.append((lo, hi))
+    return [w for spans in out.values() for w in spans]
 
 
 def _seed_guess(q: _Position, q_load):
