@@ -183,6 +183,9 @@ def test_run_command_cycloid_with_fe(cases_dir, tmp_path, capsys):
     assert abs(f["efficiency"] - a["efficiency"]) < 0.01
     assert (out / "contact" / "load_sharing.csv").exists()
     assert "## Contact (FE, cycle mode)" in (out / "report.md").read_text()
+    # the datasheet (issue 11): its table and the hysteresis picture
+    assert "| torsional rigidity 50-100 % [N m/arcmin] |" in (out / "report.md").read_text()
+    assert (out / "stiffness" / "hysteresis.png").stat().st_size > 10_000
 
 
 @pytest.mark.slow

@@ -327,6 +327,20 @@ class OutputMechanism(_Section):
 
 
 @dataclass(frozen=True)
+class Supports(_Section):
+    """The elastic supports in series with the mesh (``toothfem stiffness``): the rollers of
+    the crank bearings (RV: in the disc's crank holes) or of the eccentric bearing (K-H-V),
+    the crankshafts (span between their carrier bearings) and the output carrier."""
+    _section = "supports"
+    bearing_roller_count: int | None = _f(3, 200, integer=True, default=None)
+    bearing_roller_length_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    bearing_roller_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_span_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    carrier_stiffness_Nm_per_arcmin: float | None = _f(0.0, None, lo_open=True, default=None)
+
+
+@dataclass(frozen=True)
 class MeasuredPoint(_Section):
     _section = "measured"
     input_speed_rpm: float = _f(0.0, None, lo_open=True)
@@ -350,6 +364,7 @@ class Case:
     lubricant: Lubricant = field(default_factory=Lubricant)
     friction: Friction = field(default_factory=Friction)
     output_mechanism: OutputMechanism | None = None
+    supports: Supports | None = None
     measured: tuple[MeasuredPoint, ...] = ()
     published: Mapping[str, Any] = field(default_factory=dict)
 
@@ -414,7 +429,7 @@ _RATIO = {
 _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
-    "friction": Friction, "output_mechanism": OutputMechanism,
+    "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 

@@ -6,9 +6,9 @@ import argparse
 import sys
 
 from . import __version__
-from .commands import check, contact, efficiency, geometry, loop, run, sweep
+from .commands import check, contact, efficiency, geometry, loop, run, stiffness, sweep
 
-COMMANDS = (check, geometry, contact, efficiency, run, loop, sweep)
+COMMANDS = (check, geometry, contact, stiffness, efficiency, run, loop, sweep)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -76,6 +76,7 @@ class OperatingSI:
     output_torque_Nm: float | None
     input_torque_Nm: float | None
     input_power_W: float | None
+    rated_torque_Nm: float | None = None     # the catalogue's rated output torque
 
     @property
     def input_speed_rpm(self) -> float:
@@ -120,6 +121,19 @@ class OutputMechanismSI:
 
 
 @dataclass(**_RECORD)
+class SupportsSI:
+    """The elastic supports in series with the mesh (torsional stiffness): the crank or
+    eccentric bearings' rollers, the crankshafts and the output carrier; None where the
+    case gives none (the drive then assumes a value and says so)."""
+    bearing_roller_count: int | None = None
+    bearing_roller_length_m: float | None = None
+    bearing_roller_diameter_m: float | None = None
+    crankshaft_diameter_m: float | None = None
+    crankshaft_span_m: float | None = None
+    carrier_stiffness_Nm_per_rad: float | None = None
+
+
+@dataclass(**_RECORD)
 class CaseSI:
     """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
     name: str
@@ -134,6 +148,7 @@ class CaseSI:
     lubricant: LubricantSI
     friction: FrictionSI
     output_mechanism: OutputMechanismSI | None
+    supports: SupportsSI = SupportsSI()
 
     def to_si(self) -> "CaseSI":
         """Itself: analyses accept a case or its SI record alike."""
@@ -151,11 +166,23 @@ class CaseSI:
             return op.input_power_W / op.input_speed_rad_s * abs(self.ratio)
         return None
 
+    def rated_output_torque_Nm(self) -> tuple[float | None, bool]:
+        """(torque [N m], assumed): the rated output torque, else the declared one (assumed
+        True: the case names no rating); (None, True) if it declares neither."""
+        if self.operating.rated_torque_Nm:
+            return float(self.operating.rated_torque_Nm), False
+        return self.declared_output_torque_Nm(), True
 
 _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
 #: Face width of a spur first stage that declares none, in modules: ASSUMPTION, the middle
 #: of the usual 8-12 m of industrial spur gears (the RV paper gives no width).
 SPUR_DEFAULT_WIDTH_MODULES = 10.0
+_PER_ARCMIN = 180 * 60 / math.pi        # (N m/arcmin) -> N m/rad
+
+
+def _si_or_none(value, factor):
+    """``value * factor``, or None for a key the case leaves out."""
+    return None if value is None else value * factor
 
 
 def from_case(case) -> CaseSI:
@@ -168,6 +195,7 @@ def from_case(case) -> CaseSI:
     lub = case.lubricant
     fri = case.friction
     om = case.output_mechanism
+    sup = case.supports
     return CaseSI(
         name=case.name, drive=case.drive, ratio=case.ratio(),
         material=None if mat is None else MaterialSI(
@@ -195,7 +223,16 @@ def from_case(case) -> CaseSI:
             input_speed_rad_s=op.input_speed_rpm * 2 * math.pi / 60,
             output_torque_Nm=op.output_torque_Nm or None,
             input_torque_Nm=op.input_torque_Nm or None,
-            input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3),
+            input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
+            rated_torque_Nm=op.rated_torque_Nm),
+        supports=SupportsSI() if case.supports is None else SupportsSI(
+            bearing_roller_count=sup.bearing_roller_count,
+            bearing_roller_length_m=_si_or_none(sup.bearing_roller_length_mm, _MM),
+            bearing_roller_diameter_m=_si_or_none(sup.bearing_roller_diameter_mm, _MM),
+            crankshaft_diameter_m=_si_or_none(sup.crankshaft_diameter_mm, _MM),
+            crankshaft_span_m=_si_or_none(sup.crankshaft_span_mm, _MM),
+            carrier_stiffness_Nm_per_rad=_si_or_none(sup.carrier_stiffness_Nm_per_arcmin,
+                                                     _PER_ARCMIN)),
         lubricant=LubricantSI(
             dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
             kinematic_viscosity_m2_s=lub.kinematic_viscosity_mm2_s * _MM ** 2,

@@ -41,11 +41,31 @@ class CycleSolver:
     elements_per_bref: int = 5
     equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
     cache: object = None                 # DiskCache of the influence tables, or None
+    #: torque signs the solver serves: (1,) the positive torque only (the carrying flank of
+    #: the MeshingState convention); (1, -1) both flanks, the mesh refined along both.
+    sides: tuple = (1,)
+
+    def __post_init__(self):
+        self.sides = tuple(int(s) for s in self.sides)
+        if self.sides not in ((1,), (1, -1)):
+            raise ToothfemError(f"sides = {self.sides!r} is not one of [(1,), (1, -1)]")
 
     @cached_property
     def _geometry(self):
         """(candidate contacts per position, MeshingState): kinematics only, no mesh."""
         return _positions(self.model, self.positions_rad)
+
+    @cached_property
+    def _other_side(self):
+        """Candidate contacts per position for a negative torque (the other flank)."""
+        return _positions(self.model, self.positions_rad, self._geometry[1], side=-1)[0]
+
+    def _candidates(self, side: int):
+        """Candidate contacts per position for a torque of sign ``side``."""
+        if side not in self.sides:
+            raise ToothfemError("a negative torque loads the other flank: build the solver "
+                                "with sides=(1, -1)")
+        return self._geometry[0] if side > 0 else self._other_side
 
     @cached_property
     def _pin(self):
@@ -61,18 +81,21 @@ class CycleSolver:
         if self.equal_springs is not None:
             return pos, state, None, None
         g = self.model.geometry
+        every = [q for side in self.sides for q in self._candidates(side)]
         # windows: the span of each pin's contact parameter over the positions + patch
+        # (a pin may touch each flank: one window per pin and side)
         windows = {}
-        for p in pos:
-            for j, s in zip(p.pins, p.psi):
-                lo, hi = windows.get(j, (s, s))
-                windows[j] = (min(lo, s), max(hi, s))
+        for side in self.sides:
+            for p in self._candidates(side):
+                for j, s in zip(p.pins, p.psi):
+                    lo, hi = windows.get((j, side), (s, s))
+                    windows[(j, side)] = (min(lo, s), max(hi, s))
         pad = 3 * self.b_ref / g.pin_circle_radius_m
-        win = [(lo - pad, hi + pad) for lo, hi in windows.values()]
+        win = _merged([(j, lo - pad, hi + pad) for (j, _), (lo, hi) in windows.items()])
         h = self.b_ref / self.elements_per_bref
         rings, names = _disc_rings(self.model, [_window(g.generating(), lo, hi, h)
                                                 for lo, hi in win])
-        centres = np.concatenate([p.point for p in pos], axis=1)
+        centres = np.concatenate([p.point for p in every], axis=1)
         bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
                         refinements=[Refinement(centres, h, self.b_ref, 20 * self.b_ref)],
                         names=names)
@@ -83,7 +106,8 @@ class CycleSolver:
             # windows on the housing teeth: the contact direction on each pin (housing frame)
             hb = self.b_ref / 2
             tz, pts_h = {}, []
-            for p_idx, p in enumerate(pos):
+            for p_idx, p in enumerate(every):
+                p_idx = p_idx % len(pos)
                 k_h = state.point[p_idx, p.pins].T
                 c_h = cy.pin_centres(g)[:, p.pins]
                 pts_h.append(k_h)
@@ -107,13 +131,15 @@ class CycleSolver:
     def _influence(self):
         return {}
 
-    def influence(self, p: int):
-        """(C, C) disc compliance at position p's candidates (patch b_ref), per unit length;
-        computed once per position and kept (a new torque costs no new solve)."""
-        if p in self._influence:
-            return self._influence[p]
-        pos, state, disc, housing = self._setup
-        q = pos[p]
+    def influence(self, p: int, side: int = 1):
+        """(C, C) disc compliance at position p's candidates for a torque of sign ``side``
+        (patch b_ref), per unit length; computed once per position and kept (a new torque
+        costs no new solve)."""
+        key = p if side > 0 else (p, side)
+        if key in self._influence:
+            return self._influence[key]
+        _, state, disc, housing = self._setup
+        q = self._candidates(side)[p]
         loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
         u = disc.solve(loads.toarray())
         c = loads.T @ u
@@ -122,19 +148,27 @@ class CycleSolver:
             nh = state.normal[p, q.pins].T
             lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
             c = c + lh.T @ housing.solve(lh.toarray())
-        self._influence[p] = 0.5 * (c + c.T)
-        return self._influence[p]
+        self._influence[key] = 0.5 * (c + c.T)
+        return self._influence[key]
 
     def cache_key(self) -> str:
         """Hash of what the influence tables depend on: geometry, holes, material, pin
         structure, plane, positions, b_ref and mesh density. Not the torque, and not the
         face width (the tables are per unit length)."""
         m = self.model
+        # both flanks refine another mesh; the one-sided key stays as it was
+        sides = () if self.sides == (1,) else (self.sides,)
         return content_key("CycleSolver", TABLES_VERSION, m.geometry, m.holes,
                            m.youngs_modulus, m.poisson_ratio, m.pin_structure, m.plane,
                            m.housing_outer_radius if m.pin_structure == "integral" else None,
                            np.asarray(self.positions_rad, float), self.b_ref,
-                           self.elements_per_bref)
+                           self.elements_per_bref, *sides)
+
+    def _table_keys(self):
+        """(table name, position, side) of every influence table."""
+        n = len(self._geometry[0])
+        return [(f"influence_{p}" if side > 0 else f"influence_neg_{p}", p, side)
+                for side in self.sides for p in range(n)]
 
     def tables(self) -> dict:
         """The torque-independent arrays of the solve: ``influence_<p>`` (C_p, C_p) for
@@ -142,7 +176,8 @@ class CycleSolver:
         when it holds them (no mesh, no factorisation), else computed and stored there."""
         if self.equal_springs is not None:
             raise ToothfemError("the equal-springs limit has no influence tables")
-        n = len(self._geometry[0])
+        keys = self._table_keys()
+        n = len(keys)
         if self.cache is not None and len(self._influence) < n:
             hit = self.cache.load(self.cache_key())
             if hit is not None:
@@ -152,7 +187,7 @@ class CycleSolver:
                     self._influence.clear()
         computed = len(self._influence) < n or (self._pin is not None
                                                 and "table" not in vars(self._pin))
-        out = {f"influence_{p}": self.influence(p) for p in range(n)}
+        out = {name: self.influence(p, side) for name, p, side in keys}
         if self._pin is not None:
             out["pin_table"] = self._pin.table
         if computed and self.cache is not None:
@@ -162,22 +197,23 @@ class CycleSolver:
     def adopt(self, tables) -> None:
         """Use ``tables`` (as returned by :meth:`tables`, e.g. from another process) instead
         of computing them; refused (ToothfemError) if they do not fit these positions."""
-        pos = self._geometry[0]
-        for p, q in enumerate(pos):
-            c = np.asarray(tables.get(f"influence_{p}", np.empty(0)), float)
+        keys = self._table_keys()
+        for name, p, side in keys:
+            q = self._candidates(side)[p]
+            c = np.asarray(tables.get(name, np.empty(0)), float)
             if c.shape != (q.pins.size, q.pins.size) or not np.all(np.isfinite(c)):
                 raise ToothfemError(f"influence table of position {p} does not fit: shape "
                                     f"{c.shape}, expected {(q.pins.size, q.pins.size)}")
-        if len(tables) != len(pos) + (self._pin is not None):
-            raise ToothfemError(f"{len(tables)} tables for {len(pos)} positions")
+        if len(tables) != len(keys) + (self._pin is not None):
+            raise ToothfemError(f"{len(tables)} tables for {len(keys)} positions and sides")
         if self._pin is not None:
             t = np.asarray(tables.get("pin_table", np.empty(0)), float)
             if t.shape != self._pin.angles.shape:
                 raise ToothfemError(f"pin table shape {t.shape} does not fit "
                                     f"{self._pin.angles.shape}")
             self._pin.table = t          # fills the cached_property
-        for p in range(len(pos)):
-            self._influence[p] = np.asarray(tables[f"influence_{p}"], float)
+        for name, p, side in keys:
+            self._influence[p if side > 0 else (p, side)] = np.asarray(tables[name], float)
 
     #: the cycle mode smears its loads over the disc (no contact-zone stress): see
     #: :meth:`structural_field`.
@@ -190,18 +226,24 @@ class CycleSolver:
     def structural_field(self, p: int, load_sharing: LoadSharing):
         """(disc Body, displacement dofs) at position p under the solved contact forces
         (Hertz strips of b_ref pressing along the inward normal), disc frame."""
-        pos, _, disc, _ = self._setup
-        q = pos[p]
+        _, _, disc, _ = self._setup
+        q = self._candidates(1 if load_sharing.torque > 0 else -1)[p]
         f = load_sharing.force[p, q.pins] / self.model.face_width
         loads = patch_loads(disc, "profile", q.point, -q.normal, self.b_ref)
         return disc, disc.solve(loads @ f)
 
     def solve(self, torque: float, progress=None) -> LoadSharing:
-        """Load sharing at every position for the disc torque (N m)."""
-        check_range("torque", torque, 0, None, lo_open=True)
+        """Load sharing at every position for the disc torque (N m); a negative torque
+        loads the other flank (a solver built with ``sides=(1, -1)``)."""
+        check_range("torque", torque)
+        if torque == 0:
+            raise ToothfemError("torque = 0 is outside the valid range: nonzero (the "
+                                "rotation of an unloaded disc is not determined)")
+        side = 1 if torque > 0 else -1
+        pos = self._candidates(side)
         if self.cache is not None and self.equal_springs is None:
             self.tables()
-        (pos, state), pin = self._geometry, self._pin
+        state, pin = self._geometry[1], self._pin
         m = self.model
         q_load = torque / m.face_width
         zb = m.geometry.pin_count
@@ -216,17 +258,17 @@ class CycleSolver:
                 sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, q.gap,
                                             q.arm, q_load)
             else:
-                sol = self._solve_position(p, q, q_load, pin)
+                sol = self._solve_position(p, q, q_load, pin, side)
             force[p, q.pins] = sol.force * m.face_width
             gap[p, q.pins] = sol.gap
             beta[p] = sol.rigid
         return _record("cycle", m, state, force, gap, beta, torque)
 
-    def _solve_position(self, p, q, q_load, pin):
+    def _solve_position(self, p, q, q_load, pin, side=1):
         """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
         m = self.model
         e_p = m.e_plane
-        c_disc = self.influence(p)
+        c_disc = self.influence(p, side)
         lam = _seed_guess(q, q_load)
         for _ in range(LOCAL_MAX_ITER):
             b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
@@ -246,14 +288,33 @@ class CycleSolver:
 
 
 
+def _merged(windows):
+    """[(lo, hi)] of the windows [(pin, lo, hi)] with the overlapping windows of one pin
+    joined (a pin near the tip or root is a candidate for both torque signs); one window
+    per pin, as a one-sided solver has, stays as it is."""
+    out = {}
+    for j, lo, hi in windows:
+        spans = out.setdefault(j, [])
+        for k, (a, b) in enumerate(spans):
+            if lo <= b and a <= hi:
+                spans[k] = (min(a, lo), max(b, hi))
+                break
+        else:
+            spans.append((lo, hi))
+    return [w for spans in out.values() for w in spans]
+
+
 def _seed_guess(q: _Position, q_load):
-    w = np.where(q.arm < 0, -q.arm, 0.0)
+    """Forces proportional to the moment arm on the flank that carries ``q_load``."""
+    s = 1.0 if q_load > 0 else -1.0
+    w = np.where(s * q.arm < 0, -s * q.arm, 0.0)
     return w * q_load / np.sum(w * -q.arm)
 
 
 def _half_width(lam, r_eq, e_star, q_load, arm):
     """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
-    mean = q_load / np.sum(np.abs(arm[arm < 0])) if np.any(arm < 0) else q_load
+    carry = (arm < 0) if q_load > 0 else (arm > 0)
+    mean = abs(q_load) / np.sum(np.abs(arm[carry])) if np.any(carry) else abs(q_load)
     return hertz_line(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)[1]
 
 

@@ -54,12 +54,15 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     The zone sizes come from the seed's force estimate times a margin; after the solve the
     contact must end inside each slave zone (checked; ContactError otherwise).
     """
-    check_range("torque", torque, 0, None, lo_open=True)
+    check_range("torque", torque)
+    if torque == 0:
+        raise ToothfemError("torque = 0 is outside the valid range: nonzero")
     if model.pin_structure == "rigid":
         raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
     g = model.geometry
     gen = g.generating()
-    (q,), state = _positions(model, [crank_angle_rad])
+    # a negative torque loads the other flank of each lobe
+    (q,), state = _positions(model, [crank_angle_rad], side=1 if torque > 0 else -1)
     q_load = torque / model.face_width
     f_est = _seed_guess(q, q_load) * DETAILED_FORCE_MARGIN
     b_zone = float(np.max(hertz_line(np.max(f_est), np.abs(q.r_eq), model.e_star)[1]))

@@ -79,14 +79,17 @@ class _Position:
     r_disc: np.ndarray        # (C,) signed curvature radius of the disc profile
 
 
-def _positions(model: CycloidFEModel, phis, state=None):
+def _positions(model: CycloidFEModel, phis, state=None, side: int = 1):
+    """Candidate contacts per crank angle for a disc torque of sign ``side``: +1 the pins
+    with moment arm below CANDIDATE_ARM_REL r_a (MeshingState sign: carrying a positive
+    torque), -1 those above -CANDIDATE_ARM_REL r_a (the other flank of each lobe)."""
     g = model.geometry
     gen = g.generating()
     state = state or cy.meshing(g, phis)
     r_a = g.disc_pitch_radius_m
     out = []
     for p, phi in enumerate(state.position_rad):
-        pins = np.flatnonzero(state.moment_arm[p] < CANDIDATE_ARM_REL * r_a)
+        pins = np.flatnonzero(side * state.moment_arm[p] < CANDIDATE_ARM_REL * r_a)
         c_house = cy.pin_centres(g)[:, pins]
         c_disc = cy.to_disc_frame(g, [phi], c_house[:, None, :])[:, 0, :]
         psi0 = 2 * math.pi * pins / g.pin_count + phi / g.lobe_count

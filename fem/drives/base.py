@@ -36,6 +36,9 @@ class Drive(abc.ABC):
     analytic_weight: str = ""
     #: options of :meth:`fe_model` with their choices (e.g. the cycloid's pin structure).
     fe_options: dict = {}
+    #: solver options of a cycle solver that serves both torque signs (the cycloid refines
+    #: both flanks of each lobe; the sine pair's hat grids cover both flanks already).
+    both_sides_options: dict = {}
 
     # -- what every drive provides ------------------------------------------------------
     @property
@@ -111,6 +114,40 @@ class Drive(abc.ABC):
         """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
         return False
 
+    @abc.abstractmethod
+    def supports(self, declared):
+        """The supports in series with the mesh (:class:`toothfem.fem.datasheet.supports.
+        Supports`) from the case's :class:`toothfem.si.SupportsSI`, the drive's own
+        assumptions where it gives none."""
+
+    @abc.abstractmethod
+    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
+        """Output twist [rad] of one member's own supports at each position: {path: (P,)}.
+
+        ``member_torque`` (P,) N m, signed; ``resultant`` (P, 2) the contact resultant on
+        the member [N, housing frame]; ``positions_rad`` (P,) crank angles."""
+
+    def coupled_compliance(self, supports) -> dict:
+        """{path: (M, M)} twist of member j [rad] per N m on member i through parts the
+        members share (a drive without such parts: {})."""
+        return {}
+
+    def output_compliance(self, supports) -> dict:
+        """{path: rad per N m of output torque} of parts every member's path runs through
+        (the carrier is the datasheet's own)."""
+        return {}
+
+    @property
+    def full_period_pitches(self) -> int:
+        """Meshing periods after which the whole model repeats (disc holes included)."""
+        return 1
+
+    def member_offsets(self, per_pitch: int) -> tuple:
+        """Index of each member's configuration on the grid of
+        ``per_pitch`` positions per meshing period over :attr:`full_period_pitches`
+        periods, relative to the first member's (one member: (0,))."""
+        return (0,)
+
     # -- shared by every drive ------------------------------------------------------------
     def positions(self, n_positions: int = DEFAULT_POSITIONS) -> np.ndarray:
         """``n_positions`` crank angles evenly over one meshing period, the period's end
@@ -154,9 +191,10 @@ class Drive(abc.ABC):
                               self.analytic_in_mesh_gap_m, weight=self.analytic_weight)
 
     def cycle_solver(self, n_positions: int = DEFAULT_POSITIONS, *, cache=True,
-                     solver_options: dict | None = None, **overrides):
+                     solver_options: dict | None = None, pitch: int = 0, **overrides):
         """The FE cycle-mode solver over :meth:`positions` (``n_positions``), built once per
-        design and options in this process.
+        design and options in this process; ``pitch`` m puts the positions m meshing
+        periods on (the same contacts m lobes on against the disc holes).
 
         ``cache``: True, the user's disk cache (:func:`toothfem.fem.cache.default_dir`);
         a :class:`~toothfem.fem.cache.DiskCache`; or None/False for none.
@@ -171,11 +209,13 @@ class Drive(abc.ABC):
             cache = None
         options = dict(solver_options or {})
         key = (self, int(n_positions), tuple(sorted(overrides.items())),
-               tuple(sorted(options.items())), None if cache is None else str(cache.directory))
+               tuple(sorted(options.items())), None if cache is None else str(cache.directory),
+               int(pitch))
         solver = _SOLVERS.get(key)
         if solver is None:
-            solver = self._new_cycle_solver(self.fe_model(**overrides),
-                                            self.positions(n_positions), cache, **options)
+            phis = self.positions(n_positions) + int(pitch) * self.period_rad
+            solver = self._new_cycle_solver(self.fe_model(**overrides), phis, cache,
+                                            **options)
             if len(_SOLVERS) >= SOLVERS_KEPT:
                 _SOLVERS.pop(next(iter(_SOLVERS)))
             _SOLVERS[key] = solver

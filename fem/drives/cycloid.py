@@ -11,6 +11,7 @@ from ...errors import CaseError
 from ...geometry import cycloid as cy
 from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
+from ..datasheet import supports as sp
 from .base import Drive
 
 
@@ -29,6 +30,7 @@ class CycloidDrive(Drive):
     contacts_name = "pins"
     analytic_weight = "moment_arm"
     fe_options = {"pin_structure": cf.PIN_STRUCTURES}
+    both_sides_options = {"sides": (1, -1)}
 
     @classmethod
     def from_case(cls, si) -> "CycloidDrive":
@@ -115,6 +117,103 @@ class CycloidDrive(Drive):
                 {"disc_area_mm2": float(disc.area * 1e6),
                  "disc_polygon_valid": bool(disc.is_valid)})
 
+    # -- the datasheet: supports, full period, the second disc ----------------------------
+    @property
+    def full_period_pitches(self) -> int:
+        """Pin pitches after which lobes, pins and holes repeat: at pitch m the contacts
+        sit m lobes on from those of pitch 0 (docs/stiffness.md), so the model repeats
+        after Za / gcd(Za, s) pitches, s the rotational symmetry of the hole pattern."""
+        h = self.stage.holes
+        sym = math.gcd(h.crank_hole_count, h.pillar_hole_count)
+        return self.stage.lobe_count // math.gcd(self.stage.lobe_count, sym)
+
+    def member_offsets(self, per_pitch: int) -> tuple:
+        """Disc j sits on eccentrics turned by 2 pi j / discs (Zb j / discs pitches); it is
+        the first disc's part turned by i_j lobes more than the K-H-V pose at its crank
+        angle, the smallest i_j that puts its crank holes on the cranks:
+        (i_j - j/discs) s / Za whole, s the crank holes. Turning the part by i lobes moves
+        its contacts i lobes back against its holes, so on the full-period grid disc j is
+        the first disc at pitch Zb j / discs - i_j (CaseError if no i_j exists)."""
+        zb, za, n = self.geometry.pin_count, self.stage.lobe_count, self.members
+        sym = self.stage.holes.crank_hole_count
+        k = self.full_period_pitches
+        out = []
+        for j in range(n):
+            steps = zb * j * int(per_pitch) / n         # crank offset in grid steps
+            if abs(steps - round(steps)) > 1e-9:
+                raise CaseError(f"disc {j}: its crank offset 2 pi {j}/{n} is not on a grid of "
+                                f"{per_pitch} positions per pin pitch; use a multiple of "
+                                f"{n // math.gcd(n, zb * int(per_pitch))} positions per pitch")
+            # turn psi = -phi_j/Za + i 2 pi/Za of the part must be a multiple of 2 pi/sym
+            lobes = next((i for i in range(za) if _whole((i - j / n) * sym / za)), None)
+            if lobes is None:
+                raise CaseError(f"disc {j}: no turn of the first disc's part puts its "
+                                f"{sym} crank holes on the cranks and its lobes on the pins")
+            out.append(int(round(steps - lobes * int(per_pitch))) % (k * int(per_pitch)))
+        return tuple(out)
+
+    def supports(self, declared) -> sp.Supports:
+        """Needle rollers in the crank holes (outer raceway the hole) on the cranks' eccentric
+        journals; assumed crankshaft: the journal's diameter less twice the eccentricity,
+        on a span of the discs side by side plus one face width for each carrier bearing."""
+        h, g, w = self.stage.holes, self.geometry, self.face_width_m
+        d_roller = declared.bearing_roller_diameter_m or \
+            sp.ROLLER_DIAMETER_REL * h.crank_hole_radius_m
+        journal = 2 * (h.crank_hole_radius_m - d_roller)
+        return sp.resolved(declared, raceway_radius_m=h.crank_hole_radius_m, roller_length_m=w,
+                           crankshaft_diameter_m=journal - 2 * g.eccentricity_m,
+                           crankshaft_span_m=(self.members + 2) * w)
+
+    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
+        """The crank bearings: hole k (of n, radius R_c) takes -F/n + T/(n R_c) t_k (the
+        contact resultant F and the torque T shared evenly, as the efficiency model's
+        crank-bearing loss); each deflects along its load by Palmgren and Stribeck; the
+        output turns by their mean tangential deflection over R_c."""
+        h = self.stage.holes
+        n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        _, rot = cy.disc_pose(self.geometry, positions_rad)
+        ang = 2 * math.pi * np.arange(n)[None, :] / n + rot[:, None]      # (P, n)
+        t = np.stack([-np.sin(ang), np.cos(ang)])                          # (2, P, n)
+        tq = np.asarray(member_torque, float)[:, None] / (n * r_c)
+        f = -np.asarray(resultant, float).T[:, :, None] / n + tq[None] * t
+        mag = np.hypot(f[0], f[1])
+        defl = sp.radial_bearing_deflection(mag, supports.bearing_roller_count,
+                                            supports.bearing_roller_length_m)
+        along = np.sum(f * t, axis=0) / np.where(mag > 0, mag, 1.0)
+        return {"crank bearings": np.mean(defl * along, axis=1) / r_c}
+
+    def _disc_axial_positions(self, supports) -> np.ndarray:
+        """Discs side by side, centred between the crankshaft's carrier bearings [m]."""
+        w, n = self.face_width_m, self.members
+        return 0.5 * supports.crankshaft_span_m + (np.arange(n) - 0.5 * (n - 1)) * w
+
+    def coupled_compliance(self, supports) -> dict:
+        """The crankshafts: each a shaft on two simple supports (its carrier bearings)
+        loaded by every disc's tangential force T_i/(n R_c) at the disc's axial place; disc
+        j turns by the crank's deflection there over R_c (the pin resultants' share cancels
+        over the n cranks)."""
+        h = self.stage.holes
+        n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        a = self._disc_axial_positions(supports)
+        m = self.material_si
+        w = sp.simply_supported_influence(a[:, None], a[None, :], supports.crankshaft_span_m,
+                                          supports.crankshaft_diameter_m,
+                                          m.youngs_modulus_Pa, m.poisson_ratio)
+        return {"crankshafts": w / (n * r_c ** 2)}
+
+    def output_compliance(self, supports) -> dict:
+        """2K-V: torsion of the n crankshafts between the first-stage gear (input held) and
+        the discs: crank torque T/(n Zb), output turn = crank twist / Zb (the cranks turn Zb
+        times per output turn relative to the carrier); over half the span. K-H-V: none."""
+        if not self.two_stage:
+            return {}
+        n, zb = self.stage.holes.crank_hole_count, self.geometry.pin_count
+        m = self.material_si
+        c = sp.torsion_compliance(0.5 * supports.crankshaft_span_m,
+                                  supports.crankshaft_diameter_m, m.youngs_modulus_Pa,
+                                  m.poisson_ratio)
+        return {"crankshaft torsion": c / (n * zb ** 2)}
+
     def member_frame_point(self, model, position_rad: float, point):
         pts = np.asarray(point, float)
         local = cy.to_disc_frame(model.geometry, [position_rad], pts.reshape(2, 1, -1))
@@ -126,3 +225,8 @@ class CycloidDrive(Drive):
         t = np.linspace(0.0, 2 * math.pi, points_per_tooth, endpoint=False)
         circle = g.pin_radius_m * np.stack([np.cos(t), np.sin(t)])
         return [c[:, None] + circle for c in cy.pin_centres(g).T]
+
+
+def _whole(x: float, tol: float = 1e-9) -> bool:
+    """x is an integer within ``tol``."""
+    return abs(x - round(x)) < tol

@@ -10,7 +10,12 @@ from ...geometry import sine as sg
 from ...geometry.train import khv_speeds
 from ...geometry.vectors import rotate
 from .. import sine_fe as sf
+from ..datasheet import supports as sp
 from .base import Drive
+
+#: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
+#: the planet's pitch radius (ASSUMPTION; the prototype's 10 mm is 0.28 of its 35.55 mm).
+ECCENTRIC_RACEWAY_REL = 0.25
 
 #: Teeth of the sine pair within this unloaded gap share the load in the analytic split:
 #: the order of the pair's elastic approach at the rig torque (Hertz approach of a few
@@ -92,6 +97,41 @@ class SineDrive(Drive):
         phi1 = np.linspace(0, 2 * np.pi, pair.planet_teeth * points_per_tooth, endpoint=False)
         (ring,) = self.fixed_outlines(points_per_tooth)
         return {"planet": sg.planet_profile(pair, phi1), "ring": ring}, {}
+
+    # -- the datasheet: supports --------------------------------------------------------
+    def supports(self, declared) -> sp.Supports:
+        """Rollers of the eccentric bearing on the eccentric (inner raceway of radius
+        r_p, the output mechanism's ``eccentric_bearing_inner_radius``); no crankshafts."""
+        om = self.output_mechanism
+        r_in = (om.eccentric_bearing_inner_radius_m if om is not None
+                else ECCENTRIC_RACEWAY_REL * self.pair.planet_pitch_radius_m)
+        return sp.resolved(declared, raceway_radius_m=r_in, roller_length_m=self.face_width_m,
+                           outer_raceway=False)
+
+    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
+        """The eccentric bearing carries the planet's balance of the tooth resultant and
+        the output pins' load sum 4T/(pi R_w) along -e (sine paper Eqs. 26-27, as the
+        efficiency model); it deflects along its load (Palmgren, Stribeck), and its
+        deflection across the eccentric turns the planet about the pitch point by d_t/r1.
+        The output pins: the most loaded of n pins carries 4T/(n R_w) (Eq. 26) on one line
+        contact of the face width (Palmgren); the output turns by its approach over R_w."""
+        t = np.asarray(member_torque, float)
+        centre, _ = sg.planet_pose(self.pair, positions_rad)
+        e = centre / np.hypot(*centre)                                   # (2, P)
+        om = self.output_mechanism
+        r_w = om.pin_hole_circle_radius_m if om is not None else None
+        pins = 4 * t / (np.pi * r_w) if r_w else np.zeros_like(t)
+        f = -(np.asarray(resultant, float).T - pins[None] * e)           # on the planet
+        mag = np.hypot(*f)
+        across = np.abs(f[0] * -e[1] + f[1] * e[0])
+        defl = sp.radial_bearing_deflection(mag, supports.bearing_roller_count,
+                                            supports.bearing_roller_length_m)
+        out = {"eccentric bearing": np.sign(t) * defl * across
+               / np.where(mag > 0, mag, 1.0) / self.pair.planet_pitch_radius_m}
+        if om is not None:
+            f_max = 4 * np.abs(t) / (om.pin_count * r_w)
+            out["output pins"] = np.sign(t) * sp.roller_approach(f_max, self.face_width_m) / r_w
+        return out
 
     def member_frame_point(self, model, position_rad: float, point):
         c, th = sg.planet_pose(model.pair, position_rad)

@@ -145,8 +145,9 @@ class CycleSolver:
                             candidates=self.model.candidates)
 
     def solve_position(self, chi: float, torque: float) -> PositionResult:
-        """Contact at crank angle ``chi`` (rad) under the planet torque (N m)."""
-        check_range("torque", torque, 0, None, lo_open=True)
+        """Contact at crank angle ``chi`` (rad) under the planet torque (N m); a negative
+        torque loads the other flank of the teeth (the hat grids cover both)."""
+        _check_torque(torque)
         check_range("chi", chi)
         sel_gap = self.select_gap
         while True:
@@ -155,7 +156,7 @@ class CycleSolver:
             # the contact stays inside the selection, and no hat left out (initial gap
             # above sel_gap) can be closed by the rigid rotation
             if (np.max(res.g0[loaded]) <= SELECT_MARGIN * sel_gap
-                    and res.rotation * np.max(np.abs(res.arm)) <= sel_gap):
+                    and abs(res.rotation) * np.max(np.abs(res.arm)) <= sel_gap):
                 return res
             if 2 * sel_gap > SELECT_GAP_MAX:
                 raise contact.ContactError(
@@ -206,13 +207,21 @@ class CycleSolver:
         return _flank_columns(j0, self.model.candidates, tooth, cell >= self.planet.n_hats / 2)
 
     def solve(self, torque: float, progress=None) -> LoadSharing:
-        """Load sharing at every position for the planet torque (N m)."""
-        check_range("torque", torque, 0, None, lo_open=True)
+        """Load sharing at every position for the planet torque (N m), either sign."""
+        _check_torque(torque)
         it = range(self.positions_rad.size)
         if progress is not None:
             it = progress(it)
         results = [self.solve_position(self.positions_rad[p], torque) for p in it]
         return _record("cycle", self.model, self.states, results, torque, self.planet.toothed)
+
+
+def _check_torque(torque):
+    """A member torque of either sign; zero leaves the rotation undetermined."""
+    check_range("torque", torque)
+    if torque == 0:
+        raise ToothfemError("torque = 0 is outside the valid range: nonzero (the rotation "
+                            "of an unloaded planet is not determined)")
 
 
 def _flank_columns(j0, k, tooth, upper):

@@ -14,7 +14,8 @@ from .. import contact
 from ..elastic import Body
 from ..load_sharing import LoadSharing
 from ..mesh import Refinement, mesh_rings
-from .cycle import _flank_columns, PositionResult, _record, SELECT_GAP_MAX, SELECT_MARGIN
+from .cycle import (_check_torque, _flank_columns, PositionResult, _record, SELECT_GAP_MAX,
+                    SELECT_MARGIN)
 from .grid import (COARSE_STEP_REL, SIZE_MAX_REL, _boundary_chain, _circle, _outline,
                    _planet_toothed, _ring_toothed, ring_foot)
 from .model import SineFEModel
@@ -66,7 +67,7 @@ def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,
     ``element_size``) and conforming; the zones are found from the geometry (module
     constants) and grown until the contact lies inside them."""
     check_range("crank_angle_rad", crank_angle_rad)
-    check_range("torque", torque, 0, None, lo_open=True)
+    _check_torque(torque)
     m = model.pair.module_m
     check_range("element_size", element_size, 0.002 * m, 0.1 * m,
                 why="element size along the contact zones: 1/500 to 1/10 of the module")
@@ -75,7 +76,7 @@ def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,
         res = _detailed(model, float(crank_angle_rad), torque, element_size, zone_gap)
         nodes = res.nodes
         loaded = nodes.force > 0
-        rigid = res.nodes.rotation * np.max(np.abs(nodes.arm))
+        rigid = abs(res.nodes.rotation) * np.max(np.abs(nodes.arm))
         if (np.max(nodes.g0[loaded]) <= SELECT_MARGIN * zone_gap
                 and res.min_gap_outside >= -CHECK_OVERLAP_REL * rigid):
             return res
@@ -111,7 +112,8 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     rel = kp - centre[:, None]
     arm = rel[0] * nrm[1] - rel[1] * nrm[0]
     zones = []
-    for a, b in _runs((g0 < zone_gap) & (arm < 0)):
+    side = 1.0 if torque > 0 else -1.0      # a negative torque loads the other flanks
+    for a, b in _runs((g0 < zone_gap) & (side * arm < 0)):
         a, b = max(a - ZONE_PAD, 0), min(b + ZONE_PAD, sig.size)
         if zones and a <= zones[-1][1]:
             zones[-1] = (zones[-1][0], b)

@@ -1,0 +1,209 @@
+"""The hysteresis loop and the catalogue figures of a reducer (docs/stiffness.md).
+
+The loop runs the output torque from 0 to +T, down to -T and back to +T (the catalogue's
+test, input held). Contact is frictionless, so loading and unloading follow one curve
+except at zero torque, where the output stays at the closing rotation of the flank it
+comes from: the loop's width there is the backlash, and the loop closes elsewhere (the
+friction hysteresis of a real reducer is not modelled).
+
+Definitions (catalogues of RV and strain-wave reducers):
+- torsional rigidity [N m/arcmin]: (T100 - T50) / (theta(T100) - theta(T50)), the slope
+  between 50 % and 100 % of the rated torque, each direction and their mean;
+- three-segment stiffness: the slopes over 0-25 %, 25-50 %, 50-100 % (from the zero-torque
+  end of each branch, so the backlash is not in the first segment);
+- lost motion [arcmin]: theta(+3 %) - theta(-3 %);
+- backlash [arcmin]: theta(0 from +) - theta(0 from -), the two closing rotations;
+- compliances in series: each path's twist change between 50 % and 100 % per N m, and its
+  share of their sum (the inverse rigidity).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...errors import CaseError, check_range
+from .twist import ARCMIN, TwistModel
+
+#: Catalogue points, fractions of the rated torque: lost motion at +-3 % (Nabtesco RV
+#: catalogues), rigidity between 50 and 100 %, three segments 0-25-50-100 %.
+LOST_MOTION_FRACTION = 0.03
+RIGIDITY_FRACTIONS = (0.5, 1.0)
+SEGMENT_FRACTIONS = (0.0, 0.25, 0.5, 1.0)
+#: Fewest torque steps from 0 to +T: 25 % of T must be a step of the loop.
+MIN_STEPS, MAX_STEPS = 4, 400
+#: Fewest contacts that must carry at the largest torque of the loop at every position:
+#: with one the mesh has not closed the modification's clearance (the curve is backlash).
+MIN_CONTACTS_AT_MAX = 2
+
+
+def loop_torques(torque_max_Nm: float, steps: int) -> np.ndarray:
+    """Output torques of the loop: 0 -> +T -> -T -> +T in steps of T/steps (5 steps + 1
+    points; 41 for 8 steps)."""
+    check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
+    if isinstance(steps, bool) or int(steps) != steps:
+        raise CaseError(f"steps = {steps!r} must be an integer")
+    check_range("steps", steps, MIN_STEPS, MAX_STEPS, error=CaseError,
+                why="torque steps from 0 to the largest torque")
+    n = int(steps)
+    up = np.arange(0, n + 1)
+    down = np.arange(n - 1, -n - 1, -1)
+    back = np.arange(-n + 1, n + 1)
+    return np.concatenate([up, down, back]) * (torque_max_Nm / n)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Loop:
+    """The hysteresis loop: per torque step the twist averaged over the positions and its
+    range, and the loaded contacts (mean over the positions)."""
+    torque_Nm: np.ndarray
+    twist_arcmin: np.ndarray
+    twist_min_arcmin: np.ndarray
+    twist_max_arcmin: np.ndarray
+    contacts: np.ndarray
+
+    def rows(self):
+        """(torque_Nm, twist_arcmin, twist_min_arcmin, twist_max_arcmin, contacts)."""
+        return zip(self.torque_Nm, self.twist_arcmin, self.twist_min_arcmin,
+                   self.twist_max_arcmin, self.contacts)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Datasheet:
+    """The catalogue figures of a drive from its FE contact and supports."""
+    rated_torque_Nm: float
+    rated_torque_assumed: bool
+    loop: Loop
+    rigidity_Nm_per_arcmin: float
+    rigidity_by_direction: tuple            # (positive, negative) N m/arcmin
+    segment_stiffness_Nm_per_arcmin: tuple  # (0-25 %, 25-50 %, 50-100 %), both directions' mean
+    lost_motion_arcmin: float
+    backlash_arcmin: float
+    compliance_arcmin_per_Nm: dict          # path -> secant compliance 50-100 %
+    supports: dict                          # Supports.describe(): values and assumed flags
+    positions: int
+    member_name: str
+    contact_name: str
+    extra: dict = field(default_factory=dict)   # TE and split summaries when computed
+
+    @property
+    def compliance_shares(self) -> dict:
+        total = sum(self.compliance_arcmin_per_Nm.values())
+        return {k: v / total for k, v in self.compliance_arcmin_per_Nm.items()}
+
+    def summary(self) -> dict:
+        """Plain mapping (summary.json)."""
+        out = {
+            "rated_torque_Nm": self.rated_torque_Nm,
+            "rated_torque_assumed": self.rated_torque_assumed,
+            "torsional_rigidity_Nm_per_arcmin": self.rigidity_Nm_per_arcmin,
+            "torsional_rigidity_positive_Nm_per_arcmin": self.rigidity_by_direction[0],
+            "torsional_rigidity_negative_Nm_per_arcmin": self.rigidity_by_direction[1],
+            "stiffness_0_25_Nm_per_arcmin": self.segment_stiffness_Nm_per_arcmin[0],
+            "stiffness_25_50_Nm_per_arcmin": self.segment_stiffness_Nm_per_arcmin[1],
+            "stiffness_50_100_Nm_per_arcmin": self.segment_stiffness_Nm_per_arcmin[2],
+            "lost_motion_arcmin": self.lost_motion_arcmin,
+            "backlash_arcmin": self.backlash_arcmin,
+            "compliances_arcmin_per_Nm": dict(self.compliance_arcmin_per_Nm),
+            "compliance_shares": self.compliance_shares,
+            "supports": self.supports,
+            "positions": self.positions,
+            f"{plural(self.contact_name)}_in_contact_at_rated_torque": float(
+                self.loop.contacts[int(np.argmax(self.loop.torque_Nm))]),
+            "friction_hysteresis": "not modelled (frictionless contact): the loop's "
+                                   "width is the backlash",
+        }
+        out.update(self.extra)
+        return out
+
+
+#: Plural of a drive's contact name in column names.
+PLURALS = {"tooth": "teeth"}
+
+
+def plural(name: str) -> str:
+    return PLURALS.get(name, name + "s")
+
+
+def _slope(model: TwistModel, t_lo: float, t_hi: float, side: int) -> float:
+    """(t_hi - t_lo) / (theta(t_hi) - theta(t_lo)) [N m/rad] on the branch of ``side``
+    (torques as magnitudes, signed by ``side``)."""
+    a = model.at(side * t_lo, side).total.mean()
+    b = model.at(side * t_hi, side).total.mean()
+    return (t_hi - t_lo) / (side * (b - a))
+
+
+def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool = False,
+              torque_max_Nm: float | None = None, steps: int = 8) -> Datasheet:
+    """The hysteresis loop and the catalogue figures.
+
+    Parameters
+    ----------
+    model : TwistModel
+        The drive's twist over its positions (both torque signs).
+    rated_torque_Nm : float
+        Rated output torque [N m] (the catalogue's reference), > 0.
+    rated_assumed : bool
+        The rating is the case's operating torque, not a declared rating.
+    torque_max_Nm : float, optional
+        Largest torque of the loop [N m]; default the rated torque.
+    steps : int
+        Torque steps from 0 to the largest torque (>= 4).
+
+    Returns
+    -------
+    Datasheet
+    """
+    rated = check_range("rated_torque_Nm", rated_torque_Nm, 0, None, lo_open=True,
+                        error=CaseError)
+    t_max = rated if torque_max_Nm is None else torque_max_Nm
+    torques = loop_torques(t_max, steps)
+    _check_closed(model, t_max)
+    points, side = [], 1
+    for k, t in enumerate(torques):
+        if t != 0:
+            side = 1 if t > 0 else -1           # zero: the flank the path comes from
+        points.append(model.at(t, side))
+    deg = lambda x: x / ARCMIN  # noqa: E731
+    loop = Loop(torque_Nm=torques,
+                twist_arcmin=np.array([deg(p.total.mean()) for p in points]),
+                twist_min_arcmin=np.array([deg(p.total.min()) for p in points]),
+                twist_max_arcmin=np.array([deg(p.total.max()) for p in points]),
+                contacts=np.array([float(np.mean(p.contacts)) for p in points]))
+    lo, hi = (f * rated for f in RIGIDITY_FRACTIONS)
+    rig = tuple(_slope(model, lo, hi, s) * ARCMIN for s in (1, -1))
+    seg = []
+    for a, b in zip(SEGMENT_FRACTIONS[:-1], SEGMENT_FRACTIONS[1:]):
+        seg.append(0.5 * ARCMIN * sum(_slope(model, a * rated, b * rated, s) for s in (1, -1)))
+    t_lm = LOST_MOTION_FRACTION * rated
+    lost = deg(model.at(t_lm, 1).total.mean() - model.at(-t_lm, -1).total.mean())
+    backlash = deg(model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean())
+    compliance = {}
+    for name in model.at(hi, 1).paths:
+        per_side = [side * (model.at(side * hi, side).paths[name].mean()
+                            - model.at(side * lo, side).paths[name].mean()) / (hi - lo)
+                    for side in (1, -1)]
+        compliance[name] = deg(0.5 * sum(per_side))
+    d = model.drive
+    return Datasheet(rated_torque_Nm=float(rated), rated_torque_assumed=bool(rated_assumed),
+                     loop=loop, rigidity_Nm_per_arcmin=0.5 * sum(rig),
+                     rigidity_by_direction=rig, segment_stiffness_Nm_per_arcmin=tuple(seg),
+                     lost_motion_arcmin=float(lost), backlash_arcmin=float(backlash),
+                     compliance_arcmin_per_Nm=compliance,
+                     supports=model.supports.describe(),
+                     positions=int(model.positions_rad.size), member_name=d.member_name,
+                     contact_name=d.contact_name)
+
+
+def _check_closed(model: TwistModel, t_max: float) -> None:
+    """The loop's largest torque must close the modification's clearance to at least
+    MIN_CONTACTS_AT_MAX contacts at every position (else the curve shows only backlash)."""
+    for side in (1, -1):
+        n = int(np.min(model.at(side * t_max, side).contacts))
+        if n < MIN_CONTACTS_AT_MAX:
+            back = (model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean()) / ARCMIN
+            raise CaseError(
+                f"torque_max_Nm = {t_max:g} is outside the valid range for this design: it "
+                f"leaves {n} {model.drive.contact_name} in contact at some position (at "
+                f"least {MIN_CONTACTS_AT_MAX}); the modification opens a backlash of "
+                f"{back:.3g} arcmin that this torque does not close")

@@ -1,0 +1,190 @@
+"""The elastic supports in series with the mesh: roller bearings, shafts, the carrier.
+
+Small closed forms, each with its source; the drives (:mod:`toothfem.fem.drives`) put them
+together along their own load paths (``Drive.support_twists``). Units SI: N, m, rad.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+#: Palmgren's approach of one steel roller on one raceway (line contact), in his units:
+#: delta [mm] = PALMGREN_LINE_MM Q[N]^0.9 / l[mm]^0.8 (A. Palmgren, Ball and Roller
+#: Bearing Engineering, 3rd ed., 1959; T. A. Harris, M. N. Kotzalas, Essential Concepts
+#: of Bearing Technology, 5th ed., 2007, Sec. 6.4). A roller touches two raceways.
+PALMGREN_LINE_MM = 3.84e-5
+#: Stribeck's factor of a radial roller bearing with zero clearance: the most loaded of Z
+#: rollers carries Q_max = STRIBECK_LINE F_r / Z (line contact; Harris & Kotzalas Sec. 7.3,
+#: NSK's bearing-load tables give the same 4.08).
+STRIBECK_LINE = 4.08
+#: Timoshenko's shear coefficient of a solid circular section (Cowper 1966, nu = 0.3).
+SHEAR_COEFFICIENT_CIRCLE = 0.9
+
+
+def roller_approach(load_N, length_m):
+    """Approach [m] of one roller on one raceway under ``load_N`` (Palmgren, line contact).
+
+    Parameters
+    ----------
+    load_N : array_like
+        Roller load Q [N], >= 0.
+    length_m : float
+        Effective roller length l [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        delta = 3.84e-5 Q^0.9 / l^0.8 in mm, returned in m.
+    """
+    q = np.maximum(np.asarray(load_N, float), 0.0)
+    return PALMGREN_LINE_MM * q ** 0.9 / (length_m * 1e3) ** 0.8 * 1e-3
+
+
+def radial_bearing_deflection(load_N, rollers: int, length_m: float):
+    """Radial deflection [m] of a roller bearing with zero clearance under a radial load:
+    the approach of its most loaded roller (Stribeck's Q_max = 4.08 F_r / Z) on both of its
+    raceways (inner and outer: twice Palmgren's single contact).
+
+    Parameters
+    ----------
+    load_N : array_like
+        Radial load F_r [N].
+    rollers : int
+        Rollers Z in the row.
+    length_m : float
+        Effective roller length [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Deflection along the load [m].
+    """
+    q_max = STRIBECK_LINE * np.abs(np.asarray(load_N, float)) / rollers
+    return 2 * roller_approach(q_max, length_m)
+
+
+def simply_supported_influence(x_m, a_m, span_m, diameter_m, youngs_modulus_Pa,
+                               poisson_ratio):
+    """Deflection [m per N] at ``x`` of a solid round shaft on two simple supports ``span``
+    apart under a unit force at ``a`` (both from one support): Euler-Bernoulli bending
+    (Roark, Table 8.1 case 1e) plus Timoshenko's shear deflection.
+
+    Parameters
+    ----------
+    x_m, a_m : array_like
+        Where the deflection is read and where the force acts [m], 0 <= x, a <= span.
+    span_m, diameter_m : float
+        Support span and shaft diameter [m].
+    youngs_modulus_Pa, poisson_ratio : float
+
+    Returns
+    -------
+    numpy.ndarray
+        w(x; a) per unit force, symmetric in x and a (Maxwell).
+    """
+    x, a = np.broadcast_arrays(np.asarray(x_m, float), np.asarray(a_m, float))
+    lo, hi = np.minimum(x, a), np.maximum(x, a)
+    b = span_m - hi
+    e, nu = youngs_modulus_Pa, poisson_ratio
+    inertia = math.pi * diameter_m ** 4 / 64
+    bend = b * lo * (span_m ** 2 - b ** 2 - lo ** 2) / (6 * span_m * e * inertia)
+    shear_modulus = e / (2 * (1 + nu))
+    area = math.pi * diameter_m ** 2 / 4
+    shear = lo * b / (span_m * SHEAR_COEFFICIENT_CIRCLE * shear_modulus * area)
+    return bend + shear
+
+
+def torsion_compliance(length_m, diameter_m, youngs_modulus_Pa, poisson_ratio) -> float:
+    """Twist [rad per N m] of a solid round shaft of ``length`` under a torque: L/(G J)."""
+    shear_modulus = youngs_modulus_Pa / (2 * (1 + poisson_ratio))
+    return length_m / (shear_modulus * math.pi * diameter_m ** 4 / 32)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Supports:
+    """The supports of one drive as analysed: every value SI, and the names of the values
+    the case did not give (``assumed``: the drive chose them, the outputs say so)."""
+    bearing_roller_count: int
+    bearing_roller_length_m: float
+    bearing_roller_diameter_m: float
+    crankshaft_diameter_m: float | None
+    crankshaft_span_m: float | None
+    carrier_stiffness_Nm_per_rad: float | None     # None: rigid carrier
+    assumed: tuple = ()
+
+    def describe(self) -> dict:
+        """The values in the case's units, each with ``assumed`` True or False."""
+        mm = 1e3
+        per_arcmin = math.pi / (180 * 60)
+        rows = {
+            "bearing_roller_count": self.bearing_roller_count,
+            "bearing_roller_length_mm": self.bearing_roller_length_m * mm,
+            "bearing_roller_diameter_mm": self.bearing_roller_diameter_m * mm,
+            "crankshaft_diameter_mm": (None if self.crankshaft_diameter_m is None
+                                       else self.crankshaft_diameter_m * mm),
+            "crankshaft_span_mm": (None if self.crankshaft_span_m is None
+                                   else self.crankshaft_span_m * mm),
+            "carrier_stiffness_Nm_per_arcmin": (
+                None if self.carrier_stiffness_Nm_per_rad is None
+                else self.carrier_stiffness_Nm_per_rad * per_arcmin),
+        }
+        names = {"bearing_roller_count": "bearing_roller_count",
+                 "bearing_roller_length_mm": "bearing_roller_length_m",
+                 "bearing_roller_diameter_mm": "bearing_roller_diameter_m",
+                 "crankshaft_diameter_mm": "crankshaft_diameter_m",
+                 "crankshaft_span_mm": "crankshaft_span_m",
+                 "carrier_stiffness_Nm_per_arcmin": "carrier_stiffness_Nm_per_rad"}
+        return {k: {"value": v, "assumed": names[k] in self.assumed}
+                for k, v in rows.items()}
+
+
+#: Assumed bearing rollers when the case gives none: diameter a quarter of the radius of
+#: the raceway they run on (needle and cylindrical roller bearings of reducers: 0.2-0.3),
+#: rollers ROLLER_PITCH_REL diameters apart on their pitch circle (cage webs between them).
+ROLLER_DIAMETER_REL, ROLLER_PITCH_REL = 0.25, 1.2
+
+
+def resolved(declared, *, raceway_radius_m: float, roller_length_m: float,
+             crankshaft_diameter_m: float | None = None,
+             crankshaft_span_m: float | None = None, outer_raceway: bool = True) -> Supports:
+    """The case's supports (:class:`toothfem.si.SupportsSI`) with the drive's assumptions
+    where it gives none.
+
+    Parameters
+    ----------
+    declared : toothfem.si.SupportsSI
+    raceway_radius_m : float
+        Radius of the raceway the rollers run on in the member: the crank hole (outer
+        raceway) or the eccentric's inner ring (``outer_raceway`` False).
+    roller_length_m : float
+        Assumed roller length (the member's face width).
+    crankshaft_diameter_m, crankshaft_span_m : float, optional
+        Assumed crankshaft dimensions (None: the drive has no crankshafts).
+    """
+    assumed = []
+
+    def pick(name, default):
+        v = getattr(declared, name)
+        if v is None:
+            assumed.append(name)
+            return default
+        return v
+
+    d = pick("bearing_roller_diameter_m", ROLLER_DIAMETER_REL * raceway_radius_m)
+    pitch_radius = raceway_radius_m - 0.5 * d if outer_raceway else raceway_radius_m + 0.5 * d
+    n_default = max(int(2 * math.pi * pitch_radius / (ROLLER_PITCH_REL * d)), 3)
+    count = pick("bearing_roller_count", n_default)
+    length = pick("bearing_roller_length_m", roller_length_m)
+    shaft_d = shaft_l = None
+    if crankshaft_diameter_m is not None:
+        shaft_d = pick("crankshaft_diameter_m", crankshaft_diameter_m)
+        shaft_l = pick("crankshaft_span_m", crankshaft_span_m)
+    carrier = declared.carrier_stiffness_Nm_per_rad
+    if carrier is None:
+        assumed.append("carrier_stiffness_Nm_per_rad")
+    return Supports(bearing_roller_count=int(count), bearing_roller_length_m=float(length),
+                    bearing_roller_diameter_m=float(d), crankshaft_diameter_m=shaft_d,
+                    crankshaft_span_m=shaft_l, carrier_stiffness_Nm_per_rad=carrier,
+                    assumed=tuple(assumed))

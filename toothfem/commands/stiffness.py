@@ -1,0 +1,49 @@
+"""`toothfem stiffness CASE --out DIR [--torque-max-Nm T] [--steps N] [--positions N]`: the
+datasheet (hysteresis curve, torsional rigidity, lost motion, backlash, compliances in
+series), the loaded transmission error over the full period and the split between the
+discs (docs/stiffness.md)."""
+from __future__ import annotations
+
+import json
+
+
+def add_parser(sub):
+    p = sub.add_parser("stiffness", help="torsional stiffness, hysteresis, lost motion, "
+                       "backlash, loaded transmission error and disc split from the FE "
+                       "contact and the supports in series")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--torque-max-Nm", type=float, default=None, dest="torque_max",
+                   help="largest output torque of the loop [N m] (default: the case's "
+                        "rated_torque_Nm, else its operating torque)")
+    p.add_argument("--steps", type=int, default=8,
+                   help="torque steps from 0 to the largest torque (>= 4; the loop "
+                        "0 -> +T -> -T -> +T has 5 steps + 1 points; default 8: 41)")
+    p.add_argument("--positions", type=int, default=36,
+                   help="meshing positions over one pitch of the loop (default 36)")
+    p.add_argument("--te-torque-Nm", type=float, default=None, dest="te_torque",
+                   help="output torque of the loaded TE and the split (default: rated)")
+    p.add_argument("--te-samples", type=int, default=6,
+                   help="cycle solvers over the drive's full period for the TE (default 6)")
+    p.add_argument("--te-positions", type=int, default=12,
+                   help="positions per pitch of each TE solver (default 12)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..case import load_case
+    from ..output import atomic_dir
+    from ..pipeline import stiffness_analysis, write_stiffness
+
+    case = load_case(args.case)
+    result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,
+                                positions=args.positions, te_torque_Nm=args.te_torque,
+                                te_samples=args.te_samples, te_positions=args.te_positions)
+    with atomic_dir(args.out) as tmp:
+        summary = write_stiffness(result, tmp)
+    keep = ("rated_torque_Nm", "rated_torque_assumed", "torsional_rigidity_Nm_per_arcmin",
+            "lost_motion_arcmin", "backlash_arcmin", "compliance_shares",
+            "te_peak_to_peak_arcsec", "te_rms_arcsec", "member_share_max",
+            "member_load_factor_fe")
+    print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
+    return 0

@@ -1,0 +1,98 @@
+"""Pictures of the datasheet: the catalogue hysteresis curve and the loaded transmission
+error. Functions take result records and return a matplotlib figure."""
+from __future__ import annotations
+
+import numpy as np
+
+from . import pyplot
+
+
+def hysteresis(sheet, title: str = ""):
+    """Output twist against output torque over the loop (0 -> +T -> -T -> +T), the range
+    over the meshing positions shaded, with the rigidity slope and the lost motion marked.
+
+    Parameters
+    ----------
+    sheet : toothfem.fem.datasheet.sheet.Datasheet
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = pyplot()
+    loop = sheet.loop
+    fig, ax = plt.subplots(figsize=(8.5, 6))
+    t, th = loop.torque_Nm, loop.twist_arcmin
+    order = np.argsort(t, kind="stable")
+    ax.fill_between(t[order], loop.twist_min_arcmin[order], loop.twist_max_arcmin[order],
+                    color="tab:blue", alpha=0.2, lw=0, label="range over the positions")
+    ax.plot(t, th, "o-", color="tab:blue", ms=3, lw=1.2,
+            label="mean over the positions (0 → +T → −T → +T)")
+    rated = sheet.rated_torque_Nm
+    # rigidity: the 50-100 % secant of each branch
+    for side, colour in ((1, "tab:red"), (-1, "tab:red")):
+        pts = [(x, y) for x, y in zip(t, th) if side * x > 0]
+        xs = np.array([p[0] for p in pts])
+        ys = np.array([p[1] for p in pts])
+        k = sheet.rigidity_by_direction[0 if side > 0 else 1]
+        x0 = side * 0.5 * rated
+        y0 = np.interp(x0, xs[np.argsort(xs)], ys[np.argsort(xs)])
+        xr = np.array([x0, side * rated])
+        ax.plot(xr, y0 + (xr - x0) / k, "--", color=colour, lw=1.5,
+                label=f"rigidity 50-100 % of rated: {sheet.rigidity_Nm_per_arcmin:.4g} "
+                      "N m/arcmin"
+                if side > 0 else None)
+    lm = sheet.lost_motion_arcmin
+    t_lm = 0.03 * rated
+    ax.axvspan(-t_lm, t_lm, color="tab:orange", alpha=0.25,
+               label=f"±3 % of rated: lost motion {lm:.3g} arcmin")
+    ax.annotate(f"backlash {sheet.backlash_arcmin:.3f} arcmin", xy=(0, 0),
+                xytext=(0.05 * rated, -0.08 * np.ptp(th)), fontsize=9,
+                arrowprops=dict(arrowstyle="->", lw=0.8))
+    ax.axhline(0, color="k", lw=0.5)
+    ax.axvline(0, color="k", lw=0.5)
+    ax.set_xlabel("output torque [N m]")
+    ax.set_ylabel("output twist [arcmin]")
+    assumed = " (rated = operating torque, assumed)" if sheet.rated_torque_assumed else ""
+    ax.set_title(title or f"torsional stiffness: rated torque {rated:.4g} N m{assumed}",
+                 fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    fig.tight_layout()
+    return fig
+
+
+def transmission_error(te, title: str = ""):
+    """The figure of a :class:`~toothfem.fem.datasheet.transmission.LoadedTE`: the TE over
+    the full period against crank angle (output angle on the top axis), and below the
+    amplitudes of its largest harmonics by order per output revolution."""
+    plt = pyplot()
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
+    arcsec = np.degrees(1.0) * 3600
+    crank = np.degrees(te.crank_angle_rad)
+    a1.plot(crank, te.te_rad * arcsec, lw=1.2, color="tab:blue", label="output twist (TE)")
+    a1.set_xlabel("crank angle [deg]")
+    a1.set_ylabel("loaded TE [arcsec]")
+    top = a1.secondary_xaxis("top", functions=(
+        lambda x: x * (te.output_angle_rad[1] / te.crank_angle_rad[1]
+                       if te.crank_angle_rad.size > 1 else 1.0),
+        lambda x: x / (te.output_angle_rad[1] / te.crank_angle_rad[1]
+                       if te.crank_angle_rad.size > 1 else 1.0)))
+    top.set_xlabel("output angle [deg]")
+    a1.grid(alpha=0.3)
+    a1.legend(fontsize=8, loc="lower right")
+    pitches = f"{te.full_period_pitches} pitch" + ("es" if te.full_period_pitches > 1 else "")
+    a1.set_title(title or f"loaded TE at {te.output_torque_Nm:.4g} N m over the full period "
+                 f"({pitches}): peak-to-peak "
+                 f"{te.peak_to_peak_arcsec:.3g} arcsec, RMS {te.rms_arcsec:.3g} arcsec",
+                 fontsize=10)
+    h = te.harmonics(12)
+    a2.stem([x["order_per_output_rev"] for x in h], [x["amplitude_arcsec"] for x in h],
+            basefmt=" ")
+    a2.set_xscale("log")
+    a2.set_xlabel("order [per output revolution]")
+    a2.set_ylabel("amplitude [arcsec]")
+    a2.set_title("largest harmonics", fontsize=10)
+    a2.grid(alpha=0.3, which="both")
+    fig.tight_layout()
+    return fig
