@@ -104,10 +104,27 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
 
 @dataclass(frozen=True)
 class Material(_Section):
+    """Elastic constants, and the hardness and strengths of life and strength checks
+    (defaults: through-hardened bearing steel, sources in docs/case_schema.md)."""
     _section = "material"
     youngs_modulus_GPa: float = _f(1.0, 1000.0)
     poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
     density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
+    hardness_HV: float = _f(50.0, 2000.0, default=700.0,
+                            doc="Vickers hardness; 700 HV = 60 HRC (ASTM E140), "
+                                "through-hardened bearing steel")
+    allowable_contact_stress_MPa: float = _f(0.0, None, lo_open=True, default=1500.0,
+                                             doc="contact fatigue limit; 1500 MPa: ISO "
+                                                 "281:2007 fatigue load limit, bearing steel")
+    static_contact_stress_MPa: float = _f(0.0, None, lo_open=True, default=4000.0,
+                                          doc="static contact limit; 4000 MPa: ISO 76:2006, "
+                                              "roller contacts")
+    yield_strength_MPa: float = _f(0.0, None, lo_open=True, default=1700.0,
+                                   doc="0.2 % proof stress; ASSUMPTION 1700 MPa, the lower "
+                                       "end of hardened 100Cr6 (docs/case_schema.md)")
+    fatigue_limit_MPa: float = _f(0.0, None, lo_open=True, default=700.0,
+                                  doc="endurance limit; 700 MPa: Shigley Eq. 6-8, steels "
+                                      "with S_ut > 1400 MPa")
 
 
 @dataclass(frozen=True)
@@ -291,10 +308,28 @@ class Lubricant(_Section):
     vogel_B_C: float = _f(100.0, 5000.0, default=1000.0,
                           doc="Vogel B: eta = A exp(B/(T + C)), T in deg C")
     vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]")
-    churning: str = _f(choices=("none", "lu_xu_2024"), default="none",
-                       doc="no-load (churning and seal) loss law")
+    churning: str = _f(choices=("none", "lu_xu_2024"), default="lu_xu_2024",
+                       doc="churning (oil agitation and splash) law of an oil bath; "
+                           "lu_xu_2024: the sine paper's Eq. 42")
     churning_scale: float = _f(0.0, 100.0, default=1.0,
                                doc="factor on the churning law")
+    lubrication: str = _f(choices=("oil_bath", "oil_mist", "oil_jet", "grease"),
+                          default="oil_bath",
+                          doc="how the reducer is lubricated: the churning law acts in an oil "
+                              "bath; the bearings' viscous drag takes Palmgren's f0 of it")
+    pour_point_C: float = _f(-80.0, 50.0, default=-15.0,
+                             doc="lowest temperature of the viscosity law; ASSUMPTION -15 C, "
+                                 "mineral gear oils (docs/case_schema.md)")
+    max_temperature_C: float = _f(0.0, 300.0, default=150.0,
+                                  doc="highest temperature of the viscosity law; 150 C, "
+                                      "mineral oil oxidation limit (docs/case_schema.md)")
+
+    def _check(self):
+        t_ref = self.reference_temperature_C
+        if not self.pour_point_C < t_ref < self.max_temperature_C:
+            raise CaseError(f"lubricant.reference_temperature_C = {t_ref!r} is outside the "
+                            f"valid range ({self.pour_point_C:g}, {self.max_temperature_C:g})"
+                            ": between pour_point_C and max_temperature_C")
 
 
 @dataclass(frozen=True)
@@ -308,8 +343,9 @@ class Friction(_Section):
                                            "grooves (0: pins roll freely)")
     mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
                        default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
-    boundary_coefficient: float = _f(0.0, 1.0, default=0.0,
-                                     doc="asperity friction in mixed lubrication (0: off)")
+    boundary_coefficient: float = _f(0.0, 1.0, default=0.1,
+                                     doc="asperity (boundary) friction of lubricated steel "
+                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950")
     drag_torque_Nmm: float = _f(0.0, None, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
 
@@ -323,6 +359,90 @@ class OutputMechanism(_Section):
     pin_radius_mm: float = _f(0.0, None, lo_open=True, default=5.0)
     eccentric_bearing_inner_radius_mm: float = _f(0.0, None, lo_open=True, default=10.0)
     plain_bearing_friction_torque_Nmm: float = _f(0.0, None, default=0.0)
+
+
+BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
+
+
+@dataclass(frozen=True)
+class Seals(_Section):
+    """Radial lip seals on the input and the output shaft (ISO/TR 14179-1 seal loss).
+    None: the drive's own diameter (efficiency/envelope.py, ASSUMPTION); 0: no seal."""
+    _section = "seals"
+    input_diameter_mm: float | None = _f(0.0, None, default=None,
+                                         doc="shaft diameter under the input seal")
+    output_diameter_mm: float | None = _f(0.0, None, default=None,
+                                          doc="shaft diameter under the output seal")
+
+
+@dataclass(frozen=True)
+class Bearings(_Section):
+    """The bearings on the eccentrics (crank bearings in the discs' holes of a 2K-V drive,
+    the eccentric bearing of a K-H-V drive) and the main (output) bearing pair, with the
+    external loads on the output. None: the drive's own value (efficiency/envelope.py)."""
+    _section = "bearings"
+    eccentric_type: str | None = _f(choices=BEARING_TYPES, default=None,
+                                    doc="rolling-element type of the eccentric bearings")
+    eccentric_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    eccentric_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one eccentric bearing (ISO 281)")
+    main_type: str = _f(choices=BEARING_TYPES, default="angular_ball",
+                        doc="main bearing pair: angular contact ball bearings (RV-E)")
+    main_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    main_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one main bearing row (ISO 281)")
+    main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                    doc="distance between the load centres of the two rows")
+    external_radial_load_N: float = _f(0.0, None, default=0.0)
+    external_axial_load_N: float = _f(0.0, None, default=0.0)
+    external_moment_Nm: float = _f(0.0, None, default=0.0)
+
+
+@dataclass(frozen=True)
+class Thermal(_Section):
+    """Heat balance of the housing: losses = h A (T_oil - T_ambient). None: a cited
+    estimate (efficiency/thermal.py, docs/case_schema.md)."""
+    _section = "thermal"
+    ambient_C: float = _f(-40.0, 100.0, default=20.0,
+                          doc="ambient air; ASSUMPTION 20 C (a laboratory)")
+    housing_area_m2: float | None = _f(0.0, None, lo_open=True, default=None,
+                                       doc="surface that sheds heat; default a cylinder of "
+                                           "the housing radius as long as its diameter")
+    heat_transfer_W_m2K: float | None = _f(0.0, 1000.0, lo_open=True, default=None,
+                                           doc="default: natural convection (Holman) plus "
+                                               "radiation at the emissivity")
+    emissivity: float = _f(0.0, 1.0, default=0.9,
+                           doc="painted housing; 0.9 (Incropera, paints)")
+    heat_capacity_J_K: float | None = _f(0.0, None, lo_open=True, default=None,
+                                         doc="lumped heat capacity; default half the "
+                                             "housing envelope in steel")
+    sensor_resistance_K_W: float = _f(0.0, 20.0, default=0.0,
+                                      doc="oil at the contacts above a sump sensor per W "
+                                          "of loss (the loop's thermal effect; 0: none)")
+
+
+@dataclass(frozen=True)
+class DutyPoint(_Section):
+    """One row of a duty cycle: output torque, input speed and the share of time."""
+    _section = "duty_cycle"
+    output_torque_Nm: float = _f(0.0, None, lo_open=True)
+    input_speed_rpm: float = _f(0.0, None, lo_open=True)
+    time_share: float = _f(0.0, 1.0, lo_open=True)
+
+
+#: Tolerance on the sum of a duty cycle's time shares (shares quoted to three digits).
+DUTY_SHARE_TOL = 1e-3
+
+
+def check_duty_cycle(rows) -> None:
+    """Refuse a duty cycle whose time shares do not sum to 1 (one line, the valid range)."""
+    if rows:
+        total = float(sum(r.time_share for r in rows))
+        check_range("duty_cycle time_share sum", total, 1 - DUTY_SHARE_TOL,
+                    1 + DUTY_SHARE_TOL, error=CaseError,
+                    why="the shares of time must add up to 1")
 
 
 @dataclass(frozen=True)
@@ -351,6 +471,10 @@ class Case:
     output_mechanism: OutputMechanism | None = None
     measured: tuple[MeasuredPoint, ...] = ()
     published: Mapping[str, Any] = field(default_factory=dict)
+    seals: Seals = field(default_factory=Seals)
+    bearings: Bearings = field(default_factory=Bearings)
+    thermal: Thermal = field(default_factory=Thermal)
+    duty_cycle: tuple[DutyPoint, ...] = ()
 
     DRIVES = ("cycloid", "sine", "rv")
 
@@ -373,6 +497,7 @@ class Case:
                     if getattr(st, key) != want:
                         raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
                                         f"[rv] tooth numbers ({want})")
+        check_duty_cycle(self.duty_cycle)
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):
@@ -407,6 +532,7 @@ _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
     "friction": Friction, "output_mechanism": OutputMechanism,
+    "seals": Seals, "bearings": Bearings, "thermal": Thermal,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 
@@ -460,16 +586,21 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
         check_range("case.stated_ratio", kwargs["stated_ratio"], error=CaseError)
     measured = mapping.pop("measured", [])
     published = mapping.pop("published", {})
+    duty = mapping.pop("duty_cycle", [])
     for key, value in mapping.items():
         cls = _SECTIONS.get(key)
         if cls is None:
             raise CaseError(f"[{key}] is not a known section; known: "
-                            f"{sorted(_SECTIONS) + ['case', 'measured', 'published']}")
+                            f"{sorted(_SECTIONS) + ['case', 'duty_cycle', 'measured', 'published']}")
         kwargs[key] = _section(cls, value, key)
     if not isinstance(measured, list):
         raise CaseError("[[measured]] must be an array of tables")
     kwargs["measured"] = tuple(_section(MeasuredPoint, m, f"measured[{i}]")
                                for i, m in enumerate(measured))
+    if not isinstance(duty, list):
+        raise CaseError("[[duty_cycle]] must be an array of tables")
+    kwargs["duty_cycle"] = tuple(_section(DutyPoint, d, f"duty_cycle[{i}]")
+                                 for i, d in enumerate(duty))
     if not isinstance(published, Mapping):
         raise CaseError("[published] must be a table")
     kwargs["published"] = dict(published)
@@ -504,12 +635,17 @@ def case_to_dict(case: Case) -> dict:
             out[key] = {k: v for k, v in dataclasses.asdict(sec).items() if v is not None}
     if case.measured:
         out["measured"] = [dataclasses.asdict(m) for m in case.measured]
+    if case.duty_cycle:
+        out["duty_cycle"] = [dataclasses.asdict(d) for d in case.duty_cycle]
     if case.published:
         out["published"] = dict(case.published)
     return out
 
 
 _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
+_MPA = 1e6
+#: Pa per Vickers hardness number (HV is in kgf/mm^2: 9.80665 N / 1e-6 m^2).
+_HV = 9.80665e6
 
 
 def _case_si(case: Case) -> si.CaseSI:
@@ -525,7 +661,11 @@ def _case_si(case: Case) -> si.CaseSI:
         name=case.name, drive=case.drive, ratio=case.ratio(),
         material=None if mat is None else si.MaterialSI(
             youngs_modulus_Pa=mat.youngs_modulus_GPa * _GPA, poisson_ratio=mat.poisson_ratio,
-            density_kg_m3=mat.density_kg_m3),
+            density_kg_m3=mat.density_kg_m3, hardness_Pa=mat.hardness_HV * _HV,
+            allowable_contact_stress_Pa=mat.allowable_contact_stress_MPa * _MPA,
+            static_contact_stress_Pa=mat.static_contact_stress_MPa * _MPA,
+            yield_strength_Pa=mat.yield_strength_MPa * _MPA,
+            fatigue_limit_Pa=mat.fatigue_limit_MPa * _MPA),
         cycloid=None if cyc is None else si.CycloidStageSI(
             geometry=cyc.geometry(), holes=cyc.holes_si(),
             face_width_m=cyc.face_width_mm * _MM, disc_count=cyc.disc_count,
@@ -557,7 +697,8 @@ def _case_si(case: Case) -> si.CaseSI:
             reference_temperature_C=lub.reference_temperature_C,
             roughness_Ra_m=lub.roughness_Ra_um * _UM, vogel_B_C=lub.vogel_B_C,
             vogel_C_C=lub.vogel_C_C, churning=lub.churning,
-            churning_scale=lub.churning_scale),
+            churning_scale=lub.churning_scale, lubrication=lub.lubrication,
+            pour_point_C=lub.pour_point_C, max_temperature_C=lub.max_temperature_C),
         friction=si.FrictionSI(
             coefficient=fri.coefficient, bearing_coefficient=fri.bearing_coefficient,
             output_pin_coefficient=fri.output_pin_coefficient,
@@ -568,4 +709,39 @@ def _case_si(case: Case) -> si.CaseSI:
             pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
             pin_radius_m=om.pin_radius_mm * _MM,
             eccentric_bearing_inner_radius_m=om.eccentric_bearing_inner_radius_mm * _MM,
-            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM))
+            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM),
+        seals=_seals_si(case.seals), bearings=_bearings_si(case.bearings),
+        thermal=si.ThermalSI(
+            ambient_C=case.thermal.ambient_C, housing_area_m2=case.thermal.housing_area_m2,
+            heat_transfer_W_m2K=case.thermal.heat_transfer_W_m2K,
+            emissivity=case.thermal.emissivity,
+            heat_capacity_J_K=case.thermal.heat_capacity_J_K,
+            sensor_resistance_K_W=case.thermal.sensor_resistance_K_W),
+        duty_cycle=tuple(si.DutyPointSI(
+            output_torque_Nm=d.output_torque_Nm,
+            input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,
+            time_share=d.time_share) for d in case.duty_cycle))
+
+
+def _mm_or_none(value):
+    return None if value is None else value * _MM
+
+
+def _seals_si(seals: Seals) -> si.SealsSI:
+    return si.SealsSI(input_diameter_m=_mm_or_none(seals.input_diameter_mm),
+                      output_diameter_m=_mm_or_none(seals.output_diameter_mm))
+
+
+def _bearings_si(b: Bearings) -> si.BearingsSI:
+    return si.BearingsSI(
+        eccentric_type=b.eccentric_type,
+        eccentric_pitch_diameter_m=_mm_or_none(b.eccentric_pitch_diameter_mm),
+        eccentric_dynamic_rating_N=(None if b.eccentric_dynamic_rating_kN is None
+                                    else b.eccentric_dynamic_rating_kN * 1e3),
+        main_type=b.main_type, main_pitch_diameter_m=_mm_or_none(b.main_pitch_diameter_mm),
+        main_dynamic_rating_N=(None if b.main_dynamic_rating_kN is None
+                               else b.main_dynamic_rating_kN * 1e3),
+        main_span_m=_mm_or_none(b.main_span_mm),
+        external_radial_load_N=b.external_radial_load_N,
+        external_axial_load_N=b.external_axial_load_N,
+        external_moment_Nm=b.external_moment_Nm)

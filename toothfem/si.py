@@ -20,10 +20,16 @@ _RECORD = dict(frozen=True, kw_only=True)
 
 @dataclass(**_RECORD)
 class MaterialSI:
-    """Elastic material of the gears, pins and discs (one material for all)."""
+    """Elastic material of the gears, pins and discs (one material for all), its hardness
+    (the asperities' flow pressure) and the limits of the strength checks."""
     youngs_modulus_Pa: float
     poisson_ratio: float
     density_kg_m3: float
+    hardness_Pa: float
+    allowable_contact_stress_Pa: float
+    static_contact_stress_Pa: float
+    yield_strength_Pa: float
+    fatigue_limit_Pa: float
 
 
 @dataclass(**_RECORD)
@@ -94,6 +100,9 @@ class LubricantSI:
     vogel_C_C: float
     churning: str
     churning_scale: float
+    lubrication: str                # "oil_bath" | "oil_mist" | "oil_jet" | "grease"
+    pour_point_C: float             # validity of the viscosity law, deg C
+    max_temperature_C: float
 
 
 @dataclass(**_RECORD)
@@ -119,6 +128,48 @@ class OutputMechanismSI:
 
 
 @dataclass(**_RECORD)
+class SealsSI:
+    """Shaft diameters under the input and output lip seals [m]; None: the drive's own."""
+    input_diameter_m: float | None
+    output_diameter_m: float | None
+
+
+@dataclass(**_RECORD)
+class BearingsSI:
+    """Eccentric (crank) bearings and the main bearing pair; None: the drive's own or not
+    given. Loads in N, moment in N m, ratings in N."""
+    eccentric_type: str | None
+    eccentric_pitch_diameter_m: float | None
+    eccentric_dynamic_rating_N: float | None
+    main_type: str
+    main_pitch_diameter_m: float | None
+    main_dynamic_rating_N: float | None
+    main_span_m: float | None
+    external_radial_load_N: float
+    external_axial_load_N: float
+    external_moment_Nm: float
+
+
+@dataclass(**_RECORD)
+class ThermalSI:
+    """The housing's heat balance; None: the cited estimate (efficiency/thermal.py)."""
+    ambient_C: float
+    housing_area_m2: float | None
+    heat_transfer_W_m2K: float | None
+    emissivity: float
+    heat_capacity_J_K: float | None
+    sensor_resistance_K_W: float    # the loop's thermal effect (K per W of loss)
+
+
+@dataclass(**_RECORD)
+class DutyPointSI:
+    """One row of a duty cycle."""
+    output_torque_Nm: float
+    input_speed_rad_s: float
+    time_share: float
+
+
+@dataclass(**_RECORD)
 class CaseSI:
     """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
     name: str
@@ -133,6 +184,10 @@ class CaseSI:
     lubricant: LubricantSI
     friction: FrictionSI
     output_mechanism: OutputMechanismSI | None
+    seals: SealsSI | None = None
+    bearings: BearingsSI | None = None
+    thermal: ThermalSI | None = None
+    duty_cycle: tuple = ()
 
     def to_si(self) -> "CaseSI":
         """Itself: analyses accept a case or its SI record alike."""
