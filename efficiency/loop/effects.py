@@ -6,13 +6,21 @@ starting values), the case fields it sets (``apply(case, values) -> case`` throu
 It is never a curve fitted to the residual: its shape over speed, torque and oil temperature
 comes from the model, only its physical parameter is fitted.
 
-Most effects act through the case: the efficiency model evaluates the field they set. One
-acts through a loss term beside the model (written in :func:`Effect.route`):
+Most effects act through the case: the efficiency model evaluates the field they set. Two
+act through a loss term beside the model (written in :func:`Effect.route`):
 
 * ``load_sharing_clearance``: the analytic load split ignores the clearance of a modified
   cycloid profile; the effect tabulates the change of the pin-contact and crank-bearing
   losses over a grid of clearances with the contact model (rigid bodies on equal contact
   springs, :func:`clearance_tables`), once per data set.
+* ``thermal`` (:mod:`.thermal_effect`): the oil in the contacts warmer than the sump
+  sensor by a thermal resistance times the losses (with the time constant of the case's
+  heat capacity when the data carry time).
+
+Physics the model has by default (churning in an oil bath, mixed lubrication with a
+boundary coefficient of 0.1, the seals) is not added again: its effect fits a correction
+of its parameter (the churning law's factor, the boundary coefficient; ``drag_torque`` is
+drag beyond the seals' own, e.g. bearing preload).
 
 The catalog (:func:`catalog`), by name:
 
@@ -20,13 +28,14 @@ The catalog (:func:`catalog`), by name:
 effect                    parameter (case field)           drives         source
 ========================= ================================ ============== =================
 drag_torque               friction.drag_torque_Nmm         all            ISO/TR 14179-2
-churning                  lubricant.churning_scale         all            Lu & Xu Eq. 42
+churning                  lubricant.churning_scale         all (oil bath) Lu & Xu Eq. 42
 viscosity_temperature     lubricant.vogel_B_C              all (oil T)    Vogel 1921
 mixed_lubrication         friction.boundary_coefficient    all (EHL law)  Johnson et al. 1972
 bearing_friction          friction.bearing_coefficient     all            Palmgren; SKF
 output_mechanism_friction friction.output_pin_coefficient  sine           Lu & Xu Eqs. 37-39
 load_sharing_clearance    cycloid.equidistant_modif..._mm  cycloid, rv    contact model
 pin_sliding               friction.pin_groove_coefficient  cycloid, rv    Malhotra 1983
+thermal                   (thermal resistance, K/W)        all (oil T)    lumped heat balance
 ========================= ================================ ============== =================
 
 The sine pair has no route for ``pin_sliding`` (no pins in its mesh; its output pins are
@@ -42,235 +51,19 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Callable
 
 import numpy as np
 
-from ...errors import ToothfemError, check_range
+from ...errors import ToothfemError
 from ...fem import cycloid_fe as cf
 from ...fem.drives import drive_for
 from ..drive_losses import disc_contact_losses
-from ..evaluation import evaluate
 from ..lubricant import viscosity_factor
 from ..mesh_table import table_from_records
-
-# ---------------------------------------------------------------------------------------
-# Records
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A fitted parameter: name (with unit), bounds and starting values (absolute)."""
-    name: str
-    unit: str
-    lo: float
-    hi: float
-    starts: tuple            # starting values tried before the fit (absolute)
-    typical: float           # scale of the fit (x_scale) and of a signature's step
-    doc: str = ""
-
-
-@dataclass(frozen=True)
-class Points:
-    """Operating points: input speed [rpm], output torque [N m], oil temperature [deg C]
-    or None (the lubricant's reference); arrays of shape (M,)."""
-    speed_rpm: np.ndarray
-    torque_Nm: np.ndarray
-    oil_temp_C: np.ndarray | None = None
-
-    @classmethod
-    def of(cls, data) -> "Points":
-        """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`."""
-        return cls(np.asarray(data.speed_rpm, float), np.asarray(data.torque_Nm, float),
-                   None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float))
-
-    def __len__(self):
-        return int(self.speed_rpm.size)
-
-
-@dataclass(frozen=True, eq=False)
-class Effect:
-    """A physical effect of the catalog (module docstring). ``values`` are tuples in the
-    order of ``parameters``."""
-    name: str
-    summary: str
-    equation: str
-    citation: str
-    parameters: tuple
-    drives: tuple
-    case_fields: tuple
-    set_fields: Callable          # (case, values) -> case with the effect's fields set
-    declared_by: Callable         # (case) -> str | None: the declaring field, if any
-    not_applicable: Callable | None = None   # (case, points) -> reason | None
-    loss_route: Callable | None = None       # (case) -> True if the effect is a loss term
-    extra_loss: Callable | None = None       # (case, points, evaluation, values, prep) -> W
-    prepare: Callable | None = None          # (case, points) -> prepared tables
-    linear_in: Callable | None = None        # (case) -> loss component proportional to the
-                                             # (single) parameter, or None
-
-    def __repr__(self):
-        return f"Effect({self.name!r})"
-
-    def apply(self, case, values):
-        """The case with this effect's fields set to ``values``."""
-        values = tuple(float(v) for v in values)
-        if len(values) != len(self.parameters):
-            raise ToothfemError(f"{self.name}: {len(values)} values for "
-                                f"{len(self.parameters)} parameters")
-        for p, v in zip(self.parameters, values):
-            check_range(f"{self.name}.{p.name}", v, p.lo, p.hi)
-        return self.set_fields(case, values)
-
-    def declared(self, case) -> str | None:
-        """The case field that already declares this effect (non-default), or None."""
-        return self.declared_by(case)
-
-    def applicable(self, case, points) -> str | None:
-        """Why the effect cannot act on this case and data (None: it can)."""
-        if case.drive not in self.drives:
-            return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
-        if self.not_applicable is not None:
-            return self.not_applicable(case, points)
-        return None
-
-    def route(self, case) -> str:
-        """'model': the efficiency model evaluates the field; 'loss': a loss term here."""
-        if self.loss_route is not None and self.loss_route(case):
-            return "loss"
-        return "model"
-
-    def linear_component(self, case) -> str | None:
-        """The loss component (a key of the losses) that is exactly proportional to this
-        effect's single parameter, nothing else depending on it; None if there is none.
-        Such an effect needs no new model evaluation when only its value changes."""
-        return None if self.linear_in is None else self.linear_in(case)
-
-    @property
-    def reference(self) -> tuple:
-        """Values at which a linear effect's component is evaluated, then scaled."""
-        return tuple(p.typical for p in self.parameters)
-
-
-# ---------------------------------------------------------------------------------------
-# Predictions with effects
-
-
-@dataclass(frozen=True)
-class Prediction:
-    """Efficiency and losses [W] at the points with a set of effects."""
-    efficiency: np.ndarray
-    output_power_W: np.ndarray
-    losses_W: dict
-    notes: tuple
-
-
-def with_effects(case, assignment):
-    """The case with every effect of ``assignment`` ({Effect: values}) applied: the case
-    a report states (the loss-term effects' fields set as well)."""
-    for eff, values in assignment.items():
-        case = eff.apply(case, values)
-    return case
-
-
-@dataclass(frozen=True)
-class _Losses:
-    """What an extra_loss function reads of an evaluation: the losses (after scaling)."""
-    losses_W: dict
-    output_power_W: np.ndarray
-
-
-def predict(case, points: Points, assignment=None, prepared=None, *, loads="analytic",
-            cache=None) -> Prediction:
-    """Efficiency of ``case`` with the effects ``assignment`` ({Effect: values}) at the
-    points. ``prepared`` holds the tables of effects that need them ({name: object},
-    :func:`prepare`); missing ones are computed here.
-
-    ``cache`` (a dict, optional) keeps model evaluations keyed by the values of the effects
-    that need one: an effect with a linear component (:meth:`Effect.linear_component`) is
-    evaluated at its reference value and its component scaled, so a change of its value
-    alone costs no evaluation (exact: the component is proportional to the parameter)."""
-    assignment = assignment or {}
-    prepared = {} if prepared is None else prepared
-    model_case, key, scale = case, [], {}
-    for eff, values in assignment.items():
-        if eff.route(case) != "model":
-            continue
-        comp = eff.linear_component(case)
-        if comp is not None:
-            ref = eff.reference
-            scale[comp] = scale.get(comp, 1.0) * float(values[0]) / ref[0]
-            values = ref
-        model_case = eff.apply(model_case, values)
-        key.append((eff.name, tuple(float(v) for v in values)))
-    key = tuple(sorted(key))
-    ev = None if cache is None else cache.get(key)
-    if ev is None:
-        ev = evaluate(model_case, points.speed_rpm, points.torque_Nm, points.oil_temp_C,
-                      loads=loads)
-        if cache is not None:
-            cache[key] = ev
-    losses = dict(ev.losses_W)
-    for comp, k in scale.items():
-        losses[comp] = losses[comp] * k
-    view = _Losses(losses, ev.output_power_W)
-    for eff, values in assignment.items():
-        if eff.route(case) == "loss":
-            if eff.prepare is not None and eff.name not in prepared:
-                prepared[eff.name] = eff.prepare(case, points)
-            extra = eff.extra_loss(model_case, points, view, tuple(values),
-                                   prepared.get(eff.name))
-            losses[eff.name] = losses.get(eff.name, 0.0) + extra
-    p_out = ev.output_power_W
-    eta = p_out / (p_out + sum(losses.values()))
-    return Prediction(eta, p_out, losses, ev.notes)
-
-
-def prepare(effects, case, points) -> dict:
-    """Tables of the effects that need them for these points ({name: object})."""
-    return {e.name: e.prepare(case, points) for e in effects
-            if e.prepare is not None and e.route(case) == "loss"
-            and e.applicable(case, points) is None}
-
-
-# ---------------------------------------------------------------------------------------
-# Helpers
-
-
-def _default(section_cls, name):
-    f = {x.name: x for x in dataclasses.fields(section_cls)}[name]
-    return f.default
-
-
-def _declared_if_changed(section, name, label):
-    """declared_by(case) for a field that is declared when it differs from its default."""
-    def declared(case):
-        sec = getattr(case, section)
-        if sec is None:
-            return None
-        value = getattr(sec, name)
-        if value != _default(type(sec), name):
-            return f"{label} = {value!r}"
-        return None
-    return declared
-
-
-def _set(section, name):
-    """set_fields(case, values) for one field of one section."""
-    def setter(case, values):
-        sec = getattr(case, section)
-        return dataclasses.replace(case, **{section: dataclasses.replace(sec, **{name: values[0]})})
-    return setter
-
-
-def crank_speed_factor(case) -> float:
-    """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
-    return abs(drive_for(case).speeds()["crank"])
-
-
-def _need_cycloid(case, points):
-    if case.cycloid is None or case.material is None:
-        return "needs the [cycloid] and [material] sections (disc, pins, contact stiffness)"
-    return None
+from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_factor,  # noqa: F401
+                          declared_if_changed, need_cycloid, predict, prepare, setter,
+                          with_effects)
+from .thermal_effect import thermal
 
 
 # ---------------------------------------------------------------------------------------
@@ -278,12 +71,13 @@ def _need_cycloid(case, points):
 
 
 def drag_torque() -> Effect:
-    """Load-independent drag torque on the input shaft (lip seals, bearing preload).
+    """Load-independent drag torque on the input shaft beyond the model's own seals.
 
     P_drag = T_drag omega_in: ISO/TR 14179-2:2001 counts seal losses as a load-independent
-    torque on the shaft (its seal-loss formula gives the torque from the shaft diameter);
-    a preloaded bearing pair adds a load-independent moment of the same kind (SKF,
-    'The SKF model for calculating the frictional moment', 2018: M_drag, M_seal)."""
+    torque on the shaft (the model has the seals of ISO/TR 14179-1 at their diameters); a
+    preloaded bearing pair or a tighter seal adds a load-independent moment of the same
+    kind (SKF, 'The SKF model for calculating the frictional moment', 2018: M_drag,
+    M_seal)."""
     return Effect(
         name="drag_torque",
         summary="load-independent drag on the input shaft (seals, bearing preload)",
@@ -294,25 +88,30 @@ def drag_torque() -> Effect:
                               "drag torque on the input shaft"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.drag_torque_Nmm",),
-        set_fields=_set("friction", "drag_torque_Nmm"),
-        declared_by=_declared_if_changed("friction", "drag_torque_Nmm",
+        set_fields=setter("friction", "drag_torque_Nmm"),
+        declared_by=declared_if_changed("friction", "drag_torque_Nmm",
                                          "friction.drag_torque_Nmm"),
         linear_in=lambda case: "drag")
 
 
-def _set_churning(case, values):
-    lub = dataclasses.replace(case.lubricant, churning="lu_xu_2024", churning_scale=values[0])
-    return dataclasses.replace(case, lubricant=lub)
+def _needs_bath_churning(case, points):
+    lub = case.lubricant
+    if lub.lubrication != "oil_bath":
+        return (f"lubricant.lubrication = {lub.lubrication!r}: no oil bath to churn (the "
+                "bearings' drag is Palmgren's)")
+    if lub.churning == "none":
+        return "lubricant.churning = 'none': the case has no churning law to correct"
+    return None
 
 
 def churning() -> Effect:
-    """Oil agitation, splashing and seal drag that grow with speed and viscosity.
+    """A correction of the churning the model has by default in an oil bath.
 
-    The sine paper's no-load loss (Lu & Xu 2024, Eq. 42, the form of ISO/TR 14179-1's
-    no-load gear loss): P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the centre
-    distance (eccentricity) [mm], n the eccentric's speed [rpm], nu the kinematic viscosity
-    at the oil temperature [mm^2/s]; the factor k is fitted (1 = the paper's law). On a
-    cycloid or RV drive the model takes a0 = the eccentricity and n = the crank speed."""
+    The no-load loss of each gear stage in the bath (Lu & Xu 2024, Eq. 42):
+    P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the stage's centre distance
+    [mm] (the eccentricity of a K-H-V stage), n its pinion's speed [rpm], nu the kinematic
+    viscosity at the oil temperature [mm^2/s]; the factor k is fitted (1 = the law as
+    the model takes it by default, efficiency/no_load.py)."""
     return Effect(
         name="churning",
         summary="speed- and viscosity-dependent no-load loss (oil agitation, splash)",
@@ -322,10 +121,11 @@ def churning() -> Effect:
         parameters=(Parameter("churning_scale", "-", 0.0, 100.0, (1.0, 0.3, 3.0), 1.0,
                               "factor k on the Lu & Xu law"),),
         drives=("sine", "cycloid", "rv"),
-        case_fields=("lubricant.churning", "lubricant.churning_scale"),
-        set_fields=_set_churning,
-        declared_by=lambda case: (f"lubricant.churning = {case.lubricant.churning!r}"
-                                  if case.lubricant.churning != "none" else None),
+        case_fields=("lubricant.churning_scale",),
+        set_fields=setter("lubricant", "churning_scale"),
+        declared_by=declared_if_changed("lubricant", "churning_scale",
+                                        "lubricant.churning_scale"),
+        not_applicable=_needs_bath_churning,
         linear_in=lambda case: "churning")
 
 
@@ -361,8 +161,8 @@ def viscosity_temperature() -> Effect:
                               (1000.0, 600.0, 1500.0, 2500.0), 500.0, "Vogel B"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("lubricant.vogel_B_C",),
-        set_fields=_set("lubricant", "vogel_B_C"),
-        declared_by=_declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
+        set_fields=setter("lubricant", "vogel_B_C"),
+        declared_by=declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
         not_applicable=_needs_temps)
 
 
@@ -374,24 +174,25 @@ def _needs_ehl(case, points):
 
 
 def mixed_lubrication() -> Effect:
-    """Asperity friction as the film ratio falls below full film.
+    """A correction of the boundary friction the model has by default in mixed lubrication.
 
-    mu = (1 - xi) mu_EHL + xi mu_b with xi = (1 - lambda/3)^2 for lambda = h_c/S < 3: the
-    load shared by the asperities (Johnson, Greenwood & Poon 1972) carries the boundary
-    friction mu_b; the shape of xi is the solid-fraction blending of the model
-    (efficiency/contact_friction.py, in the manner of Castro & Seabra 2008). Since lambda grows with
-    speed and viscosity, the extra loss is largest at low speed and high temperature."""
+    mu = (1 - f) mu_EHL + f mu_b, f the asperities' share of the load (Johnson, Greenwood &
+    Poon 1972 with plastically flattened Gaussian asperities, efficiency/mixed_film.py);
+    the model's mu_b is 0.1 (lubricated steel, Bowden & Tabor 1950) and the fit corrects it
+    (additives, coatings, running-in change it). Since the film ratio grows with speed and
+    viscosity, its loss is largest at low speed and high temperature."""
     return Effect(
         name="mixed_lubrication",
-        summary="boundary (asperity) friction blended in as the film ratio falls below 3",
-        equation="mu = (1 - xi) mu_EHL + xi mu_b, xi = (1 - lambda/3)^2",
-        citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Castro & Seabra (2008)",
-        parameters=(Parameter("boundary_coefficient", "-", 0.0, 0.3, (0.05, 0.01, 0.15), 0.05,
+        summary="boundary (asperity) friction of the load the film cannot carry",
+        equation="mu = (1 - f) mu_EHL + f mu_b, f = min(1, (H/p_m) erfc(lambda_f/sqrt 2)/2)",
+        citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Bowden & Tabor (1950); "
+                 "Castro & Seabra, Proc. IMechE J 221 (2007) 399-411",
+        parameters=(Parameter("boundary_coefficient", "-", 0.0, 0.3, (0.1, 0.03, 0.2), 0.05,
                               "boundary friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.boundary_coefficient",),
-        set_fields=_set("friction", "boundary_coefficient"),
-        declared_by=_declared_if_changed("friction", "boundary_coefficient",
+        set_fields=setter("friction", "boundary_coefficient"),
+        declared_by=declared_if_changed("friction", "boundary_coefficient",
                                          "friction.boundary_coefficient"),
         not_applicable=_needs_ehl)
 
@@ -414,8 +215,8 @@ def bearing_friction() -> Effect:
                               "bearing friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.bearing_coefficient",),
-        set_fields=_set("friction", "bearing_coefficient"),
-        declared_by=_declared_if_changed("friction", "bearing_coefficient",
+        set_fields=setter("friction", "bearing_coefficient"),
+        declared_by=declared_if_changed("friction", "bearing_coefficient",
                                          "friction.bearing_coefficient"),
         linear_in=lambda case: ("eccentric_bearing" if case.drive == "sine"
                                 else "crank_bearings"))
@@ -441,15 +242,15 @@ def output_mechanism_friction() -> Effect:
                               0.03, "pin-hole friction coefficient f_k"),),
         drives=("sine",),
         case_fields=("friction.output_pin_coefficient",),
-        set_fields=_set("friction", "output_pin_coefficient"),
-        declared_by=_declared_if_changed("friction", "output_pin_coefficient",
+        set_fields=setter("friction", "output_pin_coefficient"),
+        declared_by=declared_if_changed("friction", "output_pin_coefficient",
                                          "friction.output_pin_coefficient"),
         not_applicable=_needs_output_mechanism,
         linear_in=lambda case: "output_mechanism")
 
 
 def _needs_conventional(case, points):
-    why = _need_cycloid(case, points)
+    why = need_cycloid(case, points)
     if why:
         return why
     if case.cycloid.pin_structure != "conventional":
@@ -475,8 +276,8 @@ def pin_sliding() -> Effect:
                               0.02, "groove friction coefficient mu_g"),),
         drives=("cycloid", "rv"),
         case_fields=("friction.pin_groove_coefficient",),
-        set_fields=_set("friction", "pin_groove_coefficient"),
-        declared_by=_declared_if_changed("friction", "pin_groove_coefficient",
+        set_fields=setter("friction", "pin_groove_coefficient"),
+        declared_by=declared_if_changed("friction", "pin_groove_coefficient",
                                          "friction.pin_groove_coefficient"),
         not_applicable=_needs_conventional)
 
@@ -620,9 +421,9 @@ def load_sharing_clearance(compliance=None) -> Effect:
                               "clearance: equidistant modification Delta r_z"),),
         drives=("cycloid", "rv"),
         case_fields=("cycloid.equidistant_modification_mm",),
-        set_fields=_set("cycloid", "equidistant_modification_mm"),
+        set_fields=setter("cycloid", "equidistant_modification_mm"),
         declared_by=_declared_modification,
-        not_applicable=_need_cycloid,
+        not_applicable=need_cycloid,
         loss_route=lambda case: True,
         extra_loss=_clearance_loss,
         prepare=lambda case, points: clearance_tables(case, points, compliance))
@@ -633,7 +434,7 @@ def load_sharing_clearance(compliance=None) -> Effect:
 
 NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication",
          "bearing_friction", "output_mechanism_friction", "load_sharing_clearance",
-         "pin_sliding")
+         "pin_sliding", "thermal")
 
 
 def catalog(*, clearance_compliance=None) -> tuple:
@@ -642,7 +443,7 @@ def catalog(*, clearance_compliance=None) -> tuple:
     them from the FE (one disc factorisation per design)."""
     return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
             bearing_friction(), output_mechanism_friction(),
-            load_sharing_clearance(clearance_compliance), pin_sliding())
+            load_sharing_clearance(clearance_compliance), pin_sliding(), thermal())
 
 
 def by_name(name, effects=None) -> Effect:
