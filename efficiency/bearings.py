@@ -155,9 +155,10 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     else:                         # the pins-in-holes output takes sum Q along e
         sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
         vec = sum_q * e_dir
-    n = drive.members          # the members' forces, each half a turn (1/n) apart
-    turn = sum(np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
-               for a in 2 * math.pi * np.arange(n) / n)
+    n = drive.members          # the members' forces, a 1/n turn apart (rounded: two
+    turn = np.round(sum(       # discs half a turn apart cancel exactly)
+        np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        for a in 2 * math.pi * np.arange(n) / n), 12)
     vec = vec @ turn.T
     rows = env.main_count
     radial = _turning(np.linalg.norm(vec, axis=1) / rows,

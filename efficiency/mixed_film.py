@@ -26,7 +26,7 @@ lubricated steel (``friction.boundary_coefficient``, 0.1: Bowden & Tabor 1950).
 
 What it gives: f = 1 (boundary friction) wherever lambda is below about 1-1.5 at gear and
 pin pressures (Tallian's boundary regime, lambda < 1), f falling to about 1 % at lambda = 3
-(the full-film bound): at P_h = 1 GPa and H = 6.9 GPa, f = 0.58 at lambda = 1.5, 0.19 at 2,
+(the full-film bound): at P_h = 1 GPa and H = 6.9 GPa, f = 0.48 at lambda = 1.5, 0.18 at 2,
 0.012 at 3. At low nominal pressure a few yielding asperities carry the whole load, so f
 stays 1 to a larger lambda.
 """

@@ -436,6 +436,16 @@ class DutyPoint(_Section):
 DUTY_SHARE_TOL = 1e-3
 
 
+def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
+    """Refuse an ambient at which the oil is outside its range (below its pour point, at or
+    above its upper limit): one line with the valid range."""
+    lo, hi = lubricant.pour_point_C, lubricant.max_temperature_C
+    if not lo <= thermal.ambient_C < hi:
+        raise CaseError(f"thermal.ambient_C = {thermal.ambient_C!r} is outside the valid "
+                        f"range [{lo:g}, {hi:g}): the lubricant's pour_point_C to "
+                        "max_temperature_C")
+
+
 def check_duty_cycle(rows) -> None:
     """Refuse a duty cycle whose time shares do not sum to 1 (one line, the valid range)."""
     if rows:
@@ -498,6 +508,7 @@ class Case:
                         raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
                                         f"[rv] tooth numbers ({want})")
         check_duty_cycle(self.duty_cycle)
+        check_ambient(self.thermal, self.lubricant)
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
+from . import durability
 from .case import Case, load_case
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
@@ -260,6 +261,7 @@ class RunResult:
     efficiency: dict               # {source: efficiency_summary(...)} at the operating point
     speed_rpm: float
     output_torque_Nm: float
+    durability: dict = None        # {"life", "strength", "heat"}: toothfem.durability
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
@@ -289,6 +291,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     """
     import csv
 
+    from .report import durability as report_durability
     from .report import plots
 
     label = str(case) if not isinstance(case, Case) else "(in memory)"
@@ -394,6 +397,15 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                    "![efficiency over oil temperature](efficiency_temperature.png)", "",
                    "Tables: `efficiency.json`, `efficiency_vs_torque.csv`, "
                    "`efficiency_map.csv`.", ""]
+        # 4. life, strength and heat beside the efficiency
+        dur = {"heat": durability.thermal_summary(case, speed, torque),
+               "life": durability.life_summary(case),
+               "strength": durability.strength_summary(case, contact=contact)}
+        (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
+        rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
+                                                 case.rv.disc_teeth, case.rv.pin_count)
+        report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"],
+                                             rv_teeth)
         (tmp / "report.md").write_text("\n".join(report) + "\n")
     return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
-                     speed_rpm=float(speed), output_torque_Nm=float(torque))
+                     speed_rpm=float(speed), output_torque_Nm=float(torque), durability=dur)

@@ -26,5 +26,15 @@ def run(args) -> int:
     progress = lambda it: tqdm(it, desc="cycle mode", unit="position")  # noqa: E731
     res = run_case(args.case, args.out, positions=args.positions, field=args.field,
                    fem=not args.no_fem, progress=progress)
+    eta = res.efficiency["analytic"]["efficiency"]
+    heat, life, strength = (res.durability[k] for k in ("heat", "life", "strength"))
+    l10 = life["eccentric"]["l10_set_h"]
+    print(f"efficiency {100 * eta:.2f} % at {res.speed_rpm:g} rpm, "
+          f"{res.output_torque_Nm:.4g} N m; equilibrium oil "
+          f"{heat['equilibrium_oil_temp_C']:.1f} C; eccentric bearings L10 "
+          + ("not rated" if l10 is None else f"{l10:.4g} h")
+          + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f}")
+    for w in strength["warnings"]:
+        print(f"warning: {w}")
     print(f"wrote the report to {res.report}")
     return 0
