@@ -16,7 +16,7 @@ from toothfem import load_case
 from toothfem.efficiency import evaluation as m
 from toothfem.efficiency.mesh_table import mesh_table
 from toothfem.fem.drives import drive_for
-from toothfem.plots import efficiency_vs_torque
+from toothfem.report.plots import efficiency_vs_torque
 
 ROOT = Path(__file__).resolve().parent.parent
 
