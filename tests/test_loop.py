@@ -218,14 +218,15 @@ def test_effect_outside_the_catalog_is_unexplained(cases):
 
 
 def test_no_effect_adds_nothing(cases):
+    """Every effect field at its default: seven candidates (the churning law's factor and
+    the thermal resistance among them since issue 13), none added."""
     case = _lubricant(_friction(cases["sine_prototype"], bearing_coefficient=0.0015,
-                                output_pin_coefficient=0.05), churning="none",
-                      vogel_B_C=1000.0)
+                                output_pin_coefficient=0.05), vogel_B_C=1000.0)
     data = sy.generate(case, {}, oil_temp_C=(20, 100), seed=100, catalog=CATALOG)
     rep = lp.run_loop(case, data, CATALOG)
     assert rep.effects == () and rep.unexplained == ()
     assert rep.stop_reason.startswith("nothing helps")
-    assert len(rep.steps[0].candidates) == 6
+    assert len(rep.steps[0].candidates) == 7
 
 
 def test_small_data_reports_what_it_would_take(cases, cases_dir):
