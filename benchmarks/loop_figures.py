@@ -73,7 +73,7 @@ def main(argv=None):
             rep = lp.run_loop(free, data, cat)
             false += len(rep.effects)
             unexplained += bool(rep.unexplained)
-        print(f"\nno effect, 20 seeds (sine, 6 candidates): {false} false effects, "
+        print(f"\nno effect, 20 seeds (sine, 7 candidates): {false} false effects, "
               f"{unexplained} data sets with an unexplained trend, "
               f"{time.perf_counter() - t0:.1f} s")
     print("\nReal data:")

@@ -23,12 +23,6 @@ import numpy as np
 
 from ..fem.export import stress_at_nodes
 
-#: The inner boundaries (holes) are told from the outer profile by the largest gap in the
-#: radii of the boundary nodes about the body's centroid; a gap below this share of the
-#: outer radius means the body has no hole.
-HOLE_GAP_SHARE = 0.05
-
-
 @dataclass(frozen=True, kw_only=True)
 class Strength:
     """Safety factors of the contact and of the member (None where not computed)."""
@@ -45,6 +39,12 @@ class Strength:
 def safety_factor(limit, stress):
     """limit / stress (inf for a zero stress)."""
     return float("inf") if stress <= 0 else float(limit / stress)
+
+
+#: The inner boundaries (holes) are told from the outer profile by the largest gap in the
+#: radii of the boundary nodes about the body's centroid; a gap below this share of the
+#: outer radius means the body has no hole.
+HOLE_GAP_SHARE = 0.05
 
 
 def hole_edge_nodes(mesh) -> np.ndarray:

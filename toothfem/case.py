@@ -43,6 +43,11 @@ def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MI
     return field(default=default, metadata=md)
 
 
+def _stress(default: float, doc: str):
+    """A positive stress limit [MPa] with its default and source."""
+    return _f(0.0, None, lo_open=True, default=default, doc=doc)
+
+
 class _Section:
     """Mixin: validate every field against the range in its metadata."""
 
@@ -110,21 +115,12 @@ class Material(_Section):
     youngs_modulus_GPa: float = _f(1.0, 1000.0)
     poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
     density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
-    hardness_HV: float = _f(50.0, 2000.0, default=700.0,
-                            doc="Vickers hardness; 700 HV = 60 HRC (ASTM E140), "
-                                "through-hardened bearing steel")
-    allowable_contact_stress_MPa: float = _f(0.0, None, lo_open=True, default=1500.0,
-                                             doc="contact fatigue limit; 1500 MPa: ISO "
-                                                 "281:2007 fatigue load limit, bearing steel")
-    static_contact_stress_MPa: float = _f(0.0, None, lo_open=True, default=4000.0,
-                                          doc="static contact limit; 4000 MPa: ISO 76:2006, "
-                                              "roller contacts")
-    yield_strength_MPa: float = _f(0.0, None, lo_open=True, default=1700.0,
-                                   doc="0.2 % proof stress; ASSUMPTION 1700 MPa, the lower "
-                                       "end of hardened 100Cr6 (docs/case_schema.md)")
-    fatigue_limit_MPa: float = _f(0.0, None, lo_open=True, default=700.0,
-                                  doc="endurance limit; 700 MPa: Shigley Eq. 6-8, steels "
-                                      "with S_ut > 1400 MPa")
+    # limits of the life and strength checks: sources in docs/case_schema.md
+    hardness_HV: float = _f(50.0, 2000.0, default=700.0, doc="700 HV = 60 HRC (ASTM E140)")
+    allowable_contact_stress_MPa: float = _stress(1500.0, "contact fatigue (ISO 281:2007)")
+    static_contact_stress_MPa: float = _stress(4000.0, "static contact (ISO 76:2006)")
+    yield_strength_MPa: float = _stress(1700.0, "0.2 % proof stress (ASSUMPTION, 100Cr6)")
+    fatigue_limit_MPa: float = _stress(700.0, "endurance limit (Shigley Eq. 6-8)")
 
 
 @dataclass(frozen=True)
@@ -427,9 +423,10 @@ class Thermal(_Section):
 class DutyPoint(_Section):
     """One row of a duty cycle: output torque, input speed and the share of time."""
     _section = "duty_cycle"
-    output_torque_Nm: float = _f(0.0, None, lo_open=True)
-    input_speed_rpm: float = _f(0.0, None, lo_open=True)
-    time_share: float = _f(0.0, 1.0, lo_open=True)
+    output_torque_Nm: float = _f(0.0, None, lo_open=True, doc="load torque of the row")
+    input_speed_rpm: float = _f(0.0, None, lo_open=True, doc="input speed of the row")
+    time_share: float = _f(0.0, 1.0, lo_open=True,
+                           doc="share of the operating time; the rows' shares add up to 1")
 
 
 #: Tolerance on the sum of a duty cycle's time shares (shares quoted to three digits).

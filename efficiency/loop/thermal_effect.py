@@ -30,12 +30,14 @@ from ..thermal import housing
 from .effect_base import Effect, Parameter, declared_if_changed, setter
 
 #: Points of the dT grid from 0 to the oil's upper limit, spaced geometrically from
-#: GRID_FIRST_K (the losses are smooth in T; the rises that matter are tens of kelvin, and
-#: each point costs a model evaluation per model case).
-GRID_POINTS = 12
+#: GRID_FIRST_K (the losses are smooth in T and nearly exponential through the viscosity:
+#: interpolated in their logarithm; each point costs a model evaluation per model case).
+GRID_POINTS = 8
 GRID_FIRST_K = 0.5
 #: Model cases whose tables are kept per data set.
 TABLES_KEPT = 16
+#: The case field of the fitted resistance (read by this effect only).
+FIELD = "thermal.sensor_resistance_K_W"
 
 
 def _model_key(case):
@@ -79,12 +81,17 @@ def thermal_tables(case, points) -> ThermalTables:
 
 
 def _row_interp(x, grid, values):
-    """Per-row linear interpolation of (M, G) ``values`` at (M,) ``x`` on ``grid`` (G,)."""
+    """Per-row interpolation of positive (M, G) ``values`` at (M,) ``x`` on ``grid`` (G,),
+    linear in their logarithm (a loss that follows the viscosity is nearly exponential in
+    the temperature)."""
     idx = np.clip(np.searchsorted(grid, x) - 1, 0, grid.size - 2)
     x0, x1 = grid[idx], grid[idx + 1]
     w = np.clip((x - x0) / (x1 - x0), 0.0, 1.0)
     rows = np.arange(values.shape[0])
-    return (1 - w) * values[rows, idx] + w * values[rows, idx + 1]
+    v0, v1 = values[rows, idx], values[rows, idx + 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        logged = v0 * (v1 / v0) ** w
+    return np.where((v0 > 0) & (v1 > 0), logged, (1 - w) * v0 + w * v1)
 
 
 def rise(total, grid, resistance, factor):
@@ -141,12 +148,7 @@ def thermal() -> Effect:
         citation="lumped heat balance, ISO/TR 14179-1:2001; toothfem efficiency/thermal.py",
         parameters=(Parameter("thermal_resistance_K_W", "K/W", 0.0, 20.0, (0.5, 2.0, 8.0),
                               1.0, "thermal resistance between the losses and the sensor"),),
-        drives=("sine", "cycloid", "rv"),
-        case_fields=("thermal.sensor_resistance_K_W",),
-        set_fields=setter("thermal", "sensor_resistance_K_W"),
-        declared_by=declared_if_changed("thermal", "sensor_resistance_K_W",
-                                        "thermal.sensor_resistance_K_W"),
-        not_applicable=_needs_sensor,
-        loss_route=lambda case: True,
-        extra_loss=_extra_loss,
-        prepare=thermal_tables)
+        drives=("sine", "cycloid", "rv"), not_applicable=_needs_sensor,
+        loss_route=lambda case: True, extra_loss=_extra_loss, prepare=thermal_tables,
+        case_fields=(FIELD,), set_fields=setter(*FIELD.split(".")),
+        declared_by=declared_if_changed(*FIELD.split("."), FIELD))
