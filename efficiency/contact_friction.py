@@ -85,9 +85,11 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
         carried = float(np.sum(share * force) / np.sum(force))
         notes.append(f"film ratio lambda < {LAMBDA_FULL:g} at {100 * low.mean():.0f} % of the "
                      f"loaded contacts (min {lam[ok].min():.2g}): mixed lubrication; the "
-                     f"asperities carry {100 * carried:.0f} % of the contact load at the "
-                     f"boundary friction {f.boundary_coefficient:g}, the film the rest at "
-                     "the Xu (2007) friction")
+                     f"asperities carry {100 * carried:.0f} % of the contact load"
+                     + (f" at the boundary friction {f.boundary_coefficient:g}, the film the "
+                        "rest at the Xu (2007) friction" if f.boundary_coefficient > 0 else
+                        "; friction.boundary_coefficient = 0: the Xu (2007) law alone, "
+                        "extrapolated"))
     return mixed_friction(mu, share, f.boundary_coefficient), lam
 
 

@@ -341,7 +341,8 @@ class Friction(_Section):
                        default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
     boundary_coefficient: float = _f(0.0, 1.0, default=0.1,
                                      doc="asperity (boundary) friction of lubricated steel "
-                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950")
+                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950; "
+                                         "0: the EHL law alone")
     drag_torque_Nmm: float = _f(0.0, None, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
 

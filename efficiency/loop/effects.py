@@ -173,6 +173,11 @@ def _needs_ehl(case, points):
     return None
 
 
+#: Smallest boundary coefficient the fit tries: 0 is the model's switch to the EHL law
+#: alone, not a frictionless asperity, so the fitted range stops short of it.
+MIN_BOUNDARY = 1e-3
+
+
 def mixed_lubrication() -> Effect:
     """A correction of the boundary friction the model has by default in mixed lubrication.
 
@@ -187,8 +192,8 @@ def mixed_lubrication() -> Effect:
         equation="mu = (1 - f) mu_EHL + f mu_b, f = min(1, (H/p_m) erfc(lambda_f/sqrt 2)/2)",
         citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Bowden & Tabor (1950); "
                  "Castro & Seabra, Proc. IMechE J 221 (2007) 399-411",
-        parameters=(Parameter("boundary_coefficient", "-", 0.0, 0.3, (0.1, 0.03, 0.2), 0.05,
-                              "boundary friction coefficient mu_b"),),
+        parameters=(Parameter("boundary_coefficient", "-", MIN_BOUNDARY, 0.3,
+                              (0.1, 0.03, 0.2), 0.05, "boundary friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.boundary_coefficient",),
         set_fields=setter("friction", "boundary_coefficient"),
