@@ -53,9 +53,9 @@ def main(argv=None):
     data = sy.generate(two, {"drag_torque": (20.0,), "output_mechanism_friction": (0.03,)},
                        seed=2, catalog=cat)
     print(row("drag + output pins (sine)", "20; 0.03", lp.run_loop(two, data, cat)))
-    data = sy.generate(cyc, {"drag_torque": (200.0,), "mixed_lubrication": (0.1,)},
+    data = sy.generate(cyc, {"drag_torque": (200.0,), "mixed_lubrication": (0.07,)},
                        torque_Nm=(50.0, 167.0), seed=2, catalog=cat)
-    print(row("drag + mixed (cycloid)", "200; 0.1", lp.run_loop(cyc, data, cat)))
+    print(row("drag + mixed (cycloid)", "200; 0.07", lp.run_loop(cyc, data, cat)))
     data = sy.generate(sine, {}, extra_loss=sy.running_in(0.05, 5.0), seed=3, catalog=cat)
     print(row("running-in, outside the catalog (sine)", "5 % e^(-t/5 h)",
               lp.run_loop(sine, data, cat)))
@@ -65,7 +65,7 @@ def main(argv=None):
     if not args.quick:
         free = R(sine, friction=R(sine.friction, bearing_coefficient=0.0015,
                                   output_pin_coefficient=0.05),
-                 lubricant=R(sine.lubricant, churning="none", vogel_B_C=1000.0))
+                 lubricant=R(sine.lubricant, vogel_B_C=1000.0))
         t0 = time.perf_counter()
         false, unexplained = 0, 0
         for seed in range(20):
@@ -73,7 +73,7 @@ def main(argv=None):
             rep = lp.run_loop(free, data, cat)
             false += len(rep.effects)
             unexplained += bool(rep.unexplained)
-        print(f"\nno effect, 20 seeds (sine, 6 candidates): {false} false effects, "
+        print(f"\nno effect, 20 seeds (sine, 7 candidates): {false} false effects, "
               f"{unexplained} data sets with an unexplained trend, "
               f"{time.perf_counter() - t0:.1f} s")
     print("\nReal data:")

@@ -3,10 +3,11 @@
 Each loaded contact gets its own coefficient from ``friction.mesh_law``: the EHL regression
 of Xu, Kahraman, Anderson & Maddock (J. Mech. Des. 129 (2007) 58-68) at its own load, Hertz
 pressure, sliding and entraining speed and radius (default); Coulomb; Benedict & Kelley
-(1961). In mixed lubrication (film ratio lambda below the full-film bound) the asperity
-friction ``friction.boundary_coefficient`` takes over in proportion
-xi(lambda) = (1 - lambda/3)^2 (a solid-fraction blending in the manner of Castro & Seabra
-2008; the shape of xi is a modelling choice, stated in docs/efficiency.md).
+(1961). With the EHL law, the asperities carry the share f of each contact's load that
+the film cannot (:mod:`.mixed_film`: the load sharing of Johnson, Greenwood & Poon 1972
+with plastically flattened Gaussian asperities), at the boundary friction
+``friction.boundary_coefficient`` (0.1 for lubricated steel, Bowden & Tabor 1950):
+mu = (1 - f) mu_EHL + f mu_b.
 """
 from __future__ import annotations
 
@@ -15,19 +16,10 @@ import warnings
 import numpy as np
 
 from . import friction as fr
+from .mixed_film import asperity_load_share, mixed_friction
 
 #: Full-film bound of the EHL regression (friction.LAMBDA_FULL_FILM).
 LAMBDA_FULL = fr.LAMBDA_FULL_FILM
-
-
-def mixed_friction(mu_ehl, lam, boundary):
-    """Blend the EHL friction with asperity friction as the film ratio falls below the
-    full-film bound: (1 - xi) mu_EHL + xi mu_boundary, xi = (1 - lambda/3)^2 clipped to
-    [0, 1]; ``boundary`` 0 leaves the EHL friction as it is."""
-    if boundary <= 0:
-        return mu_ehl
-    xi = np.clip(1.0 - lam / LAMBDA_FULL, 0.0, 1.0) ** 2
-    return (1.0 - xi) * mu_ehl + xi * boundary
 
 
 def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
@@ -87,14 +79,18 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
                             pressure_viscosity=lub.pressure_viscosity_1_per_Pa)
     mu[ok] = res.mu
     lam[ok] = res.film_ratio
+    share = asperity_load_share(lam, ph, si.material.hardness_Pa)
     low = np.isfinite(lam) & (lam < LAMBDA_FULL)
     if np.any(low):
+        carried = float(np.sum(share * force) / np.sum(force))
         notes.append(f"film ratio lambda < {LAMBDA_FULL:g} at {100 * low.mean():.0f} % of the "
-                     f"loaded contacts (min {lam[ok].min():.2g}): mixed lubrication, the Xu "
-                     "regression is extrapolated"
-                     + ("" if f.boundary_coefficient > 0 else
-                        "; friction.boundary_coefficient = 0, so no asperity friction added"))
-    return mixed_friction(mu, lam, f.boundary_coefficient), lam
+                     f"loaded contacts (min {lam[ok].min():.2g}): mixed lubrication; the "
+                     f"asperities carry {100 * carried:.0f} % of the contact load"
+                     + (f" at the boundary friction {f.boundary_coefficient:g}, the film the "
+                        "rest at the Xu (2007) friction" if f.boundary_coefficient > 0 else
+                        "; friction.boundary_coefficient = 0: the Xu (2007) law alone, "
+                        "extrapolated"))
+    return mixed_friction(mu, share, f.boundary_coefficient), lam
 
 
 def sliding_loss(table, force, mu, crank_speed):

@@ -13,7 +13,9 @@ sine paper, Lu & Xu 2024, Eqs. 26-45). Components:
   :func:`pin_contact_mu`), then for a K-H-V drive ``eccentric_bearing`` and
   ``output_mechanism`` (pins in holes, as the sine planet), for a 2K-V (RV-type) drive
   ``crank_bearings`` (the disc's crank-hole bearings) and ``first_stage`` (involute spur
-  stage); ``churning`` (Eq. 42 with a0 = the eccentricity and the crank speed) and ``drag``.
+  stage).
+* every drive: the load-independent losses of :mod:`.no_load` (``churning`` in an oil
+  bath, ``seals``, ``bearing_drag``, ``drag``).
 
 Each ``*_losses`` function returns a :class:`DriveLosses`; ``toothfem.efficiency.evaluate``
 turns it into the efficiency record.
@@ -29,8 +31,8 @@ from ..errors import CaseError
 from ..fem.drives import drive_for
 from . import spur as sp
 from .contact_friction import contact_mu, sliding_loss
-from .lubricant import churning_lu_xu_2024
 from .mesh_table import fe_reference, mesh_table
+from .no_load import no_load_losses
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -62,17 +64,6 @@ def _table(si, drive, points, member_torque, notes):
         ref = fe_reference(None if declared is None else
                            drive.member_torque(declared, peak=False), member_torque, notes)
     return mesh_table(drive, points.loads, points.n_positions, ref)
-
-
-def _common_losses(si, a0_m, crank_rad_s, visc, w_in):
-    """Churning (sine paper Eq. 42, when the lubricant names the law) and input drag [W]."""
-    lub = si.lubricant
-    out = {}
-    if lub.churning != "none":
-        out["churning"] = lub.churning_scale * churning_lu_xu_2024(
-            a0_m, crank_rad_s * 60 / (2 * math.pi), lub.kinematic_viscosity_m2_s * visc)
-    out["drag"] = si.friction.drag_torque_Nm * w_in
-    return out
 
 
 def w_mechanism(si, table, force, member_torque, a0_m, rel):
@@ -120,7 +111,9 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     plain = si.output_mechanism.plain_bearing_friction_torque_Nm * crank          # Eq. 34
     losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
               "output_mechanism": out_mech,
-              **_common_losses(si, a0, crank, points.viscosity_factor, crank)}
+              **no_load_losses(si, drive, stages=[(a0, crank)], input_rad_s=crank,
+                               eccentric_rad_s=rel, output_rad_s=w_planet,
+                               viscosity_factor=points.viscosity_factor)}
     # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
     # display: in a K-H-V stage the energy balance with the contact loss itself is exact
     return DriveLosses(output_power_W=t2 * np.abs(w_planet), losses_W=losses,
@@ -260,8 +253,14 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         losses["first_stage"] = p_out / eta_lossless_1 - p_out
         losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
         mesh_eff["first_stage"] = eta1
-    losses.update(_common_losses(si, cyc.geometry.eccentricity_m, crank,
-                                 points.viscosity_factor, w_in))
+    stages = [(cyc.geometry.eccentricity_m, crank)]
+    if drive.two_stage and si.first_stage is not None:
+        fs = si.first_stage           # the spur stage churns too (a0, sun vs carrier)
+        stages.append((fs.module_m * (fs.sun_teeth + fs.planet_teeth) / 2,
+                       w_in * (1 - w["output"])))
+    losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
+                                 eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
+                                 viscosity_factor=points.viscosity_factor))
     return DriveLosses(output_power_W=p_out, losses_W=losses, notes=tuple(notes),
                        mesh_efficiency=mesh_eff)
 

@@ -5,11 +5,32 @@ import numpy as np
 
 from ..errors import CaseError
 
-#: Highest oil temperature Vogel's law is used at [deg C] (above it mineral gear oils
-#: oxidise quickly and no catalogue viscosity data exist).
-VOGEL_T_MAX_C = 250.0
 #: Margin above Vogel's pole T = -C [K] below which the law is refused (it diverges there).
 VOGEL_POLE_MARGIN_K = 1.0
+
+
+def temperature_range(lubricant) -> tuple:
+    """(lowest, highest) oil temperature [deg C] the viscosity law is used at: the pour
+    point (below it the oil does not flow; the law has no data) or just above Vogel's pole,
+    whichever is higher, up to the oil's ``max_temperature_C`` (mineral oil: 150 C, where
+    oxidation runs away; docs/case_schema.md)."""
+    lo = max(lubricant.pour_point_C, -lubricant.vogel_C_C + VOGEL_POLE_MARGIN_K)
+    return lo, lubricant.max_temperature_C
+
+
+def check_oil_temperature(lubricant, oil_temp_C, name="oil_temp_C"):
+    """``oil_temp_C`` as an array; CaseError (one line: the value and the valid range) where a
+    temperature leaves :func:`temperature_range`."""
+    t = np.asarray(oil_temp_C, float)
+    lo, hi = temperature_range(lubricant)
+    bad = ~np.isfinite(t) | (t < lo) | (t > hi)
+    if np.any(bad):
+        raise CaseError(f"{name} = {float(t[bad].flat[0])!r} is outside the valid range "
+                        f"[{lo:g}, {hi:g}] of the lubricant's viscosity law (pour point "
+                        f"{lubricant.pour_point_C:g} C, max_temperature_C "
+                        f"{lubricant.max_temperature_C:g} C, Vogel C = "
+                        f"{lubricant.vogel_C_C:g} C)")
+    return t
 
 
 def viscosity_factor(lubricant, oil_temp_C):
@@ -18,7 +39,8 @@ def viscosity_factor(lubricant, oil_temp_C):
     Parameters
     ----------
     lubricant : toothfem.si.LubricantSI
-        Vogel's B and C [deg C] and the reference temperature.
+        Vogel's B and C [deg C], the reference temperature and the law's validity
+        (:func:`temperature_range`: refused outside with one line).
     oil_temp_C : array_like or None
         Oil temperatures [deg C]; None means the reference temperature (factor 1).
 
@@ -29,13 +51,7 @@ def viscosity_factor(lubricant, oil_temp_C):
     """
     if oil_temp_C is None:
         return 1.0
-    t = np.asarray(oil_temp_C, float)
-    lo = -lubricant.vogel_C_C + VOGEL_POLE_MARGIN_K
-    bad = ~np.isfinite(t) | (t <= lo) | (t > VOGEL_T_MAX_C)
-    if np.any(bad):
-        raise CaseError(f"oil_temp_C = {float(t[bad].flat[0])!r} is outside the valid range "
-                        f"({lo:g}, {VOGEL_T_MAX_C:g}] of the Vogel law with C = "
-                        f"{lubricant.vogel_C_C:g} deg C")
+    t = check_oil_temperature(lubricant, oil_temp_C)
     b, c = lubricant.vogel_B_C, lubricant.vogel_C_C
     return np.exp(b / (t + c) - b / (lubricant.reference_temperature_C + c))
 

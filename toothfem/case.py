@@ -40,6 +40,11 @@ def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MI
     return field(default=default, metadata=md)
 
 
+def _stress(default: float, doc: str):
+    """A positive stress limit [MPa] with its default and source."""
+    return _f(0.0, None, lo_open=True, default=default, doc=doc)
+
+
 class _Section:
     """Mixin: validate every field against the range in its metadata."""
 
@@ -101,10 +106,18 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
 
 @dataclass(frozen=True)
 class Material(_Section):
+    """Elastic constants, and the hardness and strengths of life and strength checks
+    (defaults: through-hardened bearing steel, sources in docs/case_schema.md)."""
     _section = "material"
     youngs_modulus_GPa: float = _f(1.0, 1000.0)
     poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
     density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
+    # limits of the life and strength checks: sources in docs/case_schema.md
+    hardness_HV: float = _f(50.0, 2000.0, default=700.0, doc="700 HV = 60 HRC (ASTM E140)")
+    allowable_contact_stress_MPa: float = _stress(1500.0, "contact fatigue (ISO 281:2007)")
+    static_contact_stress_MPa: float = _stress(4000.0, "static contact (ISO 76:2006)")
+    yield_strength_MPa: float = _stress(1700.0, "0.2 % proof stress (ASSUMPTION, 100Cr6)")
+    fatigue_limit_MPa: float = _stress(700.0, "endurance limit (Shigley Eq. 6-8)")
 
 
 @dataclass(frozen=True)
@@ -292,10 +305,28 @@ class Lubricant(_Section):
     vogel_B_C: float = _f(100.0, 5000.0, default=1000.0,
                           doc="Vogel B: eta = A exp(B/(T + C)), T in deg C")
     vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]")
-    churning: str = _f(choices=("none", "lu_xu_2024"), default="none",
-                       doc="no-load (churning and seal) loss law")
+    churning: str = _f(choices=("none", "lu_xu_2024"), default="lu_xu_2024",
+                       doc="churning (oil agitation and splash) law of an oil bath; "
+                           "lu_xu_2024: the sine paper's Eq. 42")
     churning_scale: float = _f(0.0, 100.0, default=1.0,
                                doc="factor on the churning law")
+    lubrication: str = _f(choices=("oil_bath", "oil_mist", "oil_jet", "grease"),
+                          default="oil_bath",
+                          doc="how the reducer is lubricated: the churning law acts in an oil "
+                              "bath; the bearings' viscous drag takes Palmgren's f0 of it")
+    pour_point_C: float = _f(-80.0, 50.0, default=-15.0,
+                             doc="lowest temperature of the viscosity law; ASSUMPTION -15 C, "
+                                 "mineral gear oils (docs/case_schema.md)")
+    max_temperature_C: float = _f(0.0, 300.0, default=150.0,
+                                  doc="highest temperature of the viscosity law; 150 C, "
+                                      "mineral oil oxidation limit (docs/case_schema.md)")
+
+    def _check(self):
+        t_ref = self.reference_temperature_C
+        if not self.pour_point_C < t_ref < self.max_temperature_C:
+            raise CaseError(f"lubricant.reference_temperature_C = {t_ref!r} is outside the "
+                            f"valid range ({self.pour_point_C:g}, {self.max_temperature_C:g})"
+                            ": between pour_point_C and max_temperature_C")
 
 
 @dataclass(frozen=True)
@@ -309,8 +340,10 @@ class Friction(_Section):
                                            "grooves (0: pins roll freely)")
     mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
                        default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
-    boundary_coefficient: float = _f(0.0, 1.0, default=0.0,
-                                     doc="asperity friction in mixed lubrication (0: off)")
+    boundary_coefficient: float = _f(0.0, 1.0, default=0.1,
+                                     doc="asperity (boundary) friction of lubricated steel "
+                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950; "
+                                         "0: the EHL law alone")
     drag_torque_Nmm: float = _f(0.0, None, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
 
@@ -324,6 +357,101 @@ class OutputMechanism(_Section):
     pin_radius_mm: float = _f(0.0, None, lo_open=True, default=5.0)
     eccentric_bearing_inner_radius_mm: float = _f(0.0, None, lo_open=True, default=10.0)
     plain_bearing_friction_torque_Nmm: float = _f(0.0, None, default=0.0)
+
+
+BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
+
+
+@dataclass(frozen=True)
+class Seals(_Section):
+    """Radial lip seals on the input and the output shaft (ISO/TR 14179-1 seal loss).
+    None: the drive's own diameter (efficiency/envelope.py, ASSUMPTION); 0: no seal."""
+    _section = "seals"
+    input_diameter_mm: float | None = _f(0.0, None, default=None,
+                                         doc="shaft diameter under the input seal")
+    output_diameter_mm: float | None = _f(0.0, None, default=None,
+                                          doc="shaft diameter under the output seal")
+
+
+@dataclass(frozen=True)
+class Bearings(_Section):
+    """The bearings on the eccentrics (crank bearings in the discs' holes of a 2K-V drive,
+    the eccentric bearing of a K-H-V drive) and the main (output) bearing pair, with the
+    external loads on the output. None: the drive's own value (efficiency/envelope.py)."""
+    _section = "bearings"
+    eccentric_type: str | None = _f(choices=BEARING_TYPES, default=None,
+                                    doc="rolling-element type of the eccentric bearings")
+    eccentric_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    eccentric_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one eccentric bearing (ISO 281)")
+    main_type: str = _f(choices=BEARING_TYPES, default="angular_ball",
+                        doc="main bearing pair: angular contact ball bearings (RV-E)")
+    main_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    main_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one main bearing row (ISO 281)")
+    main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                    doc="distance between the load centres of the two rows")
+    external_radial_load_N: float = _f(0.0, None, default=0.0)
+    external_axial_load_N: float = _f(0.0, None, default=0.0)
+    external_moment_Nm: float = _f(0.0, None, default=0.0)
+
+
+@dataclass(frozen=True)
+class Thermal(_Section):
+    """Heat balance of the housing: losses = h A (T_oil - T_ambient). None: a cited
+    estimate (efficiency/thermal.py, docs/case_schema.md)."""
+    _section = "thermal"
+    ambient_C: float = _f(-40.0, 100.0, default=20.0,
+                          doc="ambient air; ASSUMPTION 20 C (a laboratory)")
+    housing_area_m2: float | None = _f(0.0, None, lo_open=True, default=None,
+                                       doc="surface that sheds heat; default a cylinder of "
+                                           "the housing radius as long as its diameter")
+    heat_transfer_W_m2K: float | None = _f(0.0, 1000.0, lo_open=True, default=None,
+                                           doc="default: natural convection (Holman) plus "
+                                               "radiation at the emissivity")
+    emissivity: float = _f(0.0, 1.0, default=0.9,
+                           doc="painted housing; 0.9 (Incropera, paints)")
+    heat_capacity_J_K: float | None = _f(0.0, None, lo_open=True, default=None,
+                                         doc="lumped heat capacity; default half the "
+                                             "housing envelope in steel")
+    sensor_resistance_K_W: float = _f(0.0, 20.0, default=0.0,
+                                      doc="oil at the contacts above a sump sensor per W "
+                                          "of loss (the loop's thermal effect; 0: none)")
+
+
+@dataclass(frozen=True)
+class DutyPoint(_Section):
+    """One row of a duty cycle: output torque, input speed and the share of time."""
+    _section = "duty_cycle"
+    output_torque_Nm: float = _f(0.0, None, lo_open=True, doc="load torque of the row")
+    input_speed_rpm: float = _f(0.0, None, lo_open=True, doc="input speed of the row")
+    time_share: float = _f(0.0, 1.0, lo_open=True,
+                           doc="share of the operating time; the rows' shares add up to 1")
+
+
+#: Tolerance on the sum of a duty cycle's time shares (shares quoted to three digits).
+DUTY_SHARE_TOL = 1e-3
+
+
+def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
+    """Refuse an ambient at which the oil is outside its range (below its pour point, at or
+    above its upper limit): one line with the valid range."""
+    lo, hi = lubricant.pour_point_C, lubricant.max_temperature_C
+    if not lo <= thermal.ambient_C < hi:
+        raise CaseError(f"thermal.ambient_C = {thermal.ambient_C!r} is outside the valid "
+                        f"range [{lo:g}, {hi:g}): the lubricant's pour_point_C to "
+                        "max_temperature_C")
+
+
+def check_duty_cycle(rows) -> None:
+    """Refuse a duty cycle whose time shares do not sum to 1 (one line, the valid range)."""
+    if rows:
+        total = float(sum(r.time_share for r in rows))
+        check_range("duty_cycle time_share sum", total, 1 - DUTY_SHARE_TOL,
+                    1 + DUTY_SHARE_TOL, error=CaseError,
+                    why="the shares of time must add up to 1")
 
 
 @dataclass(frozen=True)
@@ -367,6 +495,10 @@ class Case:
     supports: Supports | None = None
     measured: tuple[MeasuredPoint, ...] = ()
     published: Mapping[str, Any] = field(default_factory=dict)
+    seals: Seals = field(default_factory=Seals)
+    bearings: Bearings = field(default_factory=Bearings)
+    thermal: Thermal = field(default_factory=Thermal)
+    duty_cycle: tuple[DutyPoint, ...] = ()
 
     DRIVES = ("cycloid", "sine", "rv")
 
@@ -389,6 +521,8 @@ class Case:
                     if getattr(st, key) != want:
                         raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
                                         f"[rv] tooth numbers ({want})")
+        check_duty_cycle(self.duty_cycle)
+        check_ambient(self.thermal, self.lubricant)
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):
@@ -430,6 +564,7 @@ _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
     "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
+    "seals": Seals, "bearings": Bearings, "thermal": Thermal,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 
@@ -496,16 +631,21 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
         check_range("case.stated_ratio", kwargs["stated_ratio"], error=CaseError)
     measured = mapping.pop("measured", [])
     published = mapping.pop("published", {})
+    duty = mapping.pop("duty_cycle", [])
     for key, value in mapping.items():
         cls = _SECTIONS.get(key)
         if cls is None:
             raise CaseError(f"[{key}] is not a known section; known: "
-                            f"{sorted(_SECTIONS) + ['case', 'measured', 'published']}")
+                            f"{sorted(_SECTIONS) + ['case', 'duty_cycle', 'measured', 'published']}")
         kwargs[key] = _section(cls, value, key)
     if not isinstance(measured, list):
         raise CaseError("[[measured]] must be an array of tables")
     kwargs["measured"] = tuple(_section(MeasuredPoint, m, f"measured[{i}]")
                                for i, m in enumerate(measured))
+    if not isinstance(duty, list):
+        raise CaseError("[[duty_cycle]] must be an array of tables")
+    kwargs["duty_cycle"] = tuple(_section(DutyPoint, d, f"duty_cycle[{i}]")
+                                 for i, d in enumerate(duty))
     if not isinstance(published, Mapping):
         raise CaseError("[published] must be a table")
     kwargs["published"] = dict(published)
@@ -565,6 +705,8 @@ def case_to_dict(case: Case) -> dict:
             out[key] = {k: v for k, v in dataclasses.asdict(sec).items() if v is not None}
     if case.measured:
         out["measured"] = [dataclasses.asdict(m) for m in case.measured]
+    if case.duty_cycle:
+        out["duty_cycle"] = [dataclasses.asdict(d) for d in case.duty_cycle]
     if case.published:
         out["published"] = dict(case.published)
     return out

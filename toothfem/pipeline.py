@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from . import cad
+from . import durability
 from .case import Case, load_case
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
@@ -462,6 +463,7 @@ class RunResult:
     speed_rpm: float
     output_torque_Nm: float
     case: Case | None = None       # the case the run analysed
+    durability: dict = None        # {"life", "strength", "heat"}: toothfem.durability
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
@@ -491,6 +493,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     """
     from .report import plots, save
     from .report import summary as report_summary
+    from .report import durability as report_durability
 
     label = str(case) if not isinstance(case, Case) else "(in memory)"
     if not isinstance(case, Case):
@@ -554,9 +557,19 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                                      f"{case.name}"), tmp / "loss_shares.png")
         report += ["", "![loss shares](loss_shares.png)", ""]
         report += _efficiency_charts(case, tmp, speed, torque, sources)
+        # 4. life, strength and heat beside the efficiency
+        dur = {"heat": durability.thermal_summary(case, speed, torque),
+               "life": durability.life_summary(case),
+               "strength": durability.strength_summary(case, contact=contact)}
+        (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
+        rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
+                                                 case.rv.disc_teeth, case.rv.pin_count)
+        report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"],
+                                             rv_teeth)
         (tmp / "report.md").write_text("\n".join(report) + "\n")
     return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
-                     speed_rpm=float(speed), output_torque_Nm=float(torque), case=case)
+                     speed_rpm=float(speed), output_torque_Nm=float(torque), case=case,
+                     durability=dur)
 
 
 #: Output torques of the efficiency curves and maps, as fractions of the largest torque of

@@ -21,10 +21,16 @@ _RECORD = dict(frozen=True, kw_only=True)
 
 @dataclass(**_RECORD)
 class MaterialSI:
-    """Elastic material of the gears, pins and discs (one material for all)."""
+    """Elastic material of the gears, pins and discs (one material for all), its hardness
+    (the asperities' flow pressure) and the limits of the strength checks."""
     youngs_modulus_Pa: float
     poisson_ratio: float
     density_kg_m3: float
+    hardness_Pa: float
+    allowable_contact_stress_Pa: float
+    static_contact_stress_Pa: float
+    yield_strength_Pa: float
+    fatigue_limit_Pa: float
 
 
 @dataclass(**_RECORD)
@@ -96,6 +102,9 @@ class LubricantSI:
     vogel_C_C: float
     churning: str
     churning_scale: float
+    lubrication: str                # "oil_bath" | "oil_mist" | "oil_jet" | "grease"
+    pour_point_C: float             # validity of the viscosity law, deg C
+    max_temperature_C: float
 
 
 @dataclass(**_RECORD)
@@ -134,6 +143,48 @@ class SupportsSI:
 
 
 @dataclass(**_RECORD)
+class SealsSI:
+    """Shaft diameters under the input and output lip seals [m]; None: the drive's own."""
+    input_diameter_m: float | None
+    output_diameter_m: float | None
+
+
+@dataclass(**_RECORD)
+class BearingsSI:
+    """Eccentric (crank) bearings and the main bearing pair; None: the drive's own or not
+    given. Loads in N, moment in N m, ratings in N."""
+    eccentric_type: str | None
+    eccentric_pitch_diameter_m: float | None
+    eccentric_dynamic_rating_N: float | None
+    main_type: str
+    main_pitch_diameter_m: float | None
+    main_dynamic_rating_N: float | None
+    main_span_m: float | None
+    external_radial_load_N: float
+    external_axial_load_N: float
+    external_moment_Nm: float
+
+
+@dataclass(**_RECORD)
+class ThermalSI:
+    """The housing's heat balance; None: the cited estimate (efficiency/thermal.py)."""
+    ambient_C: float
+    housing_area_m2: float | None
+    heat_transfer_W_m2K: float | None
+    emissivity: float
+    heat_capacity_J_K: float | None
+    sensor_resistance_K_W: float    # the loop's thermal effect (K per W of loss)
+
+
+@dataclass(**_RECORD)
+class DutyPointSI:
+    """One row of a duty cycle."""
+    output_torque_Nm: float
+    input_speed_rad_s: float
+    time_share: float
+
+
+@dataclass(**_RECORD)
 class CaseSI:
     """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
     name: str
@@ -149,6 +200,10 @@ class CaseSI:
     friction: FrictionSI
     output_mechanism: OutputMechanismSI | None
     supports: SupportsSI = SupportsSI()
+    seals: SealsSI | None = None
+    bearings: BearingsSI | None = None
+    thermal: ThermalSI | None = None
+    duty_cycle: tuple = ()
 
     def to_si(self) -> "CaseSI":
         """Itself: analyses accept a case or its SI record alike."""
@@ -185,6 +240,11 @@ def _si_or_none(value, factor):
     return None if value is None else value * factor
 
 
+_MPA = 1e6
+#: Pa per Vickers hardness number (HV is in kgf/mm^2: 9.80665 N / 1e-6 m^2).
+_HV = 9.80665e6
+
+
 def from_case(case) -> CaseSI:
     """Every section of a :class:`toothfem.case.Case` as its SI record: the one place units
     change (:meth:`toothfem.case.Case.to_si` calls it once per case)."""
@@ -195,12 +255,15 @@ def from_case(case) -> CaseSI:
     lub = case.lubricant
     fri = case.friction
     om = case.output_mechanism
-    sup = case.supports
     return CaseSI(
         name=case.name, drive=case.drive, ratio=case.ratio(),
         material=None if mat is None else MaterialSI(
             youngs_modulus_Pa=mat.youngs_modulus_GPa * _GPA, poisson_ratio=mat.poisson_ratio,
-            density_kg_m3=mat.density_kg_m3),
+            density_kg_m3=mat.density_kg_m3, hardness_Pa=mat.hardness_HV * _HV,
+            allowable_contact_stress_Pa=mat.allowable_contact_stress_MPa * _MPA,
+            static_contact_stress_Pa=mat.static_contact_stress_MPa * _MPA,
+            yield_strength_Pa=mat.yield_strength_MPa * _MPA,
+            fatigue_limit_Pa=mat.fatigue_limit_MPa * _MPA),
         cycloid=None if cyc is None else CycloidStageSI(
             geometry=cyc.geometry(), holes=cyc.holes_si(),
             face_width_m=cyc.face_width_mm * _MM, disc_count=cyc.disc_count,
@@ -225,14 +288,7 @@ def from_case(case) -> CaseSI:
             input_torque_Nm=op.input_torque_Nm or None,
             input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
             rated_torque_Nm=op.rated_torque_Nm),
-        supports=SupportsSI() if case.supports is None else SupportsSI(
-            bearing_roller_count=sup.bearing_roller_count,
-            bearing_roller_length_m=_si_or_none(sup.bearing_roller_length_mm, _MM),
-            bearing_roller_diameter_m=_si_or_none(sup.bearing_roller_diameter_mm, _MM),
-            crankshaft_diameter_m=_si_or_none(sup.crankshaft_diameter_mm, _MM),
-            crankshaft_span_m=_si_or_none(sup.crankshaft_span_mm, _MM),
-            carrier_stiffness_Nm_per_rad=_si_or_none(sup.carrier_stiffness_Nm_per_arcmin,
-                                                     _PER_ARCMIN)),
+        supports=SupportsSI() if case.supports is None else _supports_si(case.supports),
         lubricant=LubricantSI(
             dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
             kinematic_viscosity_m2_s=lub.kinematic_viscosity_mm2_s * _MM ** 2,
@@ -241,7 +297,8 @@ def from_case(case) -> CaseSI:
             reference_temperature_C=lub.reference_temperature_C,
             roughness_Ra_m=lub.roughness_Ra_um * _UM, vogel_B_C=lub.vogel_B_C,
             vogel_C_C=lub.vogel_C_C, churning=lub.churning,
-            churning_scale=lub.churning_scale),
+            churning_scale=lub.churning_scale, lubrication=lub.lubrication,
+            pour_point_C=lub.pour_point_C, max_temperature_C=lub.max_temperature_C),
         friction=FrictionSI(
             coefficient=fri.coefficient, bearing_coefficient=fri.bearing_coefficient,
             output_pin_coefficient=fri.output_pin_coefficient,
@@ -252,4 +309,50 @@ def from_case(case) -> CaseSI:
             pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
             pin_radius_m=om.pin_radius_mm * _MM,
             eccentric_bearing_inner_radius_m=om.eccentric_bearing_inner_radius_mm * _MM,
-            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM))
+            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM),
+        seals=_seals_si(case.seals), bearings=_bearings_si(case.bearings),
+        thermal=ThermalSI(
+            ambient_C=case.thermal.ambient_C, housing_area_m2=case.thermal.housing_area_m2,
+            heat_transfer_W_m2K=case.thermal.heat_transfer_W_m2K,
+            emissivity=case.thermal.emissivity,
+            heat_capacity_J_K=case.thermal.heat_capacity_J_K,
+            sensor_resistance_K_W=case.thermal.sensor_resistance_K_W),
+        duty_cycle=tuple(DutyPointSI(
+            output_torque_Nm=d.output_torque_Nm,
+            input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,
+            time_share=d.time_share) for d in case.duty_cycle))
+
+
+def _mm_or_none(value):
+    return _si_or_none(value, _MM)
+
+
+def _seals_si(seals) -> SealsSI:
+    return SealsSI(input_diameter_m=_mm_or_none(seals.input_diameter_mm),
+                      output_diameter_m=_mm_or_none(seals.output_diameter_mm))
+
+
+def _bearings_si(b) -> BearingsSI:
+    return BearingsSI(
+        eccentric_type=b.eccentric_type,
+        eccentric_pitch_diameter_m=_mm_or_none(b.eccentric_pitch_diameter_mm),
+        eccentric_dynamic_rating_N=(None if b.eccentric_dynamic_rating_kN is None
+                                    else b.eccentric_dynamic_rating_kN * 1e3),
+        main_type=b.main_type, main_pitch_diameter_m=_mm_or_none(b.main_pitch_diameter_mm),
+        main_dynamic_rating_N=(None if b.main_dynamic_rating_kN is None
+                               else b.main_dynamic_rating_kN * 1e3),
+        main_span_m=_mm_or_none(b.main_span_mm),
+        external_radial_load_N=b.external_radial_load_N,
+        external_axial_load_N=b.external_axial_load_N,
+        external_moment_Nm=b.external_moment_Nm)
+
+
+def _supports_si(sup) -> SupportsSI:
+    return SupportsSI(
+        bearing_roller_count=sup.bearing_roller_count,
+        bearing_roller_length_m=_si_or_none(sup.bearing_roller_length_mm, _MM),
+        bearing_roller_diameter_m=_si_or_none(sup.bearing_roller_diameter_mm, _MM),
+        crankshaft_diameter_m=_si_or_none(sup.crankshaft_diameter_mm, _MM),
+        crankshaft_span_m=_si_or_none(sup.crankshaft_span_mm, _MM),
+        carrier_stiffness_Nm_per_rad=_si_or_none(sup.carrier_stiffness_Nm_per_arcmin,
+                                                 _PER_ARCMIN))

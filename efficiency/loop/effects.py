@@ -6,13 +6,21 @@ starting values), the case fields it sets (``apply(case, values) -> case`` throu
 It is never a curve fitted to the residual: its shape over speed, torque and oil temperature
 comes from the model, only its physical parameter is fitted.
 
-Most effects act through the case: the efficiency model evaluates the field they set. One
-acts through a loss term beside the model (written in :func:`Effect.route`):
+Most effects act through the case: the efficiency model evaluates the field they set. Two
+act through a loss term beside the model (written in :func:`Effect.route`):
 
 * ``load_sharing_clearance``: the analytic load split ignores the clearance of a modified
   cycloid profile; the effect tabulates the change of the pin-contact and crank-bearing
   losses over a grid of clearances with the contact model (rigid bodies on equal contact
   springs, :func:`clearance_tables`), once per data set.
+* ``thermal`` (:mod:`.thermal_effect`): the oil in the contacts warmer than the sump
+  sensor by a thermal resistance times the losses (with the time constant of the case's
+  heat capacity when the data carry time).
+
+Physics the model has by default (churning in an oil bath, mixed lubrication with a
+boundary coefficient of 0.1, the seals) is not added again: its effect fits a correction
+of its parameter (the churning law's factor, the boundary coefficient; ``drag_torque`` is
+drag beyond the seals' own, e.g. bearing preload).
 
 The catalog (:func:`catalog`), by name:
 
@@ -20,13 +28,14 @@ The catalog (:func:`catalog`), by name:
 effect                    parameter (case field)           drives         source
 ========================= ================================ ============== =================
 drag_torque               friction.drag_torque_Nmm         all            ISO/TR 14179-2
-churning                  lubricant.churning_scale         all            Lu & Xu Eq. 42
+churning                  lubricant.churning_scale         all (oil bath) Lu & Xu Eq. 42
 viscosity_temperature     lubricant.vogel_B_C              all (oil T)    Vogel 1921
 mixed_lubrication         friction.boundary_coefficient    all (EHL law)  Johnson et al. 1972
 bearing_friction          friction.bearing_coefficient     all            Palmgren; SKF
 output_mechanism_friction friction.output_pin_coefficient  sine           Lu & Xu Eqs. 37-39
 load_sharing_clearance    cycloid.equidistant_modif..._mm  cycloid, rv    contact model
 pin_sliding               friction.pin_groove_coefficient  cycloid, rv    Malhotra 1983
+thermal                   (thermal resistance, K/W)        all (oil T)    lumped heat balance
 ========================= ================================ ============== =================
 
 The sine pair has no route for ``pin_sliding`` (no pins in its mesh; its output pins are
@@ -39,24 +48,22 @@ output mechanism (the disc drives the carrier through its crank bearings, which
 from __future__ import annotations
 
 import dataclasses
+import math
+from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
 from ...errors import ToothfemError
+from ...fem import cycloid_fe as cf
 from ...fem.drives import drive_for
-from ..drive_losses import bearing_component
-from .clearance import clearance_tables, contact_compliance, load_sharing_clearance
-from .effect import (Effect, Parameter, Points, crank_speed_factor, declared_if_changed,
-                     needs_cycloid, predict, prepare, set_field, with_effects)
-
-#: The catalog's public names; the records and the prediction machinery (:mod:`.effect`) and
-#: the clearance effect's tables (:mod:`.clearance`) are re-exported here for the loop's
-#: callers (``from toothfem.efficiency.loop import effects as fx``).
-__all__ = ["NAMES", "Effect", "Parameter", "Points", "by_name", "catalog", "churning",
-           "clearance_tables", "contact_compliance", "crank_speed_factor", "drag_torque",
-           "load_sharing_clearance", "mixed_lubrication", "output_mechanism_friction",
-           "pin_sliding", "predict", "prepare", "viscosity_temperature", "with_effects",
-           "bearing_friction"]
+from ..drive_losses import bearing_component, disc_contact_losses
+from ..lubricant import viscosity_factor
+from ..mesh_table import table_from_records
+from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_factor,  # noqa: F401
+                          declared_if_changed, need_cycloid, predict, prepare, setter,
+                          with_effects)
+from .thermal_effect import thermal
 
 
 # ---------------------------------------------------------------------------------------
@@ -64,12 +71,13 @@ __all__ = ["NAMES", "Effect", "Parameter", "Points", "by_name", "catalog", "chur
 
 
 def drag_torque() -> Effect:
-    """Load-independent drag torque on the input shaft (lip seals, bearing preload).
+    """Load-independent drag torque on the input shaft beyond the model's own seals.
 
     P_drag = T_drag omega_in: ISO/TR 14179-2:2001 counts seal losses as a load-independent
-    torque on the shaft (its seal-loss formula gives the torque from the shaft diameter);
-    a preloaded bearing pair adds a load-independent moment of the same kind (SKF,
-    'The SKF model for calculating the frictional moment', 2018: M_drag, M_seal)."""
+    torque on the shaft (the model has the seals of ISO/TR 14179-1 at their diameters); a
+    preloaded bearing pair or a tighter seal adds a load-independent moment of the same
+    kind (SKF, 'The SKF model for calculating the frictional moment', 2018: M_drag,
+    M_seal)."""
     return Effect(
         name="drag_torque",
         summary="load-independent drag on the input shaft (seals, bearing preload)",
@@ -80,25 +88,30 @@ def drag_torque() -> Effect:
                               "drag torque on the input shaft"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.drag_torque_Nmm",),
-        set_fields=set_field("friction", "drag_torque_Nmm"),
+        set_fields=setter("friction", "drag_torque_Nmm"),
         declared_by=declared_if_changed("friction", "drag_torque_Nmm",
                                          "friction.drag_torque_Nmm"),
         linear_in=lambda case: "drag")
 
 
-def _set_churning(case, values):
-    lub = dataclasses.replace(case.lubricant, churning="lu_xu_2024", churning_scale=values[0])
-    return dataclasses.replace(case, lubricant=lub)
+def _needs_bath_churning(case, points):
+    lub = case.lubricant
+    if lub.lubrication != "oil_bath":
+        return (f"lubricant.lubrication = {lub.lubrication!r}: no oil bath to churn (the "
+                "bearings' drag is Palmgren's)")
+    if lub.churning == "none":
+        return "lubricant.churning = 'none': the case has no churning law to correct"
+    return None
 
 
 def churning() -> Effect:
-    """Oil agitation, splashing and seal drag that grow with speed and viscosity.
+    """A correction of the churning the model has by default in an oil bath.
 
-    The sine paper's no-load loss (Lu & Xu 2024, Eq. 42, the form of ISO/TR 14179-1's
-    no-load gear loss): P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the centre
-    distance (eccentricity) [mm], n the eccentric's speed [rpm], nu the kinematic viscosity
-    at the oil temperature [mm^2/s]; the factor k is fitted (1 = the paper's law). On a
-    cycloid or RV drive the model takes a0 = the eccentricity and n = the crank speed."""
+    The no-load loss of each gear stage in the bath (Lu & Xu 2024, Eq. 42):
+    P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the stage's centre distance
+    [mm] (the eccentricity of a K-H-V stage), n its pinion's speed [rpm], nu the kinematic
+    viscosity at the oil temperature [mm^2/s]; the factor k is fitted (1 = the law as
+    the model takes it by default, efficiency/no_load.py)."""
     return Effect(
         name="churning",
         summary="speed- and viscosity-dependent no-load loss (oil agitation, splash)",
@@ -108,10 +121,11 @@ def churning() -> Effect:
         parameters=(Parameter("churning_scale", "-", 0.0, 100.0, (1.0, 0.3, 3.0), 1.0,
                               "factor k on the Lu & Xu law"),),
         drives=("sine", "cycloid", "rv"),
-        case_fields=("lubricant.churning", "lubricant.churning_scale"),
-        set_fields=_set_churning,
-        declared_by=lambda case: (f"lubricant.churning = {case.lubricant.churning!r}"
-                                  if case.lubricant.churning != "none" else None),
+        case_fields=("lubricant.churning_scale",),
+        set_fields=setter("lubricant", "churning_scale"),
+        declared_by=declared_if_changed("lubricant", "churning_scale",
+                                        "lubricant.churning_scale"),
+        not_applicable=_needs_bath_churning,
         linear_in=lambda case: "churning")
 
 
@@ -147,7 +161,7 @@ def viscosity_temperature() -> Effect:
                               (1000.0, 600.0, 1500.0, 2500.0), 500.0, "Vogel B"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("lubricant.vogel_B_C",),
-        set_fields=set_field("lubricant", "vogel_B_C"),
+        set_fields=setter("lubricant", "vogel_B_C"),
         declared_by=declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
         not_applicable=_needs_temps)
 
@@ -159,24 +173,30 @@ def _needs_ehl(case, points):
     return None
 
 
-def mixed_lubrication() -> Effect:
-    """Asperity friction as the film ratio falls below full film.
+#: Smallest boundary coefficient the fit tries: 0 is the model's switch to the EHL law
+#: alone, not a frictionless asperity, so the fitted range stops short of it.
+MIN_BOUNDARY = 1e-3
 
-    mu = (1 - xi) mu_EHL + xi mu_b with xi = (1 - lambda/3)^2 for lambda = h_c/S < 3: the
-    load shared by the asperities (Johnson, Greenwood & Poon 1972) carries the boundary
-    friction mu_b; the shape of xi is the solid-fraction blending of the model
-    (efficiency/contact_friction.py, in the manner of Castro & Seabra 2008). Since lambda grows with
-    speed and viscosity, the extra loss is largest at low speed and high temperature."""
+
+def mixed_lubrication() -> Effect:
+    """A correction of the boundary friction the model has by default in mixed lubrication.
+
+    mu = (1 - f) mu_EHL + f mu_b, f the asperities' share of the load (Johnson, Greenwood &
+    Poon 1972 with plastically flattened Gaussian asperities, efficiency/mixed_film.py);
+    the model's mu_b is 0.1 (lubricated steel, Bowden & Tabor 1950) and the fit corrects it
+    (additives, coatings, running-in change it). Since the film ratio grows with speed and
+    viscosity, its loss is largest at low speed and high temperature."""
     return Effect(
         name="mixed_lubrication",
-        summary="boundary (asperity) friction blended in as the film ratio falls below 3",
-        equation="mu = (1 - xi) mu_EHL + xi mu_b, xi = (1 - lambda/3)^2",
-        citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Castro & Seabra (2008)",
-        parameters=(Parameter("boundary_coefficient", "-", 0.0, 0.3, (0.05, 0.01, 0.15), 0.05,
-                              "boundary friction coefficient mu_b"),),
+        summary="boundary (asperity) friction of the load the film cannot carry",
+        equation="mu = (1 - f) mu_EHL + f mu_b, f = min(1, (H/p_m) erfc(lambda_f/sqrt 2)/2)",
+        citation="Johnson, Greenwood & Poon, Wear 19 (1972) 91-108; Bowden & Tabor (1950); "
+                 "Castro & Seabra, Proc. IMechE J 221 (2007) 399-411",
+        parameters=(Parameter("boundary_coefficient", "-", MIN_BOUNDARY, 0.3,
+                              (0.1, 0.03, 0.2), 0.05, "boundary friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.boundary_coefficient",),
-        set_fields=set_field("friction", "boundary_coefficient"),
+        set_fields=setter("friction", "boundary_coefficient"),
         declared_by=declared_if_changed("friction", "boundary_coefficient",
                                          "friction.boundary_coefficient"),
         not_applicable=_needs_ehl)
@@ -200,7 +220,7 @@ def bearing_friction() -> Effect:
                               "bearing friction coefficient mu_b"),),
         drives=("sine", "cycloid", "rv"),
         case_fields=("friction.bearing_coefficient",),
-        set_fields=set_field("friction", "bearing_coefficient"),
+        set_fields=setter("friction", "bearing_coefficient"),
         declared_by=declared_if_changed("friction", "bearing_coefficient",
                                          "friction.bearing_coefficient"),
         linear_in=lambda case: bearing_component(drive_for(case)))
@@ -226,7 +246,7 @@ def output_mechanism_friction() -> Effect:
                               0.03, "pin-hole friction coefficient f_k"),),
         drives=("sine",),
         case_fields=("friction.output_pin_coefficient",),
-        set_fields=set_field("friction", "output_pin_coefficient"),
+        set_fields=setter("friction", "output_pin_coefficient"),
         declared_by=declared_if_changed("friction", "output_pin_coefficient",
                                          "friction.output_pin_coefficient"),
         not_applicable=_needs_output_mechanism,
@@ -234,7 +254,7 @@ def output_mechanism_friction() -> Effect:
 
 
 def _needs_conventional(case, points):
-    why = needs_cycloid(case, points)
+    why = need_cycloid(case, points)
     if why:
         return why
     if case.cycloid.pin_structure != "conventional":
@@ -260,10 +280,157 @@ def pin_sliding() -> Effect:
                               0.02, "groove friction coefficient mu_g"),),
         drives=("cycloid", "rv"),
         case_fields=("friction.pin_groove_coefficient",),
-        set_fields=set_field("friction", "pin_groove_coefficient"),
+        set_fields=setter("friction", "pin_groove_coefficient"),
         declared_by=declared_if_changed("friction", "pin_groove_coefficient",
                                          "friction.pin_groove_coefficient"),
         not_applicable=_needs_conventional)
+
+
+# ---------------------------------------------------------------------------------------
+# Clearance through the contact model
+
+#: Clearances [mm] at which the contact model is solved; the effect interpolates between.
+CLEARANCE_GRID_MM = (0.0, 0.0005, 0.001, 0.002, 0.003, 0.005, 0.0075, 0.01, 0.015, 0.02,
+                     0.03, 0.05)
+#: Disc torques at which each clearance's load split is solved (fractions between the
+#: data's smallest and largest, log-spaced); the table interpolates F/T between them.
+CLEARANCE_TORQUES = 8
+#: Meshing positions over one pin pitch (the efficiency model's default).
+CLEARANCE_POSITIONS = 36
+
+
+@lru_cache(maxsize=8)
+def contact_compliance(drive) -> float:
+    """Compliance of one pin contact [m per N/m of face width] for the equal-springs
+    contact model: the mean diagonal of the disc's FE influence matrix (plus the integral
+    housing's, which the cycle solver adds) at the candidate pins of one position, plus
+    for conventional pins the pin's own FE compliance averaged over contact angles within
+    45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
+    half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
+    terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
+    solver = drive.cycle_solver(1, cache=False)
+    model = solver.model
+    c = float(np.mean(np.diag(solver.influence(0))))
+    if model.pin_structure == "conventional":
+        pin = cf.PinModel(model.geometry.pin_radius_m, model.youngs_modulus,
+                          model.poisson_ratio, solver.b_ref / 2, model.plane)
+        near = np.abs(pin.angles) <= math.pi / 4
+        c += float(np.mean(pin.table[near]))
+    return c
+
+
+@dataclass(frozen=True)
+class ClearanceTables:
+    """Per clearance (K,) and point (M,): the pin-contact and crank-bearing losses relative
+    to zero clearance, from the equal-springs contact model."""
+    clearance_mm: np.ndarray        # (K,)
+    pin_ratio: np.ndarray           # (K, M)
+    bearing_ratio: np.ndarray       # (K, M)
+    compliance: float               # m per N/m
+    contacts_mean: np.ndarray       # (K,) mean pins in contact at the largest torque
+
+
+def clearance_tables(case, points: Points, compliance=None,
+                     grid_mm=CLEARANCE_GRID_MM) -> ClearanceTables:
+    """Loss ratios over a grid of clearances (equidistant modification Delta r_z) at the
+    points, in the limit of rigid bodies on equal contact springs (``compliance`` m per
+    N/m; default :func:`contact_compliance`, from the FE).
+
+    Per clearance the cycle solver finds the contact set and forces at every position
+    (complementarity with the torque balance: fem/cycloid_fe.CycleSolver with
+    ``equal_springs``) at a few disc torques spanning the data; the friction of each contact
+    is the model's (same law, lubricant and oil temperature as the case), and the ratio
+    sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
+    bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
+    is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
+    cyc = case.cycloid
+    drive = drive_for(case)
+    if compliance is None:
+        compliance = contact_compliance(drive)
+    t_disc = drive.member_torque(points.torque_Nm, peak=False)
+    lo, hi = float(np.min(t_disc)), float(np.max(t_disc))
+    torques = np.geomspace(lo, hi, CLEARANCE_TORQUES) if hi > lo * 1.01 else np.array([hi])
+    crank = np.abs(points.speed_rpm * 2 * math.pi / 60 * crank_speed_factor(case))
+    visc = viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
+    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
+    pins, bearing, contacts = [], [], []
+    for c_mm in grid_mm:
+        d = drive_for(dataclasses.replace(case, cycloid=dataclasses.replace(
+            cyc, equidistant_modification_mm=float(c_mm))))
+        state = d.meshing(d.positions(CLEARANCE_POSITIONS))
+        solver = d.cycle_solver(CLEARANCE_POSITIONS, cache=False,
+                                solver_options={"equal_springs": compliance})
+        records = [solver.solve(float(t)) for t in torques]
+        table = table_from_records(state, records, "equal_springs")
+        loss, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0)
+        pins.append(loss)
+        bearing.append(f_bearing)
+        contacts.append(float(np.mean(records[-1].contacts_per_position)))
+    pins, bearing = np.array(pins), np.array(bearing)
+
+    def ratio(a):
+        with np.errstate(divide="ignore", invalid="ignore"):
+            r = a / a[0]
+        return np.where(a[0] > 0, r, 1.0)
+
+    return ClearanceTables(np.asarray(grid_mm, float), ratio(pins), ratio(bearing),
+                           float(compliance), np.array(contacts))
+
+
+def _clearance_loss(case, points, ev, values, tables: ClearanceTables):
+    from scipy.interpolate import PchipInterpolator
+
+    c = float(values[0])
+    x = tables.clearance_mm
+    rp = PchipInterpolator(x, tables.pin_ratio, axis=0)(c)
+    rb = PchipInterpolator(x, tables.bearing_ratio, axis=0)(c)
+    pins = ev.losses_W.get("pin_contacts", 0.0)
+    bearings = ev.losses_W.get("crank_bearings", 0.0)
+    return (rp - 1.0) * pins + (rb - 1.0) * bearings
+
+
+def _declared_modification(case):
+    cyc = case.cycloid
+    if cyc is None:
+        return None
+    for name in ("equidistant_modification_mm", "move_distance_modification_mm",
+                 "rotation_modification_deg"):
+        if getattr(cyc, name) != 0:
+            return f"cycloid.{name} = {getattr(cyc, name)!r}"
+    return None
+
+
+def load_sharing_clearance(compliance=None) -> Effect:
+    """Clearance between disc and pins changing which pins carry the torque.
+
+    A positive equidistant modification Delta r_z opens a gap that grows away from the
+    pins of largest moment arm; under load the contact set is what closes (complementarity:
+    gap >= 0, F >= 0, F gap = 0, sum F l = T), so fewer pins carry more load at low torque
+    and the set grows with torque. The friction loss changes with it (the loaded pins
+    differ in sliding speed and pressure). The load split comes from the contact model in
+    the limit of rigid bodies on equal contact springs (``compliance``, default from the
+    FE; see :func:`clearance_tables`), tabulated over :data:`CLEARANCE_GRID_MM` once per
+    data set. The full FE cycle mode (about 25-50 s per geometry here) is the reference it
+    is checked against in the slow tests."""
+    return Effect(
+        name="load_sharing_clearance",
+        summary="disc-pin clearance (equidistant modification) changing the load split, "
+                "through the contact model",
+        equation="g_i = g0_i(Delta r_z) + k F_i - beta l_i >= 0, F_i >= 0, F_i g_i = 0, "
+                 "sum F_i l_i = T",
+        citation="Wang et al. (the pin-housing paper, docs/references.md), modifications Delta r_z, Delta R_z;"
+                 " toothfem fem/cycloid_fe.CycleSolver (complementarity)",
+        parameters=(Parameter("equidistant_modification_mm", "mm", 0.0, 0.05,
+                              (0.003, 0.001, 0.01, 0.03), 0.003,
+                              "clearance: equidistant modification Delta r_z"),),
+        drives=("cycloid", "rv"),
+        case_fields=("cycloid.equidistant_modification_mm",),
+        set_fields=setter("cycloid", "equidistant_modification_mm"),
+        declared_by=_declared_modification,
+        not_applicable=need_cycloid,
+        loss_route=lambda case: True,
+        extra_loss=_clearance_loss,
+        prepare=lambda case, points: clearance_tables(case, points, compliance))
 
 
 # ---------------------------------------------------------------------------------------
@@ -271,7 +438,7 @@ def pin_sliding() -> Effect:
 
 NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication",
          "bearing_friction", "output_mechanism_friction", "load_sharing_clearance",
-         "pin_sliding")
+         "pin_sliding", "thermal")
 
 
 def catalog(*, clearance_compliance=None) -> tuple:
@@ -280,7 +447,7 @@ def catalog(*, clearance_compliance=None) -> tuple:
     them from the FE (one disc factorisation per design)."""
     return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
             bearing_friction(), output_mechanism_friction(),
-            load_sharing_clearance(clearance_compliance), pin_sliding())
+            load_sharing_clearance(clearance_compliance), pin_sliding(), thermal())
 
 
 def by_name(name, effects=None) -> Effect:

@@ -1,5 +1,5 @@
 """`toothfem efficiency CASE [--loads fem|analytic] [--method NAME] [--torque-Nm T]
-[--speed-rpm N] [--oil-temp-C T] [--json]`."""
+[--speed-rpm N] [--oil-temp-C T | --thermal [--duration-h H]] [--json]`."""
 from __future__ import annotations
 
 import json
@@ -25,23 +25,46 @@ def add_parser(sub):
                    help="input speed [rpm] (default: the case's)")
     p.add_argument("--oil-temp-C", type=float, default=None, dest="oil_temp",
                    help="oil temperature [deg C] (default: the lubricant's reference)")
+    p.add_argument("--thermal", action="store_true",
+                   help="solve the heat balance: the oil temperature at which the losses "
+                        "leave through the housing ([thermal] of the case), and the "
+                        "efficiency there")
+    p.add_argument("--duration-h", type=float, default=None, dest="duration",
+                   help="with --thermal: the warm-up from the ambient over this time [h]")
     p.add_argument("--json", action="store_true", help="print JSON instead of a table")
     p.set_defaults(func=run)
 
 
 def run(args) -> int:
     from ..case import load_case
+    from ..durability import thermal_summary
     from ..efficiency import operating_point
+    from ..errors import CaseError
     from ..pipeline import efficiency_summary
     from ..report import summary as report_summary
 
     case = load_case(args.case)
+    if args.thermal and args.oil_temp is not None:
+        raise CaseError(f"--oil-temp-C = {args.oil_temp!r} and --thermal exclude each other "
+                        "(--thermal finds the oil temperature)")
+    if args.thermal and args.method != "power_flow":
+        raise CaseError(f"--thermal needs --method power_flow, not {args.method!r} (the RV "
+                        "paper's method takes no oil temperature)")
+    if args.duration is not None and not args.thermal:
+        raise CaseError(f"--duration-h = {args.duration!r} needs --thermal")
     speed, torque = args.speed, args.torque
     if speed is None or torque is None:
         speed0, torque0 = operating_point(case, loads=args.loads, method=args.method)
         speed = speed0 if speed is None else speed
         torque = torque0 if torque is None else torque
-    out = efficiency_summary(case, speed, torque, args.oil_temp, args.loads, args.method)
+    oil_temp, heat = args.oil_temp, None
+    if args.thermal:
+        heat = thermal_summary(case, speed, torque, loads=args.loads,
+                               duration_h=args.duration)
+        oil_temp = heat["equilibrium_oil_temp_C"]
+    out = efficiency_summary(case, speed, torque, oil_temp, args.loads, args.method)
+    if heat is not None:
+        out["thermal"] = heat
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
@@ -52,6 +75,13 @@ def run(args) -> int:
     print(report_summary.text(rows, title=f"{case.name}: {out['input_speed_rpm']:g} rpm input, "
                                           f"{out['output_torque_Nm']:.4g} N m output, oil at "
                                           f"{oil}"))
+    if heat is not None:
+        print(f"  heat balance: oil {heat['equilibrium_oil_temp_C']:.1f} C at ambient "
+              f"{heat['ambient_C']:g} C (h = {heat['heat_transfer_W_m2K']:.1f} W/m2K, "
+              f"A = {heat['housing_area_m2']:.3f} m2, {heat['losses_W']:.1f} W)")
+        for row in heat.get("warm_up", [])[::10]:
+            print(f"  warm-up {row['time_h']:6.2f} h: oil {row['oil_temp_C']:6.1f} C, "
+                  f"efficiency {100 * row['efficiency']:.2f} %")
     for note in out["notes"]:
         print(f"note: {note}")
     return 0

@@ -48,5 +48,12 @@ def run(args) -> int:
             report_summary.contact_rows(res.contact.summary, contact_labels(res.contact),
                                         case.published),
             title=f"contact ({res.contact.mode} mode)"))
+    heat, life, strength = (res.durability[k] for k in ("heat", "life", "strength"))
+    l10 = life["eccentric"]["l10_set_h"]
+    print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; eccentric bearings L10 "
+          + ("not rated" if l10 is None else f"{l10:.4g} h")
+          + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f}")
+    for w in strength["warnings"]:
+        print(f"warning: {w}")
     print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")
     return 0

@@ -1,13 +1,10 @@
-"""What an effect of the loop is, and the efficiency model's prediction with effects
-applied (the records and the machinery; the catalog itself is :mod:`.effects`).
+"""What the effect catalog is made of: parameters, operating points, effects, and the
+efficiency with a set of effects applied.
 
-An :class:`Effect` is a piece of physics with named parameters in physical units (bounds,
-starting values), the case fields it sets (``apply(case, values) -> case`` through
-``dataclasses.replace``), the drives it acts on and the equation and source it comes from.
-It is never a curve fitted to the residual: its shape over speed, torque and oil
-temperature comes from the model, only its physical parameter is fitted. Most effects act
-through the case (the model evaluates the field they set); one acts through a loss term
-beside the model (:meth:`Effect.route`).
+:class:`Effect` records (one per physical effect, :mod:`.effects` builds the catalog),
+:class:`Points`, :func:`predict` (the model with effects, linear components scaled without
+a new evaluation), and the small helpers the effects are written with (a field's default,
+declared-if-changed, setters).
 """
 from __future__ import annotations
 
@@ -20,7 +17,6 @@ import numpy as np
 from ...errors import ToothfemError, check_range
 from ...fem.drives import drive_for
 from ..evaluation import evaluate
-
 
 # ---------------------------------------------------------------------------------------
 # Records
@@ -41,16 +37,18 @@ class Parameter:
 @dataclass(frozen=True)
 class Points:
     """Operating points: input speed [rpm], output torque [N m], oil temperature [deg C]
-    or None (the lubricant's reference); arrays of shape (M,)."""
+    or None (the lubricant's reference), operating time [h] or None; arrays of shape (M,)."""
     speed_rpm: np.ndarray
     torque_Nm: np.ndarray
     oil_temp_C: np.ndarray | None = None
+    time_h: np.ndarray | None = None
 
     @classmethod
     def of(cls, data) -> "Points":
         """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`."""
         return cls(np.asarray(data.speed_rpm, float), np.asarray(data.torque_Nm, float),
-                   None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float))
+                   None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float),
+                   None if data.time_h is None else np.asarray(data.time_h, float))
 
     def __len__(self):
         return int(self.speed_rpm.size)
@@ -204,7 +202,7 @@ def prepare(effects, case, points) -> dict:
 # Helpers
 
 
-def field_default(section_cls, name):
+def default_of(section_cls, name):
     f = {x.name: x for x in dataclasses.fields(section_cls)}[name]
     return f.default
 
@@ -216,13 +214,13 @@ def declared_if_changed(section, name, label):
         if sec is None:
             return None
         value = getattr(sec, name)
-        if value != field_default(type(sec), name):
+        if value != default_of(type(sec), name):
             return f"{label} = {value!r}"
         return None
     return declared
 
 
-def set_field(section, name):
+def setter(section, name):
     """set_fields(case, values) for one field of one section."""
     def setter(case, values):
         sec = getattr(case, section)
@@ -235,7 +233,7 @@ def crank_speed_factor(case) -> float:
     return abs(drive_for(case).speeds()["crank"])
 
 
-def needs_cycloid(case, points):
+def need_cycloid(case, points):
     if case.cycloid is None or case.material is None:
         return "needs the [cycloid] and [material] sections (disc, pins, contact stiffness)"
     return None

@@ -1,0 +1,354 @@
+"""Bearing loads over the meshing cycle and their basic rating life (ISO 281).
+
+Loads, from the contact forces of the drive's meshing table (the analytic split or the FE
+cycle solver, magnitude and direction at every position) at the peak member torque (the
+more loaded disc: ``drive.member_torque(T, peak=True)``):
+
+* eccentric bearings of a 2K-V drive (the crank bearings in the disc's k holes at radius
+  R_c): each takes an even share of the pin resultant R and of the disc torque T,
+  F_i = -R/k + T/(k R_c) t_i (t_i the hole's tangent); the holes turn with the disc, R with
+  the crank, so over a crank turn's many repetitions every angle between them occurs and
+  the load is sampled over that angle (:data:`RELATIVE_ANGLE_SAMPLES`).
+* the eccentric bearing of a K-H-V drive (sine planet, plain cycloid): the member's
+  equilibrium with the pins-in-holes output, |R - sum Q e| (sine paper Eqs. 26-32,
+  docs/derivations.md 7).
+* the main (output) bearing pair: the output mechanism's net force (K-H-V: sum Q along e;
+  2K-V: the discs' resultants, which cancel for two discs half a turn apart), external
+  radial load (fixed in the housing, so sampled over the angle as above), external moment
+  over the rows' span, external axial load on one row.
+
+Life (ISO 281:2007): L10 = (C/P)^p 10^6 revolutions, p = 3 for ball, 10/3 for roller
+bearings; a load varying over the cycle and a duty cycle of speeds and time shares give the
+mean equivalent load P_m = (sum P_i^p n_i q_i / sum n_i q_i)^(1/p) (ISO 281:2007, Sec. on
+variable operating conditions; for ball bearings the cubic mean), and L10h = L10 /
+(60 sum n_i q_i). The life of a set of z equally loaded bearings (the reducer fails when
+the first does) is L z^(-1/e), e the Weibull slope (10/9 ball, 9/8 roller: Lundberg &
+Palmgren 1947/1952, the basis of ISO 281).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import CaseError, check_range
+from ..fem.drives import drive_for
+from ..geometry import cycloid as cy
+from .envelope import envelope
+from .mesh_table import mesh_table
+
+#: Life exponent p of ISO 281 by bearing type (3 ball, 10/3 roller).
+LIFE_EXPONENT = {"ball": 3.0, "angular_ball": 3.0, "cylindrical": 10 / 3, "tapered": 10 / 3,
+                 "needle": 10 / 3}
+#: Weibull slope e of the life distribution (Lundberg & Palmgren): 10/9 ball, 9/8 roller.
+WEIBULL_SLOPE = {"ball": 10 / 9, "angular_ball": 10 / 9, "cylindrical": 9 / 8,
+                 "tapered": 9 / 8, "needle": 9 / 8}
+#: ISO 281 dynamic equivalent load of a single-row angular contact ball bearing with a
+#: 40 deg contact angle (ISO 281:2007, Table 3): P = F_r while F_a/F_r <= e, else
+#: X F_r + Y F_a.
+ANGULAR_BALL_40 = {"e": 1.14, "X": 0.35, "Y": 0.57}
+#: Samples of the angle between a load that turns with the crank and one fixed to the
+#: disc or the housing (uniform over a turn).
+RELATIVE_ANGLE_SAMPLES = 64
+#: Revolutions of the basic rating life L10 per (C/P)^p (ISO 281).
+MILLION = 1e6
+
+
+@dataclass(frozen=True, kw_only=True)
+class BearingLoads:
+    """Load on one bearing of a group over one meshing period at one output torque.
+
+    ``force_N`` (P, 2): the force on one bearing at each position (for the crank bearings,
+    the hole on +x of the disc frame), housing frame; ``load_N`` (P, S): its magnitude at
+    every sampled relative angle (S = 1 where nothing turns against the load);
+    ``equivalent_N``: the ISO 281 p-mean over all of them; ``max_N``.
+    """
+    name: str
+    count: int
+    bearing_type: str
+    force_N: np.ndarray
+    load_N: np.ndarray
+    equivalent_N: float
+    max_N: float
+
+
+def _pmean(values, p) -> float:
+    return float(np.mean(np.asarray(values, float) ** p) ** (1.0 / p))
+
+
+def _turning(a, b):
+    """(..., S) magnitudes |a u - b v| over the angle between the unit vectors u, v."""
+    psi = (np.arange(RELATIVE_ANGLE_SAMPLES) + 0.5) * 2 * math.pi / RELATIVE_ANGLE_SAMPLES
+    a, b = np.asarray(a, float)[..., None], np.asarray(b, float)[..., None]
+    return np.sqrt(np.maximum(a ** 2 + b ** 2 - 2 * a * b * np.cos(psi), 0.0))
+
+
+def _is_two_stage(drive) -> bool:
+    """A 2K-V train (a spur first stage drives cranks in the member's holes)."""
+    return bool(getattr(drive, "two_stage", False))
+
+
+def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
+    """Loads of one eccentric bearing over the period (module docstring).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The period's contacts (any load source).
+    output_torque_Nm : float
+        Reducer output torque [N m]; the member carries its peak share.
+
+    Returns
+    -------
+    BearingLoads
+    """
+    env = envelope(si, drive)
+    t_member = drive.member_torque(output_torque_Nm, peak=True)
+    force, _ = table.at(np.array([t_member]))
+    r = table.resultant(force)[0]                                   # (P, 2)
+    p = LIFE_EXPONENT[env.eccentric_type]
+    if _is_two_stage(drive):
+        h = si.cycloid.holes
+        k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        b = t_member / (k * r_c)
+        _, rot = cy.disc_pose(si.cycloid.geometry, drive.positions(table.n_positions))
+        tangent = np.stack([-np.sin(rot), np.cos(rot)], axis=1)     # hole on +x
+        vec = -r / k + b * tangent
+        load = _turning(np.linalg.norm(r, axis=1) / k, np.full(len(r), b))
+    else:
+        om = si.output_mechanism
+        if om is None:
+            raise CaseError("a K-H-V drive needs [output_mechanism] (pins in holes) for the "
+                            "load on its eccentric bearing")
+        sum_q = 4 * t_member / (math.pi * om.pin_hole_circle_radius_m)      # Eq. 26
+        e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
+        vec = r - sum_q * e_dir
+        load = np.linalg.norm(vec, axis=1)[:, None]
+    return BearingLoads(name="eccentric", count=env.eccentric_count,
+                        bearing_type=env.eccentric_type, force_N=vec, load_N=load,
+                        equivalent_N=_pmean(load, p), max_N=float(load.max()))
+
+
+def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
+    """Loads of the more loaded row of the main bearing pair (module docstring); the
+    equivalent load by ISO 281 (``ANGULAR_BALL_40`` for angular contact ball bearings).
+
+    Parameters
+    ----------
+    si, drive, table, output_torque_Nm
+        As :func:`eccentric_loads`.
+
+    Returns
+    -------
+    BearingLoads
+    """
+    b = si.bearings
+    env = envelope(si, drive)
+    t_member = drive.member_torque(output_torque_Nm, peak=True)
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
+    if _is_two_stage(drive):      # the discs' pin resultants reach the carrier
+        force, _ = table.at(np.array([t_member]))
+        vec = -table.resultant(force)[0]
+    else:                         # the pins-in-holes output takes sum Q along e
+        sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
+        vec = sum_q * e_dir
+    n = drive.members          # the members' forces, a 1/n turn apart (rounded: two
+    turn = np.round(sum(       # discs half a turn apart cancel exactly)
+        np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
+        for a in 2 * math.pi * np.arange(n) / n), 12)
+    vec = vec @ turn.T
+    rows = env.main_count
+    radial = _turning(np.linalg.norm(vec, axis=1) / rows,
+                      np.full(len(vec), b.external_radial_load_N / rows))
+    if b.external_moment_Nm > 0:
+        if b.main_span_m is None:
+            raise CaseError(f"bearings.external_moment_Nm = {b.external_moment_Nm!r} needs "
+                            "bearings.main_span_mm (the rows' load centres)")
+        radial = radial + b.external_moment_Nm / b.main_span_m
+    axial = b.external_axial_load_N
+    if axial > 0:
+        if b.main_type != "angular_ball":
+            raise CaseError(f"bearings.external_axial_load_N = {axial!r} needs main_type = "
+                            f"'angular_ball' (ISO 281 X, Y of a 40 deg contact), not "
+                            f"{b.main_type!r}")
+        f = ANGULAR_BALL_40
+        with np.errstate(divide="ignore"):
+            heavy = axial > f["e"] * radial
+        radial = np.where(heavy, f["X"] * radial + f["Y"] * axial, radial)
+    p = LIFE_EXPONENT[b.main_type]
+    return BearingLoads(name="main", count=rows, bearing_type=b.main_type, force_N=vec / rows,
+                        load_N=radial, equivalent_N=_pmean(radial, p),
+                        max_N=float(radial.max()))
+
+
+def rating_life_revolutions(rating_N, load_N, exponent):
+    """Basic rating life L10 [revolutions], ISO 281: (C/P)^p 10^6.
+
+    Parameters
+    ----------
+    rating_N : float
+        Basic dynamic load rating C [N].
+    load_N : array_like
+        Dynamic equivalent load P [N].
+    exponent : float
+        p: 3 ball, 10/3 roller.
+
+    Returns
+    -------
+    numpy.ndarray
+        L10 in revolutions (inf where P = 0).
+    """
+    check_range("dynamic load rating C [N]", rating_N, 0.0, None, lo_open=True,
+                error=CaseError)
+    with np.errstate(divide="ignore"):
+        return MILLION * (rating_N / np.asarray(load_N, float)) ** exponent
+
+
+def mean_equivalent_load(loads_N, speeds_rpm, shares, exponent) -> float:
+    """ISO 281 mean equivalent load over a duty cycle, (sum P_i^p n_i q_i / sum n_i q_i)^(1/p).
+
+    Parameters
+    ----------
+    loads_N, speeds_rpm, shares : array_like
+        Equivalent load P_i [N], speed n_i [rpm] and share of time q_i of each row.
+    exponent : float
+        p of the life law.
+
+    Returns
+    -------
+    float
+        P_m [N].
+    """
+    p_i = np.asarray(loads_N, float)
+    w = np.abs(np.asarray(speeds_rpm, float)) * np.asarray(shares, float)
+    return float((np.sum(p_i ** exponent * w) / np.sum(w)) ** (1.0 / exponent))
+
+
+def set_life(single_life, count, bearing_type):
+    """Life of ``count`` equally loaded bearings, the first failure ending the set:
+    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`)."""
+    return single_life * float(count) ** (-1.0 / WEIBULL_SLOPE[bearing_type])
+
+
+@dataclass(frozen=True, kw_only=True)
+class Life:
+    """Rating life of one bearing group over a duty cycle."""
+    name: str
+    bearing_type: str
+    count: int
+    rating_N: float | None
+    exponent: float
+    equivalent_load_N: float          # P_m over the duty cycle
+    max_load_N: float
+    mean_speed_rpm: float
+    l10_h: float | None               # one bearing (None: no rating declared)
+    l10_set_h: float | None           # the group of ``count``
+
+
+def _duty(si):
+    """(output torque [N m], input speed [rad/s], share) rows: the duty cycle, else the
+    operating point."""
+    if si.duty_cycle:
+        return [(d.output_torque_Nm, d.input_speed_rad_s, d.time_share) for d in si.duty_cycle]
+    t = si.declared_output_torque_Nm()
+    if t is None:
+        raise CaseError("[operating] needs an output torque (or input torque or power) or a "
+                        "[[duty_cycle]] for the bearing life")
+    return [(t, si.operating.input_speed_rad_s, 1.0)]
+
+
+@dataclass(frozen=True, kw_only=True)
+class LifeResult:
+    """Life of the eccentric and main bearings over a duty cycle, with the loads of every
+    row (``rows``: (output torque [N m], input speed [rpm], share))."""
+    eccentric: Life
+    main: Life
+    loads: dict                       # {"eccentric"|"main": [BearingLoads per row]}
+    rows: tuple
+
+
+def bearing_life(case, *, loads="analytic", n_positions=36, duty=None) -> LifeResult:
+    """Loads and ISO 281 life of the eccentric and main bearings over a duty cycle.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+        The ratings come from ``[bearings]``; without one a group's life is None.
+    loads : {"analytic", "fem"}
+        Contact forces of the meshing table.
+    n_positions : int
+        Positions over the meshing period.
+    duty : sequence of (torque [N m], input speed [rpm], share), optional
+        Default: the case's ``[[duty_cycle]]``, else its operating point.
+
+    Returns
+    -------
+    LifeResult
+    """
+    si = case.to_si()
+    drive = drive_for(si)
+    rows = (_duty(si) if duty is None else
+            [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])
+    if duty is not None:
+        total = sum(q for *_, q in rows)
+        check_range("duty time share sum", total, 1 - 1e-3, 1 + 1e-3, error=CaseError)
+    ref = None
+    if loads == "fem":
+        declared = si.declared_output_torque_Nm() or max(t for t, *_ in rows)
+        ref = drive.member_torque(declared, peak=True)
+    table = mesh_table(drive, loads, n_positions, ref)
+    w = drive.speeds()
+    rel = {"eccentric": abs(w["crank"] - w["member"]), "main": abs(w["output"])}
+    ratings = {"eccentric": si.bearings.eccentric_dynamic_rating_N,
+               "main": si.bearings.main_dynamic_rating_N}
+    per_row = {"eccentric": [], "main": []}
+    for t, n_in, _ in rows:
+        per_row["eccentric"].append(eccentric_loads(si, drive, table, t))
+        per_row["main"].append(main_loads(si, drive, table, t))
+    out = {}
+    for name, group in per_row.items():
+        first = group[0]
+        p = LIFE_EXPONENT[first.bearing_type]
+        speeds = [n_in * rel[name] * 60 / (2 * math.pi) for _, n_in, _ in rows]
+        shares = [q for *_, q in rows]
+        p_m = mean_equivalent_load([g.equivalent_N for g in group], speeds, shares, p)
+        n_m = float(np.dot(speeds, shares))
+        rating = ratings[name]
+        l10 = None
+        if rating is not None:
+            l10 = float(rating_life_revolutions(rating, p_m, p)) / (60.0 * n_m)
+        out[name] = Life(name=name, bearing_type=first.bearing_type, count=first.count,
+                         rating_N=rating, exponent=p, equivalent_load_N=p_m,
+                         max_load_N=max(g.max_N for g in group), mean_speed_rpm=n_m,
+                         l10_h=l10,
+                         l10_set_h=None if l10 is None else set_life(l10, first.count,
+                                                                     first.bearing_type))
+    return LifeResult(eccentric=out["eccentric"], main=out["main"], loads=per_row,
+                      rows=tuple((t, n * 60 / (2 * math.pi), q) for t, n, q in rows))
+
+
+def maker_rated_life_h(rated_life_h, rated_torque_Nm, rated_output_speed_rpm, rows) -> float:
+    """A maker's rated life scaled to a duty cycle by the roller law (Nabtesco RV-E
+    catalogue, life of the reducer): L_h = K (N0/N_m) (T0/T_m)^(10/3), T_m the 10/3-mean
+    of the output torque weighted by output speed and time, N_m the mean output speed.
+
+    Parameters
+    ----------
+    rated_life_h, rated_torque_Nm, rated_output_speed_rpm : float
+        K [h], T0 [N m], N0 [rpm] (RV-40E: 6000 h, 412 N m, 15 rpm).
+    rows : sequence of (output torque [N m], output speed [rpm], share)
+
+    Returns
+    -------
+    float
+        L_h [h].
+    """
+    t = np.array([r[0] for r in rows], float)
+    n = np.abs(np.array([r[1] for r in rows], float))
+    q = np.array([r[2] for r in rows], float)
+    t_m = mean_equivalent_load(t, n, q, 10 / 3)
+    n_m = float(np.dot(n, q))
+    return rated_life_h * (rated_output_speed_rpm / n_m) * (rated_torque_Nm / t_m) ** (10 / 3)

@@ -1,0 +1,163 @@
+"""Load-independent losses: churning, seals and the bearings' viscous drag.
+
+Every drive has them, whatever its torque: they are why a reducer's efficiency falls at
+part load and, growing faster than the speed, why it falls with speed at a fixed torque.
+One cited law per mechanism, none counted twice:
+
+* ``churning`` (``lubricant.lubrication = "oil_bath"``): the no-load loss of each gear
+  stage in the bath, the law the sine paper takes for its K-H-V stage (Lu & Xu 2024,
+  Eq. 42, :func:`toothfem.efficiency.lubricant.churning_lu_xu_2024`), with a0 the stage's
+  centre distance and n its pinion's speed relative to its carrier: the K-H-V pair (a0 the
+  eccentricity, n the crank speed) and, in a 2K-V drive, the spur first stage (a0 = m (z1 +
+  z2)/2, n the sun's speed relative to the carrier). The law stands for the agitation of
+  everything in the bath, the bearings' viscous drag included (Palmgren's "oil bath" f0
+  would count them twice).
+* ``bearing_drag`` (grease, oil mist, oil jet: no bath): Palmgren's viscous friction
+  moment of the eccentric and main bearings (:func:`palmgren_no_load_moment`), f0 by
+  bearing type and lubrication (:data:`PALMGREN_F0`). A grease fill is pushed aside by the
+  parts within minutes (channelling: Lugt, *Grease Lubrication in Rolling Bearings*, 2013):
+  its drag is that of the bearings' grease column.
+* ``seals``: radial lip seals on the input and the output shaft, ISO/TR 14179-1:2001
+  (:func:`seal_loss`), at the shaft diameters of :mod:`.envelope`. The sine paper's P0
+  includes its rig's seals, so the sine prototype case declares its seal diameters 0.
+* ``drag``: a declared drag torque on the input shaft (``friction.drag_torque_Nmm``, e.g.
+  bearing preload; 0 by default).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import CaseError
+from .envelope import envelope
+from .lubricant import churning_lu_xu_2024
+
+#: ISO/TR 14179-1:2001 seal loss P = SEAL_LOSS_W * D^2 n [W] for D [mm], n [rpm]: the
+#: friction of a radial lip seal on a shaft of diameter D (torque 7.34e-5 D^2 N m).
+SEAL_LOSS_W = 7.69e-6
+#: Palmgren's no-load moment M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 [N mm] (nu [mm^2/s], n [rpm],
+#: d_m [mm]) for nu n >= PALMGREN_NU_N_MIN, and 160e-7 f0 d_m^3 below it.
+PALMGREN_NU_N_MIN = 2000.0
+PALMGREN_LOW_SPEED = 160.0
+#: Palmgren's f0 by bearing type and lubrication: A. Palmgren, *Ball and Roller Bearing
+#: Engineering* (1959), as tabulated by T.A. Harris & M.N. Kotzalas, *Essential Concepts of
+#: Bearing Technology* (2007), Table "f0 versus bearing type and method of lubrication";
+#: the middle of a tabulated range where a range is given ("oil_jet": the column of oil
+#: jet and vertical shafts in an oil bath).
+PALMGREN_F0 = {
+    "ball": {"grease": 1.35, "oil_mist": 1.0, "oil_bath": 2.0, "oil_jet": 4.0},
+    "angular_ball": {"grease": 2.0, "oil_mist": 1.7, "oil_bath": 3.3, "oil_jet": 6.6},
+    "cylindrical": {"grease": 0.8, "oil_mist": 2.15, "oil_bath": 3.1, "oil_jet": 3.1},
+    "tapered": {"grease": 6.0, "oil_mist": 3.0, "oil_bath": 6.0, "oil_jet": 9.0},
+    "needle": {"grease": 12.0, "oil_mist": 6.0, "oil_bath": 12.0, "oil_jet": 24.0},
+}
+_RPM = 60.0 / (2.0 * math.pi)          # rpm per rad/s
+#: Main bearing type of an SI record without [bearings] (toothfem.case.Bearings default).
+DEFAULT_MAIN_TYPE = "angular_ball"
+
+
+def seal_loss(diameter_m, speed_rad_s):
+    """Friction loss of a radial lip seal [W], ISO/TR 14179-1:2001:
+    P = 7.69e-6 D^2 n, D [mm] the shaft diameter, n [rpm].
+
+    Parameters
+    ----------
+    diameter_m : float
+        Shaft diameter under the seal [m] (0: no seal).
+    speed_rad_s : array_like
+        Shaft speed relative to the seal [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        The loss [W].
+    """
+    d_mm = diameter_m * 1e3
+    return SEAL_LOSS_W * d_mm ** 2 * np.abs(np.asarray(speed_rad_s, float)) * _RPM
+
+
+def palmgren_no_load_moment(f0, nu_m2_s, speed_rad_s, pitch_diameter_m):
+    """Palmgren's load-independent (viscous) friction moment of a rolling bearing [N m].
+
+    M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 N mm for nu n >= 2000, else 160e-7 f0 d_m^3
+    (nu [mm^2/s] the oil's kinematic viscosity at its temperature, n [rpm], d_m [mm];
+    Palmgren 1959; Harris & Kotzalas 2007). The branches meet at nu n = 2000
+    (2000^(2/3) = 158.7, rounded to 160 by Palmgren).
+
+    Parameters
+    ----------
+    f0 : float
+        Palmgren's factor (:data:`PALMGREN_F0`).
+    nu_m2_s : array_like
+        Kinematic viscosity [m^2/s].
+    speed_rad_s : array_like
+        Speed of the rotating ring relative to the other [rad/s].
+    pitch_diameter_m : float
+        d_m [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        M0 [N m].
+    """
+    nu_n = np.asarray(nu_m2_s, float) * 1e6 * np.abs(np.asarray(speed_rad_s, float)) * _RPM
+    d3 = (pitch_diameter_m * 1e3) ** 3
+    m0 = np.where(nu_n >= PALMGREN_NU_N_MIN, 1e-7 * f0 * np.maximum(nu_n, 0.0) ** (2 / 3),
+                  PALMGREN_LOW_SPEED * 1e-7 * f0) * d3
+    return m0 * 1e-3
+
+
+def palmgren_f0(bearing_type: str, lubrication: str) -> float:
+    """f0 of :data:`PALMGREN_F0`; CaseError naming the type or lubrication if unknown."""
+    row = PALMGREN_F0.get(bearing_type)
+    if row is None:
+        raise CaseError(f"bearing type {bearing_type!r} is not one of {sorted(PALMGREN_F0)}")
+    if lubrication not in row:
+        raise CaseError(f"lubricant.lubrication = {lubrication!r} is not one of {sorted(row)}")
+    return row[lubrication]
+
+
+def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_rad_s,
+                   viscosity_factor) -> dict:
+    """The load-independent losses of a drive at M operating points [W] (module docstring).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    stages : sequence of (float, numpy.ndarray)
+        The gear stages' (centre distance a0 [m], (M,) pinion speed relative to the
+        carrier [rad/s]) for the churning law.
+    input_rad_s, eccentric_rad_s, output_rad_s : numpy.ndarray
+        (M,) speeds [rad/s] of the input shaft, of the eccentric relative to the member it
+        carries, and of the output.
+    viscosity_factor : numpy.ndarray
+        (M,) eta(T)/eta(T_ref) of the oil.
+
+    Returns
+    -------
+    dict
+        ``churning`` (oil bath) or ``bearing_drag`` (otherwise), ``seals``, ``drag``: (M,)
+        arrays.
+    """
+    lub = si.lubricant
+    env = envelope(si, drive)
+    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
+    out = {}
+    if lub.lubrication == "oil_bath":
+        if lub.churning != "none":
+            out["churning"] = lub.churning_scale * sum(
+                churning_lu_xu_2024(a0, np.abs(n) * _RPM, nu) for a0, n in stages)
+    else:
+        main_type = DEFAULT_MAIN_TYPE if si.bearings is None else si.bearings.main_type
+        m_ecc = palmgren_no_load_moment(palmgren_f0(env.eccentric_type, lub.lubrication), nu,
+                                        eccentric_rad_s, env.eccentric_pitch_diameter_m)
+        m_main = palmgren_no_load_moment(palmgren_f0(main_type, lub.lubrication), nu,
+                                         output_rad_s, env.main_pitch_diameter_m)
+        out["bearing_drag"] = (env.eccentric_count * m_ecc * np.abs(eccentric_rad_s)
+                               + env.main_count * m_main * np.abs(output_rad_s))
+    out["seals"] = (seal_loss(env.input_seal_diameter_m, input_rad_s)
+                    + seal_loss(env.output_seal_diameter_m, output_rad_s))
+    out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)
+    return out

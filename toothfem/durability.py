@@ -1,0 +1,145 @@
+"""Life, strength and heat of a case as plain mappings (the JSON of ``toothfem run`` and
+``toothfem efficiency --thermal``): calls of :mod:`toothfem.efficiency.bearings`,
+:mod:`~toothfem.efficiency.strength` and :mod:`~toothfem.efficiency.thermal`."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .efficiency import bearings as br
+from .efficiency import strength as st
+from .efficiency import thermal as th
+from .efficiency.mesh_table import mesh_table
+from .efficiency.evaluation import operating_point
+from .fem.drives import drive_for
+
+#: [published] keys of a maker's rated life (Nabtesco's K, T0, N0).
+MAKER_KEYS = ("rated_life_h", "rated_torque_Nm", "rated_output_speed_rpm")
+
+
+def _f(x):
+    return None if x is None else float(x)
+
+
+def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=None) -> dict:
+    """The heat balance at one operating point (and the warm-up over ``duration_h``).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    speed_rpm, torque_Nm : float
+        Input speed [rpm] and output torque [N m].
+    loads : {"analytic", "fem"}
+    duration_h : float, optional
+        Warm-up from the ambient over this time [h].
+
+    Returns
+    -------
+    dict
+        Equilibrium oil temperature, heat transfer, housing, efficiency there; the warm-up.
+    """
+    hb = th.heat_balance(case, speed_rpm, torque_Nm, loads=loads)
+    h = hb.housing
+    out = {
+        "ambient_C": h.ambient_C, "housing_area_m2": h.area_m2,
+        "heat_capacity_J_K": h.heat_capacity_J_K,
+        "equilibrium_oil_temp_C": float(hb.temperature_C[0]),
+        "heat_transfer_W_m2K": float(hb.heat_transfer_W_m2K[0]),
+        "losses_W": float(hb.losses_W[0]), "efficiency": float(hb.efficiency[0]),
+        "iterations": hb.iterations,
+    }
+    if duration_h is not None:
+        w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * 3600.0, loads=loads)
+        out["time_constant_h"] = w.time_constant_s / 3600.0
+        out["warm_up"] = [{"time_h": float(t / 3600.0), "oil_temp_C": float(T),
+                           "efficiency": float(e)}
+                          for t, T, e in zip(w.time_s, w.temperature_C, w.efficiency)]
+    return out
+
+
+def _life(life: br.Life) -> dict:
+    return {"bearing_type": life.bearing_type, "count": life.count,
+            "dynamic_rating_N": _f(life.rating_N), "life_exponent": life.exponent,
+            "equivalent_load_N": life.equivalent_load_N, "max_load_N": life.max_load_N,
+            "mean_speed_rpm": life.mean_speed_rpm, "l10_h": _f(life.l10_h),
+            "l10_set_h": _f(life.l10_set_h)}
+
+
+def life_summary(case, *, loads="analytic") -> dict:
+    """ISO 281 life of the eccentric and main bearings over the case's duty cycle (else its
+    operating point), with the maker's rated life scaled to it where ``[published]`` gives
+    one (``rated_life_h``, ``rated_torque_Nm``, ``rated_output_speed_rpm``).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    loads : {"analytic", "fem"}
+
+    Returns
+    -------
+    dict
+    """
+    res = br.bearing_life(case, loads=loads)
+    ratio = abs(case.ratio())
+    out = {"duty_cycle": [{"output_torque_Nm": t, "input_speed_rpm": n, "time_share": q}
+                          for t, n, q in res.rows],
+           "eccentric": _life(res.eccentric), "main": _life(res.main), "loads": loads}
+    pub = case.published
+    if all(k in pub for k in MAKER_KEYS):
+        rows = [(t, n / ratio, q) for t, n, q in res.rows]
+        out["maker"] = {
+            "rated_life_h": float(pub["rated_life_h"]),
+            "rated_torque_Nm": float(pub["rated_torque_Nm"]),
+            "rated_output_speed_rpm": float(pub["rated_output_speed_rpm"]),
+            "life_at_duty_h": br.maker_rated_life_h(pub["rated_life_h"],
+                                                    pub["rated_torque_Nm"],
+                                                    pub["rated_output_speed_rpm"], rows)}
+    return out
+
+
+def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> dict:
+    """Safety factors of the contact and, with an FE contact result, of the member.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    contact : toothfem.pipeline.ContactResult, optional
+        Its load sharing (P_h over the period at the peak member torque) and stress field;
+        without it, the meshing table's P_h at the operating point's peak member torque.
+    loads : {"analytic", "fem"}
+        Load source of the meshing table when ``contact`` is None.
+    positions : int
+        Positions of that table.
+
+    Returns
+    -------
+    dict
+    """
+    si = case.to_si()
+    drive = drive_for(si)
+    if contact is not None:
+        ph = float(contact.load_sharing.ph.max())
+        source = f"FE contact ({contact.mode} mode)"
+        body, u = contact.body, contact.displacement
+    else:
+        torque = operating_point(case)[1]
+        t_member = drive.member_torque(torque, peak=True)
+        ref = t_member if loads == "fem" else None
+        _, p = mesh_table(drive, loads, positions, ref).at(np.array([t_member]))
+        ph, source, body, u = float(p.max()), f"{loads} loads", None, None
+    s = st.strength(si, ph, body, u, member=drive.member_name)
+    return {"source": source, "ph_max_MPa": ph / 1e6,
+            "contact_fatigue_safety": finite(s.contact_fatigue_safety),
+            "contact_static_safety": finite(s.contact_static_safety),
+            "von_mises_max_MPa": None if s.von_mises_max_Pa is None else s.von_mises_max_Pa / 1e6,
+            "von_mises_holes_MPa": (None if s.von_mises_holes_Pa is None
+                                    else s.von_mises_holes_Pa / 1e6),
+            "yield_safety": finite(s.yield_safety), "fatigue_safety": finite(s.fatigue_safety),
+            "warnings": list(s.warnings)}
+
+
+def finite(x):
+    """``x`` for strict JSON: None for a missing or unbounded value (a zero load or
+    stress: infinite life or safety)."""
+    return None if x is None or not math.isfinite(x) else x

@@ -1,0 +1,61 @@
+"""Markdown of life, strength and heat (the mappings of :mod:`toothfem.durability`)."""
+from __future__ import annotations
+
+
+def _num(x, fmt=".4g", none="–"):
+    return none if x is None else format(x, fmt)
+
+
+def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
+    """Lines of report.md: the heat balance, the bearing life (with the maker's rated life
+    where the case gives one, beside the RV paper's tooth numbers) and the safety factors.
+
+    Parameters
+    ----------
+    life, strength, heat : dict
+        :func:`~toothfem.durability.life_summary`, ``strength_summary``,
+        ``thermal_summary``.
+    rv_teeth : tuple of int, optional
+        (z1, z2, z4, z5) of an RV case.
+
+    Returns
+    -------
+    list of str
+    """
+    out = ["## Life, strength and heat", ""]
+    out += [f"Heat balance at the operating point: oil **{heat['equilibrium_oil_temp_C']:.1f} C**"
+            f" at an ambient of {heat['ambient_C']:g} C (housing {heat['housing_area_m2']:.3f}"
+            f" m², h = {heat['heat_transfer_W_m2K']:.1f} W/(m² K), {heat['losses_W']:.1f} W of"
+            f" losses); efficiency there {100 * heat['efficiency']:.2f} %.", ""]
+    duty = ", ".join(f"{r['output_torque_Nm']:g} N m at {r['input_speed_rpm']:g} rpm "
+                     f"({100 * r['time_share']:g} %)" for r in life["duty_cycle"])
+    out += [f"Bearing life (ISO 281, {life['loads']} loads), duty cycle: {duty}.", "",
+            "| bearings | type | count | C [N] | P_m [N] | P_max [N] | n [rpm] | L10 one [h] |"
+            " L10 set [h] |", "|---|---|---|---|---|---|---|---|---|"]
+    for name in ("eccentric", "main"):
+        b = life[name]
+        out.append(f"| {name} | {b['bearing_type']} | {b['count']} | "
+                   f"{_num(b['dynamic_rating_N'], '.4g', 'not given')} | "
+                   f"{b['equivalent_load_N']:.4g} | {b['max_load_N']:.4g} | "
+                   f"{b['mean_speed_rpm']:.4g} | {_num(b['l10_h'], '.4g', '∞ or not rated')} | "
+                   f"{_num(b['l10_set_h'], '.4g', '∞ or not rated')} |")
+    out.append("")
+    if "maker" in life:
+        m = life["maker"]
+        teeth = ("" if rv_teeth is None else
+                 "RV paper, Table 1: z1 = {}, z2 = {}, z4 = {}, z5 = {}; ".format(*rv_teeth))
+        out += [f"{teeth}maker's rated life {m['rated_life_h']:g} h at {m['rated_torque_Nm']:g}"
+                f" N m and {m['rated_output_speed_rpm']:g} rpm output, "
+                f"{m['life_at_duty_h']:.4g} h at this duty cycle (reference).", ""]
+    out += [f"Strength ({strength['source']}):", "", "| check | value | safety factor |",
+            "|---|---|---|",
+            f"| contact fatigue, P_h,max | {strength['ph_max_MPa']:.0f} MPa | "
+            f"{_num(strength['contact_fatigue_safety'], '.2f')} |",
+            f"| static contact | {strength['ph_max_MPa']:.0f} MPa | "
+            f"{_num(strength['contact_static_safety'], '.2f')} |",
+            f"| member von Mises (yield) | {_num(strength['von_mises_max_MPa'], '.0f')} MPa | "
+            f"{_num(strength['yield_safety'], '.2f')} |",
+            f"| hole edges von Mises (fatigue) | {_num(strength['von_mises_holes_MPa'], '.0f')} "
+            f"MPa | {_num(strength['fatigue_safety'], '.2f')} |", ""]
+    out += [f"- warning: {w}" for w in strength["warnings"]]
+    return out + ["", "Tables: `durability.json`.", ""]
