@@ -187,18 +187,9 @@ def nodal_load_matrix(n_dofs: int, dofs, normals):
                       shape=(n_dofs, m)).tocsc()
 
 
-#: Columns solved at once when condensing (bounds memory to chunk x N_dofs doubles).
-CONDENSE_CHUNK = 64
-
-
 def flexibility(body, loads):
-    """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M), in chunks."""
-    m = loads.shape[1]
-    out = np.empty((m, m))
-    for i in range(0, m, CONDENSE_CHUNK):
-        u = body.solve(loads[:, i:i + CONDENSE_CHUNK].toarray())
-        out[:, i:i + CONDENSE_CHUNK] = loads.T @ u
-    return 0.5 * (out + out.T)
+    """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M) (:meth:`Body.flexibility`)."""
+    return body.flexibility(loads)
 
 
 def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, rigid_b=None):

@@ -221,8 +221,7 @@ class PinModel:
         pts = self.radius * np.stack([-np.cos(self.angles), -np.sin(self.angles)])
         normals = -pts / self.radius              # load pushes the pin surface inward
         loads = patch_loads(self.body, "outer", pts, normals, self.b_ref)
-        u = self.body.solve(loads.toarray())
-        return np.einsum("ij,ij->j", loads.toarray(), u)
+        return np.array([c[0, 0] for c in self.body.flexibility(loads, [1] * pts.shape[1])])
 
     def compliance(self, gamma, b):
         """C(gamma, b) = C_table(gamma) - (2/(pi E')) ln(b / b_ref)."""
@@ -403,20 +402,24 @@ class CycleSolver:
 
     def influence(self, p: int):
         """(C, C) disc compliance at position p's candidates (patch b_ref), per unit length;
-        computed once per position and kept (a new torque costs no new solve)."""
+        computed with every position not yet known in one block solve, and kept (a new
+        torque costs no new solve)."""
         if p in self._influence:
             return self._influence[p]
         pos, state, disc, housing = self._setup
-        q = pos[p]
-        loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
-        u = disc.solve(loads.toarray())
-        c = loads.T @ u
+        todo = [k for k in range(len(pos)) if k not in self._influence]
+        sizes = [pos[k].pins.size for k in todo]
+        from scipy.sparse import hstack
+
+        loads = hstack([patch_loads(disc, "profile", pos[k].point, pos[k].normal, self.b_ref)
+                        for k in todo])
+        blocks = disc.flexibility(loads, sizes)
         if self.model.pin_structure == "integral":
-            kh = state.point[p, q.pins].T
-            nh = state.normal[p, q.pins].T
-            lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
-            c = c + lh.T @ housing.solve(lh.toarray())
-        self._influence[p] = 0.5 * (c + c.T)
+            lh = hstack([patch_loads(housing, "teeth", state.point[k, pos[k].pins].T,
+                                     state.normal[k, pos[k].pins].T, self.b_ref / 2)
+                         for k in todo])
+            blocks = [c + ch for c, ch in zip(blocks, housing.flexibility(lh, sizes))]
+        self._influence.update(zip(todo, blocks))
         return self._influence[p]
 
     def cache_key(self) -> str:

@@ -1,0 +1,197 @@
+"""Sparse direct solves of a body's stiffness: one factorisation, block right-hand sides.
+
+The stiffness of a supported body is symmetric positive definite, so it factorises as
+P K P^T = L D L^T with no pivoting. Two operations are needed:
+
+* :meth:`Factor.solve`: displacements K^-1 B for dense block loads B (n, k);
+* :meth:`Factor.flexibility`: the condensed flexibility B^T K^-1 B of sparse unit loads B
+  (a handful of dofs each), per block of columns. Only the forward substitution is needed,
+  B^T K^-1 B = W^T D^-1 W with W = L^-1 P B, and W is zero outside the rows that the
+  elimination tree reaches from B's nonzero rows (Gilbert & Peierls 1988; Davis, *Direct
+  Methods for Sparse Linear Systems*, SIAM 2006, sec. 3.2 and 4.1). The solve runs on that
+  sub-triangle alone: for the contact windows of a disc it is a quarter of the rows and
+  under half of the factor.
+
+Backends, chosen by availability in the order of :data:`BACKENDS` (fastest first, measured
+on the pin-housing disc and pin; README "Faster solves"), or forced by the ``backend``
+argument or the environment variable ``TOOTHFEM_SOLVER``:
+
+* ``"cholmod"``: CHOLMOD's Cholesky through scikit-sparse 0.4 (optional extra ``[fast]``,
+  needs the SuiteSparse library, e.g. Debian's ``libsuitesparse-dev``);
+* ``"superlu"``: SciPy's SuperLU, always installed; symmetric mode with a minimum degree
+  ordering on K^T + K and no pivoting (the diagonal of an SPD matrix is a valid pivot), so
+  the factor is L (D L^T) with the same row and column order.
+
+Both give results equal to 1e-10 relative (tests/test_linsolve.py).
+"""
+from __future__ import annotations
+
+import os
+
+import numpy as np
+
+from ..errors import ToothfemError
+
+#: Environment variable that forces a backend (tests, benchmarks).
+BACKEND_ENV = "TOOTHFEM_SOLVER"
+#: Backends, fastest first.
+BACKENDS = ("cholmod", "superlu")
+
+
+def _cholmod():
+    """scikit-sparse's CHOLMOD module if the 0.4 API is installed (0.5 renamed it), else
+    None."""
+    try:
+        from sksparse import cholmod
+    except ImportError:
+        return None
+    return cholmod if hasattr(cholmod, "Factor") and hasattr(cholmod, "cholesky") else None
+
+
+def available_backends() -> tuple[str, ...]:
+    """The backends that import here, fastest first."""
+    return tuple(b for b in BACKENDS if b == "superlu" or _cholmod() is not None)
+
+
+def choose_backend(backend: str | None = None) -> str:
+    """``backend`` if given, else ``$TOOTHFEM_SOLVER`` if set, else the fastest available.
+
+    Raises ToothfemError for an unknown name or a backend that is not installed."""
+    name = backend or os.environ.get(BACKEND_ENV, "") or available_backends()[0]
+    if name not in BACKENDS:
+        raise ToothfemError(f"solver backend = {name!r} is not one of {list(BACKENDS)}")
+    if name not in available_backends():
+        raise ToothfemError(f"solver backend = {name!r} is not installed here (available: "
+                            f"{list(available_backends())}; see the README, 'Faster solves')")
+    return name
+
+
+def factorize(matrix, backend: str | None = None) -> "Factor":
+    """Factorise the SPD sparse ``matrix`` (n, n) with the chosen backend."""
+    from scipy.sparse import csc_matrix
+
+    matrix = csc_matrix(matrix)
+    name = choose_backend(backend)
+    if name == "cholmod":
+        return _cholmod_factor(matrix)
+    return _superlu_factor(matrix)
+
+
+class Factor:
+    """P K P^T = L D L^T of an SPD matrix: ``lower`` (n, n) CSC with sorted indices,
+    ``diag`` (n,) the pivots D (ones for L L^T), ``order`` (n,) with (P B)[i] = B[order[i]],
+    ``unit`` whether L has a unit diagonal; ``_solve(rhs)`` the backend's full solve."""
+
+    def __init__(self, backend, lower, diag, order, unit, solve):
+        self.backend = backend
+        self.lower = lower
+        self.diag = np.asarray(diag, float)
+        self.order = np.asarray(order)
+        self.unit = unit
+        self._solve = solve
+        self.parent = _etree_parent(lower)
+
+    @property
+    def shape(self):
+        return self.lower.shape
+
+    def solve(self, rhs) -> np.ndarray:
+        """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
+        rhs = np.asarray(rhs, float)
+        if rhs.ndim == 1:
+            return self._solve(rhs[:, None])[:, 0]
+        return self._solve(np.ascontiguousarray(rhs))
+
+    def flexibility(self, loads, blocks=None):
+        """B^T K^-1 B for sparse ``loads`` B (n, k), by the forward substitution on the rows
+        it reaches (module docstring).
+
+        Parameters
+        ----------
+        loads : sparse (n, k)
+        blocks : sequence of column counts summing to k, or None
+
+        Returns
+        -------
+        (k, k) array, symmetric; or, with ``blocks``, the list of the diagonal blocks
+        (k_i, k_i), the cross terms between blocks being neither computed nor stored.
+        """
+        from scipy.sparse import csc_matrix
+        from scipy.sparse.linalg import spsolve_triangular
+
+        loads = csc_matrix(loads)
+        n, k = loads.shape
+        counts = [k] if blocks is None else [int(b) for b in blocks]
+        if sum(counts) != k:
+            raise ToothfemError(f"blocks sum to {sum(counts)}, loads have {k} columns")
+        inv = np.empty(n, int)
+        inv[self.order] = np.arange(n)
+        pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
+        rows, cols = self._reach(np.unique(pb.indices))
+        sub = cols[rows].tocsc()          # a fresh matrix and array: the solve may overwrite
+        w = spsolve_triangular(sub, pb[rows].toarray(), lower=True, unit_diagonal=self.unit,
+                               overwrite_A=True, overwrite_b=True)
+        wd = w / self.diag[rows, None]
+        out, start = [], 0
+        for c in counts:
+            blk = w[:, start:start + c].T @ wd[:, start:start + c]
+            out.append(0.5 * (blk + blk.T))
+            start += c
+        return out[0] if blocks is None else out
+
+    def _reach(self, start) -> np.ndarray:
+        """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
+        elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
+        factor that stores padding zeros gives a superset, which is still exact); returns
+        them with L's columns there."""
+        mark = np.zeros(self.shape[0], bool)
+        parent = self.parent.tolist()
+        for s in start.tolist():
+            while s >= 0 and not mark[s]:
+                mark[s] = True
+                s = parent[s]
+        rows = np.flatnonzero(mark)
+        cols = self.lower[:, rows]
+        if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
+            return np.arange(self.shape[0]), self.lower
+        return rows, cols
+
+
+def _etree_parent(lower) -> np.ndarray:
+    """Parent of each column in the elimination tree of a lower factor (sorted CSC): the row
+    of its first entry below the diagonal, -1 at a root."""
+    n = lower.shape[0]
+    start, stop = lower.indptr[:-1], lower.indptr[1:]
+    cols = np.arange(n)
+    diag_first = (stop > start) & (lower.indices[np.minimum(start, lower.nnz - 1)] == cols)
+    below = start + diag_first
+    parent = np.full(n, -1)
+    has = below < stop
+    parent[has] = lower.indices[below[has]]
+    return parent
+
+
+def _superlu_factor(matrix) -> Factor:
+    from scipy.sparse.linalg import splu
+
+    # minimum degree on K^T + K in symmetric mode: half the fill of COLAMD on these FE
+    # matrices (5.3M against 9.5M nonzeros for the 68k-dof disc); no pivoting (SPD)
+    lu = splu(matrix, permc_spec="MMD_AT_PLUS_A",
+              options=dict(SymmetricMode=True, DiagPivotThresh=0.0))
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        raise ToothfemError("SuperLU pivoted off the diagonal: the stiffness is not "
+                            "positive definite (is the body held?)")
+    lower = lu.L.tocsc()
+    lower.sort_indices()
+    return Factor("superlu", lower, lu.U.diagonal(), np.argsort(lu.perm_r), True, lu.solve)
+
+
+def _cholmod_factor(matrix) -> Factor:
+    cholmod = _cholmod()
+    # simplicial L D L^T: its triangular solves beat the supernodal ones on these 2D
+    # meshes (measured, README "Faster solves")
+    f = cholmod.cholesky(matrix, mode="simplicial")
+    lower, d = f.L_D()
+    lower = lower.tocsc()
+    lower.sort_indices()
+    return Factor("cholmod", lower, d.diagonal(), f.P(), True, f.solve_A)
