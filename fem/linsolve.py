@@ -27,6 +27,7 @@ Both give results equal to 1e-10 relative (tests/test_linsolve.py).
 from __future__ import annotations
 
 import os
+from functools import cached_property
 
 import numpy as np
 
@@ -77,23 +78,32 @@ def factorize(matrix, backend: str | None = None) -> "Factor":
     return _superlu_factor(matrix)
 
 
+#: Columns solved at once on the full-solve route (bounds memory to chunk x n doubles).
+SOLVE_CHUNK = 64
+#: Flop rate of the dense products W^T D^-1 W (BLAS 3) over that of the sparse triangular
+#: solves, in the cost model of :meth:`Factor.flexibility` (measured here: about 10).
+DENSE_SPEEDUP = 10.0
+
+
 class Factor:
-    """P K P^T = L D L^T of an SPD matrix: ``lower`` (n, n) CSC with sorted indices,
-    ``diag`` (n,) the pivots D (ones for L L^T), ``order`` (n,) with (P B)[i] = B[order[i]],
-    ``unit`` whether L has a unit diagonal; ``_solve(rhs)`` the backend's full solve."""
+    """P K P^T = L D L^T of an SPD matrix (n, n).
 
-    def __init__(self, backend, lower, diag, order, unit, solve):
+    ``solve(rhs)`` is the backend's full solve; ``triangle()`` returns, on first use,
+    (L (n, n) CSC with sorted indices, D (n,) the pivots, order (n,) with
+    (P B)[i] = B[order[i]], whether L has a unit diagonal)."""
+
+    def __init__(self, backend, n, solve, triangle):
         self.backend = backend
-        self.lower = lower
-        self.diag = np.asarray(diag, float)
-        self.order = np.asarray(order)
-        self.unit = unit
+        self.shape = (n, n)
         self._solve = solve
-        self.parent = _etree_parent(lower)
+        self._triangle = triangle
 
-    @property
-    def shape(self):
-        return self.lower.shape
+    @cached_property
+    def _tri(self):
+        lower, diag, order, unit = self._triangle()
+        lower = lower.tocsc()
+        lower.sort_indices()
+        return lower, np.asarray(diag, float), np.asarray(order), unit, _etree_parent(lower)
 
     def solve(self, rhs) -> np.ndarray:
         """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
@@ -103,8 +113,13 @@ class Factor:
         return self._solve(np.ascontiguousarray(rhs))
 
     def flexibility(self, loads, blocks=None):
-        """B^T K^-1 B for sparse ``loads`` B (n, k), by the forward substitution on the rows
-        it reaches (module docstring).
+        """B^T K^-1 B for sparse ``loads`` B (n, k).
+
+        By the forward substitution on the rows B reaches (module docstring) when that is
+        the cheaper way, else by full solves in chunks of :data:`SOLVE_CHUNK` columns: the
+        forward route pays nnz(L_RR) k for the solve and |R| sum(k_i^2) / DENSE_SPEEDUP for
+        the products W_i^T D^-1 W_i, the full route 2 nnz(L) k (loads spread over the whole
+        body favour it).
 
         Parameters
         ----------
@@ -117,43 +132,66 @@ class Factor:
         (k_i, k_i), the cross terms between blocks being neither computed nor stored.
         """
         from scipy.sparse import csc_matrix
-        from scipy.sparse.linalg import spsolve_triangular
 
         loads = csc_matrix(loads)
         n, k = loads.shape
         counts = [k] if blocks is None else [int(b) for b in blocks]
         if sum(counts) != k:
             raise ToothfemError(f"blocks sum to {sum(counts)}, loads have {k} columns")
+        lower, diag, order, unit, _ = self._tri
         inv = np.empty(n, int)
-        inv[self.order] = np.arange(n)
+        inv[order] = np.arange(n)
         pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
         rows, cols = self._reach(np.unique(pb.indices))
+        forward = cols.nnz * k + rows.size * sum(c * c for c in counts) / DENSE_SPEEDUP
+        if forward < 2 * lower.nnz * k:
+            out = self._forward(pb, rows, cols, counts)
+        else:
+            out = self._by_solves(loads, counts)
+        return out[0] if blocks is None else out
+
+    def _forward(self, pb, rows, cols, counts):
+        from scipy.sparse.linalg import spsolve_triangular
+
+        _, diag, _, unit, _ = self._tri
         sub = cols[rows].tocsc()          # a fresh matrix and array: the solve may overwrite
-        w = spsolve_triangular(sub, pb[rows].toarray(), lower=True, unit_diagonal=self.unit,
+        w = spsolve_triangular(sub, pb[rows].toarray(), lower=True, unit_diagonal=unit,
                                overwrite_A=True, overwrite_b=True)
-        wd = w / self.diag[rows, None]
+        wd = w / diag[rows, None]
         out, start = [], 0
         for c in counts:
             blk = w[:, start:start + c].T @ wd[:, start:start + c]
             out.append(0.5 * (blk + blk.T))
             start += c
-        return out[0] if blocks is None else out
+        return out
 
-    def _reach(self, start) -> np.ndarray:
+    def _by_solves(self, loads, counts):
+        out, start = [], 0
+        for c in counts:
+            blk = np.empty((c, c))
+            for i in range(0, c, SOLVE_CHUNK):
+                b = loads[:, start + i:start + min(i + SOLVE_CHUNK, c)]
+                blk[:, i:i + b.shape[1]] = loads[:, start:start + c].T @ self.solve(b.toarray())
+            out.append(0.5 * (blk + blk.T))
+            start += c
+        return out
+
+    def _reach(self, start):
         """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
         elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
         factor that stores padding zeros gives a superset, which is still exact); returns
         them with L's columns there."""
+        lower, _, _, _, parent = self._tri
         mark = np.zeros(self.shape[0], bool)
-        parent = self.parent.tolist()
+        parent = parent.tolist()
         for s in start.tolist():
             while s >= 0 and not mark[s]:
                 mark[s] = True
                 s = parent[s]
         rows = np.flatnonzero(mark)
-        cols = self.lower[:, rows]
+        cols = lower[:, rows]
         if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
-            return np.arange(self.shape[0]), self.lower
+            return np.arange(self.shape[0]), lower
         return rows, cols
 
 
@@ -181,9 +219,8 @@ def _superlu_factor(matrix) -> Factor:
     if not np.array_equal(lu.perm_r, lu.perm_c):
         raise ToothfemError("SuperLU pivoted off the diagonal: the stiffness is not "
                             "positive definite (is the body held?)")
-    lower = lu.L.tocsc()
-    lower.sort_indices()
-    return Factor("superlu", lower, lu.U.diagonal(), np.argsort(lu.perm_r), True, lu.solve)
+    return Factor("superlu", matrix.shape[0], lu.solve,
+                  lambda: (lu.L, lu.U.diagonal(), np.argsort(lu.perm_r), True))
 
 
 def _cholmod_factor(matrix) -> Factor:
@@ -191,7 +228,8 @@ def _cholmod_factor(matrix) -> Factor:
     # simplicial L D L^T: its triangular solves beat the supernodal ones on these 2D
     # meshes (measured, README "Faster solves")
     f = cholmod.cholesky(matrix, mode="simplicial")
-    lower, d = f.L_D()
-    lower = lower.tocsc()
-    lower.sort_indices()
-    return Factor("cholmod", lower, d.diagonal(), f.P(), True, f.solve_A)
+
+    def triangle():
+        lower, d = f.L_D()
+        return lower, d.diagonal(), f.P(), True
+    return Factor("cholmod", matrix.shape[0], f.solve_A, triangle)
