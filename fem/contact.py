@@ -21,6 +21,7 @@ terminates in a few iterations for SPD H.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,10 +56,16 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolu
     thread gains nothing and on a busy machine costs up to 20x (measured on 2 cores at
     load 7: a 400 x 400 solve took 8 ms on one thread, 163 ms on two).
     """
-    from threadpoolctl import threadpool_limits
-
-    with threadpool_limits(limits=1, user_api="blas"):
+    with _blas_threads().limit(limits=1, user_api="blas"):
         return _active_set(h, g0, c, q, max_iter)
+
+
+@functools.cache
+def _blas_threads():
+    """The BLAS libraries loaded (found once: each search reads the process's memory map)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
 
 
 def _active_set(h, g0, c, q, max_iter) -> ContactSolution:

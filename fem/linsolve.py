@@ -101,6 +101,9 @@ class Factor:
     @cached_property
     def _tri(self):
         lower, diag, order, unit = self._triangle()
+        if not np.all(np.asarray(diag) > 0):
+            raise ToothfemError("a pivot of the factorisation is not positive: the stiffness "
+                                "is not positive definite (is the body held?)")
         lower = lower.tocsc()
         lower.sort_indices()
         return lower, np.asarray(diag, float), np.asarray(order), unit, _etree_parent(lower)
@@ -157,11 +160,15 @@ class Factor:
         sub = cols[rows].tocsc()          # a fresh matrix and array: the solve may overwrite
         w = spsolve_triangular(sub, pb[rows].toarray(), lower=True, unit_diagonal=unit,
                                overwrite_A=True, overwrite_b=True)
-        wd = w / diag[rows, None]
+        from scipy.linalg.blas import dsyrk
+
+        w /= np.sqrt(diag[rows, None])       # D > 0 (SPD): W^T D^-1 W = V^T V, V = D^-1/2 W
         out, start = [], 0
         for c in counts:
-            blk = w[:, start:start + c].T @ wd[:, start:start + c]
-            out.append(0.5 * (blk + blk.T))
+            # V^T V by the symmetric rank-k update (half the product's flops); V^T of the
+            # C-ordered V is Fortran-ordered, as BLAS wants it
+            upper = dsyrk(1.0, np.ascontiguousarray(w[:, start:start + c]).T, trans=0)
+            out.append(np.triu(upper) + np.triu(upper, 1).T)
             start += c
         return out
 
