@@ -21,11 +21,11 @@ terminates in a few iterations for SPD H.
 """
 from __future__ import annotations
 
-import functools
 from dataclasses import dataclass
 
 import numpy as np
 
+from .linsolve import one_blas_thread
 from ..errors import ToothfemError
 
 
@@ -52,20 +52,10 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolu
     ``h`` (n, n) SPD, ``g0`` (n,), ``c`` (n,), ``q`` scalar. Raises ContactError when no
     candidate can balance ``q`` (all c_i of the wrong sign) or the active set cycles.
 
-    The dense systems run on one BLAS thread: with tens to hundreds of unknowns a second
-    thread gains nothing and on a busy machine costs up to 20x (measured on 2 cores at
-    load 7: a 400 x 400 solve took 8 ms on one thread, 163 ms on two).
+    The dense systems run on one BLAS thread (:func:`fem.linsolve.one_blas_thread`).
     """
-    with _blas_threads().limit(limits=1, user_api="blas"):
+    with one_blas_thread():
         return _active_set(h, g0, c, q, max_iter)
-
-
-@functools.cache
-def _blas_threads():
-    """The BLAS libraries loaded (found once: each search reads the process's memory map)."""
-    from threadpoolctl import ThreadpoolController
-
-    return ThreadpoolController()
 
 
 def _active_set(h, g0, c, q, max_iter) -> ContactSolution:

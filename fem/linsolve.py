@@ -26,6 +26,7 @@ Both give results equal to 1e-10 relative (tests/test_linsolve.py).
 """
 from __future__ import annotations
 
+import functools
 import os
 from functools import cached_property
 
@@ -47,6 +48,23 @@ def _cholmod():
     except ImportError:
         return None
     return cholmod if hasattr(cholmod, "Factor") and hasattr(cholmod, "cholesky") else None
+
+
+@functools.cache
+def _blas_threads():
+    """The BLAS libraries loaded (found once: each search reads the process's memory map)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+def one_blas_thread():
+    """Context in which BLAS runs on one thread. The sparse solves call BLAS on small
+    supernodal blocks and the contact solves on systems of tens to hundreds of unknowns:
+    a second thread gains little there, and on a busy machine (or beside other workers)
+    its waiting costs up to 20x (measured on 2 cores at load 7: a 400 x 400 dense solve
+    took 8 ms on one thread, 163 ms on two)."""
+    return _blas_threads().limit(limits=1, user_api="blas")
 
 
 def available_backends() -> tuple[str, ...]:
@@ -73,9 +91,8 @@ def factorize(matrix, backend: str | None = None) -> "Factor":
 
     matrix = csc_matrix(matrix)
     name = choose_backend(backend)
-    if name == "cholmod":
-        return _cholmod_factor(matrix)
-    return _superlu_factor(matrix)
+    with one_blas_thread():
+        return _cholmod_factor(matrix) if name == "cholmod" else _superlu_factor(matrix)
 
 
 #: Columns solved at once on the full-solve route (bounds memory to chunk x n doubles).
@@ -114,9 +131,10 @@ class Factor:
     def solve(self, rhs) -> np.ndarray:
         """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
         rhs = np.asarray(rhs, float)
-        if rhs.ndim == 1:
-            return self._solve(rhs[:, None])[:, 0]
-        return self._solve(np.ascontiguousarray(rhs))
+        with one_blas_thread():
+            if rhs.ndim == 1:
+                return self._solve(rhs[:, None])[:, 0]
+            return self._solve(np.ascontiguousarray(rhs))
 
     def flexibility(self, loads, blocks=None):
         """B^T K^-1 B for sparse ``loads`` B (n, k).
@@ -150,10 +168,11 @@ class Factor:
         pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
         rows, cols = self._reach(np.unique(pb.indices))
         forward = cols.nnz * k + rows.size * sum(c * c for c in counts) / DENSE_SPEEDUP
-        if forward < 2 * lower.nnz * k:
-            out = self._forward(pb, rows, cols, counts)
-        else:
-            out = self._by_solves(loads, counts)
+        with one_blas_thread():
+            if forward < 2 * lower.nnz * k:
+                out = self._forward(pb, rows, cols, counts)
+            else:
+                out = self._by_solves(loads, counts)
         return out[0] if blocks is None else out
 
     def _forward(self, pb, rows, cols, counts):
