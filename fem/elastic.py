@@ -82,7 +82,7 @@ def stiffness_matrix(basis, lam, mu):
     dots = np.einsum("eiaja->eij", m)
     k[:, :, 0, :, 0] += mu * dots
     k[:, :, 1, :, 1] += mu * dots
-    dofs = basis.element_dofs.T                             # (E, 12)
+    dofs = basis.element_dofs.T.astype(np.int32)           # (E, 12); int32: half the memory
     n_el = dofs.shape[0]
     rows = np.broadcast_to(dofs[:, :, None], (n_el, 12, 12))
     cols = np.broadcast_to(dofs[:, None, :], (n_el, 12, 12))

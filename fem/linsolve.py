@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import functools
 import os
-from functools import cached_property
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -112,12 +112,26 @@ FORWARD_CHUNK = 256
 DENSE_SPEEDUP = 10.0
 
 
+@dataclass(frozen=True)
+class Triangle:
+    """A lower triangular factor T of P K P^T = T diag(1/weights) T^T: ``lower``
+    T (n, n) CSC with sorted indices, ``weights`` (n,) > 0, ``order`` (n,) with
+    (P B)[i] = B[order[i]], ``unit`` whether T's diagonal is one, ``parent`` (n,) the
+    elimination tree (-1 at a root). Then B^T K^-1 B = V^T diag(weights) V with
+    V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
+    lower: object
+    weights: np.ndarray
+    order: np.ndarray
+    unit: bool
+    parent: np.ndarray
+
+
 class Factor:
     """P K P^T = L D L^T of an SPD matrix (n, n).
 
-    ``solve(rhs)`` is the backend's full solve; ``triangle()`` returns, on first use,
-    (L (n, n) CSC with sorted indices, D (n,) the pivots, order (n,) with
-    (P B)[i] = B[order[i]], whether L has a unit diagonal)."""
+    ``solve(rhs)`` is the backend's full solve; ``triangle()`` the factor as a
+    :class:`Triangle`, extracted from the backend at each call and not kept (it would
+    double the factor's memory, e.g. for the 22 bodies of a detailed solve)."""
 
     def __init__(self, backend, n, solve, triangle):
         self.backend = backend
@@ -125,15 +139,16 @@ class Factor:
         self._solve = solve
         self._triangle = triangle
 
-    @cached_property
-    def _tri(self):
-        lower, diag, order, unit = self._triangle()
-        if not np.all(np.asarray(diag) > 0):
+    def triangle(self) -> Triangle:
+        """The factor's arrays (:class:`Triangle`), extracted now."""
+        lower, weights, order, unit = self._triangle()
+        if not np.all(np.asarray(weights) > 0):
             raise ToothfemError("a pivot of the factorisation is not positive: the stiffness "
                                 "is not positive definite (is the body held?)")
         lower = lower.tocsc()
         lower.sort_indices()
-        return lower, np.asarray(diag, float), np.asarray(order), unit, _etree_parent(lower)
+        return Triangle(lower, np.asarray(weights, float), np.asarray(order), unit,
+                        _etree_parent(lower))
 
     def solve(self, rhs) -> np.ndarray:
         """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
@@ -169,44 +184,18 @@ class Factor:
         counts = [k] if blocks is None else [int(b) for b in blocks]
         if sum(counts) != k:
             raise ToothfemError(f"blocks sum to {sum(counts)}, loads have {k} columns")
-        lower, diag, order, unit, _ = self._tri
+        tri = self.triangle()
         inv = np.empty(n, int)
-        inv[order] = np.arange(n)
+        inv[tri.order] = np.arange(n)
         pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
-        rows, cols = self._reach(np.unique(pb.indices))
+        rows, cols = _reach(tri, np.unique(pb.indices))
         forward = cols.nnz * k + rows.size * sum(c * c for c in counts) / DENSE_SPEEDUP
         with one_blas_thread():
-            if forward < 2 * lower.nnz * k:
-                out = self._forward(pb, rows, cols, counts)
+            if forward < 2 * tri.lower.nnz * k:
+                out = _forward(tri, pb, rows, cols, counts)
             else:
                 out = self._by_solves(loads, counts)
         return out[0] if blocks is None else out
-
-    def _forward(self, pb, rows, cols, counts):
-        """The diagonal blocks of W^T D^-1 W, W = L_RR^-1 (P B)_R, a group of whole blocks
-        of at most FORWARD_CHUNK columns at a time (bounds W to |R| x chunk doubles)."""
-        from scipy.linalg.blas import dsyrk
-        from scipy.sparse.linalg import spsolve_triangular
-
-        _, diag, _, unit, _ = self._tri
-        sub = cols[rows].tocsc()          # a fresh matrix: the solve may overwrite it
-        pb = pb[rows].tocsc()
-        scale = 1 / np.sqrt(diag[rows, None])    # D > 0 (SPD): W^T D^-1 W = V^T V
-        out, start = [], 0
-        for group in _groups(counts, FORWARD_CHUNK):
-            width = sum(group)
-            v = spsolve_triangular(sub, pb[:, start:start + width].toarray(), lower=True,
-                                   unit_diagonal=unit, overwrite_A=True, overwrite_b=True)
-            v *= scale
-            at = 0
-            for c in group:
-                # V^T V by the symmetric rank-k update (half the flops of the product);
-                # V^T of the C-ordered V is Fortran-ordered, as BLAS wants it
-                upper = dsyrk(1.0, np.ascontiguousarray(v[:, at:at + c]).T, trans=0)
-                out.append(np.triu(upper) + np.triu(upper, 1).T)
-                at += c
-            start += width
-        return out
 
     def _by_solves(self, loads, counts):
         out, start = [], 0
@@ -219,23 +208,50 @@ class Factor:
             start += c
         return out
 
-    def _reach(self, start):
-        """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
-        elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
-        factor that stores padding zeros gives a superset, which is still exact); returns
-        them with L's columns there."""
-        lower, _, _, _, parent = self._tri
-        mark = np.zeros(self.shape[0], bool)
-        parent = parent.tolist()
-        for s in start.tolist():
-            while s >= 0 and not mark[s]:
-                mark[s] = True
-                s = parent[s]
-        rows = np.flatnonzero(mark)
-        cols = lower[:, rows]
-        if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
-            return np.arange(self.shape[0]), lower
-        return rows, cols
+
+def _forward(tri: Triangle, pb, rows, cols, counts):
+    """The diagonal blocks of V^T diag(weights) V, V = T_RR^-1 (P B)_R, a group of whole blocks
+    of at most FORWARD_CHUNK columns at a time (bounds V to |R| x chunk doubles)."""
+    from scipy.linalg.blas import dsyrk
+    from scipy.sparse.linalg import spsolve_triangular
+
+    sub = cols[rows].tocsc()          # a fresh matrix: the solve may overwrite it
+    pb = pb[rows].tocsc()
+    scale = np.sqrt(tri.weights[rows, None])     # V^T diag(weights) V = (V s)^T (V s)
+    out, start = [], 0
+    for group in _groups(counts, FORWARD_CHUNK):
+        width = sum(group)
+        v = spsolve_triangular(sub, pb[:, start:start + width].toarray(), lower=True,
+                               unit_diagonal=tri.unit, overwrite_A=True, overwrite_b=True)
+        v *= scale
+        at = 0
+        for c in group:
+            # V^T V by the symmetric rank-k update (half the flops of the product);
+            # V^T of the C-ordered V is Fortran-ordered, as BLAS wants it
+            upper = dsyrk(1.0, np.ascontiguousarray(v[:, at:at + c]).T, trans=0)
+            out.append(np.triu(upper) + np.triu(upper, 1).T)
+            at += c
+        start += width
+    return out
+
+
+def _reach(tri: Triangle, start):
+    """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
+    elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
+    factor that stores padding zeros gives a superset, which is still exact); returns
+    them with L's columns there."""
+    lower = tri.lower
+    mark = np.zeros(lower.shape[0], bool)
+    parent = tri.parent.tolist()
+    for s in start.tolist():
+        while s >= 0 and not mark[s]:
+            mark[s] = True
+            s = parent[s]
+    rows = np.flatnonzero(mark)
+    cols = lower[:, rows]
+    if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
+        return np.arange(lower.shape[0]), lower
+    return rows, cols
 
 
 def _groups(counts, limit):
@@ -274,8 +290,10 @@ def _superlu_factor(matrix) -> Factor:
     if not np.array_equal(lu.perm_r, lu.perm_c):
         raise ToothfemError("SuperLU pivoted off the diagonal: the stiffness is not "
                             "positive definite (is the body held?)")
+    # L unit lower, U = D L^T (SuperLU keeps both once handed out: the Body's memory
+    # grows by a copy of the factor after its first flexibility)
     return Factor("superlu", matrix.shape[0], lu.solve,
-                  lambda: (lu.L, lu.U.diagonal(), np.argsort(lu.perm_r), True))
+                  lambda: (lu.L, 1 / lu.U.diagonal(), np.argsort(lu.perm_r), True))
 
 
 def _cholmod_factor(matrix) -> Factor:
@@ -286,5 +304,5 @@ def _cholmod_factor(matrix) -> Factor:
 
     def triangle():
         lower, d = f.L_D()
-        return lower, d.diagonal(), f.P(), True
+        return lower, 1 / d.diagonal(), f.P(), True
     return Factor("cholmod", matrix.shape[0], f.solve_A, triangle)

@@ -66,15 +66,15 @@ def test_both_routes_of_the_flexibility_agree(pin_problem, backend):
     k, b, ref = pin_problem
     f = linsolve.factorize(k, backend)
     assert _rel(f._by_solves(b.tocsc(), [b.shape[1]])[0], ref) < BACKEND_RTOL
-    lower, _, order, _, _ = f._tri
+    tri = f.triangle()
     inv = np.empty(k.shape[0], int)
-    inv[order] = np.arange(k.shape[0])
+    inv[tri.order] = np.arange(k.shape[0])
     from scipy.sparse import csc_matrix
 
     pb = csc_matrix((b.data, inv[b.indices], b.indptr), shape=b.shape)
-    rows, cols = f._reach(np.unique(pb.indices))
+    rows, cols = linsolve._reach(tri, np.unique(pb.indices))
     assert rows.size < k.shape[0]            # the loads reach part of the factor only
-    assert _rel(f._forward(pb, rows, cols, [b.shape[1]])[0], ref) < BACKEND_RTOL
+    assert _rel(linsolve._forward(tri, pb, rows, cols, [b.shape[1]])[0], ref) < BACKEND_RTOL
 
 
 def test_vectorised_stiffness_equals_scikit_fem(cases_dir):
