@@ -409,15 +409,14 @@ class CycleSolver:
         pos, state, disc, housing = self._setup
         todo = [k for k in range(len(pos)) if k not in self._influence]
         sizes = [pos[k].pins.size for k in todo]
-        from scipy.sparse import hstack
-
-        loads = hstack([patch_loads(disc, "profile", pos[k].point, pos[k].normal, self.b_ref)
-                        for k in todo])
+        loads = patch_loads(disc, "profile", np.concatenate([pos[k].point for k in todo], 1),
+                            np.concatenate([pos[k].normal for k in todo], 1), self.b_ref)
         blocks = disc.flexibility(loads, sizes)
         if self.model.pin_structure == "integral":
-            lh = hstack([patch_loads(housing, "teeth", state.point[k, pos[k].pins].T,
-                                     state.normal[k, pos[k].pins].T, self.b_ref / 2)
-                         for k in todo])
+            lh = patch_loads(housing, "teeth",
+                             np.concatenate([state.point[k, pos[k].pins].T for k in todo], 1),
+                             np.concatenate([state.normal[k, pos[k].pins].T for k in todo], 1),
+                             self.b_ref / 2)
             blocks = [c + ch for c, ch in zip(blocks, housing.flexibility(lh, sizes))]
         self._influence.update(zip(todo, blocks))
         return self._influence[p]
