@@ -116,7 +116,8 @@ DENSE_SPEEDUP = 10.0
 class Triangle:
     """A lower triangular factor T of P K P^T = T diag(1/weights) T^T: ``lower``
     T (n, n) CSC with sorted indices, ``weights`` (n,) > 0, ``order`` (n,) with
-    (P B)[i] = B[order[i]], ``unit`` whether T's diagonal is one, ``parent`` (n,) the
+    (P B)[i] = B[order[i]], ``unit`` whether T's diagonal is one (what is stored there is
+    then not read), ``parent`` (n,) the
     elimination tree (-1 at a root). Then B^T K^-1 B = V^T diag(weights) V with
     V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
     lower: object
@@ -303,6 +304,8 @@ def _cholmod_factor(matrix) -> Factor:
     f = cholmod.cholesky(matrix, mode="simplicial")
 
     def triangle():
-        lower, d = f.L_D()
-        return lower, 1 / d.diagonal(), f.P(), True
+        # L and D packed in one matrix (D on the diagonal): the unit-diagonal solve
+        # reads no diagonal (L_D() would split them at the cost of two sparse sums)
+        packed = f.LD()
+        return packed, 1 / packed.diagonal(), f.P(), True
     return Factor("cholmod", matrix.shape[0], f.solve_A, triangle)
