@@ -114,12 +114,11 @@ DENSE_SPEEDUP = 10.0
 
 @dataclass(frozen=True)
 class Triangle:
-    """A lower triangular factor T of P K P^T = T diag(1/weights) T^T: ``lower``
-    T (n, n) CSC with sorted indices, ``weights`` (n,) > 0, ``order`` (n,) with
-    (P B)[i] = B[order[i]], ``unit`` whether T's diagonal is one (what is stored there is
-    then not read), ``parent`` (n,) the
-    elimination tree (-1 at a root). Then B^T K^-1 B = V^T diag(weights) V with
-    V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
+    """A lower triangular factor T of P K P^T = T diag(1/weights) T^T: ``lower`` T (n, n)
+    CSC with sorted indices, ``weights`` (n,) > 0, ``order`` (n,) with (P B)[i] =
+    B[order[i]], ``unit`` whether T's diagonal is one (what is stored there is then not
+    read), ``parent`` (n,) the elimination tree (-1 at a root). Then B^T K^-1 B =
+    V^T diag(weights) V with V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
     lower: object
     weights: np.ndarray
     order: np.ndarray
