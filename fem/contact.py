@@ -25,6 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .linsolve import one_blas_thread
 from ..errors import ToothfemError
 
 
@@ -55,7 +56,14 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolu
 
     ``h`` (n, n) SPD, ``g0`` (n,), ``c`` (n,), ``q`` scalar. Raises ContactError when no
     candidate can balance ``q`` (all c_i of the wrong sign) or the active set cycles.
+
+    The dense systems run on one BLAS thread (:func:`fem.linsolve.one_blas_thread`).
     """
+    with one_blas_thread():
+        return _active_set(h, g0, c, q, max_iter)
+
+
+def _active_set(h, g0, c, q, max_iter) -> ContactSolution:
     h = np.asarray(h, float)
     g0 = np.asarray(g0, float)
     c = np.asarray(c, float)
@@ -193,18 +201,9 @@ def nodal_load_matrix(n_dofs: int, dofs, normals):
                       shape=(n_dofs, m)).tocsc()
 
 
-#: Columns solved at once when condensing (bounds memory to chunk x N_dofs doubles).
-CONDENSE_CHUNK = 64
-
-
 def flexibility(body, loads):
-    """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M), in chunks."""
-    m = loads.shape[1]
-    out = np.empty((m, m))
-    for i in range(0, m, CONDENSE_CHUNK):
-        u = body.solve(loads[:, i:i + CONDENSE_CHUNK].toarray())
-        out[:, i:i + CONDENSE_CHUNK] = loads.T @ u
-    return 0.5 * (out + out.T)
+    """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M) (:meth:`Body.flexibility`)."""
+    return body.flexibility(loads)
 
 
 def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, rigid_b=None):

@@ -1,8 +1,9 @@
 """Linear elasticity of one 2D body with scikit-fem (quadratic triangles).
 
 A :class:`Body` holds the mesh, the P2 basis, the material and the stiffness with its
-supports, and solves for many load cases from one sparse LU factorisation
-(:meth:`Body.flexibility`). Plane strain by default, plane stress as an option.
+supports, and solves for many load cases from one sparse factorisation (fem.linsolve):
+displacements (:meth:`Body.solve`) and condensed flexibilities (:meth:`Body.flexibility`).
+Plane strain by default, plane stress as an option.
 """
 from __future__ import annotations
 
@@ -12,6 +13,7 @@ from functools import cached_property
 import numpy as np
 
 from .hertz import reduced_modulus
+from . import linsolve
 from ..errors import ToothfemError, check_range
 
 
@@ -31,6 +33,61 @@ def plane_modulus(youngs_modulus, poisson_ratio, plane: str = "strain") -> float
     """E/(1 - nu^2) in plane strain, E in plane stress: the modulus of 2D contact formulas."""
     e, nu = float(youngs_modulus), float(poisson_ratio)
     return e / (1 - nu**2) if plane == "strain" else e
+
+
+#: Edges of the P2 triangle in scikit-fem's local order (ElementTriP2: dofs 3, 4, 5 at the
+#: midpoints of vertices 0-1, 1-2, 0-2).
+P2_EDGES = ((0, 1), (1, 2), (0, 2))
+#: Barycentric coordinates of the edge midpoints: the 3-point rule with weights area/3 is
+#: exact for quadratics (Strang & Fix 1973, Table 4.1), and the integrand of the P2
+#: stiffness (products of linear gradients) is one.
+MIDPOINT_RULE = np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]])
+
+
+def p2_gradients(mesh):
+    """Gradients of the six P2 shape functions at the edge midpoints of every triangle:
+    (n_elements, 3 points, 6 functions, 2) and the triangle areas (n_elements,).
+
+    Vertex functions l_k (2 l_k - 1), edge functions 4 l_a l_b in barycentric coordinates
+    l_k, whose gradients are constant on an affine triangle."""
+    x = mesh.p[:, mesh.t]                                   # (2, 3, E)
+    e1, e2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
+    det = e1[0] * e2[1] - e1[1] * e2[0]
+    # grad l1 = perp(e2) / det, grad l2 = -perp(e1) / det, grad l0 = -(grad l1 + grad l2)
+    g1 = np.stack([e2[1], -e2[0]]) / det
+    g2 = np.stack([-e1[1], e1[0]]) / det
+    dl = np.stack([-(g1 + g2), g1, g2], axis=1).transpose(2, 1, 0)     # (E, 3, 2)
+    lam = MIDPOINT_RULE                                                # (Q, 3)
+    grads = [(4 * lam[:, k, None, None] - 1) * dl[None, :, k] for k in range(3)]
+    grads += [4 * (lam[:, b, None, None] * dl[None, :, a] + lam[:, a, None, None] * dl[None, :, b])
+              for a, b in P2_EDGES]
+    return np.stack(grads, axis=2).transpose(1, 0, 2, 3), 0.5 * np.abs(det)
+
+
+def stiffness_matrix(basis, lam, mu):
+    """Stiffness of isotropic linear elasticity on a P2 vector basis (scikit-fem's dof
+    numbering, components interleaved), vectorised over the elements; equal to scikit-fem's
+    ``asm(linear_elasticity(lam, mu), basis)`` to round-off (tests/test_linsolve.py).
+
+    K[(i,c),(j,d)] = int lam d_c phi_i d_d phi_j + mu (d_d phi_i d_c phi_j
+    + delta_cd grad phi_i . grad phi_j), from sigma(u) : eps(v) with
+    sigma = lam tr(eps) I + 2 mu eps."""
+    from scipy.sparse import coo_matrix
+
+    grad, area = p2_gradients(basis.mesh)
+    w = area[:, None] / len(MIDPOINT_RULE)
+    g = grad.reshape(grad.shape[0], grad.shape[1], 12)      # (E, Q, 6 x 2)
+    m = np.matmul((g * w[:, :, None]).transpose(0, 2, 1), g).reshape(-1, 6, 2, 6, 2)
+    k = lam * m + mu * m.transpose(0, 1, 4, 3, 2)
+    dots = np.einsum("eiaja->eij", m)
+    k[:, :, 0, :, 0] += mu * dots
+    k[:, :, 1, :, 1] += mu * dots
+    dofs = basis.element_dofs.T.astype(np.int32)           # (E, 12); int32: half the memory
+    n_el = dofs.shape[0]
+    rows = np.broadcast_to(dofs[:, :, None], (n_el, 12, 12))
+    cols = np.broadcast_to(dofs[:, None, :], (n_el, 12, 12))
+    return coo_matrix((k.reshape(n_el, 12, 12).ravel(), (rows.ravel(), cols.ravel())),
+                      shape=(basis.N, basis.N)).tocsc()
 
 
 class SameMaterial:
@@ -59,6 +116,7 @@ class Body:
     poisson_ratio: float
     clamped_nodes: np.ndarray
     plane: str = "strain"
+    solver: str | None = None     # fem.linsolve backend; None: $TOOTHFEM_SOLVER or fastest
 
     def __post_init__(self):
         check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)
@@ -78,11 +136,8 @@ class Body:
 
     @cached_property
     def stiffness(self):
-        from skfem import asm
-        from skfem.models.elasticity import linear_elasticity
-
         lam, mu = lame_parameters(self.youngs_modulus, self.poisson_ratio, self.plane)
-        return asm(linear_elasticity(lam, mu), self.basis).tocsc()
+        return stiffness_matrix(self.basis, lam, mu)
 
     @cached_property
     def _dofs(self):
@@ -100,14 +155,10 @@ class Body:
         return free, clamped
 
     @cached_property
-    def _lu(self):
-        from scipy.sparse.linalg import splu
-
+    def factor(self) -> linsolve.Factor:
+        """The factorisation of the stiffness on the free dofs (fem.linsolve)."""
         free, _ = self._dofs
-        # minimum degree on A^T + A with symmetric mode: half the fill of COLAMD on these
-        # symmetric FE matrices (12M vs 25M nonzeros at 75k dofs; benchmarks/)
-        return splu(self.stiffness[free][:, free].tocsc(), permc_spec="MMD_AT_PLUS_A",
-                    options=dict(SymmetricMode=True))
+        return linsolve.factorize(self.stiffness[free][:, free], self.solver)
 
     def solve(self, loads):
         """Displacements (N_dofs, k) for load vectors (N_dofs, k) with the supports held."""
@@ -116,8 +167,17 @@ class Body:
         loads = loads.reshape(loads.shape[0], -1)
         free, _ = self._dofs
         u = np.zeros_like(loads)
-        u[free] = self._lu.solve(np.ascontiguousarray(loads[free]))
+        u[free] = self.factor.solve(loads[free])
         return u[:, 0] if one else u
+
+    def flexibility(self, loads, blocks=None):
+        """loads^T K^-1 loads for sparse unit loads (N_dofs, k) with the supports held (the
+        loads on held dofs do no work): (k, k), or with ``blocks`` (column counts) the list
+        of the diagonal blocks only (:meth:`fem.linsolve.Factor.flexibility`)."""
+        from scipy.sparse import csr_matrix
+
+        free, _ = self._dofs
+        return self.factor.flexibility(csr_matrix(loads)[free], blocks)
 
     def point_load_matrix(self, points, directions):
         """Load vectors (N_dofs, K) of unit forces at ``points`` (2, K) along ``directions``

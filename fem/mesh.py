@@ -138,11 +138,10 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
         if not enodes:
             raise MeshError("gmsh produced no triangles (self-intersecting rings?)")
         line_nodes = {}
-        for name, lines in zip(names, ring_lines):
-            nodes = []
-            for ln in lines:
-                nodes.append(gmsh.model.mesh.getNodes(1, ln, includeBoundary=True)[0])
-            line_nodes[name] = np.unique(np.concatenate(nodes))
+        for k, (name, lines) in enumerate(zip(names, ring_lines)):
+            # one physical group per ring: its nodes in one call, not one call per segment
+            group = gmsh.model.addPhysicalGroup(1, lines, k + 1)
+            line_nodes[name] = np.unique(gmsh.model.mesh.getNodesForPhysicalGroup(1, group)[0])
     except MeshError:
         raise
     except Exception as exc:  # gmsh raises plain Exceptions

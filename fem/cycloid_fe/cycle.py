@@ -133,22 +133,26 @@ class CycleSolver:
 
     def influence(self, p: int, side: int = 1):
         """(C, C) disc compliance at position p's candidates for a torque of sign ``side``
-        (patch b_ref), per unit length; computed once per position and kept (a new torque
-        costs no new solve)."""
+        (patch b_ref), per unit length; computed with every position of that side not yet
+        known in one block solve, and kept (a new torque costs no new solve)."""
         key = p if side > 0 else (p, side)
         if key in self._influence:
             return self._influence[key]
         _, state, disc, housing = self._setup
-        q = self._candidates(side)[p]
-        loads = patch_loads(disc, "profile", q.point, q.normal, self.b_ref)
-        u = disc.solve(loads.toarray())
-        c = loads.T @ u
+        cand = self._candidates(side)
+        keys = [k if side > 0 else (k, side) for k in range(len(cand))]
+        todo = [k for k, kk in enumerate(keys) if kk not in self._influence]
+        sizes = [cand[k].pins.size for k in todo]
+        loads = patch_loads(disc, "profile", np.concatenate([cand[k].point for k in todo], 1),
+                            np.concatenate([cand[k].normal for k in todo], 1), self.b_ref)
+        blocks = disc.flexibility(loads, sizes)
         if self.model.pin_structure == "integral":
-            kh = state.point[p, q.pins].T
-            nh = state.normal[p, q.pins].T
-            lh = patch_loads(housing, "teeth", kh, nh, self.b_ref / 2)
-            c = c + lh.T @ housing.solve(lh.toarray())
-        self._influence[key] = 0.5 * (c + c.T)
+            lh = patch_loads(housing, "teeth",
+                             np.concatenate([state.point[k, cand[k].pins].T for k in todo], 1),
+                             np.concatenate([state.normal[k, cand[k].pins].T for k in todo], 1),
+                             self.b_ref / 2)
+            blocks = [c + ch for c, ch in zip(blocks, housing.flexibility(lh, sizes))]
+        self._influence.update(zip([keys[k] for k in todo], blocks))
         return self._influence[key]
 
     def cache_key(self) -> str:

@@ -1,0 +1,310 @@
+"""Sparse direct solves of a body's stiffness: one factorisation, block right-hand sides.
+
+The stiffness of a supported body is symmetric positive definite, so it factorises as
+P K P^T = L D L^T with no pivoting. Two operations are needed:
+
+* :meth:`Factor.solve`: displacements K^-1 B for dense block loads B (n, k);
+* :meth:`Factor.flexibility`: the condensed flexibility B^T K^-1 B of sparse unit loads B
+  (a handful of dofs each), per block of columns. Only the forward substitution is needed,
+  B^T K^-1 B = W^T D^-1 W with W = L^-1 P B, and W is zero outside the rows that the
+  elimination tree reaches from B's nonzero rows (Gilbert & Peierls 1988; Davis, *Direct
+  Methods for Sparse Linear Systems*, SIAM 2006, sec. 3.2 and 4.1). The solve runs on that
+  sub-triangle alone: for the contact windows of a disc it is a quarter of the rows and
+  under half of the factor.
+
+Backends, chosen by availability in the order of :data:`BACKENDS` (fastest first, measured
+on the pin-housing disc and pin; README "Faster solves"), or forced by the ``backend``
+argument or the environment variable ``TOOTHFEM_SOLVER``:
+
+* ``"cholmod"``: CHOLMOD's Cholesky through scikit-sparse 0.4 (optional extra ``[fast]``,
+  needs the SuiteSparse library, e.g. Debian's ``libsuitesparse-dev``);
+* ``"superlu"``: SciPy's SuperLU, always installed; symmetric mode with a minimum degree
+  ordering on K^T + K and no pivoting (the diagonal of an SPD matrix is a valid pivot), so
+  the factor is L (D L^T) with the same row and column order.
+
+Both give results equal to 1e-10 relative (tests/test_linsolve.py).
+
+Evaluated on the same matrices and not kept (disc of 68k dofs with 729 loads, each
+against SuperLU in the same run): MKL PARDISO through pypardiso (factorisation alike,
+block solves 2.5x slower on one thread, and a 200 MB MKL wheel); MUMPS through
+python-mumps on Debian's sequential MUMPS (factorisation 10x and solves 15x slower);
+CHOLMOD's supernodal mode (slower triangular solves than its simplicial mode on these 2D
+meshes); SuperLU with COLAMD (twice the fill of the minimum degree on K^T + K).
+"""
+from __future__ import annotations
+
+import functools
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ToothfemError
+
+#: Environment variable that forces a backend (tests, benchmarks).
+BACKEND_ENV = "TOOTHFEM_SOLVER"
+#: Backends, fastest first.
+BACKENDS = ("cholmod", "superlu")
+
+
+def _cholmod():
+    """scikit-sparse's CHOLMOD module if the 0.4 API is installed (0.5 renamed it), else
+    None."""
+    try:
+        from sksparse import cholmod
+    except ImportError:
+        return None
+    return cholmod if hasattr(cholmod, "Factor") and hasattr(cholmod, "cholesky") else None
+
+
+@functools.cache
+def _blas_threads():
+    """The BLAS libraries loaded (found once: each search reads the process's memory map)."""
+    from threadpoolctl import ThreadpoolController
+
+    return ThreadpoolController()
+
+
+def one_blas_thread():
+    """Context in which BLAS runs on one thread. The sparse solves call BLAS on small
+    supernodal blocks and the contact solves on systems of tens to hundreds of unknowns:
+    a second thread gains little there, and on a busy machine (or beside other workers)
+    its waiting costs up to 20x (measured on 2 cores at load 7: a 400 x 400 dense solve
+    took 8 ms on one thread, 163 ms on two)."""
+    return _blas_threads().limit(limits=1, user_api="blas")
+
+
+def available_backends() -> tuple[str, ...]:
+    """The backends that import here, fastest first."""
+    return tuple(b for b in BACKENDS if b == "superlu" or _cholmod() is not None)
+
+
+def choose_backend(backend: str | None = None) -> str:
+    """``backend`` if given, else ``$TOOTHFEM_SOLVER`` if set, else the fastest available.
+
+    Raises ToothfemError for an unknown name or a backend that is not installed."""
+    name = backend or os.environ.get(BACKEND_ENV, "") or available_backends()[0]
+    if name not in BACKENDS:
+        raise ToothfemError(f"solver backend = {name!r} is not one of {list(BACKENDS)}")
+    if name not in available_backends():
+        raise ToothfemError(f"solver backend = {name!r} is not installed here (available: "
+                            f"{list(available_backends())}; see the README, 'Faster solves')")
+    return name
+
+
+def factorize(matrix, backend: str | None = None) -> "Factor":
+    """Factorise the SPD sparse ``matrix`` (n, n) with the chosen backend."""
+    from scipy.sparse import csc_matrix
+
+    matrix = csc_matrix(matrix)
+    name = choose_backend(backend)
+    with one_blas_thread():
+        return _cholmod_factor(matrix) if name == "cholmod" else _superlu_factor(matrix)
+
+
+#: Columns solved at once on the full-solve route (bounds memory to chunk x n doubles).
+SOLVE_CHUNK = 64
+#: Columns of W = L^-1 P B held at once on the forward route (whole blocks; ~40 MB for
+#: the 19k rows a disc's contact windows reach).
+FORWARD_CHUNK = 256
+#: Flop rate of the dense products W^T D^-1 W (BLAS 3) over that of the sparse triangular
+#: solves, in the cost model of :meth:`Factor.flexibility` (measured here: about 10).
+DENSE_SPEEDUP = 10.0
+
+
+@dataclass(frozen=True)
+class Triangle:
+    """A lower triangular factor T of P K P^T = T diag(1/weights) T^T: ``lower`` T (n, n)
+    CSC with sorted indices, ``weights`` (n,) > 0, ``order`` (n,) with (P B)[i] =
+    B[order[i]], ``unit`` whether T's diagonal is one (what is stored there is then not
+    read), ``parent`` (n,) the elimination tree (-1 at a root). Then B^T K^-1 B =
+    V^T diag(weights) V with V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
+    lower: object
+    weights: np.ndarray
+    order: np.ndarray
+    unit: bool
+    parent: np.ndarray
+
+
+class Factor:
+    """P K P^T = L D L^T of an SPD matrix (n, n).
+
+    ``solve(rhs)`` is the backend's full solve; ``triangle()`` the factor as a
+    :class:`Triangle`, extracted from the backend at each call and not kept (it would
+    double the factor's memory, e.g. for the 22 bodies of a detailed solve)."""
+
+    def __init__(self, backend, n, solve, triangle):
+        self.backend = backend
+        self.shape = (n, n)
+        self._solve = solve
+        self._triangle = triangle
+
+    def triangle(self) -> Triangle:
+        """The factor's arrays (:class:`Triangle`), extracted now."""
+        lower, weights, order, unit = self._triangle()
+        if not np.all(np.asarray(weights) > 0):
+            raise ToothfemError("a pivot of the factorisation is not positive: the stiffness "
+                                "is not positive definite (is the body held?)")
+        lower = lower.tocsc()
+        lower.sort_indices()
+        return Triangle(lower, np.asarray(weights, float), np.asarray(order), unit,
+                        _etree_parent(lower))
+
+    def solve(self, rhs) -> np.ndarray:
+        """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
+        rhs = np.asarray(rhs, float)
+        with one_blas_thread():
+            if rhs.ndim == 1:
+                return self._solve(rhs[:, None])[:, 0]
+            return self._solve(np.ascontiguousarray(rhs))
+
+    def flexibility(self, loads, blocks=None):
+        """B^T K^-1 B for sparse ``loads`` B (n, k).
+
+        By the forward substitution on the rows B reaches (module docstring) when that is
+        the cheaper way, else by full solves in chunks of :data:`SOLVE_CHUNK` columns: the
+        forward route pays nnz(L_RR) k for the solve and |R| sum(k_i^2) / DENSE_SPEEDUP for
+        the products W_i^T D^-1 W_i, the full route 2 nnz(L) k (loads spread over the whole
+        body favour it).
+
+        Parameters
+        ----------
+        loads : sparse (n, k)
+        blocks : sequence of column counts summing to k, or None
+
+        Returns
+        -------
+        (k, k) array, symmetric; or, with ``blocks``, the list of the diagonal blocks
+        (k_i, k_i), the cross terms between blocks being neither computed nor stored.
+        """
+        from scipy.sparse import csc_matrix
+
+        loads = csc_matrix(loads)
+        n, k = loads.shape
+        counts = [k] if blocks is None else [int(b) for b in blocks]
+        if sum(counts) != k:
+            raise ToothfemError(f"blocks sum to {sum(counts)}, loads have {k} columns")
+        tri = self.triangle()
+        inv = np.empty(n, int)
+        inv[tri.order] = np.arange(n)
+        pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
+        rows, cols = _reach(tri, np.unique(pb.indices))
+        forward = cols.nnz * k + rows.size * sum(c * c for c in counts) / DENSE_SPEEDUP
+        with one_blas_thread():
+            if forward < 2 * tri.lower.nnz * k:
+                out = _forward(tri, pb, rows, cols, counts)
+            else:
+                out = self._by_solves(loads, counts)
+        return out[0] if blocks is None else out
+
+    def _by_solves(self, loads, counts):
+        out, start = [], 0
+        for c in counts:
+            blk = np.empty((c, c))
+            for i in range(0, c, SOLVE_CHUNK):
+                b = loads[:, start + i:start + min(i + SOLVE_CHUNK, c)]
+                blk[:, i:i + b.shape[1]] = loads[:, start:start + c].T @ self.solve(b.toarray())
+            out.append(0.5 * (blk + blk.T))
+            start += c
+        return out
+
+
+def _forward(tri: Triangle, pb, rows, cols, counts):
+    """The diagonal blocks of V^T diag(weights) V, V = T_RR^-1 (P B)_R, a group of whole blocks
+    of at most FORWARD_CHUNK columns at a time (bounds V to |R| x chunk doubles)."""
+    from scipy.linalg.blas import dsyrk
+    from scipy.sparse.linalg import spsolve_triangular
+
+    sub = cols[rows].tocsc()          # a fresh matrix: the solve may overwrite it
+    pb = pb[rows].tocsc()
+    scale = np.sqrt(tri.weights[rows, None])     # V^T diag(weights) V = (V s)^T (V s)
+    out, start = [], 0
+    for group in _groups(counts, FORWARD_CHUNK):
+        width = sum(group)
+        v = spsolve_triangular(sub, pb[:, start:start + width].toarray(), lower=True,
+                               unit_diagonal=tri.unit, overwrite_A=True, overwrite_b=True)
+        v *= scale
+        at = 0
+        for c in group:
+            # V^T V by the symmetric rank-k update (half the flops of the product);
+            # V^T of the C-ordered V is Fortran-ordered, as BLAS wants it
+            upper = dsyrk(1.0, np.ascontiguousarray(v[:, at:at + c]).T, trans=0)
+            out.append(np.triu(upper) + np.triu(upper, 1).T)
+            at += c
+        start += width
+    return out
+
+
+def _reach(tri: Triangle, start):
+    """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
+    elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
+    factor that stores padding zeros gives a superset, which is still exact); returns
+    them with L's columns there."""
+    lower = tri.lower
+    mark = np.zeros(lower.shape[0], bool)
+    parent = tri.parent.tolist()
+    for s in start.tolist():
+        while s >= 0 and not mark[s]:
+            mark[s] = True
+            s = parent[s]
+    rows = np.flatnonzero(mark)
+    cols = lower[:, rows]
+    if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
+        return np.arange(lower.shape[0]), lower
+    return rows, cols
+
+
+def _groups(counts, limit):
+    """Consecutive runs of ``counts`` whose sums stay within ``limit`` (a larger count
+    alone)."""
+    out, cur = [], []
+    for c in counts:
+        if cur and sum(cur) + c > limit:
+            out.append(cur)
+            cur = []
+        cur.append(c)
+    return out + [cur] if cur else out
+
+
+def _etree_parent(lower) -> np.ndarray:
+    """Parent of each column in the elimination tree of a lower factor (sorted CSC): the row
+    of its first entry below the diagonal, -1 at a root."""
+    n = lower.shape[0]
+    start, stop = lower.indptr[:-1], lower.indptr[1:]
+    cols = np.arange(n)
+    diag_first = (stop > start) & (lower.indices[np.minimum(start, lower.nnz - 1)] == cols)
+    below = start + diag_first
+    parent = np.full(n, -1)
+    has = below < stop
+    parent[has] = lower.indices[below[has]]
+    return parent
+
+
+def _superlu_factor(matrix) -> Factor:
+    from scipy.sparse.linalg import splu
+
+    # minimum degree on K^T + K in symmetric mode: half the fill of COLAMD on these FE
+    # matrices (5.3M against 9.5M nonzeros for the 68k-dof disc); no pivoting (SPD)
+    lu = splu(matrix, permc_spec="MMD_AT_PLUS_A",
+              options=dict(SymmetricMode=True, DiagPivotThresh=0.0))
+    if not np.array_equal(lu.perm_r, lu.perm_c):
+        raise ToothfemError("SuperLU pivoted off the diagonal: the stiffness is not "
+                            "positive definite (is the body held?)")
+    # L unit lower, U = D L^T (SuperLU keeps both once handed out: the Body's memory
+    # grows by a copy of the factor after its first flexibility)
+    return Factor("superlu", matrix.shape[0], lu.solve,
+                  lambda: (lu.L, 1 / lu.U.diagonal(), np.argsort(lu.perm_r), True))
+
+
+def _cholmod_factor(matrix) -> Factor:
+    cholmod = _cholmod()
+    # simplicial L D L^T: its triangular solves beat the supernodal ones on these 2D
+    # meshes (measured, README "Faster solves")
+    f = cholmod.cholesky(matrix, mode="simplicial")
+
+    def triangle():
+        # L and D packed in one matrix (D on the diagonal): the unit-diagonal solve
+        # reads no diagonal (L_D() would split them at the cost of two sparse sums)
+        packed = f.LD()
+        return packed, 1 / packed.diagonal(), f.P(), True
+    return Factor("cholmod", matrix.shape[0], f.solve_A, triangle)
