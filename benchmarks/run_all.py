@@ -63,20 +63,18 @@ def cold_run(what: str) -> dict:
     no disk cache), and the process's peak memory (MB)."""
     import gmsh  # noqa: F401
     import skfem  # noqa: F401
-    from toothfem.fem import cycloid_fe as cf
-    from toothfem.fem import sine_fe
+    from toothfem.fem.drives import drive_for
 
     t0, c0 = time.perf_counter(), time.process_time()
-    if what == "sine":
-        sine_fe.solve_cycle(load_case(ROOT / "cases" / "sine_prototype.toml"), 36)
-    else:
-        case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-        model = cf.model_from_case(case, "conventional")
-        phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, 36, endpoint=False)
-        if what == "cycle":
-            cf.CycleSolver(model, phis).solve(cf.disc_torque(case))
-        else:
-            cf.solve_detailed(model, phis[0], cf.disc_torque(case))
+    name = "sine_prototype" if what == "sine" else "cycloid_pinhousing"
+    case = load_case(ROOT / "cases" / f"{name}.toml")
+    drive = drive_for(case)
+    torque = drive.member_torque(case.to_si().declared_output_torque_Nm())
+    overrides = {} if what == "sine" else {"pin_structure": "conventional"}
+    if what == "detailed":
+        drive.solve_detailed(drive.fe_model(**overrides), drive.positions(36)[0], torque)
+    else:                      # cold: no disk cache
+        drive.cycle_solver(36, cache=False, **overrides).solve(torque)
     return dict(seconds=time.perf_counter() - t0, cpu_seconds=time.process_time() - c0,
                 peak_mb=resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024)
 
