@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
-from .errors import CaseError, GeometryError, check_range
+from .errors import CaseError, GeometryError, check_range, decode_text
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -26,6 +26,41 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 INF = math.inf
+
+# Plausibility bounds (issue 14, item 2): ranges a real reducer can have, beyond the
+# mathematical validity of each value. They are wide (from a micro drive of a few mm to the
+# largest industrial cycloid drives), so that no real design is refused; a value outside
+# is a unit slip (m for mm, N mm for N m) or a typo, and left in, it overflows or grows the
+# FE mesh without bound instead of failing with a message about its key.
+#: Radii of the main circles (pin circle, pin-hole circle, holes) [mm].
+RADIUS_MM = (1.0, 2000.0)
+#: Pin, roller and bearing radii [mm]: a 0.1 mm needle is the smallest rolling element.
+PIN_RADIUS_MM = (0.1, 200.0)
+#: Eccentricity of a cycloid stage [mm] (the profile also bounds it: K1 < 1).
+ECCENTRICITY_MM = (0.01, 100.0)
+#: Face width of a disc, a gear or a sine pair [mm].
+FACE_WIDTH_MM = (0.1, 1000.0)
+#: Module of a gear or sine pair [mm] (ISO 54 runs from 0.05 to 100).
+MODULE_MM = (0.05, 100.0)
+#: Housing wall around the pin circle, as a multiple of the pin circle radius: a wall
+#: thicker than the pin circle radius itself is not a reducer housing.
+HOUSING_WALL_MAX = 1.0
+#: Input speed [rpm] (servo motors run up to ~20000 rpm; below 0.01 rpm no film forms
+#: and the loss models leave their range).
+SPEED_RPM = (0.01, 20000.0)
+#: Torques [N m] on the output of a reducer (the largest cycloid drives: ~1e5 N m) and
+#: the smallest one meaningful for an efficiency (below 1 mN m the drag dominates).
+TORQUE_NM = (1e-3, 1e6)
+#: Input torque [N m]: the output range over ratios down to 1.
+INPUT_TORQUE_NM = (1e-6, 1e6)
+#: Input power [kW].
+POWER_KW = (1e-6, 1e4)
+#: Load-independent torques (drag, plain-bearing friction) [N mm].
+DRAG_NMM = (0.0, 1e6)
+#: Magnitude of a stated ratio (two-stage drives reach a few thousand).
+STATED_RATIO_MAX = 1e5
+#: Smallest mesh efficiency accepted: below it the pair is not a working gear mesh.
+MESH_EFFICIENCY_MIN = 0.5
 
 
 def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
@@ -50,19 +85,79 @@ class _Section:
             if value is None:
                 continue
             key = f"{self._section}.{f.name}" if self._section else f.name
+            expected = _expected(f)
+            _check_type(key, value, expected)
             if md.get("choices") is not None:
                 if value not in md["choices"]:
                     raise CaseError(f"{key} = {value!r} is not one of {list(md['choices'])}")
                 continue
-            if md.get("integer"):
-                if isinstance(value, bool) or not isinstance(value, int):
-                    raise CaseError(f"{key} = {value!r} must be an integer")
+            if expected == "string":
+                continue
             check_range(key, value, md.get("lo"), md.get("hi"), lo_open=md.get("lo_open"),
                         hi_open=md.get("hi_open"), error=CaseError, why=md.get("doc", ""))
         self._check()
 
     def _check(self):
         """Cross-field rules of the section (override)."""
+
+
+def _expected(f) -> str:
+    """What a field holds: "integer", "number", "string" or "table" (from its metadata and
+    annotation)."""
+    md = f.metadata
+    if md.get("choices") is not None or f.type == "str":
+        return "string"
+    if md.get("integer"):
+        return "integer"
+    if f.type.startswith(("float", "int")):
+        return "number"
+    return "table"
+
+
+def _kind(value) -> str:
+    """How the TOML reader gave ``value``, for messages."""
+    if isinstance(value, bool):
+        return "true/false"
+    if isinstance(value, str):
+        return "a string"
+    if isinstance(value, Mapping):
+        return "a table"
+    if isinstance(value, (list, tuple)):
+        return "an array"
+    return f"a {type(value).__name__}"
+
+
+def _check_type(key: str, value, expected: str):
+    """Refuse a value of the wrong type, naming the key (issue 14, item 1): a string, bool,
+    table or array where a number belongs would otherwise fail later in arithmetic, with a
+    message about an internal variable."""
+    if expected == "string":
+        ok = isinstance(value, str)
+    elif expected == "integer":
+        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif expected == "number":
+        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+    else:
+        return
+    if ok:
+        return
+    hint = ""
+    if expected in ("number", "integer") and isinstance(value, str):
+        hint = " (write it without quotes)"
+    if expected == "integer" and isinstance(value, float) and math.isfinite(value) \
+            and value == int(value):
+        hint = f" (write {int(value)})"
+    if expected == "integer":
+        raise CaseError(f"{key} = {_shown(value)} must be an integer, not {_kind(value)}{hint}")
+    raise CaseError(f"{key} = {_shown(value)} is not a {expected}: it is {_kind(value)}{hint}")
+
+
+def _shown(value) -> str:
+    """A value as the message shows it: TOML-like, and short."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    r = repr(value)
+    return r if len(r) <= 40 else r[:37] + "..."
 
 
 #: SI parameter of a geometry record -> (case key, factor from SI to the key's unit)
@@ -107,13 +202,13 @@ class Material(_Section):
 class DiscHoles(_Section):
     """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
     _section = "cycloid.disc_holes"
-    centre_bore_radius_mm: float = _f(0.0, None, default=0.0)
+    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
     crank_hole_count: int = _f(0, 12, integer=True, default=0)
-    crank_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
-    crank_hole_radius_mm: float = _f(0.0, None, default=0.0)
+    crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
     pillar_hole_count: int = _f(0, 12, integer=True, default=0)
-    pillar_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
-    pillar_hole_radius_mm: float = _f(0.0, None, default=0.0)
+    pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
 
     def _check(self):
         for kind in ("crank", "pillar"):
@@ -132,10 +227,10 @@ class CycloidStage(_Section):
     _section = "cycloid"
     pin_count: int = _f(4, 400, integer=True)
     lobe_count: int = _f(3, 399, integer=True)
-    pin_circle_radius_mm: float = _f(0.0, None, lo_open=True)
-    eccentricity_mm: float = _f(0.0, None, lo_open=True)
-    pin_radius_mm: float = _f(0.0, None, lo_open=True)
-    face_width_mm: float = _f(0.0, None, lo_open=True)
+    pin_circle_radius_mm: float = _f(*RADIUS_MM)
+    eccentricity_mm: float = _f(*ECCENTRICITY_MM)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     disc_count: int = _f(1, 4, integer=True, default=1)
     pin_structure: str = _f(choices=("conventional", "integral"), default="conventional")
     equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0)
@@ -148,11 +243,12 @@ class CycloidStage(_Section):
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
-        if self.housing_outer_radius_mm <= self.pin_circle_radius_mm + self.pin_radius_mm:
-            raise CaseError(f"cycloid.housing_outer_radius_mm = {self.housing_outer_radius_mm!r}"
-                            f" is outside the valid range "
-                            f"({self.pin_circle_radius_mm + self.pin_radius_mm:g}, inf): the "
-                            "housing must enclose the pins")
+        inner = self.pin_circle_radius_mm + self.pin_radius_mm
+        wall = max(HOUSING_WALL_MAX * self.pin_circle_radius_mm, 4 * self.pin_radius_mm)
+        check_range("cycloid.housing_outer_radius_mm", self.housing_outer_radius_mm, inner,
+                    inner + wall, lo_open=True, error=CaseError,
+                    why="the housing must enclose the pins, with a wall up to the pin circle "
+                        "radius (or the default 4 pin radii) thick")
         if self.lobe_count != self.pin_count - 1:
             raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
                             f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
@@ -207,11 +303,10 @@ class SpurStage(_Section):
     sun_teeth: int = _f(6, 400, integer=True)
     planet_teeth: int = _f(6, 400, integer=True)
     planet_count: int = _f(1, 8, integer=True, default=2)
-    module_mm: float = _f(0.0, None, lo_open=True, default=1.0)
+    module_mm: float = _f(*MODULE_MM, default=1.0)
     pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
-    face_width_mm: float | None = _f(0.0, None, lo_open=True, default=None,
-                                     doc="default 10 modules")
-    mesh_efficiency: float | None = _f(0.0, 1.0, lo_open=True, default=None,
+    face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None, doc="default 10 modules")
+    mesh_efficiency: float | None = _f(MESH_EFFICIENCY_MIN, 1.0, default=None,
                                        doc="declared; default: from the friction model")
 
 
@@ -221,9 +316,9 @@ class SineStage(_Section):
     _section = "sine"
     planet_teeth: int = _f(10, 1000, integer=True)
     ring_teeth: int = _f(11, 1001, integer=True)
-    module_mm: float = _f(0.0, None, lo_open=True)
+    module_mm: float = _f(*MODULE_MM)
     tooth_height_mm: float = _f(0.0, None, lo_open=True)
-    face_width_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None)
 
     def _check(self):
@@ -258,7 +353,7 @@ class RVTrain(_Section):
     disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
     pin_count: int = _f(4, 400, integer=True)          # z5
     disc_count: int = _f(1, 4, integer=True, default=2)
-    mesh_efficiency: float = _f(0.0, 1.0, lo_open=True, default=0.94,
+    mesh_efficiency: float = _f(MESH_EFFICIENCY_MIN, 1.0, default=0.94,
                                 doc="efficiency assumed for every gear pair (RV paper)")
 
     def _check(self):
@@ -270,10 +365,10 @@ class RVTrain(_Section):
 @dataclass(frozen=True)
 class Operating(_Section):
     _section = "operating"
-    input_speed_rpm: float = _f(0.0, 20000.0, lo_open=True, default=1000.0)
-    output_torque_Nm: float | None = _f(0.0, None, default=None)
-    input_torque_Nm: float | None = _f(0.0, None, default=None)
-    input_power_kW: float | None = _f(0.0, None, default=None)
+    input_speed_rpm: float = _f(*SPEED_RPM, default=1000.0)
+    output_torque_Nm: float | None = _f(*TORQUE_NM, default=None)
+    input_torque_Nm: float | None = _f(*INPUT_TORQUE_NM, default=None)
+    input_power_kW: float | None = _f(*POWER_KW, default=None)
 
 
 @dataclass(frozen=True)
@@ -307,7 +402,7 @@ class Friction(_Section):
                        default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
     boundary_coefficient: float = _f(0.0, 1.0, default=0.0,
                                      doc="asperity friction in mixed lubrication (0: off)")
-    drag_torque_Nmm: float = _f(0.0, None, default=0.0,
+    drag_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
 
 
@@ -316,19 +411,19 @@ class OutputMechanism(_Section):
     """Pins in holes (W mechanism) and the eccentric bearing of a K-H-V stage."""
     _section = "output_mechanism"
     pin_count: int = _f(2, 24, integer=True, default=8)
-    pin_hole_circle_radius_mm: float = _f(0.0, None, lo_open=True, default=30.0)
-    pin_radius_mm: float = _f(0.0, None, lo_open=True, default=5.0)
-    eccentric_bearing_inner_radius_mm: float = _f(0.0, None, lo_open=True, default=10.0)
-    plain_bearing_friction_torque_Nmm: float = _f(0.0, None, default=0.0)
+    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0)
+    eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0)
+    plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0)
 
 
 @dataclass(frozen=True)
 class MeasuredPoint(_Section):
     _section = "measured"
-    input_speed_rpm: float = _f(0.0, None, lo_open=True)
-    output_torque_Nm: float = _f(0.0, None, lo_open=True)
+    input_speed_rpm: float = _f(*SPEED_RPM)
+    output_torque_Nm: float = _f(*TORQUE_NM)
     efficiency: float = _f(0.0, 1.0, lo_open=True)
-    source: str = ""
+    source: str = _f(default="")
 
 
 @dataclass(frozen=True)
@@ -370,11 +465,43 @@ class Case:
                     if getattr(st, key) != want:
                         raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
                                         f"[rv] tooth numbers ({want})")
+        self._check_analysable()
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):
                 raise CaseError(f"case.stated_ratio = {self.stated_ratio!r} disagrees with the "
                                 f"ratio {computed:g} computed from the tooth numbers")
+
+    def _check_analysable(self):
+        """Cross-section rules that the analyses need (issue 14, item 2: nothing ``check``
+        accepts may fail later for want of a section): a load, a material for every profile
+        pair, the output path of each drive type."""
+        op = self.operating
+        if op.output_torque_Nm is None and op.input_torque_Nm is None \
+                and op.input_power_kW is None:
+            raise CaseError("[operating] needs output_torque_Nm, input_torque_Nm or "
+                            "input_power_kW (the load every analysis starts from)")
+        if self.cycloid is not None and self.material is None:
+            raise CaseError("[material] section is required with a [cycloid] section (the "
+                            "contact model of the disc)")
+        two_stage = self.cycloid is not None and (self.first_stage is not None
+                                                  or self.drive == "rv")
+        if self.drive == "rv" and self.cycloid is not None and self.first_stage is None:
+            raise CaseError("[first_stage] section is required with a [cycloid] section for "
+                            "drive = 'rv' (the sun-planet mesh)")
+        if self.drive in ("cycloid", "sine") and not two_stage \
+                and self.output_mechanism is None:
+            raise CaseError(f"[output_mechanism] section is required for drive = "
+                            f"{self.drive!r} without a [first_stage] (pins in holes: the "
+                            "output path of a K-H-V stage)")
+        if two_stage:
+            h = self.cycloid.disc_holes
+            if h.crank_hole_count < 1 or h.crank_hole_radius_mm <= 0 \
+                    or h.crank_hole_circle_radius_mm <= 0:
+                raise CaseError(f"cycloid.disc_holes.crank_hole_count = {h.crank_hole_count} "
+                                "is outside the valid range [1, 12]: a two-stage (RV-type) "
+                                "drive carries its discs on crankshafts (crank_hole_count, "
+                                "crank_hole_radius_mm and crank_hole_circle_radius_mm > 0)")
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see
@@ -410,10 +537,13 @@ def _section(cls, mapping: Mapping[str, Any], name: str):
         sub = _NESTED.get(cls, {}).get(key)
         if sub is not None:
             value = _section(sub, value, f"{name}.{key}")
-        elif isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise CaseError(f"{name}.{key} = {value!r} must be a number or a string")
-        elif fields[key].type in ("float", "float | None") and isinstance(value, int):
-            value = float(value)
+        else:
+            _check_type(f"{name}.{key}", value, _expected(fields[key]))
+            if fields[key].type in ("float", "float | None") and isinstance(value, int):
+                try:
+                    value = float(value)
+                except OverflowError:      # left an int: the field's range refuses it
+                    pass
         kwargs[key] = value
     missing = [f.name for f in fields.values()
                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
@@ -444,8 +574,13 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
         if key not in head:
             raise CaseError(f"case.{key} is required")
     kwargs: dict[str, Any] = dict(head)
+    for key in ("name", "drive", "source"):
+        if key in kwargs:
+            _check_type(f"case.{key}", kwargs[key], "string")
     if "stated_ratio" in kwargs:
-        check_range("case.stated_ratio", kwargs["stated_ratio"], error=CaseError)
+        _check_type("case.stated_ratio", kwargs["stated_ratio"], "number")
+        check_range("case.stated_ratio", kwargs["stated_ratio"], -STATED_RATIO_MAX,
+                    STATED_RATIO_MAX, error=CaseError, why="a reducer ratio, signed")
     measured = mapping.pop("measured", [])
     published = mapping.pop("published", {})
     for key, value in mapping.items():
@@ -460,6 +595,11 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
                                for i, m in enumerate(measured))
     if not isinstance(published, Mapping):
         raise CaseError("[published] must be a table")
+    for key, value in published.items():      # figures quoted for comparison
+        if isinstance(value, str):
+            continue
+        _check_type(f"published.{key}", value, "number")
+        check_range(f"published.{key}", value, error=CaseError)
     kwargs["published"] = dict(published)
     return Case(**kwargs)
 
@@ -468,10 +608,15 @@ def load_case(path) -> Case:
     """Open a TOML case file and validate it; errors name the file."""
     path = Path(path)
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+        raw = path.read_bytes()
     except FileNotFoundError:
         raise CaseError(f"{path}: no such case file") from None
+    except IsADirectoryError:
+        raise CaseError(f"{path}: is a folder, not a case file") from None
+    except OSError as exc:
+        raise CaseError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        data = tomllib.loads(decode_text(raw, path, CaseError))
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: not valid TOML: {exc}") from None
     try:
