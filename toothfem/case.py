@@ -332,7 +332,8 @@ class SineStage(_Section):
                             f"module*(ring_teeth-planet_teeth)/2 = {a0:g}: the pitch "
                             "circles must roll")
         try:
-            self.geometry()
+            from .geometry.sine import check_load_carrying   # noqa: WPS433 (late import)
+            check_load_carrying(self.geometry())   # issue 14: low teeth carry no torque
         except GeometryError as exc:
             raise _restate(exc, "sine", _SINE_KEYS) from None
 
