@@ -124,7 +124,9 @@ def _kind(value) -> str:
         return "a table"
     if isinstance(value, (list, tuple)):
         return "an array"
-    return f"a {type(value).__name__}"
+    if isinstance(value, int):
+        return "an integer"
+    return "a float" if isinstance(value, float) else f"a {type(value).__name__}"
 
 
 def _check_type(key: str, value, expected: str):
