@@ -149,6 +149,24 @@ def test_plausibility_bounds_and_cross_rules(cases_dir, name, key, value, text):
     assert text in _refusal(_with(_raw(cases_dir, name), key, value))
 
 
+def test_operating_point_where_losses_take_most_of_the_input(cases_dir):
+    """The fixed point T2 = i T1 eta(T2) contracts at the rate 1 - eta: with a large
+    load-independent loss it is solved by bracketing; an input that cannot overcome the
+    no-load losses is refused naming the key."""
+    from toothfem.efficiency.model import evaluate, operating_point
+
+    raw = _raw(cases_dir, "sine_prototype.toml")
+    case = parse_case(_with(raw, "output_mechanism.plain_bearing_friction_torque_Nmm", 252.0))
+    speed, t2 = operating_point(case)
+    eta = float(evaluate(case, speed, t2).efficiency[0])
+    assert 0.25 < eta < 0.35                                   # slow contraction here
+    assert t2 == pytest.approx(79 * 0.4 * eta, rel=1e-8)
+    case = parse_case(_with(raw, "output_mechanism.plain_bearing_friction_torque_Nmm", 2520.0))
+    with pytest.raises(CaseError, match=r"^operating.input_torque_Nm = 0.4 does not overcome "
+                                        r"the load-independent losses at 300 rpm"):
+        operating_point(case)
+
+
 # ---------------------------------------------------------------------------------------
 # 3. valid means analysable
 

@@ -192,6 +192,21 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
     return CaseError(f"{section}: {exc}")
 
 
+#: Hole names in the disc-layout messages -> the [cycloid.disc_holes] keys that place them.
+_HOLE_KEYS = {"centre_bore": ("centre_bore_radius_mm",),
+              "crank": ("crank_hole_circle_radius_mm", "crank_hole_radius_mm"),
+              "pillar": ("pillar_hole_circle_radius_mm", "pillar_hole_radius_mm")}
+
+
+def _with_hole_keys(err: CaseError) -> CaseError:
+    """A disc-layout refusal (which names holes, not keys) with the keys that set those
+    holes appended, so that every refusal names a case key (issue 14)."""
+    msg = str(err)
+    keys = [f"cycloid.disc_holes.{k}" for name, ks in _HOLE_KEYS.items() if name in msg
+            for k in ks]
+    return CaseError(f"{msg} (set by {', '.join(keys)})") if keys else err
+
+
 @dataclass(frozen=True)
 class Material(_Section):
     _section = "material"
@@ -262,7 +277,7 @@ class CycloidStage(_Section):
                 from .geometry.cycloid import disc_polygon  # noqa: WPS433 (late import)
                 disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
         except GeometryError as exc:
-            raise _restate(exc, "cycloid", _CYCLOID_KEYS) from None
+            raise _with_hole_keys(_restate(exc, "cycloid", _CYCLOID_KEYS)) from None
 
     def __post_init__(self):
         if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
