@@ -51,8 +51,10 @@ def run(args) -> int:
     if case.cycloid is None and case.drive != "sine":
         raise CaseError(f"{args.case}: drive = {case.drive!r} has no profile geometry "
                         "([cycloid] disc or sine pair) to put in contact")
-    if args.torque is not None:
-        check_range("--torque-Nm", args.torque, 0, None, lo_open=True, error=CaseError)
+    if args.torque is not None:         # the case's plausibility bounds (issue 14)
+        from ..case import TORQUE_NM
+
+        check_range("--torque-Nm", args.torque, *TORQUE_NM, error=CaseError)
     from dataclasses import replace
 
     if args.torque is not None:

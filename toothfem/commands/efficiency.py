@@ -5,6 +5,10 @@ from __future__ import annotations
 import json
 
 
+#: Oil temperatures accepted on the command line [deg C] (the lubricant's reference range).
+OIL_TEMP_C = (-40.0, 200.0)
+
+
 def add_parser(sub):
     from ..efficiency.model import LOADS, METHODS
 
@@ -49,9 +53,15 @@ def result(case, speed, torque, oil_temp=None, loads="analytic", method="power_f
 
 
 def run(args) -> int:
-    from ..case import load_case
+    from ..case import SPEED_RPM, TORQUE_NM, load_case
     from ..efficiency.model import operating_point
+    from ..errors import CaseError, check_range
 
+    for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
+                                  ("--torque-Nm", args.torque, TORQUE_NM),
+                                  ("--oil-temp-C", args.oil_temp, OIL_TEMP_C)):
+        if value is not None:           # the case's plausibility bounds (issue 14)
+            check_range(flag, value, lo, hi, error=CaseError)
     case = load_case(args.case)
     speed, torque = args.speed, args.torque
     if speed is None or torque is None:
