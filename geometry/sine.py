@@ -570,9 +570,9 @@ class ToothHeightLimits:
         return min(self.envelope, self.interference, self.contact)
 
 
-def _largest_valid(pred, z1, z2, m, hi, scan=8):
+def _largest_valid(pred, z1, z2, m, hi, scan=8, rtol=_BOUND_RTOL):
     """Largest a below ``hi`` such that pred holds for all smaller a: a scan from 0 finds
-    the first failure, bisection narrows it to _BOUND_RTOL*m; ``hi`` if none fails."""
+    the first failure, bisection narrows it to rtol*m; ``hi`` if none fails."""
     lo = 0.0
     for a in hi * np.arange(1, scan + 1) / scan * (1 - _BOUND_RTOL):
         if not pred(_Params(z1, z2, m, float(a))):
@@ -581,7 +581,7 @@ def _largest_valid(pred, z1, z2, m, hi, scan=8):
         lo = float(a)
     else:
         return hi
-    while hi - lo > _BOUND_RTOL * m:
+    while hi - lo > rtol * m:
         mid = 0.5 * (lo + hi)
         if pred(_Params(z1, z2, m, mid)):
             lo = mid
@@ -624,7 +624,7 @@ _CARRY_ARM_REL = 1e-6
 #: Crank positions per mesh period, then nested refinement around the worst few (the
 #: largest gap sits next to a hand-over, where one flank's minimum leaves its window).
 _CARRY_GRID, _CARRY_WORST, _CARRY_ROUNDS = 24, 3, 3
-#: Relative width at which the bisection for the bound stops.
+#: Width (a fraction of the module) at which the bisection for the bound stops.
 _CARRY_RTOL = 1e-3
 
 
@@ -675,20 +675,13 @@ def _carries(g: _Params) -> bool:
 @lru_cache(maxsize=64)
 def min_tooth_height_m(planet_teeth: int, ring_teeth: int, module_m: float) -> float:
     """Smallest tooth height a (m) with a drive flank within LOAD_CARRYING_GAP_M at every
-    crank angle, by bisection (the largest gap falls as a grows); the upper bound
-    :func:`tooth_height_limits` ``.max`` itself if no tooth height works."""
+    crank angle, by scan and bisection (the largest gap falls as a grows), to
+    _CARRY_RTOL*m above; the upper bound :func:`tooth_height_limits` ``.max`` itself if no
+    tooth height works."""
     z1, z2, m = int(planet_teeth), int(ring_teeth), float(module_m)
-    hi = tooth_height_limits(z1, z2, m).max * (1 - _BOUND_RTOL)
-    if not _carries(_Params(z1, z2, m, hi)):
-        return tooth_height_limits(z1, z2, m).max
-    lo = 0.0
-    while hi - lo > _CARRY_RTOL * hi:
-        mid = 0.5 * (lo + hi)
-        if _carries(_Params(z1, z2, m, mid)):
-            hi = mid
-        else:
-            lo = mid
-    return hi
+    top = tooth_height_limits(z1, z2, m).max
+    lo = _largest_valid(lambda g: not _carries(g), z1, z2, m, top, rtol=_CARRY_RTOL)
+    return top if lo >= top else min(lo + _CARRY_RTOL * m, top)
 
 
 def check_load_carrying(pair: SineGearPair) -> SineGearPair:

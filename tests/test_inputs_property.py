@@ -138,7 +138,7 @@ def test_check_then_every_analytic_analysis(drawn):
 
 @pytest.mark.slow
 @settings(CI, max_examples=max(4, EXAMPLES // 6))
-@given(mutated_case())
+@given(drawn=mutated_case())
 def test_check_then_a_small_fe_run(drawn, tmp_path_factory):
     """The FE contact (cycle mode, two positions, no stress field) on accepted cycloid and
     sine cases: finite forces and pressures, or one line naming a key."""
