@@ -141,7 +141,7 @@ def test_encodings_one_line(cases_dir, tmp_path, capsys):
     ("cycloid_pinhousing.toml", "cycloid.disc_holes.crank_hole_count", 0,
      "cycloid.disc_holes.crank_hole_count = 0 is outside the valid range [1, 12]"),
     ("sine_prototype.toml", "output_mechanism", None,
-     "[output_mechanism] section is required for drive = 'sine'"),
+     "drive = 'sine' without a [first_stage] needs [output_mechanism]"),
     ("rv40e.toml", "first_stage", None, "[first_stage] section is required"),
     ("rv40e.toml", "material", None, "[material] section is required with a [cycloid]"),
 ])

@@ -509,17 +509,18 @@ class Case:
                             "drive = 'rv' (the sun-planet mesh)")
         if self.drive in ("cycloid", "sine") and not two_stage \
                 and self.output_mechanism is None:
-            raise CaseError(f"[output_mechanism] section is required for drive = "
-                            f"{self.drive!r} without a [first_stage] (pins in holes: the "
-                            "output path of a K-H-V stage)")
+            raise CaseError(f"drive = {self.drive!r} without a [first_stage] needs "
+                            "[output_mechanism] (pins in holes: the output path of a K-H-V "
+                            "stage)")
         if two_stage:
             h = self.cycloid.disc_holes
             if h.crank_hole_count < 1 or h.crank_hole_radius_mm <= 0 \
                     or h.crank_hole_circle_radius_mm <= 0:
                 raise CaseError(f"cycloid.disc_holes.crank_hole_count = {h.crank_hole_count} "
                                 "is outside the valid range [1, 12]: a two-stage (RV-type) "
-                                "drive carries its discs on crankshafts (crank_hole_count, "
-                                "crank_hole_radius_mm and crank_hole_circle_radius_mm > 0)")
+                                "drive carries its discs on crankshafts in crank holes "
+                                "(crank_hole_count, crank_hole_radius_mm and "
+                                "crank_hole_circle_radius_mm > 0)")
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see

@@ -5,10 +5,6 @@ from __future__ import annotations
 import json
 
 
-#: Oil temperatures accepted on the command line [deg C] (the lubricant's reference range).
-OIL_TEMP_C = (-40.0, 200.0)
-
-
 def add_parser(sub):
     from ..efficiency.model import LOADS, METHODS
 
@@ -58,10 +54,9 @@ def run(args) -> int:
     from ..errors import CaseError, check_range
 
     for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
-                                  ("--torque-Nm", args.torque, TORQUE_NM),
-                                  ("--oil-temp-C", args.oil_temp, OIL_TEMP_C)):
-        if value is not None:           # the case's plausibility bounds (issue 14)
-            check_range(flag, value, lo, hi, error=CaseError)
+                                  ("--torque-Nm", args.torque, TORQUE_NM)):
+        if value is not None:           # the case's plausibility bounds (issue 14; the
+            check_range(flag, value, lo, hi, error=CaseError)   # oil: the Vogel law's)
     case = load_case(args.case)
     speed, torque = args.speed, args.torque
     if speed is None or torque is None:
