@@ -256,6 +256,36 @@ def test_signal_during_a_command_leaves_no_folder(cases_dir, tmp_path, monkeypat
     assert signal.getsignal(signal.SIGTERM) is before
 
 
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):
+    """The real thing: `toothfem contact` in its own process, signalled once its temporary
+    output folder exists (meshing, factorising or solving): exit 128 + signal, one line, no
+    output folder and no temporary one. (Signalled again after a minute in case the first
+    fell into a garbage-collector callback, where Python drops it.)"""
+    import time
+
+    out = tmp_path / "contact"
+    env = {**os.environ, "TOOTHFEM_CACHE": str(tmp_path / "cache")}
+    p = subprocess.Popen([sys.executable, "-c", "import sys; from toothfem.cli import main; "
+                          "sys.exit(main())", "contact", str(cases_dir / "rv40e.toml"),
+                          "--positions", "36", "--out", str(out)],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    while p.poll() is None and not list(tmp_path.glob(".contact.tmp-*")):
+        time.sleep(0.05)
+    while p.poll() is None:
+        p.send_signal(signum)
+        try:
+            p.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            pass
+    err = p.stderr.read().decode()
+    assert p.returncode == 128 + signum, err[-500:]
+    assert err.strip().splitlines()[-1].endswith("; no output written")
+    assert "Traceback" not in err
+    assert sorted(x.name for x in tmp_path.iterdir()) in (["cache"], [])
+
+
 def test_stale_temporary_folders_of_dead_runs_are_removed(tmp_path):
     from toothfem import output
 
@@ -302,6 +332,20 @@ def test_cache_that_cannot_be_written_warns_and_returns(tmp_path, monkeypatch):
     with pytest.warns(CacheWarning, match="No space left on device"):
         assert cache.store("k" * 64, arrays) is None
     assert list((tmp_path / "cache").iterdir()) == []          # no temporary file left
+
+
+@pytest.mark.slow
+def test_contact_result_written_when_the_cache_cannot_be(cases_dir, tmp_path, monkeypatch,
+                                                         capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("a file where the cache folder should be")
+    monkeypatch.setenv("TOOTHFEM_CACHE", str(blocker / "cache"))
+    out = tmp_path / "contact"
+    assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--positions", "2",
+                     "--field", "none", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "toothfem contact: warning: the FE cache" in err and "cannot be written" in err
+    assert json.loads((out / "summary.json").read_text())["max_force_N"] > 0
 
 
 def test_cache_file_under_another_name_is_a_miss(tmp_path):

@@ -90,7 +90,8 @@ def atomic_dir(out):
     try:
         yield tmp
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with _signals_held():          # a second Ctrl-C does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
     old = None
     try:
