@@ -83,9 +83,14 @@ def test_wrong_type_where_a_number_belongs_names_the_key(cases_dir, key, value, 
     ("operating.output_torque_Nm", 10**30, "operating.output_torque_Nm = 1e+30 is outside"),
     ("operating.output_torque_Nm", 10**400, "operating.output_torque_Nm = 1.000000e+400 is "
                                             "outside"),
+    ("rv40e:cycloid.pin_circle_radius_mm", 10**400, "cycloid.pin_circle_radius_mm = "
+                                                    "1.000000e+400 is outside the valid range "
+                                                    "[1, 2000]"),
 ])
 def test_other_types_and_overflow(cases_dir, key, value, text):
-    assert text in _refusal(_with(_raw(cases_dir, "cycloid_pinhousing.toml"), key, value))
+    name, _, key = key.rpartition(":")      # rv40e: no housing radius (the default rule)
+    raw = _raw(cases_dir, f"{name or 'cycloid_pinhousing'}.toml")
+    assert text in _refusal(_with(raw, key, value))
 
 
 def test_check_range_refuses_strings_bools_and_huge_ints():
