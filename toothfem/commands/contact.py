@@ -52,7 +52,7 @@ def run(args) -> int:
         raise CaseError(f"{args.case}: drive = {case.drive!r} has no profile geometry "
                         "([cycloid] disc or sine pair) to put in contact")
     if args.torque is not None:         # the case's plausibility bounds (issue 14)
-        from ..case import TORQUE_NM
+        from ..case_checks import TORQUE_NM
 
         check_range("--torque-Nm", args.torque, *TORQUE_NM, error=CaseError)
     from dataclasses import replace

@@ -49,7 +49,8 @@ def result(case, speed, torque, oil_temp=None, loads="analytic", method="power_f
 
 
 def run(args) -> int:
-    from ..case import SPEED_RPM, TORQUE_NM, load_case
+    from ..case import load_case
+    from ..case_checks import SPEED_RPM, TORQUE_NM
     from ..efficiency.model import operating_point
     from ..errors import CaseError, check_range
 
