@@ -176,5 +176,31 @@ def operating_point(case, **kw):
         if abs(new - t2) < OPERATING_RTOL * t2:
             return speed, new
         t2 = new
-    raise ToothfemError(f"the output torque for the declared input did not converge "
-                        f"(last {t2:.6g} N m): the efficiency changes too fast with torque")
+    # the contraction rate is 1 - eta: slow where the load-independent losses take much of
+    # the input; a bracketed root of T2 - i T1 eta(T2) on (0, i T1] instead
+    return speed, _output_torque_root(si, lossless, kw)
+
+
+#: The bracket's lower end, a fraction of the lossless output torque i T1.
+ROOT_BRACKET_LO = 1e-9
+
+
+def _output_torque_root(si, t_lossless, kw) -> float:
+    """Output torque T2 in (0, i T1) with T2 = i T1 eta(T2) (brentq); CaseError naming the
+    declared input when even a vanishing output needs more than it (the no-load losses
+    exceed the input power: the reducer does not turn)."""
+    from scipy.optimize import brentq
+
+    op = si.operating
+    speed = op.input_speed_rpm
+
+    def residual(t2):
+        return t2 - t_lossless * float(evaluate(si, speed, t2, **kw).efficiency[0])
+
+    lo = ROOT_BRACKET_LO * t_lossless
+    if residual(lo) >= 0:
+        key, value = (("input_torque_Nm", op.input_torque_Nm) if op.input_torque_Nm
+                      else ("input_power_kW", op.input_power_W / 1e3))
+        raise CaseError(f"operating.{key} = {value!r} does not overcome the load-independent "
+                        f"losses at {speed:g} rpm: no output torque")
+    return float(brentq(residual, lo, t_lossless, rtol=OPERATING_RTOL))

@@ -8,15 +8,20 @@ costs no mesh and no factorisation.
 
 Location: ``$TOOTHFEM_CACHE`` if set, else ``~/.cache/toothfem``. Writes are atomic (a
 temporary file in the same folder, then ``os.replace``), so a reader never sees half a
-file; a file that cannot be read back (truncated, corrupt, other format) counts as a miss
-and is recomputed and overwritten by the caller.
+file; a file that cannot be read back (truncated, corrupt, other format) or whose stored
+key is not the one its name promises (a renamed or copied file) counts as a miss and is
+recomputed and overwritten by the caller. A cache that cannot be written (read-only, full
+disk, a file where the folder should be) costs only the saving: :meth:`DiskCache.store`
+warns (:class:`CacheWarning`) and the caller's result stands.
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import os
 import tempfile
+import warnings
 import zipfile
 from dataclasses import dataclass
 from pathlib import Path
@@ -28,6 +33,12 @@ import numpy as np
 CACHE_ENV = "TOOTHFEM_CACHE"
 #: Folder used when CACHE_ENV is not set.
 DEFAULT_DIR = Path("~/.cache/toothfem")
+#: Name of the array in each file that holds the file's own key.
+KEY_ARRAY = "__key__"
+
+
+class CacheWarning(UserWarning):
+    """The disk cache could not be written; the result was computed and is used anyway."""
 
 
 def default_dir() -> Path:
@@ -90,26 +101,45 @@ class DiskCache:
         return self.directory / f"{key}.npz"
 
     def load(self, key: str) -> dict[str, np.ndarray] | None:
-        """The arrays stored under ``key``, or None when absent or unreadable."""
+        """The arrays stored under ``key``, or None when absent, unreadable, or stored
+        under another key (the file's name and its content disagree)."""
         path = self.path(key)
         try:
             with np.load(path, allow_pickle=False) as data:
-                return {name: data[name] for name in data.files}
+                if KEY_ARRAY not in data.files or str(data[KEY_ARRAY]) != key:
+                    return None    # renamed, copied or foreign: recomputed and replaced
+                return {name: data[name] for name in data.files if name != KEY_ARRAY}
         except FileNotFoundError:
             return None
         except (OSError, ValueError, EOFError, KeyError, zipfile.BadZipFile):
             return None        # corrupt or foreign: a miss; the caller's store replaces it
 
-    def store(self, key: str, arrays: Mapping[str, np.ndarray]) -> Path:
-        """Write ``arrays`` under ``key`` atomically; returns the file's path."""
-        self.directory.mkdir(parents=True, exist_ok=True)
+    def store(self, key: str, arrays: Mapping[str, np.ndarray]) -> Path | None:
+        """Write ``arrays`` under ``key`` atomically (with the key itself, checked by
+        :meth:`load`); returns the file's path, or None with a :class:`CacheWarning` when
+        the cache cannot be written (the caller goes on with its result)."""
+        if KEY_ARRAY in arrays:
+            raise ValueError(f"{KEY_ARRAY!r} is reserved for the cache key")
         path = self.path(key)
-        fd, tmp = tempfile.mkstemp(prefix=f".{key[:16]}.", suffix=".tmp", dir=self.directory)
+        tmp = None
         try:
+            self.directory.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".{key[:16]}.", suffix=".tmp",
+                                       dir=self.directory)
             with os.fdopen(fd, "wb") as fh:
-                np.savez(fh, **{k: np.asarray(v) for k, v in arrays.items()})
+                np.savez(fh, **{KEY_ARRAY: np.asarray(key)},
+                         **{k: np.asarray(v) for k, v in arrays.items()})
             os.replace(tmp, path)
+        except OSError as exc:
+            if tmp is not None:
+                with contextlib.suppress(OSError):
+                    Path(tmp).unlink(missing_ok=True)
+            warnings.warn(f"the FE cache {self.directory} cannot be written "
+                          f"({exc.strerror or exc}); the result is kept but not cached",
+                          CacheWarning, stacklevel=2)
+            return None
         except BaseException:
-            Path(tmp).unlink(missing_ok=True)
+            if tmp is not None:
+                Path(tmp).unlink(missing_ok=True)
             raise
         return path

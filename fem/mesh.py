@@ -9,8 +9,6 @@ rings are sampled densely there (:func:`refine_ring`).
 """
 from __future__ import annotations
 
-import threading
-
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -86,9 +84,11 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
 
     check_range("size_max", size_max, 0, None, lo_open=True, error=MeshError)
     names = names or ["outer"] + [f"hole{k}" for k in range(len(rings) - 1)]
-    # gmsh installs a Ctrl-C handler unless told not to, which Python allows only on the
-    # main thread (Dask runs tasks on worker threads)
-    gmsh.initialize(interruptible=threading.current_thread() is threading.main_thread())
+    # Not interruptible: gmsh would set SIGINT to the default action (the process dies at
+    # once, leaving a half-written output folder) and may do so only on the main thread.
+    # Python's own handler stays, so a Ctrl-C while gmsh meshes raises KeyboardInterrupt
+    # as soon as the mesher returns, and the output folder is cleaned up (issue 14).
+    gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
         gmsh.model.add("body")

@@ -41,7 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import GeometryError, check_range
-from .kinematics import MeshingState, equivalent_radius, slide_to_roll
+from .kinematics import MeshingState, slide_to_roll
 from .vectors import cross, perp, rotate, unit
 
 #: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
@@ -208,12 +208,26 @@ def curvature_radius(g, psi):
     return _rho_of_theta(g, theta)
 
 
-def _rho_of_theta(g, theta):
+def _s_den(g, theta):
+    """S and the curvature numerator 1 + Zb K1^2 - K1 (Zb + 1) cos(theta) (docs C2)."""
     k1 = g.k1
-    s = 1 + k1**2 - 2 * k1 * np.cos(theta)
-    den = 1 + g.zb * k1**2 - k1 * (g.zb + 1) * np.cos(theta)
+    return (1 + k1**2 - 2 * k1 * np.cos(theta),
+            1 + g.zb * k1**2 - k1 * (g.zb + 1) * np.cos(theta))
+
+
+def _rho_of_theta(g, theta):
+    s, den = _s_den(g, theta)
     with np.errstate(divide="ignore"):
         return g.rz_circle * s**1.5 / den
+
+
+def _pin_equivalent_radius(g, theta, r_pin):
+    """Equivalent radius of a pin of radius r on the working profile, R = r (1 - r k0),
+    with k0 = 1/rho the curvature of the theoretical profile: 1/R = 1/(rho - r) + 1/r
+    written without rho, which is infinite at an inflection point (K1 = 1/Zb puts one at
+    the tooth tip), where the two-radius form gives inf/inf = NaN (issue 14)."""
+    s, den = _s_den(g, theta)
+    return r_pin * (1 - r_pin * den / (g.rz_circle * s**1.5))
 
 
 def min_convex_curvature_radius(g) -> float:
@@ -409,7 +423,7 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     theta_b = np.mod(2 * math.pi * np.arange(zb)[None, :] / zb - phi[:, None], 2 * math.pi)
     g = geom.nominal()
     rho0 = _rho_of_theta(g, theta_b)
-    r_disc = rho0 - geom.pin_radius_m
+    r_disc = rho0 - geom.pin_radius_m            # inf at an inflection point
     r_pin = np.full_like(r_disc, geom.pin_radius_m)
     gap = clearance_exact(geom, phi) if geom.modified else np.zeros_like(arm)
     return MeshingState(
@@ -420,7 +434,7 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
         sliding_velocity=sliding, entrainment_velocity=entrain,
         slide_to_roll=slide_to_roll(sliding, entrain),
         radius_moving=r_disc, radius_fixed=r_pin,
-        equivalent_radius=equivalent_radius(r_disc, r_pin),
+        equivalent_radius=_pin_equivalent_radius(g, theta_b, geom.pin_radius_m),
         crank_speed_rad_s=omega)
 
 
@@ -434,22 +448,58 @@ def foot_point(g: _Generating, points, psi0):
     their tangent), started from ``psi0`` (N,). Returns (psi, signed distance from the
     curve along the outward normal).
     """
-    psi = np.array(psi0, float, copy=True)
+    # start at the nearest point within half a lobe (nested grids): Newton from psi0 itself
+    # can settle on a farther stationary point or wander where K1 is near 1 (issue 14)
+    grid = _nearest_in_window(g, points, psi0)
+    psi = grid.copy()
     h = 1e-6
-    for _ in range(_FOOT_MAXITER):
-        f = _foot_f(g, psi, points)
-        df = (_foot_f(g, psi + h, points) - _foot_f(g, psi - h, points)) / (2 * h)
-        step = f / df
-        psi -= step
-        if np.max(np.abs(step)) < _FOOT_TOL:
-            break
-    else:
-        if np.max(np.abs(step)) > 1e-9:
-            raise GeometryError("foot point on the cycloid profile did not converge "
-                                f"(last Newton step {np.max(np.abs(step)):.3g} rad)")
+    with np.errstate(all="ignore"):
+        for _ in range(_FOOT_MAXITER):
+            f = _foot_f(g, psi, points)
+            df = (_foot_f(g, psi + h, points) - _foot_f(g, psi - h, points)) / (2 * h)
+            step = f / df
+            psi -= step
+            if np.max(np.abs(step)) < _FOOT_TOL:
+                break
+    # where Newton did not settle near the grid's point, the grid's point stands
+    stuck = ~((np.abs(step) <= 1e-9) & (np.abs(psi - grid) <= _NEST_SPAN * _nest_step(g)))
+    psi[stuck] = grid[stuck]
     w = working_profile(g, psi)
     out = -inward_normal(g, psi)
     return psi, np.sum((points - w) * out, axis=0)
+
+
+#: Nested-grid search for the start of the foot-point Newton: samples per window and
+#: rounds, each window 4 grid steps wide around the best sample of the last (final
+#: spacing (2 pi/Za)/32/8^4, 1.2e-6 rad for Za = 39: where Newton does not settle, the
+#: grid's distance is within ds^2/(2 rho) ~ 1e-12 m of the minimum).
+_NEST_SAMPLES, _NEST_ROUNDS = 33, 5
+
+
+#: Newton may move this many final grid steps away from the grid's point.
+_NEST_SPAN = 4
+
+
+def _nest_step(g) -> float:
+    """Final spacing of :func:`_nearest_in_window` (rad)."""
+    return math.pi / (g.zb - 1) * (4.0 / (_NEST_SAMPLES - 1)) ** (_NEST_ROUNDS - 1) \
+        * 2 / (_NEST_SAMPLES - 1)
+
+
+def _nearest_in_window(g, points, psi0):
+    """Parameter of the working-curve point nearest to each of ``points`` (2, N) within
+    half a lobe of ``psi0`` (N,), by nested grids (robust where Newton on the foot-point
+    equation wanders, root of a strongly curtate profile; issue 14)."""
+    half = math.pi / (g.zb - 1)
+    centre = np.array(psi0, float, copy=True).reshape(-1)
+    t = np.linspace(-1.0, 1.0, _NEST_SAMPLES)
+    for _ in range(_NEST_ROUNDS):
+        psi = centre[:, None] + half * t[None, :]
+        w = working_profile(g, psi)
+        d2 = (w[0] - points[0][:, None]) ** 2 + (w[1] - points[1][:, None]) ** 2
+        centre = np.take_along_axis(psi, np.argmin(d2, axis=1)[:, None], axis=1)[:, 0]
+        half *= 4.0 / (_NEST_SAMPLES - 1)
+    return centre
 
 
 def _foot_f(g, psi, points):

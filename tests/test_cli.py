@@ -118,7 +118,7 @@ def test_contact_command_refuses_bad_torque_and_pins_on_sine(cases_dir, tmp_path
     assert "--pins applies to cycloid drives" in capsys.readouterr().err
     assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--torque-Nm", "-5",
                      "--out", str(tmp_path / "o")]) == 2
-    assert "--torque-Nm = -5.0 is outside the valid range (0, inf)" in capsys.readouterr().err
+    assert "--torque-Nm = -5.0 is outside the valid range [0.001, 1e+06]" in capsys.readouterr().err
     assert not (tmp_path / "o").exists()
 
 

@@ -127,7 +127,7 @@ def test_keys_and_values_checked_before_any_work(cycloid, tmp_path):
                                         r"case.*sections: \[.*'cycloid'"):
         sweep(cycloid, {"sine.module_mm": [1.0]}, out=out, progress=False)
     with pytest.raises(CaseError, match=r"^cycloid\.eccentricity_mm = -1\.0 is outside the "
-                                        r"valid range \(0, inf\)$"):
+                                        r"valid range \[0\.01, 100\]$"):
         sweep(cycloid, {ECC: [1.0, -1.0]}, out=out, progress=False)
     with pytest.raises(CaseError, match=r"cycloid\.pin_count = 40\.5 must be an integer"):
         sweep(cycloid, {"cycloid.pin_count": [40.5]}, out=out, progress=False)

@@ -18,11 +18,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Mapping
 
+from .case_checks import (DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM, HOUSING_WALL_MAX,
+                          INPUT_TORQUE_NM, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
+                          POWER_KW, RADIUS_MM, SPEED_RPM, STATED_RATIO_MAX, TORQUE_NM,
+                          check_type, expected_type)
 from . import si
-from .errors import CaseError, GeometryError, check_range
+from .errors import CaseError, GeometryError, check_range, decode_text
 from .geometry import train
 from .geometry.cycloid import CycloidGeometry, DiscHolesSI, disc_polygon
-from .geometry.sine import SineGearPair
+from .geometry.sine import SineGearPair, check_load_carrying
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -30,7 +34,6 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 INF = math.inf
-
 
 def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
        doc: str = "", choices=None, integer=False):
@@ -59,13 +62,14 @@ class _Section:
             if value is None:
                 continue
             key = f"{self._section}.{f.name}" if self._section else f.name
+            expected = expected_type(f)
+            check_type(key, value, expected)
             if md.get("choices") is not None:
                 if value not in md["choices"]:
                     raise CaseError(f"{key} = {value!r} is not one of {list(md['choices'])}")
                 continue
-            if md.get("integer"):
-                if isinstance(value, bool) or not isinstance(value, int):
-                    raise CaseError(f"{key} = {value!r} must be an integer")
+            if expected == "string":
+                continue
             check_range(key, value, md.get("lo"), md.get("hi"), lo_open=md.get("lo_open"),
                         hi_open=md.get("hi_open"), error=CaseError, why=md.get("doc", ""))
         self._check()
@@ -104,6 +108,21 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
     return CaseError(f"{section}: {exc}")
 
 
+#: Hole names in the disc-layout messages -> the [cycloid.disc_holes] keys that place them.
+_HOLE_KEYS = {"centre_bore": ("centre_bore_radius_mm",),
+              "crank": ("crank_hole_circle_radius_mm", "crank_hole_radius_mm"),
+              "pillar": ("pillar_hole_circle_radius_mm", "pillar_hole_radius_mm")}
+
+
+def _with_hole_keys(err: CaseError) -> CaseError:
+    """A disc-layout refusal (which names holes, not keys) with the keys that set those
+    holes appended, so that every refusal names a case key (issue 14)."""
+    msg = str(err)
+    keys = [f"cycloid.disc_holes.{k}" for name, ks in _HOLE_KEYS.items() if name in msg
+            for k in ks]
+    return CaseError(f"{msg} (set by {', '.join(keys)})") if keys else err
+
+
 @dataclass(frozen=True)
 class Material(_Section):
     """Elastic constants, and the hardness and strengths of life and strength checks
@@ -124,13 +143,13 @@ class Material(_Section):
 class DiscHoles(_Section):
     """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
     _section = "cycloid.disc_holes"
-    centre_bore_radius_mm: float = _f(0.0, None, default=0.0)
+    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
     crank_hole_count: int = _f(0, 12, integer=True, default=0)
-    crank_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
-    crank_hole_radius_mm: float = _f(0.0, None, default=0.0)
+    crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
     pillar_hole_count: int = _f(0, 12, integer=True, default=0)
-    pillar_hole_circle_radius_mm: float = _f(0.0, None, default=0.0)
-    pillar_hole_radius_mm: float = _f(0.0, None, default=0.0)
+    pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
 
     def _check(self):
         for kind in ("crank", "pillar"):
@@ -149,10 +168,10 @@ class CycloidStage(_Section):
     _section = "cycloid"
     pin_count: int = _f(4, 400, integer=True)
     lobe_count: int = _f(3, 399, integer=True)
-    pin_circle_radius_mm: float = _f(0.0, None, lo_open=True)
-    eccentricity_mm: float = _f(0.0, None, lo_open=True)
-    pin_radius_mm: float = _f(0.0, None, lo_open=True)
-    face_width_mm: float = _f(0.0, None, lo_open=True)
+    pin_circle_radius_mm: float = _f(*RADIUS_MM)
+    eccentricity_mm: float = _f(*ECCENTRICITY_MM)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     disc_count: int = _f(1, 4, integer=True, default=1)
     pin_structure: str = _f(choices=("conventional", "integral"), default="conventional")
     equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0)
@@ -165,11 +184,12 @@ class CycloidStage(_Section):
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
-        if self.housing_outer_radius_mm <= self.pin_circle_radius_mm + self.pin_radius_mm:
-            raise CaseError(f"cycloid.housing_outer_radius_mm = {self.housing_outer_radius_mm!r}"
-                            f" is outside the valid range "
-                            f"({self.pin_circle_radius_mm + self.pin_radius_mm:g}, inf): the "
-                            "housing must enclose the pins")
+        inner = self.pin_circle_radius_mm + self.pin_radius_mm
+        wall = max(HOUSING_WALL_MAX * self.pin_circle_radius_mm, 4 * self.pin_radius_mm)
+        check_range("cycloid.housing_outer_radius_mm", self.housing_outer_radius_mm, inner,
+                    inner + wall, lo_open=True, error=CaseError,
+                    why="the housing must enclose the pins, with a wall up to the pin circle "
+                        "radius (or the default 4 pin radii) thick")
         if self.lobe_count != self.pin_count - 1:
             raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
                             f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
@@ -180,7 +200,7 @@ class CycloidStage(_Section):
             if self.disc_holes != DiscHoles():
                 disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
         except GeometryError as exc:
-            raise _restate(exc, "cycloid", _CYCLOID_KEYS) from None
+            raise _with_hole_keys(_restate(exc, "cycloid", _CYCLOID_KEYS)) from None
 
     def __post_init__(self):
         if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
@@ -221,11 +241,10 @@ class SpurStage(_Section):
     sun_teeth: int = _f(6, 400, integer=True)
     planet_teeth: int = _f(6, 400, integer=True)
     planet_count: int = _f(1, 8, integer=True, default=2)
-    module_mm: float = _f(0.0, None, lo_open=True, default=1.0)
+    module_mm: float = _f(*MODULE_MM, default=1.0)
     pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
-    face_width_mm: float | None = _f(0.0, None, lo_open=True, default=None,
-                                     doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
-    mesh_efficiency: float | None = _f(0.0, 1.0, lo_open=True, default=None,
+    face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None, doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
+    mesh_efficiency: float | None = _f(MESH_EFFICIENCY_MIN, 1.0, default=None,
                                        doc="declared; default: from the friction model")
 
 
@@ -235,9 +254,9 @@ class SineStage(_Section):
     _section = "sine"
     planet_teeth: int = _f(10, 1000, integer=True)
     ring_teeth: int = _f(11, 1001, integer=True)
-    module_mm: float = _f(0.0, None, lo_open=True)
+    module_mm: float = _f(*MODULE_MM)
     tooth_height_mm: float = _f(0.0, None, lo_open=True)
-    face_width_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None)
 
     def _check(self):
@@ -251,7 +270,7 @@ class SineStage(_Section):
                             f"module*(ring_teeth-planet_teeth)/2 = {a0:g}: the pitch "
                             "circles must roll")
         try:
-            self.geometry()
+            check_load_carrying(self.geometry())   # issue 14: low teeth carry no torque
         except GeometryError as exc:
             raise _restate(exc, "sine", _SINE_KEYS) from None
 
@@ -271,7 +290,7 @@ class RVTrain(_Section):
     disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
     pin_count: int = _f(4, 400, integer=True)          # z5
     disc_count: int = _f(1, 4, integer=True, default=2)
-    mesh_efficiency: float = _f(0.0, 1.0, lo_open=True, default=0.94,
+    mesh_efficiency: float = _f(MESH_EFFICIENCY_MIN, 1.0, default=0.94,
                                 doc="efficiency assumed for every gear pair (RV paper)")
 
     def _check(self):
@@ -283,12 +302,12 @@ class RVTrain(_Section):
 @dataclass(frozen=True)
 class Operating(_Section):
     _section = "operating"
-    input_speed_rpm: float = _f(0.0, 20000.0, lo_open=True, default=1000.0)
-    output_torque_Nm: float | None = _f(0.0, None, default=None)
-    input_torque_Nm: float | None = _f(0.0, None, default=None)
-    input_power_kW: float | None = _f(0.0, None, default=None)
+    input_speed_rpm: float = _f(*SPEED_RPM, default=1000.0)
+    output_torque_Nm: float | None = _f(*TORQUE_NM, default=None)
+    input_torque_Nm: float | None = _f(*INPUT_TORQUE_NM, default=None)
+    input_power_kW: float | None = _f(*POWER_KW, default=None)
     rated_torque_Nm: float | None = _f(
-        0.0, None, lo_open=True, default=None,
+        *TORQUE_NM, default=None,
         doc="rated output torque of the reducer (catalogue, datasheet): check warns above "
             "it; the stiffness curve spans +-it")
 
@@ -344,7 +363,7 @@ class Friction(_Section):
                                      doc="asperity (boundary) friction of lubricated steel "
                                          "in mixed lubrication; 0.1: Bowden & Tabor 1950; "
                                          "0: the EHL law alone")
-    drag_torque_Nmm: float = _f(0.0, None, default=0.0,
+    drag_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
 
 
@@ -353,10 +372,10 @@ class OutputMechanism(_Section):
     """Pins in holes (W mechanism) and the eccentric bearing of a K-H-V stage."""
     _section = "output_mechanism"
     pin_count: int = _f(2, 24, integer=True, default=8)
-    pin_hole_circle_radius_mm: float = _f(0.0, None, lo_open=True, default=30.0)
-    pin_radius_mm: float = _f(0.0, None, lo_open=True, default=5.0)
-    eccentric_bearing_inner_radius_mm: float = _f(0.0, None, lo_open=True, default=10.0)
-    plain_bearing_friction_torque_Nmm: float = _f(0.0, None, default=0.0)
+    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0)
+    eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0)
+    plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0)
 
 
 BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
@@ -471,10 +490,10 @@ class Supports(_Section):
 @dataclass(frozen=True)
 class MeasuredPoint(_Section):
     _section = "measured"
-    input_speed_rpm: float = _f(0.0, None, lo_open=True)
-    output_torque_Nm: float = _f(0.0, None, lo_open=True)
+    input_speed_rpm: float = _f(*SPEED_RPM)
+    output_torque_Nm: float = _f(*TORQUE_NM)
     efficiency: float = _f(0.0, 1.0, lo_open=True)
-    source: str = ""
+    source: str = _f(default="")
 
 
 @dataclass(frozen=True)
@@ -523,11 +542,44 @@ class Case:
                                         f"[rv] tooth numbers ({want})")
         check_duty_cycle(self.duty_cycle)
         check_ambient(self.thermal, self.lubricant)
+        self._check_analysable()
         if self.stated_ratio is not None:
             computed = self.ratio()
             if not math.isclose(abs(computed), abs(self.stated_ratio), rel_tol=1e-9):
                 raise CaseError(f"case.stated_ratio = {self.stated_ratio!r} disagrees with the "
                                 f"ratio {computed:g} computed from the tooth numbers")
+
+    def _check_analysable(self):
+        """Cross-section rules that the analyses need (issue 14, item 2: nothing ``check``
+        accepts may fail later for want of a section): a load, a material for every profile
+        pair, the output path of each drive type."""
+        op = self.operating
+        if op.output_torque_Nm is None and op.input_torque_Nm is None \
+                and op.input_power_kW is None:
+            raise CaseError("[operating] needs output_torque_Nm, input_torque_Nm or "
+                            "input_power_kW (the load every analysis starts from)")
+        if self.cycloid is not None and self.material is None:
+            raise CaseError("[material] section is required with a [cycloid] section (the "
+                            "contact model of the disc)")
+        two_stage = self.cycloid is not None and (self.first_stage is not None
+                                                  or self.drive == "rv")
+        if self.drive == "rv" and self.cycloid is not None and self.first_stage is None:
+            raise CaseError("[first_stage] section is required with a [cycloid] section for "
+                            "drive = 'rv' (the sun-planet mesh)")
+        if self.drive in ("cycloid", "sine") and not two_stage \
+                and self.output_mechanism is None:
+            raise CaseError(f"drive = {self.drive!r} without a [first_stage] needs "
+                            "[output_mechanism] (pins in holes: the output path of a K-H-V "
+                            "stage)")
+        if two_stage:
+            h = self.cycloid.disc_holes
+            if h.crank_hole_count < 1 or h.crank_hole_radius_mm <= 0 \
+                    or h.crank_hole_circle_radius_mm <= 0:
+                raise CaseError(f"cycloid.disc_holes.crank_hole_count = {h.crank_hole_count} "
+                                "is outside the valid range [1, 12]: a two-stage (RV-type) "
+                                "drive carries its discs on crankshafts in crank holes "
+                                "(crank_hole_count, crank_hole_radius_mm and "
+                                "crank_hole_circle_radius_mm > 0)")
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see
@@ -580,10 +632,16 @@ def _section(cls, mapping: Mapping[str, Any], name: str):
         sub = _NESTED.get(cls, {}).get(key)
         if sub is not None:
             value = _section(sub, value, f"{name}.{key}")
-        elif isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise CaseError(f"{name}.{key} = {value!r} must be a number or a string")
-        elif fields[key].type in ("float", "float | None") and isinstance(value, int):
-            value = float(value)
+        else:
+            check_type(f"{name}.{key}", value, expected_type(fields[key]))
+            if fields[key].type in ("float", "float | None") and isinstance(value, int):
+                try:
+                    value = float(value)
+                except OverflowError:      # beyond any float: refused with the key's range
+                    md = fields[key].metadata
+                    check_range(f"{name}.{key}", value, md.get("lo"), md.get("hi"),
+                                lo_open=md.get("lo_open"), hi_open=md.get("hi_open"),
+                                error=CaseError, why=md.get("doc", ""))
         kwargs[key] = value
     missing = [f.name for f in fields.values()
                if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
@@ -627,8 +685,13 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
         if key not in head:
             raise CaseError(f"case.{key} is required")
     kwargs: dict[str, Any] = dict(head)
+    for key in ("name", "drive", "source"):
+        if key in kwargs:
+            check_type(f"case.{key}", kwargs[key], "string")
     if "stated_ratio" in kwargs:
-        check_range("case.stated_ratio", kwargs["stated_ratio"], error=CaseError)
+        check_type("case.stated_ratio", kwargs["stated_ratio"], "number")
+        check_range("case.stated_ratio", kwargs["stated_ratio"], -STATED_RATIO_MAX,
+                    STATED_RATIO_MAX, error=CaseError, why="a reducer ratio, signed")
     measured = mapping.pop("measured", [])
     published = mapping.pop("published", {})
     duty = mapping.pop("duty_cycle", [])
@@ -648,6 +711,14 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
                                  for i, d in enumerate(duty))
     if not isinstance(published, Mapping):
         raise CaseError("[published] must be a table")
+    for key, value in published.items():      # figures quoted for comparison
+        if isinstance(value, str):
+            continue
+        # a figure, or a range of figures (e.g. the maker's efficiency band [lo, hi])
+        for i, v in enumerate(value if isinstance(value, list) else [value]):
+            name = f"published.{key}" + (f"[{i}]" if isinstance(value, list) else "")
+            check_type(name, v, "number")
+            check_range(name, v, error=CaseError)
     kwargs["published"] = dict(published)
     return Case(**kwargs)
 
@@ -671,10 +742,15 @@ def load_case(path) -> Case:
     """
     path = Path(path)
     try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
+        raw = path.read_bytes()
     except FileNotFoundError:
         raise CaseError(f"{path}: no such case file") from None
+    except IsADirectoryError:
+        raise CaseError(f"{path}: is a folder, not a case file") from None
+    except OSError as exc:
+        raise CaseError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    try:
+        data = tomllib.loads(decode_text(raw, path, CaseError))
     except tomllib.TOMLDecodeError as exc:
         raise CaseError(f"{path}: not valid TOML: {exc}") from None
     try:

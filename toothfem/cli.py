@@ -1,14 +1,35 @@
 """The `toothfem` console script. Thin: parses arguments, calls the public API, and turns
-toothfem's errors into one line on stderr and a non-zero exit code."""
+toothfem's errors into one line on stderr and a non-zero exit code.
+
+Exit codes: 0 done; 2 refused (bad input: the line names the parameter); 3 an internal
+error (a bug: one line, the traceback with ``TOOTHFEM_DEBUG=1``); 130 / 143 interrupted by
+SIGINT / SIGTERM (the output folder is left as it was: commands write through
+:func:`toothfem.output.atomic_dir`). A closed stdout (``toothfem check CASE | head -1``)
+ends the command quietly.
+"""
 from __future__ import annotations
 
 import argparse
+import contextlib
+import os
+import signal
 import sys
+import threading
+import warnings
 
 from . import __version__
 from .commands import check, contact, efficiency, geometry, loop, run, stiffness, sweep
 
 COMMANDS = (check, geometry, contact, stiffness, efficiency, run, loop, sweep)
+#: Environment variable that lets an internal error show its traceback.
+DEBUG_ENV = "TOOTHFEM_DEBUG"
+#: Exit codes (module docstring).
+EXIT_REFUSED, EXIT_INTERNAL = 2, 3
+
+
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread so that ``with`` blocks unwind (a BaseException,
+    like KeyboardInterrupt: ``except Exception`` in library code does not swallow it)."""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -27,14 +48,75 @@ def main(argv=None) -> int:
     from .errors import ToothfemError
 
     args = build_parser().parse_args(argv)
+    name = f"toothfem {args.command}"
     try:
-        return args.func(args)
+        with _sigterm_raises(), _one_line_warnings(name):
+            return args.func(args)
+    except BrokenPipeError:
+        return _quiet_broken_pipe()
     except ToothfemError as exc:
-        print(f"toothfem {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        _say(f"{name}: error: {exc}")
+        return EXIT_REFUSED
     except OSError as exc:
-        print(f"toothfem {args.command}: error: {exc}", file=sys.stderr)
-        return 2
+        _say(f"{name}: error: {exc}")
+        return EXIT_REFUSED
+    except KeyboardInterrupt:
+        _say(f"{name}: interrupted; no output written")
+        return 128 + signal.SIGINT
+    except Terminated:
+        _say(f"{name}: terminated; no output written")
+        return 128 + signal.SIGTERM
+    except (Exception, MemoryError) as exc:     # noqa: BLE001 -- the last line of defence
+        if os.environ.get(DEBUG_ENV):
+            raise
+        what = "out of memory" if isinstance(exc, MemoryError) else \
+            f"internal error: {type(exc).__name__}: {exc}".splitlines()[0]
+        _say(f"{name}: {what} (a bug: please report it with the case file; "
+             f"{DEBUG_ENV}=1 shows the traceback)")
+        return EXIT_INTERNAL
+
+
+def _say(line: str):
+    """One line on stderr; a closed stderr is ignored."""
+    with contextlib.suppress(OSError, ValueError):
+        print(line, file=sys.stderr)
+
+
+@contextlib.contextmanager
+def _one_line_warnings(name: str):
+    """Warnings (a cache that cannot be written, say) as one line each on stderr."""
+    with warnings.catch_warnings():
+        warnings.showwarning = lambda message, category, *rest, **kw: _say(
+            f"{name}: warning: {message}")
+        yield
+
+
+@contextlib.contextmanager
+def _sigterm_raises():
+    """While the command runs, SIGTERM raises :class:`Terminated` (only the main thread can
+    set a handler; elsewhere, as under a test runner's worker thread, nothing changes)."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def handler(signum, frame):
+        raise Terminated(signum)
+
+    previous = signal.signal(signal.SIGTERM, handler)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def _quiet_broken_pipe() -> int:
+    """The reader of stdout has gone (``| head``): point stdout at /dev/null so that the
+    interpreter's final flush does not complain, and end without a message (Python's
+    documented recipe, https://docs.python.org/3/library/signal.html#note-on-sigpipe)."""
+    with contextlib.suppress(AttributeError, OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    return 128 + signal.SIGPIPE
 
 
 if __name__ == "__main__":  # pragma: no cover

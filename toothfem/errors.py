@@ -4,6 +4,7 @@ Library code raises these; only the CLI turns them into a message and an exit co
 """
 from __future__ import annotations
 
+import decimal
 import math
 
 import numpy as np
@@ -41,16 +42,39 @@ class MeasuredDataError(ToothfemError):
     """Measured data that cannot be read: a bad header, no good row, or (strict) a bad row."""
 
 
+def decode_text(raw: bytes, path, error=ToothfemError) -> str:
+    """UTF-8 text of a file's bytes; a UTF-8 byte-order mark is dropped (spreadsheet and
+    Windows editors write one). Other encodings are refused in one line that names the
+    file and the first bad byte, its line and column (issue 14, item 1)."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        raise error(f"{path}: is UTF-16 text; save it as UTF-8")
+    try:
+        return raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        before = raw[:exc.start]
+        line = before.count(b"\n") + 1
+        col = exc.start - (before.rfind(b"\n") + 1) + 1
+        raise error(f"{path}: not UTF-8 text: byte 0x{raw[exc.start]:02x} at line {line}, "
+                    f"column {col}; save the file as UTF-8") from None
+
+
 def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=False,
                 error=ToothfemError, why: str = ""):
     """Return ``value`` if it lies in the range, else raise ``error`` naming it.
 
     ``lo``/``hi`` are the bounds (None: unbounded); ``lo_open``/``hi_open`` exclude them.
     The message reads ``name = value is outside the valid range [lo, hi)`` plus ``why``.
-    NaN and infinite values are always refused.
+    NaN and infinite values are always refused, and so are integers too large for a float
+    (reported as outside the range). Strings and bools are not numbers here, even where
+    ``float()`` would read them ("1.0", True): a value of the wrong type fails later with
+    a message that names no parameter.
     """
+    if isinstance(value, (str, bytes, bool, np.bool_)):
+        raise error(f"{name} = {value!r} is not a number")
     try:
         v = float(value)
+    except OverflowError:                 # an int beyond the float range
+        v = math.inf
     except (TypeError, ValueError):
         raise error(f"{name} = {value!r} is not a number") from None
     bad = not math.isfinite(v)
@@ -64,8 +88,11 @@ def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=Fa
 
 
 def _fmt(x):
-    """repr, except that float noise (0.0026000000000000003) is rounded to 10 digits."""
+    """repr, except that float noise (0.0026000000000000003) is rounded to 10 digits and an
+    integer of more than 15 digits is written with an exponent."""
     r = repr(x)
+    if isinstance(x, int) and not isinstance(x, bool) and len(r.lstrip("-")) > 15:
+        return f"{decimal.Decimal(x):.6e}"
     return f"{x:.10g}" if isinstance(x, float) and len(r) > 12 else r
 
 

@@ -1,31 +1,114 @@
-"""Atomic output folders: write into a temporary sibling, then rename into place."""
+"""Atomic output folders: write into a temporary sibling, then rename into place.
+
+A run that fails, is interrupted (SIGINT, or SIGTERM, which the CLI turns into an
+exception) or is killed never leaves a half-written result under the output name: the work
+happens in a hidden sibling ``.<name>.tmp-<host>-<pid>-<random>``, renamed to ``<name>``
+only when complete. A sibling left by a run that was killed outright (SIGKILL, power loss)
+names its process; the next run into the same folder removes it once that process is gone.
+"""
 from __future__ import annotations
 
 import contextlib
+import os
+import re
 import shutil
+import signal
+import socket
 import tempfile
+import threading
 from pathlib import Path
+
+#: The signals that are held back while the finished folder replaces the old one, so that
+#: an interrupt cannot fall between the two renames (and leave neither under the name).
+_SWAP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+def _host() -> str:
+    """This machine's name as it may appear in a folder name."""
+    return re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host"
+
+
+def _tag(kind: str) -> str:
+    return f"{kind}-{_host()}-{os.getpid()}-"
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:       # another user's live process
+        return True
+    return True
+
+
+def clean_stale(out) -> list[Path]:
+    """Remove the temporary siblings of ``out`` left by runs on this machine whose process
+    has ended; returns what was removed. Siblings of live processes, of other machines and
+    of other names are left alone (a hidden folder is ignored by everything else)."""
+    out = Path(out)
+    pattern = re.compile(rf"^\.{re.escape(out.name)}\.(tmp|old)-{re.escape(_host())}-"
+                         r"(\d+)-[^/]*$")
+    removed = []
+    with contextlib.suppress(OSError):
+        for sib in out.parent.iterdir():
+            m = pattern.match(sib.name)
+            if m and int(m.group(2)) != os.getpid() and not _alive(int(m.group(2))):
+                shutil.rmtree(sib, ignore_errors=True)
+                removed.append(sib)
+    return removed
+
+
+@contextlib.contextmanager
+def _signals_held():
+    """Hold SIGINT/SIGTERM back for the block (delivered right after it); a no-op where
+    signal masks are not available or off the main thread."""
+    if not hasattr(signal, "pthread_sigmask") or \
+            threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _SWAP_SIGNALS)
+    try:
+        yield
+    finally:
+        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 @contextlib.contextmanager
 def atomic_dir(out):
     """Yield a temporary folder that becomes ``out`` only if the block succeeds.
 
-    On an exception the temporary folder is removed and ``out`` is left as it was, so a
-    failed run never leaves a half-written result folder.
+    On an exception (KeyboardInterrupt and the CLI's SIGTERM included) the temporary folder
+    is removed and ``out`` is left as it was, so a failed run never leaves a half-written
+    result folder. Stale temporary folders of killed runs are removed first
+    (:func:`clean_stale`).
     """
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+    clean_stale(out)
+    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('tmp')}", dir=out.parent))
     try:
         yield tmp
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        with _signals_held():          # a second Ctrl-C does not cut the clean-up short
+            shutil.rmtree(tmp, ignore_errors=True)
         raise
     old = None
-    if out.exists():
-        old = Path(tempfile.mkdtemp(prefix=f".{out.name}.old.", dir=out.parent))
-        out.replace(old / out.name)
-    tmp.replace(out)
-    if old is not None:
-        shutil.rmtree(old, ignore_errors=True)
+    try:
+        with _signals_held():
+            if out.exists():
+                old = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('old')}",
+                                            dir=out.parent))
+                out.replace(old / out.name)
+            try:
+                tmp.replace(out)
+            except BaseException:
+                if old is not None:            # put the previous result back
+                    (old / out.name).replace(out)
+                raise
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    finally:
+        if old is not None and out.exists():   # else it holds the only copy: keep it
+            shutil.rmtree(old, ignore_errors=True)

@@ -144,6 +144,13 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
                 on_row(row)
 
         _run(client, plan, cache, emit)
+        # rows arrive as tasks finish; the final table is in design, load-case order, so
+        # that two runs give the same file apart from the timing columns (issue 14)
+        rows.sort(key=lambda r: (r["design"], r["load_case"]))
+        fh.seek(0)
+        fh.truncate()
+        writer.writeheader()
+        writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
         wall = time.perf_counter() - t0
         failed = sum(r["status"] != "ok" for r in rows)
         summary = {
@@ -153,7 +160,9 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
                                                            np.ravel(torques_Nm)],
             "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
             "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
-            "wall_s": wall, "scheduler": client.scheduler.address,
+            "wall_s": wall,
+            # a local cluster's address changes from run to run (a free port)
+            "scheduler": "local" if scheduler is None else client.scheduler.address,
             "workers": len(client.nthreads()),
             "cache_dir": None if cache is None else str(cache.directory),
             "files": ["sweep.csv", "sweep.json"]}

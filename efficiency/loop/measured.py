@@ -23,9 +23,14 @@ input-torque column the input torque is the one the efficiency implies, T2 / (|i
 
 Bad rows are refused one by one, with the line number and the reason (empty or missing
 value, NaN, not a number, efficiency <= 0 or > 1, speed or torque <= 0, efficiency and
-torques that disagree); every good row is kept. A bad header (a required column missing,
-a quantity in a unit not known, a column twice) refuses the whole file, naming the
-column. ``strict=True`` raises on the first bad row instead.
+torques that disagree); every good row is kept. A further covariate column is lenient: if
+any of its cells is text, empty or NaN the column is dropped whole (``notes`` says so), and
+no row is refused for it. A bad header (a required column missing, a quantity in a unit
+not known, a column twice) refuses the whole file, naming the column; a trailing comma in
+the header or the rows is accepted; an ``efficiency_pct`` column whose every value is at
+most 1 (fractions) is refused. ``strict=True`` raises on the first bad row instead. Files
+are UTF-8 (a byte-order mark is dropped); other encodings are refused in one line.
+:func:`require_distinct` refuses data with too few distinct operating points.
 """
 from __future__ import annotations
 
@@ -38,7 +43,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ...errors import MeasuredDataError, ToothfemError  # noqa: F401 (re-exported)
+from ...errors import MeasuredDataError, decode_text
+from ...errors import ToothfemError  # noqa: F401 (re-exported)
 
 
 #: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
@@ -90,6 +96,7 @@ class MeasuredData:
     rejected: tuple = ()                      # Rejected rows
     provenance: dict = field(default_factory=dict)
     source: str = ""
+    notes: tuple = ()                         # what the loader dropped, one line each
 
     def __len__(self):
         return int(self.speed_rpm.size)
@@ -115,7 +122,8 @@ class MeasuredData:
                             input_torque_Nm=take(self.input_torque_Nm), sigma=take(self.sigma),
                             extra={k: v[index] for k, v in self.extra.items()},
                             lines=take(self.lines), rejected=self.rejected,
-                            provenance=dict(self.provenance), source=self.source)
+                            provenance=dict(self.provenance), source=self.source,
+                            notes=self.notes)
 
 
 def _column(name: str):
@@ -178,6 +186,91 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     efficiency comes from an input-torque column and used to check one against the other
     when both are given. ``provenance``: a mapping merged over the header comments."""
     lines = text.splitlines()
+    prov, start = _comments(lines)
+    prov.update(provenance or {})
+    if start >= len(lines):
+        raise MeasuredDataError(f"{source}: no header line (columns with units, e.g. "
+                                "input_speed_rpm,output_torque_Nm,efficiency)")
+    body = lines[start:]
+    del lines                                   # large files: keep one copy of the text
+    reader = csv.reader(body)
+    header = _header(_next_row(reader, source, start + 1), source)
+    columns = _columns(header, source)
+    i_abs = None if ratio is None else abs(float(ratio))
+    if "efficiency" not in columns and i_abs is None:
+        raise MeasuredDataError(f"{source}: the efficiency comes from input_torque_Nm, which "
+                                "needs the reducer ratio (ratio=...)")
+    known = set(QUANTITIES) | {"run_id"}
+    checked = [k for k in columns if k in QUANTITIES]      # a bad cell refuses the row
+    free = [k for k in columns if k not in known]           # further covariates: lenient
+    values = {k: [] for k in checked}
+    cells_free = {k: [] for k in free}
+    run, rejected, line_no = [], [], []
+    k = 0
+    while True:
+        line = start + 2 + k
+        cells = _next_row(reader, source, line)
+        k += 1
+        if cells is None:
+            break
+        if not cells or all(not c.strip() for c in cells):
+            continue
+        while len(cells) > len(header) and not cells[-1].strip():
+            cells = cells[:-1]                  # trailing separators (a trailing comma)
+        reason = None
+        if len(cells) != len(header):
+            reason = f"has {len(cells)} fields, the header has {len(header)}"
+        row = {}
+        for key in checked if reason is None else ():
+            j, f, o = columns[key]
+            v, why = _number(cells[j], header[j])
+            if why:
+                reason = why
+                break
+            row[key] = f * v + o
+        if reason is None:
+            reason = _check_row(row, i_abs)
+        if reason is not None:
+            if strict:
+                raise MeasuredDataError(f"{source}: line {line}: {reason}")
+            rejected.append(Rejected(line, reason))
+            continue
+        for key in checked:
+            values[key].append(row[key])
+        for key in free:
+            cells_free[key].append(cells[columns[key][0]])
+        if "run_id" in columns:
+            run.append(cells[columns["run_id"][0]].strip())
+        line_no.append(line)
+    del body
+    if not line_no:
+        why = "; ".join(str(r) for r in rejected[:3]) or "no data rows"
+        raise MeasuredDataError(f"{source}: no good row ({why})" + _percent_hint(rejected))
+
+    def col(key):
+        return None if key not in values else np.array(values[key], float)
+
+    _check_percent_column(header, columns, values, source)
+    t_out, t_in = col("output_torque"), col("input_torque")
+    eff = col("efficiency")
+    if eff is None:
+        eff = t_out / (i_abs * t_in)
+    sigma = col("efficiency_sigma")
+    if sigma is None:
+        # without an input-torque column the reading it implies is T2 / (|i| eta)
+        implied = t_in if t_in is not None or i_abs is None else t_out / (i_abs * eff)
+        sigma = sensor_sigma(eff, implied, t_out, prov.get("sensors"))
+    extra, notes = _free_columns(cells_free)
+    return MeasuredData(speed_rpm=col("input_speed"), torque_Nm=t_out, efficiency=eff,
+                        oil_temp_C=col("oil_temp"), time_h=col("time"),
+                        run_id=np.array(run, dtype=object) if "run_id" in columns else None,
+                        input_torque_Nm=t_in, sigma=sigma, extra=extra,
+                        lines=np.array(line_no), rejected=tuple(rejected), provenance=prov,
+                        source=source, notes=tuple(notes))
+
+
+def _comments(lines):
+    """(provenance from ``# key: value`` lines, index of the header line)."""
     prov, start = {}, 0
     while start < len(lines) and (lines[start].lstrip().startswith("#")
                                   or not lines[start].strip()):
@@ -186,16 +279,36 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
             k, v = body.split(":", 1)
             prov[k.strip()] = v.strip()
         start += 1
-    prov.update(provenance or {})
-    if start >= len(lines):
-        raise MeasuredDataError(f"{source}: no header line (columns with units, e.g. "
-                                "input_speed_rpm,output_torque_Nm,efficiency)")
-    reader = csv.reader(io.StringIO("\n".join(lines[start:])))
-    header = [h.strip() for h in next(reader)]
-    columns = {}                       # quantity or column name -> (index, factor, offset)
+    return prov, start
+
+
+def _next_row(reader, source, line):
+    """The next row of cells, or None at the end; a row the csv module cannot split (a NUL
+    byte, a field beyond its size limit) refuses the file naming the line."""
+    try:
+        return next(reader)
+    except StopIteration:
+        return None
+    except csv.Error as exc:
+        raise MeasuredDataError(f"{source}: line {line}: cannot be read as CSV ({exc})") \
+            from None
+
+
+def _header(cells, source):
+    """Column names, stripped; empty names at the end (a trailing comma) are dropped."""
+    header = [h.strip() for h in cells or ()]
+    while header and not header[-1]:
+        header.pop()
     for j, name in enumerate(header):
         if not name:
             raise MeasuredDataError(f"{source}: column {j + 1} of the header has no name")
+    return header
+
+
+def _columns(header, source):
+    """quantity or column name -> (index, factor, offset); refuses a bad header."""
+    columns = {}
+    for j, name in enumerate(header):
         q, f, o = _column(name)
         key = q or name
         if key in columns:
@@ -209,65 +322,53 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     if "efficiency" not in columns and "input_torque" not in columns:
         raise MeasuredDataError(f"{source}: missing column efficiency (or input_torque_Nm "
                                 f"with the reducer ratio); have {header}")
-    i_abs = None if ratio is None else abs(float(ratio))
-    if "efficiency" not in columns and i_abs is None:
-        raise MeasuredDataError(f"{source}: the efficiency comes from input_torque_Nm, which "
-                                "needs the reducer ratio (ratio=...)")
-    numeric = [k for k in columns if k != "run_id"]
-    rows, rejected, line_no = [], [], []
-    for k, cells in enumerate(reader):
-        line = start + 2 + k
-        if not cells or all(not c.strip() for c in cells):
+    return columns
+
+
+def _free_columns(cells):
+    """Further covariates from their cells: a column whose every cell is a finite number is
+    kept; any other (text, a label, empty or NaN cells) is dropped whole, with a note, so
+    that it never refuses a good row nor puts a hole in a covariate."""
+    extra, notes = {}, []
+    for name, col in cells.items():
+        parsed = [_number(c, name) for c in col]
+        bad = [why for _, why in parsed if why]
+        if not bad:
+            extra[name] = np.array([v for v, _ in parsed], float)
             continue
-        reason = None
-        if len(cells) != len(header):
-            reason = f"has {len(cells)} fields, the header has {len(header)}"
-        values = {}
-        for key in numeric if reason is None else ():
-            j, f, o = columns[key]
-            name = header[j]
-            v, why = _number(cells[j], name)
-            if why:
-                reason = why
-                break
-            values[key] = v if f is None else f * v + o
-        if reason is None:
-            reason = _check_row(values, i_abs)
-        if reason is None:
-            if "run_id" in columns:
-                values["run_id"] = cells[columns["run_id"][0]].strip()
-            rows.append(values)
-            line_no.append(line)
-        else:
-            if strict:
-                raise MeasuredDataError(f"{source}: line {line}: {reason}")
-            rejected.append(Rejected(line, reason))
-    if not rows:
-        why = "; ".join(str(r) for r in rejected[:3]) or "no data rows"
-        raise MeasuredDataError(f"{source}: no good row ({why})")
+        n_text = sum(" is not a number" in why for why in bad)
+        kind = ("text" if n_text == len(col) else
+                f"{len(bad)} of {len(col)} cells empty or not a number")
+        notes.append(f"column {name!r} dropped ({kind}): not used as a covariate; the rows "
+                     "are kept")
+    return extra, notes
 
-    def col(key):
-        return None if key not in columns else np.array([r[key] for r in rows], float)
 
-    t_out, t_in = col("output_torque"), col("input_torque")
-    eff = col("efficiency")
-    if eff is None:
-        eff = t_out / (i_abs * t_in)
-    sigma = col("efficiency_sigma")
-    if sigma is None:
-        # without an input-torque column the reading it implies is T2 / (|i| eta)
-        implied = t_in if t_in is not None or i_abs is None else t_out / (i_abs * eff)
-        sigma = sensor_sigma(eff, implied, t_out, prov.get("sensors"))
-    run = None
-    if "run_id" in columns:
-        run = np.array([r["run_id"] for r in rows], dtype=object)
-    known = set(QUANTITIES) | {"run_id"}
-    extra = {k: col(k) for k in columns if k not in known}
-    return MeasuredData(speed_rpm=col("input_speed"), torque_Nm=t_out, efficiency=eff,
-                        oil_temp_C=col("oil_temp"), time_h=col("time"), run_id=run,
-                        input_torque_Nm=t_in, sigma=sigma, extra=extra,
-                        lines=np.array(line_no), rejected=tuple(rejected), provenance=prov,
-                        source=source)
+#: An efficiency in percent at or below this in every row reads as a fraction.
+PERCENT_AS_FRACTION_MAX = 1.0
+
+
+def _check_percent_column(header, columns, values, source):
+    """Refuse an ``efficiency_pct`` column whose every value looks like a fraction (a
+    column in percent that holds 0.82 would make the efficiency 0.8 %)."""
+    if "efficiency" not in columns or columns["efficiency"][1] != 0.01:
+        return
+    pct = np.asarray(values["efficiency"]) * 100
+    if pct.size and np.all(pct <= PERCENT_AS_FRACTION_MAX):
+        name = header[columns["efficiency"][0]]
+        raise MeasuredDataError(
+            f"{source}: column {name!r} holds fractions (every value <= "
+            f"{PERCENT_AS_FRACTION_MAX:g}, largest {pct.max():.6g}): name it 'efficiency' for "
+            "fractions, or give the values in percent")
+
+
+def _percent_hint(rejected) -> str:
+    """A hint when every row was refused for an efficiency above 1 (percent in a column of
+    fractions)."""
+    if rejected and all(r.reason.startswith("efficiency =") and "outside (0, 1]" in r.reason
+                        and not r.reason.startswith("efficiency = -") for r in rejected):
+        return ": the efficiency column seems to hold percent; name it 'efficiency_pct'"
+    return ""
 
 
 def _check_row(v, i_abs):
@@ -302,6 +403,27 @@ def _check_row(v, i_abs):
     return None
 
 
+def distinct_points(data: MeasuredData) -> int:
+    """Number of distinct operating points (speed, output torque and, if given, oil
+    temperature) among the rows."""
+    cols = [data.speed_rpm, data.torque_Nm] + ([data.oil_temp_C]
+                                               if data.oil_temp_C is not None else [])
+    return int(np.unique(np.column_stack(cols), axis=0).shape[0]) if len(data) else 0
+
+
+def require_distinct(data: MeasuredData, needed: int, purpose: str) -> MeasuredData:
+    """``data`` if it has at least ``needed`` distinct operating points, else one line
+    saying how many it has and what needs more (repeated readings of one point say
+    nothing about how the efficiency changes with speed, torque or temperature)."""
+    n = distinct_points(data)
+    if n < needed:
+        raise MeasuredDataError(
+            f"{data.source or 'measured data'}: {len(data)} good rows but only {n} distinct "
+            f"operating point{'s' if n != 1 else ''} (speed, torque, oil temperature); "
+            f"{purpose} needs at least {needed}")
+    return data
+
+
 def sidecar_path(path) -> Path:
     """The provenance sidecar of a CSV: the same name with ``.json``."""
     return Path(path).with_suffix(".json")
@@ -311,16 +433,23 @@ def load_measured(path, *, ratio=None, strict=False) -> MeasuredData:
     """Open a measured-data CSV and its sidecar ``<stem>.json`` (if present)."""
     path = Path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        raw = path.read_bytes()
     except FileNotFoundError:
         raise MeasuredDataError(f"{path}: no such measured-data file") from None
+    except OSError as exc:
+        raise MeasuredDataError(f"{path}: cannot be read ({exc.strerror or exc})") from None
+    text = decode_text(raw, path, MeasuredDataError)
+    del raw
     prov = {}
     side = sidecar_path(path)
-    if side.exists():
+    if side.is_file():
         try:
-            prov = json.loads(side.read_text())
+            prov = json.loads(decode_text(side.read_bytes(), side, MeasuredDataError))
         except json.JSONDecodeError as exc:
             raise MeasuredDataError(f"{side}: not valid JSON: {exc}") from None
+        except OSError as exc:
+            raise MeasuredDataError(f"{side}: cannot be read ({exc.strerror or exc})") \
+                from None
         if not isinstance(prov, dict):
             raise MeasuredDataError(f"{side}: must hold a JSON object")
     return parse_measured(text, ratio=ratio, provenance=prov, source=str(path), strict=strict)

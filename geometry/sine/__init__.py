@@ -25,6 +25,8 @@ from .conjugate import (SeedPressureAngles, conjugate_contact, contact_crank_ang
                         distance_to_ring, foot_point, pitch_point_angle, pressure_angles,
                         ring_curve, ring_profile, seed_pressure_angles)
 from .drawing import RING_RIM_MODULES, planet_polygon, ring_polygon
+from .carrying import (LOAD_CARRYING_GAP_M, check_load_carrying, max_drive_gap_m,
+                       min_tooth_height_m)
 from .limits import (ToothHeightLimits, check_tooth_height, max_tooth_height_m,
                      tooth_height_limits)
 from .meshing import (DEFAULT_CANDIDATES, Approach, ContactKinematics, PointPair,
@@ -35,7 +37,8 @@ from .profile import (ProfileCurve, ProfileParams, curvature_eq6, planet_curve,
                       planet_profile, profile_params)
 
 __all__ = [
-    "Approach", "ContactKinematics", "DEFAULT_CANDIDATES", "MIN_PLANET_TEETH",
+    "Approach", "ContactKinematics", "DEFAULT_CANDIDATES", "LOAD_CARRYING_GAP_M",
+    "MIN_PLANET_TEETH", "check_load_carrying", "max_drive_gap_m", "min_tooth_height_m",
     "PointPair", "ProfileCurve", "ProfileParams", "RING_RIM_MODULES", "SeedPressureAngles",
     "SineGearPair", "ToothHeightLimits", "check_tooth_height", "closest_approach",
     "conjugate_contact", "contact_count", "contact_crank_angle", "curvature_eq6",

@@ -193,9 +193,9 @@ class ToothHeightLimits:
         return min(self.envelope, self.interference, self.contact)
 
 
-def _largest_valid(pred, z1, z2, m, hi, scan=_BOUND_SCAN):
+def _largest_valid(pred, z1, z2, m, hi, scan=_BOUND_SCAN, rtol=_BOUND_RTOL):
     """Largest a below ``hi`` such that pred holds for all smaller a: a scan from 0 finds
-    the first failure, bisection narrows it to _BOUND_RTOL*m; ``hi`` if none fails."""
+    the first failure, bisection narrows it to rtol*m; ``hi`` if none fails."""
     lo = 0.0
     for a in hi * np.arange(1, scan + 1) / scan * (1 - _BOUND_RTOL):
         if not pred(ProfileParams(z1, z2, m, float(a))):
@@ -204,7 +204,7 @@ def _largest_valid(pred, z1, z2, m, hi, scan=_BOUND_SCAN):
         lo = float(a)
     else:
         return hi
-    while hi - lo > _BOUND_RTOL * m:
+    while hi - lo > rtol * m:
         mid = 0.5 * (lo + hi)
         if pred(ProfileParams(z1, z2, m, mid)):
             lo = mid

@@ -300,6 +300,24 @@ def _surface_speeds(V, T1, X1, t, rate1, rate2, om):
     return sliding, 0.5 * (u_planet + u_ring)
 
 
+def _candidate_points(g: ProfileParams, chi, k):
+    """Candidate flanks of :func:`meshing` at crank angles chi (P,): (teeth (P, C), flanks
+    (C,), chi (P, C), planet and ring parameters f1, f2 (P, C), ``own`` (a local minimum of
+    the gap, the conjugate contact included), ``conj`` (the column of the conjugate contact:
+    its exact point from the meshing equation, gap 0))."""
+    teeth, flank = _candidates(g, chi, k)
+    chi2 = np.broadcast_to(chi[:, None], teeth.shape)
+    lo, hi = flank_window(g.z1, teeth, flank[None, :])
+    f1, f2, own = _approach(g, chi2, lo, hi)
+    fs = _snap(g, _conjugate(g, chi))
+    conj = (lo <= fs[:, None]) & (fs[:, None] < hi)
+    if not np.all(conj.sum(axis=1) == 1):
+        raise GeometryError("the conjugate contact is not among the candidates")
+    f1 = np.where(conj, fs[:, None], f1)
+    f2 = np.where(conj, fs[:, None], f2)
+    return teeth, flank, chi2, f1, f2, own | conj, conj
+
+
 def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
             candidates: int = DEFAULT_CANDIDATES) -> MeshingState:
     """Kinematics of the candidate tooth pairs at each crank angle (vectorised).
@@ -341,20 +359,7 @@ def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
     g = profile_params(pair)
     chi = np.atleast_1d(np.asarray(crank_angle_rad, float))
     om = float(crank_speed_rad_s)
-    teeth, flank = _candidates(g, chi, k)
-    chi2 = np.broadcast_to(chi[:, None], teeth.shape)
-    lo, hi = flank_window(g.z1, teeth, flank[None, :])
-    f1, f2, own = _approach(g, chi2, lo, hi)
-
-    # the conjugate contact: exact point from the meshing equation, gap 0
-    fs = _conjugate(g, chi)
-    fs = _snap(g, fs)
-    conj = (lo <= fs[:, None]) & (fs[:, None] < hi)
-    if not np.all(conj.sum(axis=1) == 1):
-        raise GeometryError("the conjugate contact is not among the candidates")
-    f1 = np.where(conj, fs[:, None], f1)
-    f2 = np.where(conj, fs[:, None], f2)
-    own = own | conj
+    teeth, flank, chi2, f1, f2, own, conj = _candidate_points(g, chi, k)
 
     K1, T1, T1d, V = _placed(g, chi2, f1, 2)
     X, X1, X2 = _ring(g, f2, 2)[:3]

@@ -37,14 +37,15 @@ def run(args) -> int:
     from tqdm import tqdm
 
     from ..case import load_case
+    from ..case_checks import TORQUE_NM
     from ..errors import CaseError, check_range
     from ..output import atomic_dir
     from ..pipeline import contact_analysis, contact_labels, write_contact
     from ..report import summary as report_summary
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
-    if args.torque is not None:
-        check_range("--torque-Nm", args.torque, 0, None, lo_open=True, error=CaseError)
+    if args.torque is not None:         # the case's plausibility bounds (issue 14)
+        check_range("--torque-Nm", args.torque, *TORQUE_NM, error=CaseError)
     case = load_case(args.case)
     progress = lambda it: tqdm(it, desc=f"{args.mode} mode", unit="position")  # noqa: E731
     result = contact_analysis(case, positions=args.positions, torque_Nm=args.torque,

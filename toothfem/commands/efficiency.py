@@ -37,12 +37,17 @@ def add_parser(sub):
 
 def run(args) -> int:
     from ..case import load_case
+    from ..case_checks import SPEED_RPM, TORQUE_NM
     from ..durability import thermal_summary
     from ..efficiency import operating_point
-    from ..errors import CaseError
+    from ..errors import CaseError, check_range
     from ..pipeline import efficiency_summary
     from ..report import summary as report_summary
 
+    for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
+                                  ("--torque-Nm", args.torque, TORQUE_NM)):
+        if value is not None:           # the case's plausibility bounds (issue 14; the
+            check_range(flag, value, lo, hi, error=CaseError)   # oil: the Vogel law's)
     case = load_case(args.case)
     if args.thermal and args.oil_temp is not None:
         raise CaseError(f"--oil-temp-C = {args.oil_temp!r} and --thermal exclude each other "

@@ -41,12 +41,16 @@ def run(args) -> int:
         data = ms.from_case(case)
     for r in data.rejected:
         print(f"refused {args.measured}: {r}")
+    for note in data.notes:
+        print(f"note {args.measured}: {note}")
     effects = fx.catalog()
     if args.effects:
         names = [n.strip() for n in args.effects.split(",") if n.strip()]
         effects = tuple(fx.by_name(n, effects) for n in names)
     if args.folds < 2:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
+    if len(data) > 1:           # one point: the loop reports what would close the gap
+        ms.require_distinct(data, 2, "a fit of the effects (the change between points)")
     settings = lp.Settings(folds=args.folds)
     report = lp.run_loop(case, data, effects, settings=settings, loads=args.loads,
                          progress=lambda msg: print(f"  {msg}"))

@@ -1,0 +1,487 @@
+"""Every input handled (issue 14): wrong types and encodings, implausible values, faults and
+interrupts, odd measured data and a closed stdout each end in one line naming the cause,
+or in a result; never in a traceback, a runaway, a lost result or a half-written folder."""
+import copy
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import warnings
+
+import numpy as np
+import pytest
+
+from toothfem import CaseError, load_case, parse_case
+from toothfem import cli
+from toothfem.report import plots
+from toothfem.efficiency.loop import measured as ms
+from toothfem.errors import MeasuredDataError, check_range
+from toothfem.fem.cache import CacheWarning, DiskCache, content_key
+from toothfem.geometry import cycloid as cy
+from toothfem.output import atomic_dir, clean_stale
+
+try:
+    import tomllib
+except ImportError:  # pragma: no cover
+    import tomli as tomllib
+
+
+def _raw(cases_dir, name):
+    with open(cases_dir / name, "rb") as fh:
+        return tomllib.load(fh)
+
+
+def _with(raw, dotted, value):
+    raw = copy.deepcopy(raw)
+    node = raw
+    *path, last = dotted.split(".")
+    for k in path:
+        node = node[k]
+    if value is None:
+        del node[last]
+    else:
+        node[last] = value
+    return raw
+
+
+def _refusal(raw) -> str:
+    with pytest.raises(CaseError) as exc:
+        parse_case(raw)
+    msg = str(exc.value)
+    assert "\n" not in msg
+    return msg
+
+
+# ---------------------------------------------------------------------------------------
+# 1. types and encodings
+
+@pytest.mark.parametrize("value, kind", [("1.0", "a string"), (True, "true/false"),
+                                         ({"x": 1}, "a table"), ([1.0], "an array")])
+@pytest.mark.parametrize("key", ["cycloid.eccentricity_mm", "cycloid.housing_outer_radius_mm",
+                                 "cycloid.disc_holes.crank_hole_radius_mm",
+                                 "operating.output_torque_Nm", "lubricant.dynamic_viscosity_Pa_s",
+                                 "material.youngs_modulus_GPa", "first_stage.module_mm"])
+def test_wrong_type_where_a_number_belongs_names_the_key(cases_dir, key, value, kind):
+    msg = _refusal(_with(_raw(cases_dir, "cycloid_pinhousing.toml"), key, value))
+    assert msg.startswith(f"{key} = ") and f"is not a number: it is {kind}" in msg
+
+
+@pytest.mark.parametrize("key, value, text", [
+    ("cycloid.pin_count", 40.0, "cycloid.pin_count = 40.0 must be an integer, not a float "
+                                "(write 40)"),
+    ("cycloid.pin_count", "40", "cycloid.pin_count = '40' must be an integer, not a string"),
+    ("cycloid.pin_structure", 1, "cycloid.pin_structure = 1 is not a string: it is an "
+                                 "integer"),
+    ("case.name", 7, "case.name = 7 is not a string"),
+    ("case.stated_ratio", "121", "case.stated_ratio = '121' is not a number"),
+    ("published.pins_in_contact", {"a": 1}, "published.pins_in_contact = {'a': 1} is not a "
+                                            "number: it is a table"),
+    ("cycloid.pin_count", 10**400, "cycloid.pin_count = 1.000000e+400 is outside the valid "
+                                   "range [4, 400]"),
+    ("operating.output_torque_Nm", 10**30, "operating.output_torque_Nm = 1e+30 is outside"),
+    ("operating.output_torque_Nm", 10**400, "operating.output_torque_Nm = 1.000000e+400 is "
+                                            "outside"),
+    ("rv40e:cycloid.pin_circle_radius_mm", 10**400, "cycloid.pin_circle_radius_mm = "
+                                                    "1.000000e+400 is outside the valid range "
+                                                    "[1, 2000]"),
+])
+def test_other_types_and_overflow(cases_dir, key, value, text):
+    name, _, key = key.rpartition(":")      # rv40e: no housing radius (the default rule)
+    raw = _raw(cases_dir, f"{name or 'cycloid_pinhousing'}.toml")
+    assert text in _refusal(_with(raw, key, value))
+
+
+def test_check_range_refuses_strings_bools_and_huge_ints():
+    for v in ("1.0", True, 10**400):
+        with pytest.raises(ValueError):
+            check_range("x", v, 0, 10)
+
+
+def test_encodings_one_line(cases_dir, tmp_path, capsys):
+    text = (cases_dir / "cycloid_pinhousing.toml").read_text()
+    bom = tmp_path / "bom.toml"
+    bom.write_bytes(b"\xef\xbb\xbf" + text.encode())
+    assert load_case(bom) == load_case(cases_dir / "cycloid_pinhousing.toml")
+    latin = tmp_path / "latin.toml"
+    latin.write_bytes(text.encode().replace(b"# Cycloid", b"# Cycl\xe9id", 1))
+    utf16 = tmp_path / "utf16.toml"
+    utf16.write_bytes(text.encode("utf-16"))
+    inf = tmp_path / "inf.toml"
+    inf.write_text(text.replace("eccentricity_mm = 1.0 ", "eccentricity_mm = 1e400 "))
+    for path, words in ((latin, "not UTF-8 text: byte 0xe9 at line 1, column 7"),
+                        (utf16, "is UTF-16 text; save it as UTF-8"),
+                        (inf, "cycloid.eccentricity_mm = inf is outside the valid range"),
+                        (tmp_path, "is a folder, not a case file")):
+        assert cli.main(["check", str(path)]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and words in err and "Traceback" not in err
+
+
+# ---------------------------------------------------------------------------------------
+# 2. plausibility bounds and the cross-section rules the analyses need
+
+@pytest.mark.parametrize("name, key, value, text", [
+    ("cycloid_pinhousing.toml", "cycloid.housing_outer_radius_mm", 1e300,
+     "cycloid.housing_outer_radius_mm = 1e+300 is outside the valid range (102, 202]"),
+    ("cycloid_pinhousing.toml", "cycloid.face_width_mm", 1e300,
+     "cycloid.face_width_mm = 1e+300 is outside the valid range [0.1, 1000]"),
+    ("cycloid_pinhousing.toml", "cycloid.pin_circle_radius_mm", 1e-300,
+     "cycloid.pin_circle_radius_mm = 1e-300 is outside the valid range [1, 2000]"),
+    ("cycloid_pinhousing.toml", "operating.input_speed_rpm", 1e-300,
+     "operating.input_speed_rpm = 1e-300 is outside the valid range [0.01, 20000]"),
+    ("cycloid_pinhousing.toml", "first_stage.module_mm", 1e-3,
+     "first_stage.module_mm = 0.001 is outside the valid range [0.05, 100]"),
+    ("cycloid_pinhousing.toml", "friction.drag_torque_Nmm", 1e300,
+     "friction.drag_torque_Nmm = 1e+300 is outside the valid range [0, 1e+06]"),
+    ("sine_prototype.toml", "sine.face_width_mm", 1e300,
+     "sine.face_width_mm = 1e+300 is outside the valid range [0.1, 1000]"),
+    ("sine_prototype.toml", "output_mechanism.pin_radius_mm", 1e-300,
+     "output_mechanism.pin_radius_mm = 1e-300 is outside the valid range [0.1, 200]"),
+    ("rv40e.toml", "rv.mesh_efficiency", 0.1,
+     "rv.mesh_efficiency = 0.1 is outside the valid range [0.5, 1]"),
+    ("cycloid_pinhousing.toml", "operating.output_torque_Nm", None,
+     "[operating] needs output_torque_Nm, input_torque_Nm or input_power_kW"),
+    ("cycloid_pinhousing.toml", "cycloid.disc_holes.crank_hole_count", 0,
+     "cycloid.disc_holes.crank_hole_count = 0 is outside the valid range [1, 12]"),
+    ("sine_prototype.toml", "output_mechanism", None,
+     "drive = 'sine' without a [first_stage] needs [output_mechanism]"),
+    ("rv40e.toml", "first_stage", None, "[first_stage] section is required"),
+    ("rv40e.toml", "material", None, "[material] section is required with a [cycloid]"),
+])
+def test_plausibility_bounds_and_cross_rules(cases_dir, name, key, value, text):
+    assert text in _refusal(_with(_raw(cases_dir, name), key, value))
+
+
+def test_operating_point_where_losses_take_most_of_the_input(cases_dir):
+    """The fixed point T2 = i T1 eta(T2) contracts at the rate 1 - eta: with a large
+    load-independent loss it is solved by bracketing; an input that cannot overcome the
+    no-load losses is refused naming the key."""
+    from toothfem.efficiency import evaluate, operating_point
+
+    raw = _raw(cases_dir, "sine_prototype.toml")
+    case = parse_case(_with(raw, "output_mechanism.plain_bearing_friction_torque_Nmm", 252.0))
+    speed, t2 = operating_point(case)
+    eta = float(evaluate(case, speed, t2).efficiency[0])
+    assert 0.25 < eta < 0.35                                   # slow contraction here
+    assert t2 == pytest.approx(79 * 0.4 * eta, rel=1e-8)
+    case = parse_case(_with(raw, "output_mechanism.plain_bearing_friction_torque_Nmm", 2520.0))
+    with pytest.raises(CaseError, match=r"^operating.input_torque_Nm = 0.4 does not overcome "
+                                        r"the load-independent losses at 300 rpm"):
+        operating_point(case)
+
+
+# ---------------------------------------------------------------------------------------
+# 3. valid means analysable
+
+def test_sine_tooth_height_lower_bound_in_check(cases_dir):
+    """Low teeth leave crank angles with no drive flank near: refused with the bound."""
+    raw = _raw(cases_dir, "sine_prototype.toml")
+    msg = _refusal(_with(raw, "sine.tooth_height_mm", 0.1))
+    assert msg.startswith("sine.tooth_height_mm = 0.1 is outside the valid range [0.17")
+    assert msg.endswith(", 0.45): at some crank angles no drive flank is within 40 um to "
+                        "carry the torque (lower bound by bisection)")
+    lo = float(msg.split("[")[1].split(",")[0])
+    from toothfem.efficiency import evaluate
+    case = parse_case(_with(raw, "sine.tooth_height_mm", 1.01 * lo))   # just above: works
+    e = evaluate(case, 500.0, 28.0)
+    assert 0 < float(e.efficiency[0]) < 1
+
+
+def test_cycloid_meshing_finite_at_an_inflection_point():
+    """K1 = 1/Zb puts an inflection point at the tooth tip (curvature radius infinite):
+    the pin on the line of centres gets R_eq = r_pin, not inf/inf."""
+    g = cy.CycloidGeometry(20, 40e-3, 0.1e-3, 2e-3)
+    assert g.k1 == pytest.approx(1 / 20)
+    m = cy.meshing(g, np.linspace(0, 2 * math.pi / 20, 5))
+    for f in ("equivalent_radius", "moment_arm", "pressure_angle", "gap"):
+        assert np.all(np.isfinite(getattr(m, f))), f
+    assert m.equivalent_radius[0, 0] == pytest.approx(2e-3, rel=1e-12)
+    # the two-radius form elsewhere: 1/R = 1/(rho - r) + 1/r
+    g2 = cy.CycloidGeometry(40, 100e-3, 1e-3, 2e-3)
+    m2 = cy.meshing(g2, [0.1])
+    rho = cy._rho_of_theta(g2.nominal(), np.mod(2 * np.pi * np.arange(40) / 40 - 0.1,
+                                                 2 * np.pi))
+    np.testing.assert_allclose(m2.equivalent_radius[0],
+                               1 / (1 / (rho - 2e-3) + 1 / 2e-3), rtol=1e-10)
+
+
+def test_cycloid_clearance_of_a_strongly_curtate_modified_disc():
+    """K1 = 0.89 with all three modifications: Newton from the unmodified parameter
+    wandered; the nested-grid start gives the minimum distance (checked by brute force)."""
+    g = cy.CycloidGeometry(89, 100e-3, 1e-3, 2e-3, 0.01e-3, 0.005e-3, math.radians(0.05))
+    phi = np.array([0.0, math.pi / 89])
+    d = cy.clearance_exact(g, phi)
+    assert np.all(np.isfinite(d))
+    gen = g.generating()
+    local = cy.to_disc_frame(g, phi, np.broadcast_to(cy.pin_centres(g)[:, None, :],
+                                                     (2, 2, 89))).reshape(2, -1)
+    psi = np.linspace(0, 2 * np.pi, 200_001)
+    ref = []
+    for flank in (1, -1):
+        a = -flank * g.rotation_rad
+        pts = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]) @ local
+        w = cy.working_profile(gen, psi)
+        dist = np.empty(pts.shape[1])
+        for i in range(pts.shape[1]):
+            j = int(np.argmin(np.hypot(w[0] - pts[0, i], w[1] - pts[1, i])))
+            out = -cy.inward_normal(gen, psi[j])
+            dist[i] = np.sign(np.dot(pts[:, i] - w[:, j], out)) * np.hypot(
+                *(pts[:, i] - w[:, j]))
+        ref.append(dist)
+    ref = np.maximum(*ref).reshape(2, 89) - g.pin_radius_m
+    # a sampled distance can only be larger than the minimum, by up to ds^2/(8 rho) with
+    # ds up to 6 um along a flank (3e-5 rad): ~1e-9 m
+    assert np.all(d <= ref + 1e-12) and np.all(ref - d < 3e-9)
+
+
+# ---------------------------------------------------------------------------------------
+# 4. interrupts and faults
+
+@pytest.mark.parametrize("signum, code, word", [(signal.SIGINT, 130, "interrupted"),
+                                                (signal.SIGTERM, 143, "terminated")])
+def test_signal_during_a_command_leaves_no_folder(cases_dir, tmp_path, monkeypatch, capsys,
+                                                  signum, code, word):
+    out = tmp_path / "geo"
+    real = plots.cycloid_drawing
+
+    def drawing_then_signal(*a, **kw):
+        fig = real(*a, **kw)
+        os.kill(os.getpid(), signum)          # arrives inside the atomic folder
+        return fig
+
+    monkeypatch.setattr(plots, "cycloid_drawing", drawing_then_signal)
+    before = signal.getsignal(signal.SIGTERM)
+    assert cli.main(["geometry", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
+                     str(out)]) == code
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and word in err
+    assert list(tmp_path.iterdir()) == []          # neither the folder nor a temporary one
+    assert signal.getsignal(signal.SIGTERM) is before
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):
+    """The real thing: `toothfem contact` in its own process, signalled once its temporary
+    output folder exists (meshing, factorising or solving): exit 128 + signal, one line, no
+    output folder and no temporary one. (Signalled again after a minute in case the first
+    fell into a garbage-collector callback, where Python drops it.)"""
+    import time
+
+    out = tmp_path / "contact"
+    env = {**os.environ, "TOOTHFEM_CACHE": str(tmp_path / "cache")}
+    p = subprocess.Popen([sys.executable, "-c", "import sys; from toothfem.cli import main; "
+                          "sys.exit(main())", "contact", str(cases_dir / "rv40e.toml"),
+                          "--positions", "36", "--out", str(out)],
+                         stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
+    while p.poll() is None and not list(tmp_path.glob(".contact.tmp-*")):
+        time.sleep(0.05)
+    while p.poll() is None:
+        p.send_signal(signum)
+        try:
+            p.wait(timeout=60)
+        except subprocess.TimeoutExpired:
+            pass
+    err = p.stderr.read().decode()
+    assert p.returncode == 128 + signum, err[-500:]
+    assert err.strip().splitlines()[-1].endswith("; no output written")
+    assert "Traceback" not in err
+    assert sorted(x.name for x in tmp_path.iterdir()) in (["cache"], [])
+
+
+def test_stale_temporary_folders_of_dead_runs_are_removed(tmp_path):
+    from toothfem import output
+
+    out = tmp_path / "res"
+    dead = 2 ** 22 + 12345                     # above Linux's pid_max default: no process
+    stale = tmp_path / f".res.tmp-{output._host()}-{dead}-abc"
+    stale.mkdir()
+    (stale / "half.csv").write_text("x")
+    live = tmp_path / f".res.tmp-{output._host()}-1-abc"      # pid 1 is alive
+    live.mkdir()
+    other = tmp_path / f".res.tmp-otherhost-{dead}-abc"
+    other.mkdir()
+    with atomic_dir(out) as tmp:
+        (tmp / "a.txt").write_text("done")
+    assert not stale.exists() and live.exists() and other.exists()
+    assert (out / "a.txt").read_text() == "done"
+    assert clean_stale(out) == []
+
+
+def test_atomic_dir_keeps_the_old_result_on_failure(tmp_path):
+    out = tmp_path / "res"
+    with atomic_dir(out) as tmp:
+        (tmp / "v").write_text("1")
+    with pytest.raises(KeyboardInterrupt):
+        with atomic_dir(out) as tmp:
+            (tmp / "v").write_text("2")
+            raise KeyboardInterrupt
+    assert (out / "v").read_text() == "1"
+    assert [p.name for p in tmp_path.iterdir()] == ["res"]
+
+
+def test_cache_that_cannot_be_written_warns_and_returns(tmp_path, monkeypatch):
+    blocker = tmp_path / "not_a_folder"
+    blocker.write_text("x")
+    arrays = {"a": np.arange(3.0)}
+    with pytest.warns(CacheWarning, match="cannot be written"):
+        assert DiskCache(blocker / "cache").store("k" * 64, arrays) is None
+    cache = DiskCache(tmp_path / "cache")
+
+    def full(*a, **kw):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(np, "savez", full)
+    with pytest.warns(CacheWarning, match="No space left on device"):
+        assert cache.store("k" * 64, arrays) is None
+    assert list((tmp_path / "cache").iterdir()) == []          # no temporary file left
+
+
+@pytest.mark.slow
+def test_contact_result_written_when_the_cache_cannot_be(cases_dir, tmp_path, monkeypatch,
+                                                         capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("a file where the cache folder should be")
+    monkeypatch.setenv("TOOTHFEM_CACHE", str(blocker / "cache"))
+    out = tmp_path / "contact"
+    assert cli.main(["contact", str(cases_dir / "cycloid_pinhousing.toml"), "--positions", "2",
+                     "--field", "none", "--out", str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "toothfem contact: warning: the FE cache" in err and "cannot be written" in err
+    assert json.loads((out / "summary.json").read_text())["max_force_N"] > 0
+
+
+def test_cache_file_under_another_name_is_a_miss(tmp_path):
+    cache = DiskCache(tmp_path)
+    a, b = content_key("a"), content_key("b")
+    cache.store(a, {"x": np.ones(2)})
+    np.testing.assert_array_equal(cache.load(a)["x"], np.ones(2))
+    cache.path(a).rename(cache.path(b))            # a renamed or copied file
+    assert cache.load(b) is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        cache.store(b, {"x": np.zeros(2)})         # recomputed and replaced
+    np.testing.assert_array_equal(cache.load(b)["x"], np.zeros(2))
+
+
+def test_gmsh_meshing_keeps_pythons_ctrl_c(tmp_path):
+    """A Ctrl-C while gmsh meshes is a KeyboardInterrupt once the mesher returns; it no
+    longer kills the process (gmsh's 'interruptible' set SIGINT to the default action)."""
+    script = (          # imports first: a Ctrl-C inside an import is another matter
+        "import os, signal, threading, time, numpy as np\n"
+        "from toothfem.fem.mesh import mesh_rings\n"
+        "t = np.linspace(0, 2 * np.pi, 400, endpoint=False)\n"
+        "ring = np.stack([np.cos(t), np.sin(t)])\n"
+        "mesh_rings([ring], 0.01)\n"
+        "stop = threading.Event()\n"
+        "def ctrl_c():  # again until heard: one landing in a GC finalizer is lost\n"
+        "    while not stop.wait(0.3):\n"
+        "        os.kill(os.getpid(), signal.SIGINT)\n"
+        "threading.Thread(target=ctrl_c, daemon=True).start()\n"
+        "end = time.monotonic() + 120\n"
+        "try:\n"
+        "    while time.monotonic() < end:\n"
+        "        mesh_rings([ring], 0.01)\n"
+        "except KeyboardInterrupt:\n"
+        "    stop.set()\n"
+        "    try:\n"
+        "        time.sleep(1)  # a last one already on its way\n"
+        "    except KeyboardInterrupt:\n"
+        "        pass\n"
+        "    print('interrupted')\n")
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                       timeout=300)
+    assert p.returncode == 0 and p.stdout.strip() == "interrupted", p.stderr[-500:]
+
+
+# ---------------------------------------------------------------------------------------
+# 5. measured data
+
+GOOD = "input_speed_rpm,output_torque_Nm,efficiency"
+
+
+def test_text_and_partly_empty_extra_columns_never_refuse_a_row():
+    text = (GOOD + ",operator,humidity_pct,load_cell_V\n"
+            "500,28,0.82,anna,40,1.2\n"
+            "600,20,0.80,ben,,1.3\n"
+            "700,10,0.75,carl,n/a,1.4\n")
+    d = ms.parse_measured(text)
+    assert len(d) == 3 and d.rejected == ()
+    assert set(d.extra) == {"load_cell_V"}
+    np.testing.assert_allclose(d.extra["load_cell_V"], [1.2, 1.3, 1.4])
+    assert any("'operator' dropped (text)" in n for n in d.notes)
+    assert any("'humidity_pct' dropped (2 of 3 cells empty or not a number)" in n
+               for n in d.notes)
+
+
+def test_trailing_commas_accepted():
+    d = ms.parse_measured(GOOD + ",\n500,28,0.82,\n600,20,0.80\n")
+    assert len(d) == 2 and d.rejected == ()
+
+
+def test_efficiency_pct_of_fractions_refused_and_percent_in_fractions_hinted():
+    with pytest.raises(MeasuredDataError, match=r"column 'efficiency_pct' holds fractions "
+                                                r"\(every value <= 1, largest 0.82\)"):
+        ms.parse_measured("input_speed_rpm,output_torque_Nm,efficiency_pct\n500,28,0.82\n"
+                          "600,20,0.8\n")
+    with pytest.raises(MeasuredDataError, match="seems to hold percent; name it "
+                                                "'efficiency_pct'"):
+        ms.parse_measured(GOOD + "\n500,28,82\n600,20,80\n")
+
+
+def test_identical_points_one_line(cases_dir, tmp_path, capsys):
+    same = tmp_path / "same.csv"
+    same.write_text(GOOD + "\n" + "1500,100,0.8\n" * 12)
+    d = ms.load_measured(same)
+    assert ms.distinct_points(d) == 1
+    out = tmp_path / "loop"
+    assert cli.main(["loop", str(cases_dir / "rv40e.toml"), str(same), "--out",
+                     str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "12 good rows but only 1 distinct operating point" in err
+    assert not out.exists()
+
+
+@pytest.mark.parametrize("data, words", [
+    (b"\xef\xbb\xbf" + GOOD.encode() + b"\n500,28,0.82\n", None),
+    (GOOD.encode() + b"\n500,28,0.82\n# \xe9t\xe9\n", "not UTF-8 text: byte 0xe9 at line 3"),
+    (GOOD.encode() + b"\n500,28,0.8" + b"2" * 200_000 + b"\n", "line 2: cannot be read as CSV "
+                                                           r"\(field larger than field limit"),
+])
+def test_measured_file_encodings(tmp_path, data, words):
+    path = tmp_path / "m.csv"
+    path.write_bytes(data)
+    if words is None:
+        assert len(ms.load_measured(path)) == 1
+    else:
+        with pytest.raises(MeasuredDataError, match=words):
+            ms.load_measured(path)
+
+
+# ---------------------------------------------------------------------------------------
+# 7. a closed stdout
+
+def test_broken_pipe_exits_quietly(cases_dir):
+    """`toothfem check CASE | head -1` with the reader gone before the first write."""
+    r, w = os.pipe()
+    os.close(r)
+    p = subprocess.run([sys.executable, "-c", "import sys; from toothfem.cli import main; "
+                        "sys.exit(main())", "check", str(cases_dir / "rv40e.toml")],
+                       stdout=w, stderr=subprocess.PIPE, timeout=120)
+    os.close(w)
+    assert p.stderr == b"" and p.returncode == 128 + signal.SIGPIPE
+
+
+def test_internal_error_is_one_line(monkeypatch, cases_dir, capsys):
+    from toothfem.commands import check
+
+    def boom(args):
+        raise ZeroDivisionError("float division by zero")
+
+    monkeypatch.setattr(check, "run", boom)
+    monkeypatch.delenv(cli.DEBUG_ENV, raising=False)
+    assert cli.main(["check", str(cases_dir / "rv40e.toml")]) == cli.EXIT_INTERNAL
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "internal error: ZeroDivisionError" in err
