@@ -48,10 +48,10 @@ def run(args) -> int:
         check_range("--torque-Nm", args.torque, *TORQUE_NM, error=CaseError)
     case = load_case(args.case)
     progress = lambda it: tqdm(it, desc=f"{args.mode} mode", unit="position")  # noqa: E731
-    result = contact_analysis(case, positions=args.positions, torque_Nm=args.torque,
-                              mode=args.mode, pins=args.pins, field=args.field,
-                              progress=progress)
-    with atomic_dir(args.out) as tmp:
+    with atomic_dir(args.out) as tmp:     # open from the start: an interrupt leaves none
+        result = contact_analysis(case, positions=args.positions, torque_Nm=args.torque,
+                                  mode=args.mode, pins=args.pins, field=args.field,
+                                  progress=progress)
         summary = write_contact(result, tmp)
     if args.json:
         print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
