@@ -19,6 +19,7 @@ import warnings
 
 from . import __version__
 from .commands import check, contact, efficiency, geometry, loop, run, stiffness, sweep
+from .errors import ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, efficiency, run, loop, sweep)
 #: Environment variable that lets an internal error show its traceback.
@@ -45,7 +46,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    from .errors import ToothfemError
 
     args = build_parser().parse_args(argv)
     name = f"toothfem {args.command}"

@@ -8,7 +8,7 @@ import numpy as np
 from .case import Case
 from .efficiency import evaluate, operating_point
 from .errors import ToothfemError
-from .geometry import train
+from .geometry import cycloid as cy, sine, train
 
 
 #: The sign convention of every ratio `check` prints (toothfem.geometry.train), said once.
@@ -74,7 +74,6 @@ def _r(x, digits=10):
 
 
 def _cycloid(case: Case) -> dict:
-    from .geometry import cycloid as cy
 
     st = case.cycloid
     g = st.geometry()
@@ -107,7 +106,6 @@ def _cycloid(case: Case) -> dict:
 
 
 def _sine(case: Case) -> dict:
-    from .geometry import sine
 
     st = case.sine
     pair = st.geometry()

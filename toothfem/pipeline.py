@@ -25,6 +25,11 @@ from .fem.datasheet.transmission import loaded_te
 from .fem.datasheet.twist import TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
 from .output import atomic_dir
+from .derived import derived
+from .report import (contact as report_contact, durability as report_durability, plots, save,
+                     stiffness as report_stiffness, summary as report_summary)
+from .report.contact import ContactLabels
+from .report.plots import Marked
 
 MODES = ("cycle", "detailed")
 FIELDS = ("detailed", "structural", "none")
@@ -189,7 +194,6 @@ CONTACT_COLUMNS = ("position_deg", "contact_id", "force_N", "moment_arm_mm", "ha
 
 def contact_labels(result: ContactResult):
     """The :class:`toothfem.report.contact.ContactLabels` of a contact result."""
-    from .report.contact import ContactLabels
 
     s = result.summary
     return ContactLabels(case_name=result.case_name, contact=result.contact_name,
@@ -209,8 +213,6 @@ def write_contact(result: ContactResult, folder: Path) -> dict:
     """
     import csv
 
-    from .report import contact as report_contact
-    from .report import save
 
     folder = Path(folder)
     ls = result.load_sharing
@@ -238,7 +240,6 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
     """von_mises.png (the whole member) and von_mises_contact.png (close-up of the most
     loaded contact) of the member's field ``vtu``, labelled structural or
     contact-resolved; returns the names."""
-    from .report import contact as report_contact
 
     labels = contact_labels(result)
     ls, worst = result.load_sharing, result.worst
@@ -289,8 +290,6 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     dict
         The derived quantities (``toothfem check``) with the files written.
     """
-    from .derived import derived
-    from .report import plots, save
 
     check_range("points_per_tooth", points_per_tooth, 8, 10000, error=CaseError)
     folder = Path(folder)
@@ -378,7 +377,6 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
     ``folder`` (an existing folder); returns the summary with its file list."""
     import csv
 
-    from .report import stiffness as report_stiffness
 
     folder = Path(folder)
     sheet, te = result.sheet, result.te
@@ -491,9 +489,6 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         Contact result, efficiency at the operating point, and the report's path
         (``out/report.md`` with its PNGs, CSV tables and VTU fields).
     """
-    from .report import plots, save
-    from .report import summary as report_summary
-    from .report import durability as report_durability
 
     label = str(case) if not isinstance(case, Case) else "(in memory)"
     if not isinstance(case, Case):
@@ -586,8 +581,6 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
     catalogue maps into ``tmp``; returns the report's lines."""
     import csv
 
-    from .report import plots, save
-    from .report.plots import Marked
 
     t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
     speed_curve = case.measured[0].input_speed_rpm if case.measured else speed

@@ -52,6 +52,7 @@ from .fem.cache import DiskCache
 from .fem.drives import drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
+from .output import atomic_dir
 
 
 #: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
@@ -112,7 +113,6 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     """
     from tqdm import tqdm
 
-    from .output import atomic_dir
 
     if not isinstance(case, Case):
         case = load_case(case)

@@ -8,7 +8,8 @@ import numpy as np
 
 from ...errors import CaseError, check_range
 from ..hertz import reduced_modulus
-from ..load_sharing import LoadSharing
+from ..cache import DiskCache, default_dir
+from ..load_sharing import LoadSharing, analytic_split
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
 #: 40-pin drive, enough for the load per pin to converge (docs/fem.md).
@@ -185,8 +186,6 @@ class Drive(abc.ABC):
     def analytic_split(self, state, member_torque_Nm: float) -> LoadSharing:
         """The seeds' analytic load split on ``state`` at a member torque (see
         :func:`toothfem.fem.load_sharing.analytic_split`)."""
-        from ..load_sharing import analytic_split
-
         return analytic_split(state, member_torque_Nm, self.face_width_m, self.e_star_Pa,
                               self.analytic_in_mesh_gap_m, weight=self.analytic_weight)
 
@@ -201,8 +200,6 @@ class Drive(abc.ABC):
         ``solver_options`` go to the solver (e.g. the cycloid's ``equal_springs``);
         ``overrides`` go to :meth:`fe_model` (e.g. ``pin_structure``).
         """
-        from ..cache import DiskCache, default_dir
-
         if cache is True:
             cache = DiskCache(default_dir())
         elif cache is False:

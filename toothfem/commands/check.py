@@ -2,6 +2,8 @@
 from __future__ import annotations
 
 import json
+from ..case import load_case
+from ..derived import derived
 
 
 def add_parser(sub):
@@ -12,8 +14,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..case import load_case
-    from ..derived import derived
 
     case = load_case(args.case)
     d = derived(case)

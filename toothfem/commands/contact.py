@@ -4,6 +4,12 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from ..case import load_case
+from ..case_checks import TORQUE_NM
+from ..errors import CaseError, check_range
+from ..output import atomic_dir
+from ..pipeline import contact_analysis, contact_labels, write_contact
+from ..report import summary as report_summary
 
 
 def add_parser(sub):
@@ -36,12 +42,6 @@ def add_parser(sub):
 def run(args) -> int:
     from tqdm import tqdm
 
-    from ..case import load_case
-    from ..case_checks import TORQUE_NM
-    from ..errors import CaseError, check_range
-    from ..output import atomic_dir
-    from ..pipeline import contact_analysis, contact_labels, write_contact
-    from ..report import summary as report_summary
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
     if args.torque is not None:         # the case's plausibility bounds (issue 14)

@@ -3,11 +3,18 @@
 from __future__ import annotations
 
 import json
+from ..case import load_case
+from ..case_checks import SPEED_RPM, TORQUE_NM
+from ..durability import thermal_summary
+from ..efficiency import operating_point
+from ..efficiency.evaluation import METHODS
+from ..efficiency.mesh_table import LOADS
+from ..errors import CaseError, check_range
+from ..pipeline import efficiency_summary
+from ..report import summary as report_summary
 
 
 def add_parser(sub):
-    from ..efficiency.evaluation import METHODS
-    from ..efficiency.mesh_table import LOADS
 
     p = sub.add_parser("efficiency", help="reducer efficiency and the loss of every component "
                        "at one operating point")
@@ -36,13 +43,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..case import load_case
-    from ..case_checks import SPEED_RPM, TORQUE_NM
-    from ..durability import thermal_summary
-    from ..efficiency import operating_point
-    from ..errors import CaseError, check_range
-    from ..pipeline import efficiency_summary
-    from ..report import summary as report_summary
 
     for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
                                   ("--torque-Nm", args.torque, TORQUE_NM)):

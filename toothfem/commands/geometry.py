@@ -3,6 +3,10 @@ check summary."""
 from __future__ import annotations
 
 from pathlib import Path
+from ..case import load_case
+from ..errors import CaseError, check_range
+from ..output import atomic_dir
+from ..pipeline import write_geometry
 
 
 def add_parser(sub):
@@ -16,10 +20,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..case import load_case
-    from ..errors import CaseError, check_range
-    from ..output import atomic_dir
-    from ..pipeline import write_geometry
 
     check_range("--points-per-tooth", args.points_per_tooth, 8, 10000, error=CaseError)
     case = load_case(args.case)

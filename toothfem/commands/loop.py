@@ -5,6 +5,12 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from ..case import load_case
+from ..efficiency import loop as lp
+from ..efficiency.loop import effects as fx, measured as ms
+from ..errors import ToothfemError
+from ..output import atomic_dir
+from ..report import loop as rl
 
 
 def add_parser(sub):
@@ -26,13 +32,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..case import load_case
-    from ..efficiency.loop import effects as fx
-    from ..efficiency import loop as lp
-    from ..efficiency.loop import measured as ms
-    from ..errors import ToothfemError
-    from ..output import atomic_dir
-    from ..report import loop as rl
 
     case = load_case(args.case)
     if args.measured:

@@ -1,6 +1,8 @@
 """`toothfem run CASE --out DIR`: the whole pipeline (geometry, contact, efficiency) and a
 Markdown report with its pictures, CSV tables and VTU fields."""
 from __future__ import annotations
+from ..pipeline import contact_labels, run_case
+from ..report import summary as report_summary
 
 
 def add_parser(sub):
@@ -25,8 +27,6 @@ def run(args) -> int:
 
     from tqdm import tqdm
 
-    from ..pipeline import contact_labels, run_case
-    from ..report import summary as report_summary
 
     progress = lambda it: tqdm(it, desc="cycle mode", unit="position")  # noqa: E731
     res = run_case(args.case, args.out, positions=args.positions, field=args.field,

@@ -5,6 +5,9 @@ discs (docs/stiffness.md)."""
 from __future__ import annotations
 
 import json
+from ..case import load_case
+from ..output import atomic_dir
+from ..pipeline import stiffness_analysis, write_stiffness
 
 
 def add_parser(sub):
@@ -31,9 +34,6 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..case import load_case
-    from ..output import atomic_dir
-    from ..pipeline import stiffness_analysis, write_stiffness
 
     case = load_case(args.case)
     result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,

@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import json
+from ..errors import CaseError
+from ..sweep import sweep
 
 
 def add_parser(sub):
@@ -36,13 +38,11 @@ def add_parser(sub):
 
 
 def run(args) -> int:
-    from ..sweep import sweep
 
     vary = {}
     for item in args.vary:
         key, values = parse_vary(item)
         if key in vary:
-            from ..errors import CaseError
 
             raise CaseError(f"--vary {key} is given twice")
         vary[key] = values
@@ -60,7 +60,6 @@ def run(args) -> int:
 
 def parse_vary(item: str):
     """'KEY=V1,V2' -> (KEY, [V1, V2]) with each value an int, float or string."""
-    from ..errors import CaseError
 
     key, sep, values = item.partition("=")
     if not sep or not key.strip():
@@ -69,7 +68,6 @@ def parse_vary(item: str):
 
 
 def parse_values(name: str, text: str) -> list:
-    from ..errors import CaseError
 
     out = []
     for token in text.split(","):

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import pyplot
+from ..geometry import cycloid as cy, sine
 
 
 def _draw_polygon(ax, poly, scale=1e3, **kw):
@@ -24,7 +25,6 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     loaded zone with the contact normals through the pitch point."""
     from shapely import affinity
 
-    from ..geometry import cycloid as cy
 
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
@@ -73,7 +73,6 @@ def sine_drawing(pair, crank_angle_rad=0.0, title="", case_name=""):
     """Planet inside the ring at a crank angle; right: close-up at the pitch point."""
     from shapely import affinity
 
-    from ..geometry import sine
 
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
