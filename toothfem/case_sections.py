@@ -1,0 +1,479 @@
+"""The sections of a case file: one frozen dataclass per TOML table, units in the key names,
+each field's valid range (and its plausibility bound, :mod:`toothfem.case_checks`) in its
+metadata, checked in ``__post_init__``. :mod:`toothfem.case` assembles them into a
+:class:`~toothfem.case.Case`."""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+from .case_checks import (DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM, HOUSING_WALL_MAX,
+                          INPUT_TORQUE_NM, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
+                          POWER_KW, RADIUS_MM, SPEED_RPM, TORQUE_NM, check_type, expected_type)
+from .errors import CaseError, GeometryError, check_range
+from .geometry.cycloid import CycloidGeometry, DiscHolesSI, disc_polygon
+from .geometry.sine import SineGearPair, check_load_carrying
+
+INF = math.inf
+
+
+def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
+       doc: str = "", choices=None, integer=False):
+    """A dataclass field with its valid range in metadata."""
+    md = dict(lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, doc=doc, choices=choices,
+              integer=integer)
+    return field(default=default, metadata=md)
+
+
+def _stress(default: float, doc: str):
+    """A positive stress limit [MPa] with its default and source."""
+    return _f(0.0, None, lo_open=True, default=default, doc=doc)
+
+
+class _Section:
+    """Mixin: validate every field against the range in its metadata."""
+
+    _section = ""
+
+    def __post_init__(self):
+        for f in dataclasses.fields(self):
+            md = f.metadata
+            if not md:
+                continue
+            value = getattr(self, f.name)
+            if value is None:
+                continue
+            key = f"{self._section}.{f.name}" if self._section else f.name
+            expected = expected_type(f)
+            check_type(key, value, expected)
+            if md.get("choices") is not None:
+                if value not in md["choices"]:
+                    raise CaseError(f"{key} = {value!r} is not one of {list(md['choices'])}")
+                continue
+            if expected == "string":
+                continue
+            check_range(key, value, md.get("lo"), md.get("hi"), lo_open=md.get("lo_open"),
+                        hi_open=md.get("hi_open"), error=CaseError, why=md.get("doc", ""))
+        self._check()
+
+    def _check(self):
+        """Cross-field rules of the section (override)."""
+
+
+#: SI parameter of a geometry record -> (case key, factor from SI to the key's unit)
+_CYCLOID_KEYS = {
+    "pin_count": ("pin_count", 1.0),
+    "pin_circle_radius_m": ("pin_circle_radius_mm", 1e3),
+    "eccentricity_m": ("eccentricity_mm", 1e3),
+    "pin_radius_m": ("pin_radius_mm", 1e3),
+    "pin_radius_m + equidistant_m": ("pin_radius_mm + equidistant_modification_mm", 1e3),
+    "equidistant_m": ("equidistant_modification_mm", 1e3),
+    "move_distance_m": ("move_distance_modification_mm", 1e3),
+    "rotation_rad": ("rotation_modification_deg", 180 / math.pi),
+    "equidistant_m - move_distance_m":
+        ("equidistant_modification_mm - move_distance_modification_mm", 1e3),
+}
+_SINE_KEYS = {
+    "planet_teeth": ("planet_teeth", 1.0),
+    "ring_teeth": ("ring_teeth", 1.0),
+    "module_m": ("module_mm", 1e3),
+    "tooth_height_m": ("tooth_height_mm", 1e3),
+    "face_width_m": ("face_width_mm", 1e3),
+}
+
+
+def _restate(exc: GeometryError, section: str, keys) -> CaseError:
+    """A geometry error restated with the case's key and units (one line)."""
+    if exc.param in keys:
+        key, scale = keys[exc.param]
+        return exc.restated(f"{section}.{key}", scale, CaseError)
+    return CaseError(f"{section}: {exc}")
+
+
+#: Hole names in the disc-layout messages -> the [cycloid.disc_holes] keys that place them.
+_HOLE_KEYS = {"centre_bore": ("centre_bore_radius_mm",),
+              "crank": ("crank_hole_circle_radius_mm", "crank_hole_radius_mm"),
+              "pillar": ("pillar_hole_circle_radius_mm", "pillar_hole_radius_mm")}
+
+
+def _with_hole_keys(err: CaseError) -> CaseError:
+    """A disc-layout refusal (which names holes, not keys) with the keys that set those
+    holes appended, so that every refusal names a case key (issue 14)."""
+    msg = str(err)
+    keys = [f"cycloid.disc_holes.{k}" for name, ks in _HOLE_KEYS.items() if name in msg
+            for k in ks]
+    return CaseError(f"{msg} (set by {', '.join(keys)})") if keys else err
+
+
+@dataclass(frozen=True)
+class Material(_Section):
+    """Elastic constants, and the hardness and strengths of life and strength checks
+    (defaults: through-hardened bearing steel, sources in docs/case_schema.md)."""
+    _section = "material"
+    youngs_modulus_GPa: float = _f(1.0, 1000.0)
+    poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
+    density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
+    # limits of the life and strength checks: sources in docs/case_schema.md
+    hardness_HV: float = _f(50.0, 2000.0, default=700.0, doc="700 HV = 60 HRC (ASTM E140)")
+    allowable_contact_stress_MPa: float = _stress(1500.0, "contact fatigue (ISO 281:2007)")
+    static_contact_stress_MPa: float = _stress(4000.0, "static contact (ISO 76:2006)")
+    yield_strength_MPa: float = _stress(1700.0, "0.2 % proof stress (ASSUMPTION, 100Cr6)")
+    fatigue_limit_MPa: float = _stress(700.0, "endurance limit (Shigley Eq. 6-8)")
+
+
+@dataclass(frozen=True)
+class DiscHoles(_Section):
+    """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
+    _section = "cycloid.disc_holes"
+    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    crank_hole_count: int = _f(0, 12, integer=True, default=0)
+    crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    pillar_hole_count: int = _f(0, 12, integer=True, default=0)
+    pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+
+    def _check(self):
+        for kind in ("crank", "pillar"):
+            n = getattr(self, f"{kind}_hole_count")
+            rc = getattr(self, f"{kind}_hole_circle_radius_mm")
+            rh = getattr(self, f"{kind}_hole_radius_mm")
+            if n and (rc <= 0 or rh <= 0):
+                raise CaseError(f"{self._section}.{kind}_hole_radius_mm = {rh!r} and "
+                                f"{kind}_hole_circle_radius_mm = {rc!r} must both be > 0 "
+                                f"when {kind}_hole_count = {n}")
+
+
+@dataclass(frozen=True)
+class CycloidStage(_Section):
+    """Cycloid disc and pin ring (K-H-V stage). Angles of modification in degrees."""
+    _section = "cycloid"
+    pin_count: int = _f(4, 400, integer=True)
+    lobe_count: int = _f(3, 399, integer=True)
+    pin_circle_radius_mm: float = _f(*RADIUS_MM)
+    eccentricity_mm: float = _f(*ECCENTRICITY_MM)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
+    disc_count: int = _f(1, 4, integer=True, default=1)
+    pin_structure: str = _f(choices=("conventional", "integral"), default="conventional")
+    equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0)
+    move_distance_modification_mm: float = _f(-1.0, 1.0, default=0.0)
+    rotation_modification_deg: float = _f(-1.0, 1.0, default=0.0)
+    disc_load_factor: float = _f(1.0, 2.0, default=1.0,
+                                 doc="torque on one disc = factor * output torque / disc_count")
+    housing_outer_radius_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                               doc="outer radius of the pin housing")
+    disc_holes: DiscHoles = field(default_factory=DiscHoles)
+
+    def _check(self):
+        inner = self.pin_circle_radius_mm + self.pin_radius_mm
+        wall = max(HOUSING_WALL_MAX * self.pin_circle_radius_mm, 4 * self.pin_radius_mm)
+        check_range("cycloid.housing_outer_radius_mm", self.housing_outer_radius_mm, inner,
+                    inner + wall, lo_open=True, error=CaseError,
+                    why="the housing must enclose the pins, with a wall up to the pin circle "
+                        "radius (or the default 4 pin radii) thick")
+        if self.lobe_count != self.pin_count - 1:
+            raise CaseError(f"cycloid.lobe_count = {self.lobe_count} must equal "
+                            f"pin_count - 1 = {self.pin_count - 1} (one-tooth-difference drive)")
+        # Looped / cusped / undercut profiles and hole layout: the geometry's own checks,
+        # restated with the case's keys and units.
+        try:
+            geometry = self.geometry()
+            if self.disc_holes != DiscHoles():
+                disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
+        except GeometryError as exc:
+            raise _with_hole_keys(_restate(exc, "cycloid", _CYCLOID_KEYS)) from None
+
+    def __post_init__(self):
+        if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
+            object.__setattr__(self, "housing_outer_radius_mm",
+                               self.pin_circle_radius_mm + 5 * self.pin_radius_mm)
+        super().__post_init__()
+
+    def geometry(self):
+        """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`."""
+        return CycloidGeometry(
+            pin_count=self.pin_count,
+            pin_circle_radius_m=self.pin_circle_radius_mm * 1e-3,
+            eccentricity_m=self.eccentricity_mm * 1e-3,
+            pin_radius_m=self.pin_radius_mm * 1e-3,
+            equidistant_m=self.equidistant_modification_mm * 1e-3,
+            move_distance_m=self.move_distance_modification_mm * 1e-3,
+            rotation_rad=math.radians(self.rotation_modification_deg),
+        )
+
+    def holes_si(self):
+        h = self.disc_holes
+        return DiscHolesSI(
+            centre_bore_radius_m=h.centre_bore_radius_mm * 1e-3,
+            crank_hole_count=h.crank_hole_count,
+            crank_hole_circle_radius_m=h.crank_hole_circle_radius_mm * 1e-3,
+            crank_hole_radius_m=h.crank_hole_radius_mm * 1e-3,
+            pillar_hole_count=h.pillar_hole_count,
+            pillar_hole_circle_radius_m=h.pillar_hole_circle_radius_mm * 1e-3,
+            pillar_hole_radius_m=h.pillar_hole_radius_mm * 1e-3,
+        )
+
+
+@dataclass(frozen=True)
+class SpurStage(_Section):
+    """First (involute spur planetary) stage of an RV-type drive: sun on the input shaft,
+    planets on the crankshafts."""
+    _section = "first_stage"
+    sun_teeth: int = _f(6, 400, integer=True)
+    planet_teeth: int = _f(6, 400, integer=True)
+    planet_count: int = _f(1, 8, integer=True, default=2)
+    module_mm: float = _f(*MODULE_MM, default=1.0)
+    pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
+    face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None, doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
+    mesh_efficiency: float | None = _f(MESH_EFFICIENCY_MIN, 1.0, default=None,
+                                       doc="declared; default: from the friction model")
+
+
+@dataclass(frozen=True)
+class SineStage(_Section):
+    """One-tooth-difference sine-profile pair (planet inside a fixed ring)."""
+    _section = "sine"
+    planet_teeth: int = _f(10, 1000, integer=True)
+    ring_teeth: int = _f(11, 1001, integer=True)
+    module_mm: float = _f(*MODULE_MM)
+    tooth_height_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
+    centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+
+    def _check(self):
+        if self.ring_teeth <= self.planet_teeth:
+            raise CaseError(f"sine.ring_teeth = {self.ring_teeth} must exceed "
+                            f"planet_teeth = {self.planet_teeth} (internal mesh)")
+        a0 = self.module_mm * (self.ring_teeth - self.planet_teeth) / 2
+        if self.centre_distance_mm is not None and not math.isclose(
+                self.centre_distance_mm, a0, rel_tol=1e-6):
+            raise CaseError(f"sine.centre_distance_mm = {self.centre_distance_mm!r} is not "
+                            f"module*(ring_teeth-planet_teeth)/2 = {a0:g}: the pitch "
+                            "circles must roll")
+        try:
+            check_load_carrying(self.geometry())   # issue 14: low teeth carry no torque
+        except GeometryError as exc:
+            raise _restate(exc, "sine", _SINE_KEYS) from None
+
+    def geometry(self):
+        return SineGearPair(planet_teeth=self.planet_teeth, ring_teeth=self.ring_teeth,
+                            module_m=self.module_mm * 1e-3,
+                            tooth_height_m=self.tooth_height_mm * 1e-3,
+                            face_width_m=self.face_width_mm * 1e-3)
+
+
+@dataclass(frozen=True)
+class RVTrain(_Section):
+    """Tooth numbers of a 2K-V (RV) train as in the RV paper's notation."""
+    _section = "rv"
+    sun_teeth: int = _f(6, 400, integer=True)          # z1
+    planet_teeth: int = _f(6, 400, integer=True)       # z2
+    disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
+    pin_count: int = _f(4, 400, integer=True)          # z5
+    disc_count: int = _f(1, 4, integer=True, default=2)
+    mesh_efficiency: float = _f(MESH_EFFICIENCY_MIN, 1.0, default=0.94,
+                                doc="efficiency assumed for every gear pair (RV paper)")
+
+    def _check(self):
+        if self.pin_count <= self.disc_teeth:
+            raise CaseError(f"rv.pin_count = {self.pin_count} must exceed "
+                            f"disc_teeth = {self.disc_teeth}")
+
+
+@dataclass(frozen=True)
+class Operating(_Section):
+    _section = "operating"
+    input_speed_rpm: float = _f(*SPEED_RPM, default=1000.0)
+    output_torque_Nm: float | None = _f(*TORQUE_NM, default=None)
+    input_torque_Nm: float | None = _f(*INPUT_TORQUE_NM, default=None)
+    input_power_kW: float | None = _f(*POWER_KW, default=None)
+    rated_torque_Nm: float | None = _f(
+        *TORQUE_NM, default=None,
+        doc="rated output torque of the reducer (catalogue, datasheet): check warns above "
+            "it; the stiffness curve spans +-it")
+
+
+@dataclass(frozen=True)
+class Lubricant(_Section):
+    _section = "lubricant"
+    dynamic_viscosity_Pa_s: float = _f(1e-4, 10.0, default=0.02)
+    kinematic_viscosity_mm2_s: float = _f(0.1, 10000.0, default=100.0)
+    density_kg_m3: float = _f(500.0, 1500.0, default=870.0)
+    pressure_viscosity_1_per_GPa: float = _f(1.0, 50.0, default=20.0)
+    reference_temperature_C: float = _f(-40.0, 200.0, default=40.0)
+    roughness_Ra_um: float = _f(0.0, 10.0, default=0.4)
+    vogel_B_C: float = _f(100.0, 5000.0, default=1000.0,
+                          doc="Vogel B: eta = A exp(B/(T + C)), T in deg C")
+    vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]")
+    churning: str = _f(choices=("none", "lu_xu_2024"), default="lu_xu_2024",
+                       doc="churning (oil agitation and splash) law of an oil bath; "
+                           "lu_xu_2024: the sine paper's Eq. 42")
+    churning_scale: float = _f(0.0, 100.0, default=1.0,
+                               doc="factor on the churning law")
+    lubrication: str = _f(choices=("oil_bath", "oil_mist", "oil_jet", "grease"),
+                          default="oil_bath",
+                          doc="how the reducer is lubricated: the churning law acts in an oil "
+                              "bath; the bearings' viscous drag takes Palmgren's f0 of it")
+    pour_point_C: float = _f(-80.0, 50.0, default=-15.0,
+                             doc="lowest temperature of the viscosity law; ASSUMPTION -15 C, "
+                                 "mineral gear oils (docs/case_schema.md)")
+    max_temperature_C: float = _f(0.0, 300.0, default=150.0,
+                                  doc="highest temperature of the viscosity law; 150 C, "
+                                      "mineral oil oxidation limit (docs/case_schema.md)")
+
+    def _check(self):
+        t_ref = self.reference_temperature_C
+        if not self.pour_point_C < t_ref < self.max_temperature_C:
+            raise CaseError(f"lubricant.reference_temperature_C = {t_ref!r} is outside the "
+                            f"valid range ({self.pour_point_C:g}, {self.max_temperature_C:g})"
+                            ": between pour_point_C and max_temperature_C")
+
+
+@dataclass(frozen=True)
+class Friction(_Section):
+    _section = "friction"
+    coefficient: float = _f(0.0, 1.0, default=0.05)
+    bearing_coefficient: float = _f(0.0, 0.1, default=0.0015)
+    output_pin_coefficient: float = _f(0.0, 1.0, default=0.05)
+    pin_groove_coefficient: float = _f(0.0, 1.0, default=0.0,
+                                       doc="conventional pins sliding in their housing "
+                                           "grooves (0: pins roll freely)")
+    mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
+                       default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
+    boundary_coefficient: float = _f(0.0, 1.0, default=0.1,
+                                     doc="asperity (boundary) friction of lubricated steel "
+                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950; "
+                                         "0: the EHL law alone")
+    drag_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
+                                doc="load-independent drag on the input shaft (seals, preload)")
+
+
+@dataclass(frozen=True)
+class OutputMechanism(_Section):
+    """Pins in holes (W mechanism) and the eccentric bearing of a K-H-V stage."""
+    _section = "output_mechanism"
+    pin_count: int = _f(2, 24, integer=True, default=8)
+    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0)
+    eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0)
+    plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0)
+
+
+BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
+
+
+@dataclass(frozen=True)
+class Seals(_Section):
+    """Radial lip seals on the input and the output shaft (ISO/TR 14179-1 seal loss).
+    None: the drive's own diameter (efficiency/envelope.py, ASSUMPTION); 0: no seal."""
+    _section = "seals"
+    input_diameter_mm: float | None = _f(0.0, None, default=None,
+                                         doc="shaft diameter under the input seal")
+    output_diameter_mm: float | None = _f(0.0, None, default=None,
+                                          doc="shaft diameter under the output seal")
+
+
+@dataclass(frozen=True)
+class Bearings(_Section):
+    """The bearings on the eccentrics (crank bearings in the discs' holes of a 2K-V drive,
+    the eccentric bearing of a K-H-V drive) and the main (output) bearing pair, with the
+    external loads on the output. None: the drive's own value (efficiency/envelope.py)."""
+    _section = "bearings"
+    eccentric_type: str | None = _f(choices=BEARING_TYPES, default=None,
+                                    doc="rolling-element type of the eccentric bearings")
+    eccentric_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    eccentric_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one eccentric bearing (ISO 281)")
+    main_type: str = _f(choices=BEARING_TYPES, default="angular_ball",
+                        doc="main bearing pair: angular contact ball bearings (RV-E)")
+    main_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    main_dynamic_rating_kN: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="basic dynamic load rating C of one main bearing row (ISO 281)")
+    main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                    doc="distance between the load centres of the two rows")
+    external_radial_load_N: float = _f(0.0, None, default=0.0)
+    external_axial_load_N: float = _f(0.0, None, default=0.0)
+    external_moment_Nm: float = _f(0.0, None, default=0.0)
+
+
+@dataclass(frozen=True)
+class Thermal(_Section):
+    """Heat balance of the housing: losses = h A (T_oil - T_ambient). None: a cited
+    estimate (efficiency/thermal.py, docs/case_schema.md)."""
+    _section = "thermal"
+    ambient_C: float = _f(-40.0, 100.0, default=20.0,
+                          doc="ambient air; ASSUMPTION 20 C (a laboratory)")
+    housing_area_m2: float | None = _f(0.0, None, lo_open=True, default=None,
+                                       doc="surface that sheds heat; default a cylinder of "
+                                           "the housing radius as long as its diameter")
+    heat_transfer_W_m2K: float | None = _f(0.0, 1000.0, lo_open=True, default=None,
+                                           doc="default: natural convection (Holman) plus "
+                                               "radiation at the emissivity")
+    emissivity: float = _f(0.0, 1.0, default=0.9,
+                           doc="painted housing; 0.9 (Incropera, paints)")
+    heat_capacity_J_K: float | None = _f(0.0, None, lo_open=True, default=None,
+                                         doc="lumped heat capacity; default half the "
+                                             "housing envelope in steel")
+    sensor_resistance_K_W: float = _f(0.0, 20.0, default=0.0,
+                                      doc="oil at the contacts above a sump sensor per W "
+                                          "of loss (the loop's thermal effect; 0: none)")
+
+
+@dataclass(frozen=True)
+class DutyPoint(_Section):
+    """One row of a duty cycle: output torque, input speed and the share of time."""
+    _section = "duty_cycle"
+    output_torque_Nm: float = _f(0.0, None, lo_open=True, doc="load torque of the row")
+    input_speed_rpm: float = _f(0.0, None, lo_open=True, doc="input speed of the row")
+    time_share: float = _f(0.0, 1.0, lo_open=True,
+                           doc="share of the operating time; the rows' shares add up to 1")
+
+
+#: Tolerance on the sum of a duty cycle's time shares (shares quoted to three digits).
+DUTY_SHARE_TOL = 1e-3
+
+
+def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
+    """Refuse an ambient at which the oil is outside its range (below its pour point, at or
+    above its upper limit): one line with the valid range."""
+    lo, hi = lubricant.pour_point_C, lubricant.max_temperature_C
+    if not lo <= thermal.ambient_C < hi:
+        raise CaseError(f"thermal.ambient_C = {thermal.ambient_C!r} is outside the valid "
+                        f"range [{lo:g}, {hi:g}): the lubricant's pour_point_C to "
+                        "max_temperature_C")
+
+
+def check_duty_cycle(rows) -> None:
+    """Refuse a duty cycle whose time shares do not sum to 1 (one line, the valid range)."""
+    if rows:
+        total = float(sum(r.time_share for r in rows))
+        check_range("duty_cycle time_share sum", total, 1 - DUTY_SHARE_TOL,
+                    1 + DUTY_SHARE_TOL, error=CaseError,
+                    why="the shares of time must add up to 1")
+
+
+@dataclass(frozen=True)
+class Supports(_Section):
+    """The elastic supports in series with the mesh (``toothfem stiffness``): the rollers of
+    the crank bearings (RV: in the disc's crank holes) or of the eccentric bearing (K-H-V),
+    the crankshafts (span between their carrier bearings) and the output carrier."""
+    _section = "supports"
+    bearing_roller_count: int | None = _f(3, 200, integer=True, default=None)
+    bearing_roller_length_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    bearing_roller_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    crankshaft_span_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    carrier_stiffness_Nm_per_arcmin: float | None = _f(0.0, None, lo_open=True, default=None)
+
+
+@dataclass(frozen=True)
+class MeasuredPoint(_Section):
+    _section = "measured"
+    input_speed_rpm: float = _f(*SPEED_RPM)
+    output_torque_Nm: float = _f(*TORQUE_NM)
+    efficiency: float = _f(0.0, 1.0, lo_open=True)
+    source: str = _f(default="")
