@@ -100,13 +100,12 @@ class Case:
         if self.cycloid is not None and self.material is None:
             raise CaseError("[material] section is required with a [cycloid] section (the "
                             "contact model of the disc)")
-        two_stage = self.cycloid is not None and (self.first_stage is not None
-                                                  or self.drive == "rv")
-        if self.drive == "rv" and self.cycloid is not None and self.first_stage is None:
+        rv = self.rv is not None            # an [rv] train: the RV paper's 2K-V drive
+        two_stage = self.cycloid is not None and (self.first_stage is not None or rv)
+        if rv and self.cycloid is not None and self.first_stage is None:
             raise CaseError("[first_stage] section is required with a [cycloid] section for "
                             "drive = 'rv' (the sun-planet mesh)")
-        if self.drive in ("cycloid", "sine") and not two_stage \
-                and self.output_mechanism is None:
+        if not rv and not two_stage and self.output_mechanism is None:
             raise CaseError(f"drive = {self.drive!r} without a [first_stage] needs "
                             "[output_mechanism] (pins in holes: the output path of a K-H-V "
                             "stage)")
