@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 from ..case import load_case
 from ..output import atomic_dir
-from ..pipeline import stiffness_analysis, write_stiffness
+from ..datasheet import stiffness_analysis, write_stiffness
 
 
 def add_parser(sub):

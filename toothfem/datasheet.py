@@ -1,0 +1,146 @@
+"""The datasheet of a case from the contact model, as Python calls: ``stiffness_analysis``
+(hysteresis, rigidity, lost motion, backlash, compliances in series, loaded TE, the split
+between the members) and ``write_stiffness`` (CSV, PNG, JSON), what ``toothfem stiffness``
+and the run report call (fem/datasheet/ holds the mechanics; docs/stiffness.md)."""
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .case import Case
+from .errors import CaseError, check_range
+from .fem.datasheet.sheet import datasheet, plural
+from .fem.datasheet.transmission import loaded_te
+from .fem.datasheet.twist import TwistModel
+from .fem.drives import MAX_POSITIONS, drive_for
+from .report import stiffness as report_stiffness
+
+#: Full-period sampling of the loaded TE by default: cycle solvers over the period and
+#: positions per pitch of each (fem/datasheet/transmission.py; one factorisation each).
+TE_SAMPLES, TE_PER_PITCH = 6, 12
+
+
+@dataclass(frozen=True, kw_only=True)
+class StiffnessResult:
+    """The datasheet of a case (hysteresis loop and catalogue figures), its loaded TE over
+    the full period and the split between the members (None for one member)."""
+    case_name: str
+    sheet: object                   # toothfem.fem.datasheet.sheet.Datasheet
+    te: object                      # toothfem.fem.datasheet.transmission.LoadedTE
+    split: object                   # MemberSplit or None
+    summary: dict
+
+
+def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps: int = 8,
+                       positions: int = 36, te_torque_Nm: float | None = None,
+                       te_samples: int = TE_SAMPLES, te_positions: int = TE_PER_PITCH
+                       ) -> StiffnessResult:
+    """Torsional stiffness, hysteresis, lost motion, loaded TE and member split of a case
+    (docs/stiffness.md).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    torque_max_Nm : float, optional
+        Largest torque of the loop [N m]; default the rated torque (``[operating]
+        rated_torque_Nm``, else the operating torque, marked assumed).
+    steps : int
+        Torque steps from 0 to the largest torque (the loop has 5 steps + 1 points).
+    positions : int
+        Meshing positions over one period of the loop's cycle solver.
+    te_torque_Nm : float, optional
+        Output torque of the loaded TE and the split; default the rated torque.
+    te_samples, te_positions : int
+        Cycle solvers over the full period, and positions per pitch of each.
+
+    Returns
+    -------
+    StiffnessResult
+    """
+    check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
+    drive = drive_for(case)
+    si = case.to_si()
+    rated, assumed = si.rated_output_torque_Nm()
+    if rated is None:
+        raise CaseError("operating.rated_torque_Nm is required (the case declares no "
+                        "operating torque either)")
+    if torque_max_Nm is not None:
+        check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
+    supports = drive.supports(si.supports)
+    solver = drive.cycle_solver(positions, solver_options=drive.both_sides_options)
+    sheet = datasheet(TwistModel(drive, supports, solver), rated, rated_assumed=assumed,
+                      torque_max_Nm=torque_max_Nm, steps=steps)
+    te, split = loaded_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
+                          per_pitch=te_positions)
+    summary = {"case": case.name, "drive": drive.kind, **sheet.summary(), **te.summary(),
+               **({} if split is None else split.summary())}
+    if split is not None:
+        summary["member_load_factor_case"] = drive.load_factor
+    return StiffnessResult(case_name=case.name, sheet=sheet, te=te, split=split,
+                           summary=summary)
+
+
+HYSTERESIS_COLUMNS = ("torque_Nm", "twist_arcmin", "twist_min_arcmin", "twist_max_arcmin")
+
+
+def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
+    """hysteresis.csv/png, te.csv/png, split.csv (several members) and summary.json into
+    ``folder`` (an existing folder); returns the summary with its file list."""
+    import csv
+
+
+    folder = Path(folder)
+    sheet, te = result.sheet, result.te
+    contacts = f"{plural(sheet.contact_name)}_in_contact"
+    with open(folder / "hysteresis.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(HYSTERESIS_COLUMNS + (contacts,))
+        for row in sheet.loop.rows():
+            w.writerow([f"{v:.9g}" for v in row])
+    arcsec = np.degrees(1.0) * 3600
+    with open(folder / "te.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["crank_angle_deg", "output_angle_deg", "te_arcsec", "mesh_arcsec"])
+        for row in zip(np.degrees(te.crank_angle_rad), np.degrees(te.output_angle_rad),
+                       te.te_rad * arcsec, te.mesh_rad * arcsec):
+            w.writerow([f"{v:.9g}" for v in row])
+    files = ["hysteresis.csv", "hysteresis.png", "te.csv", "te.png", "summary.json"]
+    if result.split is not None:
+        with open(folder / "split.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            share = result.split.share
+            w.writerow(["crank_angle_deg"] + [f"share_{sheet.member_name}_{j}"
+                                              for j in range(share.shape[0])])
+            for g, phi in enumerate(np.degrees(result.split.crank_angle_rad)):
+                w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in share[:, g]])
+        files.append("split.csv")
+    title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
+             + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
+             + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
+    report_stiffness.hysteresis(sheet, title=title).savefig(folder / "hysteresis.png", dpi=120)
+    report_stiffness.transmission_error(te).savefig(folder / "te.png", dpi=120)
+    summary = {**result.summary, "files": files}
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    return summary
+
+
+def datasheet_rows(summary: dict) -> list:
+    """(quantity, value) rows of the datasheet table of a report."""
+    rows = [("rated torque [N m]", f"{summary['rated_torque_Nm']:.4g}"
+             + (" (operating torque, assumed)" if summary["rated_torque_assumed"] else "")),
+            ("torsional rigidity 50-100 % [N m/arcmin]",
+             f"{summary['torsional_rigidity_Nm_per_arcmin']:.4g}"),
+            ("lost motion ±3 % [arcmin]", f"{summary['lost_motion_arcmin']:.4g}"),
+            ("backlash [arcmin]", f"{summary['backlash_arcmin']:.4g}"),
+            ("loaded TE peak-to-peak [arcsec]", f"{summary['te_peak_to_peak_arcsec']:.4g}")]
+    if "member_share_max" in summary:
+        rows.append(("largest member share of the torque (FE; case's factor)",
+                     f"{summary['member_share_max']:.4f} "
+                     f"(load factor {summary['member_load_factor_fe']:.4f}; case "
+                     f"{summary['member_load_factor_case']:.3g})"))
+    for name, share in summary["compliance_shares"].items():
+        rows.append((f"compliance share: {name}", f"{100 * share:.1f} %"))
+    return rows
