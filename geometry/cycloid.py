@@ -268,81 +268,6 @@ def profile_points(geom: CycloidGeometry, points_per_lobe: int = 96, flank=0) ->
 # ---------------------------------------------------------------------------------------
 # Disc polygon
 
-@dataclass(frozen=True)
-class DiscHolesSI:
-    """Disc holes in metres (see the case model's DiscHoles for the meaning)."""
-    centre_bore_radius_m: float = 0.0
-    crank_hole_count: int = 0
-    crank_hole_circle_radius_m: float = 0.0
-    crank_hole_radius_m: float = 0.0
-    pillar_hole_count: int = 0
-    pillar_hole_circle_radius_m: float = 0.0
-    pillar_hole_radius_m: float = 0.0
-
-    def circles(self):
-        """[(x, y, r, label)] of every hole; crank holes start on +x, pillars halfway."""
-        out = []
-        if self.centre_bore_radius_m > 0:
-            out.append((0.0, 0.0, self.centre_bore_radius_m, "centre_bore"))
-        for kind, offset in (("crank", 0.0), ("pillar", 0.5)):
-            n = getattr(self, f"{kind}_hole_count")
-            rc = getattr(self, f"{kind}_hole_circle_radius_m")
-            rh = getattr(self, f"{kind}_hole_radius_m")
-            for k in range(n):
-                a = 2 * math.pi * (k + offset) / n
-                out.append((rc * math.cos(a), rc * math.sin(a), rh, f"{kind}_{k}"))
-        return out
-
-
-#: Smallest ligament between a hole and the root circle or another hole, relative to Rz.
-MIN_LIGAMENT_REL = 0.005
-
-
-def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
-                 points_per_lobe: int = 96, hole_points: int = 96):
-    """The disc as a shapely Polygon (disc frame) with its holes.
-
-    With a rotation modification the disc is the intersection of the profile turned by
-    +Delta delta and by -Delta delta (each flank turned toward its tooth centre).
-    Raises GeometryError if a hole leaves the disc, holes overlap, or the polygon is invalid.
-    """
-    import shapely
-    from shapely.geometry import Point, Polygon
-
-    if geom.rotation_rad:
-        outer = Polygon(profile_points(geom, points_per_lobe, +1).T).intersection(
-            Polygon(profile_points(geom, points_per_lobe, -1).T))
-    else:
-        outer = Polygon(profile_points(geom, points_per_lobe).T)
-    if not outer.is_valid or outer.geom_type != "Polygon":
-        raise GeometryError(f"disc outline is not a simple polygon: "
-                            f"{shapely.is_valid_reason(outer)}")
-    holes = holes or DiscHolesSI()
-    lig = MIN_LIGAMENT_REL * geom.pin_circle_radius_m
-    circles = holes.circles()
-    shapes = []
-    for x, y, r, label in circles:
-        reach = math.hypot(x, y) + r
-        if reach > geom.root_radius_m - lig:
-            raise GeometryError(
-                f"{label} hole reaches radius {reach * 1e3:.6g} mm, outside the valid range "
-                f"(0, {(geom.root_radius_m - lig) * 1e3:.6g}) mm (root radius "
-                f"{geom.root_radius_m * 1e3:.6g} mm less a ligament of {lig * 1e3:.3g} mm)")
-        shapes.append((Point(x, y).buffer(r, quad_segs=max(hole_points // 4, 4)), label))
-    for i in range(len(shapes)):
-        for j in range(i + 1, len(shapes)):
-            if shapes[i][0].distance(shapes[j][0]) < lig:
-                raise GeometryError(f"holes {shapes[i][1]} and {shapes[j][1]} are closer than "
-                                    f"the minimum ligament {lig * 1e3:.3g} mm")
-    poly = Polygon(outer.exterior.coords, [list(s.exterior.coords)[::-1] for s, _ in shapes])
-    if not poly.is_valid:
-        raise GeometryError(f"disc polygon is invalid: {shapely.is_valid_reason(poly)}")
-    return shapely.geometry.polygon.orient(poly, 1.0)
-
-
-# ---------------------------------------------------------------------------------------
-# Kinematics
-
 def pin_centres(geom: CycloidGeometry) -> np.ndarray:
     """(2, Zb) pin centres in the housing frame; pin 0 on +x."""
     theta = 2 * math.pi * np.arange(geom.pin_count) / geom.pin_count
@@ -607,4 +532,3 @@ def closing_rotation(geom: CycloidGeometry) -> float:
     res = minimize_scalar(lambda t: float(ratio(t)), bounds=(lo, hi), method="bounded",
                           options={"xatol": 1e-12})
     return float(min(res.fun, ratio(theta[k]))) + geom.rotation_rad
-

@@ -14,6 +14,7 @@ from shapely import affinity
 
 from toothfem.errors import GeometryError
 from toothfem.geometry import cycloid as cy
+from toothfem.geometry.disc import DiscHolesSI, disc_polygon
 
 PIN_HOUSING = cy.CycloidGeometry(40, 0.100, 0.001, 0.002)
 # a second, more strongly shortened drive (K1 = 0.72) so no result hinges on one K1
@@ -39,7 +40,7 @@ def test_unmodified_profile_tangent_to_every_pin(g):
 
 @pytest.mark.parametrize("g", GEOMS, ids=["pin-housing", "K1=0.72"])
 def test_polygon_valid_with_lobe_symmetry(g):
-    poly = cy.disc_polygon(g, points_per_lobe=64)
+    poly = disc_polygon(g, points_per_lobe=64)
     assert poly.is_valid and poly.geom_type == "Polygon"
     turned = affinity.rotate(poly, 2 * math.pi / g.lobe_count, origin=(0, 0), use_radians=True)
     # samples are equally spaced in psi and psi -> psi + 2pi/Za maps the curve onto itself
@@ -51,15 +52,15 @@ def test_polygon_valid_with_lobe_symmetry(g):
 
 
 def test_disc_with_holes_is_valid_and_holes_are_checked():
-    holes = cy.DiscHolesSI(0.010, 2, 0.027, 0.011, 2, 0.027, 0.009)
-    poly = cy.disc_polygon(PIN_HOUSING, holes)
+    holes = DiscHolesSI(0.010, 2, 0.027, 0.011, 2, 0.027, 0.009)
+    poly = disc_polygon(PIN_HOUSING, holes)
     assert poly.is_valid and len(poly.interiors) == 5
     hole_area = math.pi * (0.010**2 + 2 * 0.011**2 + 2 * 0.009**2)
-    assert math.isclose(cy.disc_polygon(PIN_HOUSING).area - poly.area, hole_area, rel_tol=1e-3)
+    assert math.isclose(disc_polygon(PIN_HOUSING).area - poly.area, hole_area, rel_tol=1e-3)
     with pytest.raises(GeometryError, match=r"crank_0 hole reaches radius 100 mm, outside the valid range \(0, 96.5\) mm"):
-        cy.disc_polygon(PIN_HOUSING, cy.DiscHolesSI(0, 2, 0.090, 0.010))
+        disc_polygon(PIN_HOUSING, DiscHolesSI(0, 2, 0.090, 0.010))
     with pytest.raises(GeometryError, match="closer than the minimum ligament"):
-        cy.disc_polygon(PIN_HOUSING, cy.DiscHolesSI(0.020, 2, 0.027, 0.008))
+        disc_polygon(PIN_HOUSING, DiscHolesSI(0.020, 2, 0.027, 0.008))
 
 
 MODS = [

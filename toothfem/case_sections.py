@@ -12,7 +12,8 @@ from .case_checks import (DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM, HOUSING_WALL
                           INPUT_TORQUE_NM, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
                           POWER_KW, RADIUS_MM, SPEED_RPM, TORQUE_NM, check_type, expected_type)
 from .errors import CaseError, GeometryError, check_range
-from .geometry.cycloid import CycloidGeometry, DiscHolesSI, disc_polygon
+from .geometry.cycloid import CycloidGeometry
+from .geometry.disc import DiscHolesSI, disc_polygon
 from .geometry.sine import SineGearPair, check_load_carrying
 
 INF = math.inf

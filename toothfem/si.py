@@ -7,7 +7,7 @@ they are: temperatures stay in deg C (Vogel's law is stated in deg C), and the c
 law of the sine paper (Eq. 42) takes its own units inside its function.
 
 The geometry records (:class:`~toothfem.geometry.cycloid.CycloidGeometry`,
-:class:`~toothfem.geometry.cycloid.DiscHolesSI`,
+:class:`~toothfem.geometry.disc.DiscHolesSI`,
 :class:`~toothfem.geometry.sine.SineGearPair`) are SI already and are used as they are.
 """
 from __future__ import annotations
@@ -37,7 +37,7 @@ class MaterialSI:
 class CycloidStageSI:
     """A cycloid disc on its pin ring (K-H-V stage of a cycloid or RV drive)."""
     geometry: Any                   # toothfem.geometry.cycloid.CycloidGeometry
-    holes: Any                      # toothfem.geometry.cycloid.DiscHolesSI
+    holes: Any                      # toothfem.geometry.disc.DiscHolesSI
     face_width_m: float
     disc_count: int
     pin_structure: str              # "conventional" | "integral"

@@ -14,6 +14,7 @@ from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body, SameMaterial, plane_modulus
 from ..mesh import Refinement, mesh_rings
+from ...geometry.disc import DiscHolesSI
 
 
 #: Candidate pins: moment arm below this fraction of r_a on the load-carrying side (a pin
@@ -33,7 +34,7 @@ PIN_STRUCTURES = ("conventional", "integral", "rigid")
 class CycloidFEModel(SameMaterial):
     """A disc, its pins and material; torques in N m over the face width."""
     geometry: cy.CycloidGeometry
-    holes: cy.DiscHolesSI
+    holes: DiscHolesSI
     youngs_modulus: float
     poisson_ratio: float
     face_width: float

@@ -13,6 +13,7 @@ from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
 from ..datasheet import supports as sp
 from .base import Drive
+from ...geometry.disc import disc_polygon
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -111,7 +112,7 @@ class CycloidDrive(Drive):
 
     def profiles(self, points_per_tooth: int):
         """The disc's working outline with its holes' polygon checks (``profile``)."""
-        disc = cy.disc_polygon(self.geometry, self.stage.holes,
+        disc = disc_polygon(self.geometry, self.stage.holes,
                                points_per_lobe=points_per_tooth)
         return ({"profile": np.asarray(disc.exterior.coords).T[:, :-1]},
                 {"disc_area_mm2": float(disc.area * 1e6),

@@ -9,6 +9,7 @@ import numpy as np
 
 from . import pyplot
 from ..geometry import cycloid as cy, sine
+from ..geometry.disc import disc_polygon
 
 
 def _draw_polygon(ax, poly, scale=1e3, **kw):
@@ -28,7 +29,7 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
 
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
-    disc = cy.disc_polygon(geom, holes)
+    disc = disc_polygon(geom, holes)
     centre, rot = cy.disc_pose(geom, crank_angle_rad)
     placed = affinity.translate(affinity.rotate(disc, float(rot[0]), origin=(0, 0),
                                                 use_radians=True), *centre[:, 0])
