@@ -63,9 +63,9 @@ class Drive(abc.ABC):
         """Face width of the contacts [m]."""
 
     @property
-    @abc.abstractmethod
     def material(self):
-        """:class:`toothfem.si.MaterialSI` of both members."""
+        """:class:`toothfem.si.MaterialSI` of both members (each drive's ``material_si``)."""
+        return self.material_si
 
     @abc.abstractmethod
     def speeds(self) -> dict:

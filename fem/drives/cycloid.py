@@ -69,10 +69,6 @@ class CycloidDrive(Drive):
         return self.stage.face_width_m
 
     @property
-    def material(self):
-        return self.material_si
-
-    @property
     def analytic_in_mesh_gap_m(self) -> float:
         """The seed's rigid split ignores modifications: every load-carrying pin shares."""
         return math.inf

@@ -67,10 +67,6 @@ class SineDrive(Drive):
         return self.pair.face_width_m
 
     @property
-    def material(self):
-        return self.material_si
-
-    @property
     def analytic_in_mesh_gap_m(self) -> float:
         return SINE_IN_MESH_GAP_M
 
