@@ -47,17 +47,21 @@ class DriveLosses:
 @dataclass(frozen=True, kw_only=True)
 class OperatingPoints:
     """M operating points: input speed [rad/s], output torque [N m], oil temperature
-    [deg C] or None (the reference), viscosity factor eta(T)/eta_ref, the FE table's
-    reference output torque [N m] or None."""
+    [deg C] or None (the reference), viscosity factor eta(T)/eta_ref, the load source and
+    positions of the meshing table, or the ``table`` itself (a built reducer's contacts,
+    :func:`toothfem.efficiency.mesh_table.table_from_records`)."""
     input_speed_rad_s: np.ndarray
     output_torque_Nm: np.ndarray
     viscosity_factor: np.ndarray
     loads: str
     n_positions: int
+    table: object = None
 
 
 def _table(si, drive, points, member_torque, notes):
-    """The meshing table of the drive for these points' load source."""
+    """The meshing table of the drive for these points' load source (or theirs)."""
+    if points.table is not None:
+        return points.table
     ref = None
     if points.loads == "fem":
         declared = si.declared_output_torque_Nm()

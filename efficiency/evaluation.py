@@ -75,7 +75,7 @@ def _points(speed_rpm, torque_Nm, oil_temp_C):
 
 
 def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
-             method="power_flow", positions=36) -> Efficiency:
+             method="power_flow", positions=36, table=None) -> Efficiency:
     """Losses of every component of ``case`` at the operating points.
 
     Parameters
@@ -92,6 +92,9 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
         with the declared mesh efficiency (RV cases only).
     positions : int
         Meshing positions over one period.
+    table : toothfem.efficiency.mesh_table.MeshTable, optional
+        The loaded contacts to use instead of those of ``loads`` (a built reducer's,
+        :func:`~toothfem.efficiency.mesh_table.table_from_records`).
 
     Returns
     -------
@@ -120,7 +123,7 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     points = OperatingPoints(
         input_speed_rad_s=n * 2 * math.pi / 60, output_torque_Nm=t,
         viscosity_factor=viscosity_factor(si.lubricant, temp) * np.ones_like(n),
-        loads=loads, n_positions=int(positions))
+        loads=loads, n_positions=int(positions), table=table)
     res = LOSS_MODELS[drive.kind](si, drive, points)
     return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
                       loads=loads, method=method, notes=res.notes,

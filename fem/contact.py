@@ -51,19 +51,27 @@ MAX_ITERATIONS = 200
 FIRST_TOUCH_RTOL, FIRST_TOUCH_ATOL = 1e-9, 1e-15
 
 
-def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS) -> ContactSolution:
+def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS,
+                  active=None) -> ContactSolution:
     """Solve g = g0 + H l + r c >= 0, l >= 0, l.g = 0, c.l = -q for (l, r).
 
     ``h`` (n, n) SPD, ``g0`` (n,), ``c`` (n,), ``q`` scalar. Raises ContactError when no
     candidate can balance ``q`` (all c_i of the wrong sign) or the active set cycles.
+    ``active`` (n,) bool: the set to start from (a nearby problem's solution), else the
+    candidates that touch first under the rigid motion.
 
     The dense systems run on one BLAS thread (:func:`fem.linsolve.one_blas_thread`).
     """
     with one_blas_thread():
+        if active is not None:
+            try:
+                return _active_set(h, g0, c, q, max_iter, active)
+            except ContactError:        # a start that cycles: from the first touch
+                pass
         return _active_set(h, g0, c, q, max_iter)
 
 
-def _active_set(h, g0, c, q, max_iter) -> ContactSolution:
+def _active_set(h, g0, c, q, max_iter, start=None) -> ContactSolution:
     h = np.asarray(h, float)
     g0 = np.asarray(g0, float)
     c = np.asarray(c, float)
@@ -74,10 +82,12 @@ def _active_set(h, g0, c, q, max_iter) -> ContactSolution:
     if not np.any(able):
         raise ContactError("no contact candidate can carry the load: every moment arm "
                            "(or direction) has the wrong sign")
-    # start from the candidates that touch first under the rigid motion
-    r_first = np.min(-g0[able] / c[able]) if q < 0 else np.max(-g0[able] / c[able])
-    active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * FIRST_TOUCH_RTOL
-                     + FIRST_TOUCH_ATOL)
+    if start is not None and np.any(np.asarray(start) & able):
+        active = np.asarray(start, bool).copy()
+    else:       # the candidates that touch first under the rigid motion
+        r_first = np.min(-g0[able] / c[able]) if q < 0 else np.max(-g0[able] / c[able])
+        active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * FIRST_TOUCH_RTOL
+                         + FIRST_TOUCH_ATOL)
     for it in range(1, max_iter + 1):
         idx = np.flatnonzero(active)
         k = idx.size

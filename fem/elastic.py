@@ -7,6 +7,8 @@ Plane strain by default, plane stress as an option.
 """
 from __future__ import annotations
 
+import functools
+
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -94,9 +96,10 @@ class SameMaterial:
     """Moduli of two bodies of one isotropic material (mixin for the FE models: needs
     ``youngs_modulus``, ``poisson_ratio`` and ``plane``)."""
 
-    @property
+    @functools.cached_property
     def e_star(self) -> float:
-        """Hertz's reduced modulus E* of the pair (Johnson 1985)."""
+        """Hertz's reduced modulus E* of the pair (Johnson 1985); kept (read per contact
+        solve)."""
         return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
                                      self.youngs_modulus, self.poisson_ratio))
 

@@ -49,6 +49,12 @@ def hertz_line(w_per_length, r_eq, e_reduced):
     w = _array("w_per_length", w_per_length, 0.0, lo_open=True, why="load per length [N/m]")
     r = _array("r_eq", r_eq, 0.0, lo_open=True, why="equivalent radius [m]")
     e = _array("e_reduced", e_reduced, 0.0, lo_open=True, why="contact modulus E* [Pa]")
-    b = np.sqrt(4.0 * w * r / (math.pi * e))
+    b = line_half_width(w, r, e)
     p0 = 2.0 * w / (math.pi * b)
     return float_or_array(p0), float_or_array(b)
+
+
+def line_half_width(w, r, e):
+    """Hertz's semi-width ``b = sqrt(4 w R / (pi E*))`` [m] of :func:`hertz_line` on arrays
+    already checked (the inner loop of the cycle solver's Hertz iteration)."""
+    return np.sqrt(4.0 * w * r / (math.pi * e))

@@ -33,6 +33,7 @@ from .case_sections import (Bearings, CycloidStage, DiscHoles, DutyPoint, Fricti
                             Material, MeasuredPoint, Operating, OutputMechanism, RVTrain, Seals,
                             SineStage, SpurStage, Supports, Thermal, check_ambient,
                             check_duty_cycle)
+from .case_design import Design, Tolerances, check_tolerances
 
 
 @dataclass(frozen=True)
@@ -57,6 +58,8 @@ class Case:
     bearings: Bearings = field(default_factory=Bearings)
     thermal: Thermal = field(default_factory=Thermal)
     duty_cycle: tuple[DutyPoint, ...] = ()
+    tolerances: Tolerances = field(default_factory=Tolerances)
+    design: Design | None = None
 
     DRIVES = ("cycloid", "sine", "rv")
 
@@ -80,6 +83,8 @@ class Case:
                         raise CaseError(f"{sec}.{key} = {getattr(st, key)} disagrees with the "
                                         f"[rv] tooth numbers ({want})")
         check_duty_cycle(self.duty_cycle)
+        check_tolerances(self.tolerances, "cycloid" if self.cycloid is not None else
+                         "sine" if self.sine is not None else None)
         check_ambient(self.thermal, self.lubricant)
         self._check_analysable()
         if self.stated_ratio is not None:
@@ -154,7 +159,8 @@ _SECTIONS = {
     "material": Material, "cycloid": CycloidStage, "first_stage": SpurStage,
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
     "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
-    "seals": Seals, "bearings": Bearings, "thermal": Thermal,
+    "seals": Seals, "bearings": Bearings, "thermal": Thermal, "tolerances": Tolerances,
+    "design": Design,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 

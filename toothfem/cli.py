@@ -18,10 +18,12 @@ import threading
 import warnings
 
 from . import __version__
-from .commands import check, contact, efficiency, geometry, loop, run, stiffness, sweep
+from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
+                       sweep, tolerance)
 from .errors import ToothfemError
 
-COMMANDS = (check, geometry, contact, stiffness, efficiency, run, loop, sweep)
+COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
+            sweep)
 #: Environment variable that lets an internal error show its traceback.
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).

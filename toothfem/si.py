@@ -12,6 +12,8 @@ The geometry records (:class:`~toothfem.geometry.cycloid.CycloidGeometry`,
 """
 from __future__ import annotations
 
+import dataclasses
+
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -185,6 +187,35 @@ class DutyPointSI:
 
 
 @dataclass(**_RECORD)
+class TolerancesSI:
+    """Manufacturing tolerances [m] (toothfem.case_design.Tolerances): zone diameters
+    (``*_position_m``), symmetric limits, the pin diameter's deviation limits."""
+    distribution: str = "normal"
+    pin_position_m: float = 0.0
+    pin_diameter_lower_m: float = 0.0
+    pin_diameter_upper_m: float = 0.0
+    pin_circle_radius_m: float = 0.0
+    disc_profile_m: float = 0.0
+    eccentricity_m: float = 0.0
+    crank_hole_position_m: float = 0.0
+    tooth_profile_m: float = 0.0
+
+    def active(self) -> list:
+        """Names of the tolerances with a nonzero zone (the pin diameter's two limits as
+        one, ``pin_diameter``)."""
+        out = []
+        for f in dataclasses.fields(self):
+            if f.name == "distribution" or not getattr(self, f.name):
+                continue
+            name = f.name[:-2]
+            if name.startswith("pin_diameter"):
+                name = "pin_diameter"
+            if name not in out:
+                out.append(name)
+        return out
+
+
+@dataclass(**_RECORD)
 class CaseSI:
     """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
     name: str
@@ -200,6 +231,7 @@ class CaseSI:
     friction: FrictionSI
     output_mechanism: OutputMechanismSI | None
     supports: SupportsSI = SupportsSI()
+    tolerances: TolerancesSI = TolerancesSI()
     seals: SealsSI | None = None
     bearings: BearingsSI | None = None
     thermal: ThermalSI | None = None
@@ -289,6 +321,7 @@ def from_case(case) -> CaseSI:
             input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
             rated_torque_Nm=op.rated_torque_Nm),
         supports=SupportsSI() if case.supports is None else _supports_si(case.supports),
+        tolerances=_tolerances_si(case.tolerances),
         lubricant=LubricantSI(
             dynamic_viscosity_Pa_s=lub.dynamic_viscosity_Pa_s,
             kinematic_viscosity_m2_s=lub.kinematic_viscosity_mm2_s * _MM ** 2,
@@ -321,6 +354,13 @@ def from_case(case) -> CaseSI:
             output_torque_Nm=d.output_torque_Nm,
             input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,
             time_share=d.time_share) for d in case.duty_cycle))
+
+
+def _tolerances_si(tol) -> TolerancesSI:
+    """Every ``*_mm`` key of [tolerances] in m."""
+    return TolerancesSI(distribution=tol.distribution, **{
+        f.name[:-3] + "_m": getattr(tol, f.name) * _MM
+        for f in dataclasses.fields(tol) if f.name.endswith("_mm")})
 
 
 def _mm_or_none(value):

@@ -36,7 +36,6 @@ import dataclasses
 import itertools
 import json
 import math
-import os
 import threading
 import time
 import uuid
@@ -47,6 +46,7 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from .case import Case, case_to_dict, load_case, parse_case
+from .cluster import dask_client
 from .efficiency import operating_point
 from .fem.cache import DiskCache
 from .fem.drives import drive_for
@@ -127,7 +127,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
                + result_columns(drive_for(case)))
     rows: list[dict] = []
     t0 = time.perf_counter()
-    with atomic_dir(out) as tmp, _client(scheduler, n_workers) as client, \
+    with atomic_dir(out) as tmp, dask_client(scheduler, n_workers) as client, \
             open(tmp / "sweep.csv", "w", newline="") as fh, \
             tqdm(total=len(plan.designs) * len(plan.load_cases), desc="sweep", unit="point",
                  disable=not progress) as bar:
@@ -339,27 +339,6 @@ def _cache(cache_dir):
 
 # ---------------------------------------------------------------------------------------
 # Submitting, and the tasks
-
-def _client(scheduler, n_workers):
-    """A context manager giving a distributed Client (and the LocalCluster it owns)."""
-    import contextlib
-
-    from distributed import Client, LocalCluster
-
-    @contextlib.contextmanager
-    def owned():
-        if scheduler is None:
-            with LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
-                              threads_per_worker=1, processes=True,
-                              dashboard_address=":0") as cluster, Client(cluster) as client:
-                yield client
-        elif isinstance(scheduler, Client):
-            yield scheduler
-        else:
-            with Client(scheduler) as client:
-                yield client
-    return owned()
-
 
 def _run(client, plan: _Plan, cache, emit) -> None:
     """Run the plan on ``client``, calling ``emit(row)`` as each row is known: first the

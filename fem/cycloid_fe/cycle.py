@@ -2,18 +2,21 @@
 local approach and the complementarity solve per position (fem/cycloid_fe/__init__.py)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-from ..hertz import hertz_line
+from ..hertz import line_half_width
 from ...errors import ToothfemError, check_range
 from ...geometry import cycloid as cy
+from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key
 from ..elastic import Body
+from ..linsolve import one_blas_thread
 from ..load_sharing import LoadSharing, hertz_fields
 from ..mesh import Refinement, mesh_rings
 from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_rings,
@@ -23,6 +26,11 @@ from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
+#: Initial gap [m] of a candidate that a modified profile cannot reach (no contact point on
+#: its working profile): far beyond any elastic approach.
+MODIFIED_GAP_FAR = 1e-3
+#: The solver's choices of flanks (CycleSolver.sides).
+SIDES = ((1,), (1, -1), (0,))
 #: Bump when the discretisation behind the influence tables changes (mesh sizes, patches,
 #: pin table angles): it is part of :meth:`CycleSolver.cache_key`, so old files go unused.
 TABLES_VERSION = 1
@@ -42,18 +50,26 @@ class CycleSolver:
     equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
     cache: object = None                 # DiskCache of the influence tables, or None
     #: torque signs the solver serves: (1,) the positive torque only (the carrying flank of
-    #: the MeshingState convention); (1, -1) both flanks, the mesh refined along both.
+    #: the MeshingState convention); (1, -1) both flanks, the mesh refined along both, each
+    #: torque on its own flank; (0,) both flanks at once, every pin a candidate whatever
+    #: the torque (an idle flank that closes, as in a built stage with interference, takes
+    #: load: docs/tolerance.md).
     sides: tuple = (1,)
 
     def __post_init__(self):
         self.sides = tuple(int(s) for s in self.sides)
-        if self.sides not in ((1,), (1, -1)):
-            raise ToothfemError(f"sides = {self.sides!r} is not one of [(1,), (1, -1)]")
+        if self.sides not in SIDES:
+            raise ToothfemError(f"sides = {self.sides!r} is not one of {list(SIDES)}")
+
+    @property
+    def _tabled(self) -> tuple:
+        """The sides with tables of their own ((0,): one set, filed under side 1)."""
+        return (1,) if self.sides == (0,) else self.sides
 
     @cached_property
     def _geometry(self):
         """(candidate contacts per position, MeshingState): kinematics only, no mesh."""
-        return _positions(self.model, self.positions_rad)
+        return _positions(self.model, self.positions_rad, side=0 if self.sides == (0,) else 1)
 
     @cached_property
     def _other_side(self):
@@ -62,6 +78,8 @@ class CycleSolver:
 
     def _candidates(self, side: int):
         """Candidate contacts per position for a torque of sign ``side``."""
+        if self.sides == (0,):
+            return self._geometry[0]
         if side not in self.sides:
             raise ToothfemError("a negative torque loads the other flank: build the solver "
                                 "with sides=(1, -1)")
@@ -81,11 +99,11 @@ class CycleSolver:
         if self.equal_springs is not None:
             return pos, state, None, None
         g = self.model.geometry
-        every = [q for side in self.sides for q in self._candidates(side)]
+        every = [q for side in self._tabled for q in self._candidates(side)]
         # windows: the span of each pin's contact parameter over the positions + patch
         # (a pin may touch each flank: one window per pin and side)
         windows = {}
-        for side in self.sides:
+        for side in self._tabled:
             for p in self._candidates(side):
                 for j, s in zip(p.pins, p.psi):
                     lo, hi = windows.get((j, side), (s, s))
@@ -135,6 +153,7 @@ class CycleSolver:
         """(C, C) disc compliance at position p's candidates for a torque of sign ``side``
         (patch b_ref), per unit length; computed with every position of that side not yet
         known in one block solve, and kept (a new torque costs no new solve)."""
+        side = 1 if self.sides == (0,) else side
         key = p if side > 0 else (p, side)
         if key in self._influence:
             return self._influence[key]
@@ -172,7 +191,7 @@ class CycleSolver:
         """(table name, position, side) of every influence table."""
         n = len(self._geometry[0])
         return [(f"influence_{p}" if side > 0 else f"influence_neg_{p}", p, side)
-                for side in self.sides for p in range(n)]
+                for side in self._tabled for p in range(n)]
 
     def tables(self) -> dict:
         """The torque-independent arrays of the solve: ``influence_<p>`` (C_p, C_p) for
@@ -236,9 +255,20 @@ class CycleSolver:
         loads = patch_loads(disc, "profile", q.point, -q.normal, self.b_ref)
         return disc, disc.solve(loads @ f)
 
-    def solve(self, torque: float, progress=None) -> LoadSharing:
+    def solve(self, torque: float, progress=None, *, deviation=None,
+              pitches=None, geometry=None) -> LoadSharing:
         """Load sharing at every position for the disc torque (N m); a negative torque
-        loads the other flank (a solver built with ``sides=(1, -1)``)."""
+        loads the other flank (a solver built with ``sides=(1, -1)``).
+
+        ``deviation`` (:class:`toothfem.fem.deviations.CycloidDeviation`) shifts the initial
+        gaps of the candidates (:func:`deviation_gaps`), the influence tables unchanged;
+        ``pitches`` (P,) puts position p that many pin pitches on, where other pins and
+        lobes take the contacts' places (the tables of pitch 0: the holes' effect on the
+        disc's compliance at the other pitches is left out). The result keeps the labels of
+        pitch 0 (pin j stands for pin j + pitch). ``geometry``: another modification of
+        this disc (:class:`toothfem.geometry.cycloid.CycloidGeometry`, micrometres from
+        this one) solved with this disc's tables: its initial gaps at these candidates
+        (``toothfem design``)."""
         check_range("torque", torque)
         if torque == 0:
             raise ToothfemError("torque = 0 is outside the valid range: nonzero (the "
@@ -252,28 +282,63 @@ class CycleSolver:
         q_load = torque / m.face_width
         zb = m.geometry.pin_count
         n_pos = len(pos)
+        pitches = np.zeros(n_pos, int) if pitches is None else np.asarray(pitches, int)
+        if pitches.shape != (n_pos,):
+            raise ToothfemError(f"pitches has shape {pitches.shape}, expected ({n_pos},)")
         force = np.zeros((n_pos, zb))
         gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
         beta = np.zeros(n_pos)
+        if geometry is not None:
+            pos = [dataclasses.replace(q, gap=g) for q, g in
+                   zip(pos, self._modified_gaps(geometry, side))]
         it = range(n_pos) if progress is None else progress(range(n_pos))
-        for p in it:
-            q = pos[p]
-            if self.equal_springs is not None:     # rigid-body limit: H = k I, linear
-                sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, q.gap,
-                                            q.arm, q_load)
-            else:
-                sol = self._solve_position(p, q, q_load, pin, side)
-            force[p, q.pins] = sol.force * m.face_width
-            gap[p, q.pins] = sol.gap
-            beta[p] = sol.rigid
+        with one_blas_thread():
+            for p in it:
+                self._solve_one(p, pos[p], q_load, pin, side, deviation, pitches[p], force,
+                                gap, beta)
         return _record("cycle", m, state, force, gap, beta, torque)
 
-    def _solve_position(self, p, q, q_load, pin, side=1):
+    def _modified_gaps(self, geometry, side: int) -> list:
+        """Initial gaps of another modification of the disc at this solver's candidates,
+        per position (a pin the other profile cannot reach: MODIFIED_GAP_FAR); the last
+        one kept (a design candidate is solved at several torques and deviations)."""
+        side = 1 if self.sides == (0,) else side
+        key = (geometry, side)
+        kept = self.__dict__.get("_modified")
+        if kept is not None and kept[0] == key:
+            return kept[1]
+        g = self.model.geometry
+        if (geometry.pin_count, geometry.pin_circle_radius_m, geometry.eccentricity_m,
+                geometry.pin_radius_m) != (g.pin_count, g.pin_circle_radius_m,
+                                           g.eccentricity_m, g.pin_radius_m):
+            raise ToothfemError("geometry differs from the solver's disc in more than its "
+                                "modifications")
+        state = cy.meshing(geometry, self.positions_rad)
+        gaps = np.where(np.isfinite(state.gap), state.gap, MODIFIED_GAP_FAR)
+        out = [gaps[p, q.pins] for p, q in enumerate(self._candidates(side))]
+        self.__dict__["_modified"] = (key, out)
+        return out
+
+    def _solve_one(self, p, q, q_load, pin, side, deviation, pitch, force, gap, beta):
+        """Position p into the rows of ``force``, ``gap`` and ``beta``."""
+        m = self.model
+        g0 = q.gap if deviation is None else \
+            q.gap + deviation_gaps(m, q, deviation, pitch)
+        if self.equal_springs is not None:     # rigid-body limit: H = k I, linear
+            sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, g0, q.arm,
+                                        q_load)
+        else:
+            sol = self._solve_position(p, q, q_load, pin, side, g0)
+        force[p, q.pins] = sol.force * m.face_width
+        gap[p, q.pins] = sol.gap
+        beta[p] = sol.rigid
+
+    def _solve_position(self, p, q, q_load, pin, side, g0):
         """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
         m = self.model
         e_p = m.e_plane
         c_disc = self.influence(p, side)
-        lam = _seed_guess(q, q_load)
+        lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
             b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
             local = strip_width_correction(b, self.b_ref, e_p)
@@ -281,15 +346,50 @@ class CycleSolver:
                 local = local + strip_width_correction(b, self.b_ref / 2, e_p)
             elif m.pin_structure == "conventional":
                 local = local + pin.compliance(q.gamma, b)
-            sol = contact.solve_contact(c_disc + np.diag(local), q.gap, q.arm, q_load)
+            sol = contact.solve_contact(c_disc + np.diag(local), g0, q.arm, q_load,
+                                        active=active)
             done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
-            lam = sol.force
+            lam, active = sol.force, sol.active
             if done:
                 return sol
         raise contact.ContactError("the Hertz local approach did not settle at "
                                    f"crank angle {math.degrees(q.phi):.3f} deg")
 
 
+def deviation_gaps(model, q: _Position, deviation, pitch: int = 0) -> np.ndarray:
+    """(C,) change of the initial gaps of position ``q``'s candidates [m] for a built disc
+    stage (:class:`toothfem.fem.deviations.CycloidDeviation`), to first order in the
+    deviations, ``pitch`` pin pitches on: each pin's move against the disc projected on the
+    disc's outward normal n opens its gap (:func:`pin_moves`); a larger pin or added
+    profile material closes it (on the flank of the contact's moment arm: < 0 carries a
+    positive torque, column 0)."""
+    za = model.geometry.lobe_count
+    d, dr = pin_moves(model, q, deviation, pitch)
+    # lobe l spans psi in [2 pi l/Za, 2 pi (l+1)/Za): root to root, both flanks
+    lobes = (np.floor(np.mod(q.psi, 2 * math.pi) * za / (2 * math.pi)).astype(int)
+             + int(pitch)) % za
+    return np.sum(q.normal * d, axis=0) - dr - deviation.profile[lobes, (q.arm > 0).astype(int)]
+
+
+def pin_moves(model, q: _Position, deviation, pitch: int = 0):
+    """((2, C) move of each candidate pin's centre against the disc, disc frame of pitch 0;
+    (C,) its radius change) [m] for a :class:`toothfem.fem.deviations.CycloidDeviation`.
+
+    At crank angle phi + m 2 pi/Zb the stage is the one at phi turned by 2 pi m/Zb: pin
+    j + m and lobe l + m take the places of pin j and lobe l (docs/tolerance.md). A pin's
+    offset is turned back by 2 pi m/Zb and into the disc frame (by phi/Za); the disc's
+    own move (the crank's eccentricity error along the crank, its profile off its bore)
+    counts against every pin."""
+    g = model.geometry
+    zb, za = g.pin_count, g.lobe_count
+    m = int(pitch)
+    pins = (q.pins + m) % zb
+    to_disc = q.phi / za                     # housing -> disc frame at crank angle phi
+    d = rotate(rotate(deviation.pin_offset[:, pins], -2 * math.pi * m / zb), to_disc)
+    crank = np.array([math.cos(q.phi), math.sin(q.phi)])
+    disc = rotate(deviation.eccentricity * crank, to_disc) \
+        + rotate(np.asarray(deviation.member_offset, float), -2 * math.pi * m / za)
+    return d - disc[:, None], deviation.pin_radius[pins]
 
 
 def _merged(windows):
@@ -319,7 +419,7 @@ def _half_width(lam, r_eq, e_star, q_load, arm):
     """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
     carry = (arm < 0) if q_load > 0 else (arm > 0)
     mean = abs(q_load) / np.sum(np.abs(arm[carry])) if np.any(carry) else abs(q_load)
-    return hertz_line(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)[1]
+    return line_half_width(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)
 
 
 def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:

@@ -15,7 +15,7 @@ from .. import contact
 from ..elastic import Body
 from ..load_sharing import LoadSharing, hertz_fields
 from ..mesh import Refinement, mesh_rings
-from .cycle import _record, _seed_guess
+from .cycle import _record, _seed_guess, pin_moves
 from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing_body
 
 # ---------------------------------------------------------------------------------------
@@ -48,11 +48,17 @@ class DetailedResult:
 
 
 def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
-                   elements_per_halfwidth: int = 6) -> DetailedResult:
+                   elements_per_halfwidth: int = 6, deviation=None,
+                   force_margin: float = DETAILED_FORCE_MARGIN) -> DetailedResult:
     """Two-body FE contact at one crank angle with the contact zones refined and conforming.
 
     The zone sizes come from the seed's force estimate times a margin; after the solve the
     contact must end inside each slave zone (checked; ContactError otherwise).
+    ``deviation`` (:class:`toothfem.fem.deviations.CycloidDeviation`): the pins moved and
+    resized in the meshes themselves (conventional pins; the check of the cycle mode's gap
+    shifts, docs/tolerance.md); profile deviations are the cycle mode's only.
+    ``force_margin``: the largest pin force over the seed's, for the zone sizes (deviations
+    of a few micrometres can load a pin several times the seed's force).
     """
     check_range("torque", torque)
     if torque == 0:
@@ -63,17 +69,23 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     gen = g.generating()
     # a negative torque loads the other flank of each lobe
     (q,), state = _positions(model, [crank_angle_rad], side=1 if torque > 0 else -1)
+    centres, radii = q.pin_centre, np.full(q.pins.size, g.pin_radius_m)
+    if deviation is not None:
+        if model.pin_structure != "conventional" or np.any(deviation.profile != 0):
+            raise ToothfemError("the detailed mode moves and resizes conventional pins only "
+                                "(profile deviations: the cycle mode)")
+        move, grow = pin_moves(model, q, deviation)
+        centres, radii = centres + move, radii + grow
     q_load = torque / model.face_width
-    f_est = _seed_guess(q, q_load) * DETAILED_FORCE_MARGIN
+    f_est = _seed_guess(q, q_load) * force_margin
     b_zone = float(np.max(hertz_line(np.max(f_est), np.abs(q.r_eq), model.e_star)[1]))
     h = b_zone / elements_per_halfwidth
-    rz = g.pin_radius_m
     theta_d = -crank_angle_rad / g.lobe_count
     housing_centre = rotate(-g.eccentricity_m * np.array([math.cos(crank_angle_rad),
                                                           math.sin(crank_angle_rad)]), -theta_d)
     pin_rings, disc_psi, zone_angles = [], [], []
     for k in range(q.pins.size):
-        c, n = q.pin_centre[:, k], q.normal[:, k]
+        c, n, rz = centres[:, k], q.normal[:, k], radii[k]
         a0 = math.atan2(-n[1], -n[0])                # direction of the contact on the pin
         half = 3 * b_zone / rz
         n_zone = int(math.ceil(2 * half * rz / h))
@@ -93,7 +105,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
     disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
     # slave bodies: one per pin (conventional) or the housing with every pin (integral)
-    kps = q.pin_centre - rz * q.normal
+    kps = centres - radii * q.normal
     refine_pins = [Refinement(kps, h, 2 * b_zone, 40 * b_zone)]
     groups = []                     # (body, [facets of each candidate pin])
     if model.pin_structure == "integral":
@@ -114,8 +126,8 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
                                  for k in range(q.pins.size)]))
     else:
         for k, ring in enumerate(pin_rings):
-            c = q.pin_centre[:, k]
-            pm = mesh_rings([ring], size_max=rz / 4, refinements=refine_pins, keep_below=2 * h)
+            c = centres[:, k]
+            pm = mesh_rings([ring], size_max=radii[k] / 4, refinements=refine_pins, keep_below=2 * h)
             p = pm.mesh.p
             outward = (c - housing_centre) / np.hypot(*(c - housing_centre))
             bnodes = pm.ring_nodes("outer")
@@ -165,10 +177,10 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     for k, sl in enumerate(slaves):
         lam = sol.force[start:start + sl.points.shape[1]]
         edge = np.concatenate([np.flatnonzero(lam > 0)])
-        if edge.size and np.any(np.hypot(*(sl.points[:, edge] - (q.pin_centre[:, k]
-                                - rz * q.normal[:, k])[:, None])) > 0.95 * DETAILED_ZONE_REL * b_zone):
+        if edge.size and np.any(np.hypot(*(sl.points[:, edge] - kps[:, k:k + 1]))
+                                > 0.95 * DETAILED_ZONE_REL * b_zone):
             raise contact.ContactError(f"pin {q.pins[k]}: the contact reaches the edge of the "
-                                       "refined zone; raise DETAILED_FORCE_MARGIN")
+                                       "refined zone; raise force_margin")
         force[0, q.pins[k]] = lam.sum() * model.face_width
         if lam.sum() > 0:   # the moment arm of the resultant of the nodal forces
             arm_fe[0, q.pins[k]] = np.sum(lam * c_rot[start:start + lam.size]) / lam.sum()

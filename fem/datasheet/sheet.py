@@ -175,8 +175,7 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
     seg = []
     for a, b in zip(SEGMENT_FRACTIONS[:-1], SEGMENT_FRACTIONS[1:]):
         seg.append(0.5 * ARCMIN * sum(_slope(model, a * rated, b * rated, s) for s in (1, -1)))
-    t_lm = LOST_MOTION_FRACTION * rated
-    lost = deg(model.at(t_lm, 1).total.mean() - model.at(-t_lm, -1).total.mean())
+    lost = lost_motion_arcmin(model, rated)
     backlash = deg(model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean())
     compliance = {}
     for name in model.at(hi, 1).paths:
@@ -193,6 +192,14 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
                      supports=model.supports.describe(),
                      positions=int(model.positions_rad.size), member_name=d.member_name,
                      contact_name=d.contact_name)
+
+
+def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
+    """Lost motion [arcmin]: the range of the mean twist between -3 % and +3 % of the rated
+    torque (LOST_MOTION_FRACTION), each on its own flank."""
+    t_lm = LOST_MOTION_FRACTION * rated_torque_Nm
+    return float((model.at(t_lm, 1).total.mean() - model.at(-t_lm, -1).total.mean())
+                 / ARCMIN)
 
 
 def _check_closed(model: TwistModel, t_max: float) -> None:

@@ -40,6 +40,7 @@ class TwistPoint:
     total: np.ndarray
     paths: dict
     contacts: np.ndarray
+    load_sharing: object = None     # the mesh's LoadSharing (None at zero torque)
 
 
 def closing_rotation(state, side: int) -> np.ndarray:
@@ -72,14 +73,20 @@ class TwistModel:
     solver
         The drive's cycle solver at ``solver.positions_rad`` serving both torque signs
         (``Drive.cycle_solver(..., solver_options=drive.both_sides_options)``).
+    solve_options : dict, optional
+        Passed to every ``solver.solve`` (a built reducer's ``deviation`` and ``pitches``).
+    state : toothfem.geometry.kinematics.MeshingState, optional
+        ``drive.meshing`` at the solver's positions, if the caller has it.
     """
 
-    def __init__(self, drive, supports, solver):
+    def __init__(self, drive, supports, solver, solve_options: dict | None = None,
+                 state=None):
         self.drive = drive
         self.supports = supports
         self.solver = solver
+        self.solve_options = dict(solve_options or {})
         self.positions_rad = np.asarray(solver.positions_rad, float)
-        self.state = drive.meshing(self.positions_rad)
+        self.state = drive.meshing(self.positions_rad) if state is None else state
         coupled = drive.coupled_compliance(supports)
         # even split: member 0 sees every member's torque T/M through the shared parts
         self._coupled = {k: float(np.sum(v[0])) for k, v in coupled.items()}
@@ -137,9 +144,9 @@ class TwistModel:
 
     def _loaded(self, t: float) -> TwistPoint:
         tm = self.member_torque(t)
-        ls = self.solver.solve(tm)
+        ls = self.solver.solve(tm, **self.solve_options)
         paths = {"mesh": np.asarray(ls.transmission_error, float)}
         paths.update(self._supports(t, tm, resultant(ls, self.state)))
         total = np.sum(np.stack(list(paths.values())), axis=0)
         return TwistPoint(output_torque_Nm=t, total=total, paths=paths,
-                          contacts=ls.contacts_per_position)
+                          contacts=ls.contacts_per_position, load_sharing=ls)

@@ -40,6 +40,9 @@ class Drive(abc.ABC):
     #: solver options of a cycle solver that serves both torque signs (the cycloid refines
     #: both flanks of each lobe; the sine pair's hat grids cover both flanks already).
     both_sides_options: dict = {}
+    #: solver options of a cycle solver whose every solve has both flanks as candidates at
+    #: once (an idle flank that a built stage's deviations close takes load too).
+    both_flanks_options: dict = {}
 
     # -- what every drive provides ------------------------------------------------------
     @property
@@ -137,6 +140,18 @@ class Drive(abc.ABC):
         """{path: rad per N m of output torque} of parts every member's path runs through
         (the carrier is the datasheet's own)."""
         return {}
+
+    # -- the reducer as built (toothfem tolerance) ------------------------------------------
+    @abc.abstractmethod
+    def sample_deviation(self, tolerances, rng):
+        """One built stage's deviations (:mod:`toothfem.fem.deviations`) drawn from
+        ``tolerances`` (:class:`toothfem.si.TolerancesSI`) with the generator ``rng``."""
+
+    @property
+    @abc.abstractmethod
+    def pairing_period_pitches(self) -> int:
+        """Meshing periods after which every fixed tooth (pin) has met every moving tooth
+        (lobe) in every place: a built stage's errors repeat only then."""
 
     @property
     def full_period_pitches(self) -> int:

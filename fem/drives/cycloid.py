@@ -11,6 +11,7 @@ from ...errors import CaseError
 from ...geometry import cycloid as cy
 from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
+from .. import deviations as dv
 from ..datasheet import supports as sp
 from .base import Drive
 from ...geometry.disc import disc_polygon
@@ -32,6 +33,7 @@ class CycloidDrive(Drive):
     analytic_weight = "moment_arm"
     fe_options = {"pin_structure": cf.PIN_STRUCTURES}
     both_sides_options = {"sides": (1, -1)}
+    both_flanks_options = {"sides": (0,)}
 
     @classmethod
     def from_case(cls, si) -> "CycloidDrive":
@@ -210,6 +212,33 @@ class CycloidDrive(Drive):
                                   supports.crankshaft_diameter_m, m.youngs_modulus_Pa,
                                   m.poisson_ratio)
         return {"crankshaft torsion": c / (n * zb ** 2)}
+
+    def sample_deviation(self, tolerances, rng) -> dv.CycloidDeviation:
+        """Pins off their true positions and the pin circle off its radius (one value for
+        the ring), pin diameters within their limits, each lobe flank off its profile, the
+        disc's profile off its crank holes (the mean of the holes' offsets: a best fit of
+        the disc on its cranks; its turn goes into the rigid rotation), the crank's
+        eccentricity off its nominal."""
+        t, dist = tolerances, tolerances.distribution
+        zb, za = self.geometry.pin_count, self.stage.lobe_count
+        radial = cy.pin_centres(self.geometry) / self.geometry.pin_circle_radius_m
+        offset = dv.in_zone(rng, t.pin_position_m, zb, dist) \
+            + radial * dv.symmetric(rng, t.pin_circle_radius_m, 1, dist)
+        holes = dv.in_zone(rng, t.crank_hole_position_m, self.stage.holes.crank_hole_count,
+                           dist)
+        return dv.CycloidDeviation(
+            pin_offset=offset,
+            pin_radius=0.5 * dv.between(rng, t.pin_diameter_lower_m, t.pin_diameter_upper_m,
+                                        zb, dist),
+            profile=dv.symmetric(rng, t.disc_profile_m, (za, 2), dist),
+            member_offset=-np.mean(holes, axis=1),
+            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1, dist)[0]))
+
+    @property
+    def pairing_period_pitches(self) -> int:
+        """Zb Za: at pitch m pin j + m meets lobe l + m, so pin and lobe indices return
+        together after lcm(Zb, Za) = Zb Za pitches (Zb = Za + 1)."""
+        return self.geometry.pin_count * self.stage.lobe_count
 
     def member_frame_point(self, model, position_rad: float, point):
         pts = np.asarray(point, float)

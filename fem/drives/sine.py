@@ -9,6 +9,7 @@ from ...errors import CaseError
 from ...geometry import sine as sg
 from ...geometry.train import khv_speeds
 from ...geometry.vectors import rotate
+from .. import deviations as dv
 from .. import sine_fe as sf
 from ..datasheet import supports as sp
 from .base import Drive
@@ -128,6 +129,20 @@ class SineDrive(Drive):
             f_max = 4 * np.abs(t) / (om.pin_count * r_w)
             out["output pins"] = np.sign(t) * sp.roller_approach(f_max, self.face_width_m) / r_w
         return out
+
+    def sample_deviation(self, tolerances, rng) -> dv.SineDeviation:
+        """Each flank of the planet and the ring off its profile, the crank's eccentricity
+        off its nominal."""
+        t, dist, pair = tolerances, tolerances.distribution, self.pair
+        return dv.SineDeviation(
+            planet_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.planet_teeth, 2), dist),
+            ring_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.ring_teeth, 2), dist),
+            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1, dist)[0]))
+
+    @property
+    def pairing_period_pitches(self) -> int:
+        """Z1 Z2: every planet tooth in every ring gap."""
+        return self.pair.planet_teeth * self.pair.ring_teeth
 
     def member_frame_point(self, model, position_rad: float, point):
         c, th = sg.planet_pose(model.pair, position_rad)

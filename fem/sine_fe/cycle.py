@@ -144,14 +144,16 @@ class CycleSolver:
         return sine.meshing(self.model.pair, self.positions_rad,
                             candidates=self.model.candidates)
 
-    def solve_position(self, chi: float, torque: float) -> PositionResult:
+    def solve_position(self, chi: float, torque: float, deviation=None) -> PositionResult:
         """Contact at crank angle ``chi`` (rad) under the planet torque (N m); a negative
-        torque loads the other flank of the teeth (the hat grids cover both)."""
+        torque loads the other flank of the teeth (the hat grids cover both).
+        ``deviation`` (:class:`toothfem.fem.deviations.SineDeviation`): the pair as built
+        (:func:`deviation_gaps`)."""
         _check_torque(torque)
         check_range("chi", chi)
         sel_gap = self.select_gap
         while True:
-            res = self._solve(float(chi), torque / self.model.face_width, sel_gap)
+            res = self._solve(float(chi), torque / self.model.face_width, sel_gap, deviation)
             loaded = res.force > 0
             # the contact stays inside the selection, and no hat left out (initial gap
             # above sel_gap) can be closed by the rigid rotation
@@ -165,7 +167,7 @@ class CycleSolver:
                     "high for the candidate teeth (raise candidates)")
             sel_gap *= 2
 
-    def _solve(self, chi, q_load, sel_gap) -> PositionResult:
+    def _solve(self, chi, q_load, sel_gap, deviation=None) -> PositionResult:
         pair = self.model.pair
         pl, rg = self.planet, self.ring
         n, s = pl.n_hats, pl.spacing
@@ -174,8 +176,13 @@ class CycleSolver:
         hats = (j0 - k) * n + np.arange((2 * k + 1) * n)
         sigma = hats * s
         centre, theta = sine.planet_pose(pair, chi)
+        if deviation is not None:        # the crank's eccentricity error
+            centre = centre + deviation.eccentricity * np.array([[math.cos(chi)],
+                                                                 [math.sin(chi)]])
         pts = rotate(pl.toothed.point(sigma), theta[0]) + centre
         f2, g0, nrm = ring_foot(pair, pts)
+        if deviation is not None:
+            g0 = g0 - deviation_gaps(pair, pl, rg, hats, f2, deviation)
         sel = g0 < sel_gap
         if not np.any(sel):
             raise contact.ContactError(f"crank angle {math.degrees(chi):.4f} deg: no planet "
@@ -187,6 +194,10 @@ class CycleSolver:
         # ring: the transported hats on the ring grid by linear interpolation, T^T H_r T
         # with two weights per hat (1 - a on ring hat j, a on j + 1)
         u = rg.toothed.sigma_of_phi(f2) / rg.spacing
+        # one ring perimeter of hats: keep the selection's indices together where the
+        # ring parameter wraps (a crank angle a whole turn on)
+        turn = rg.n_hats * pair.ring_teeth
+        u = u[0] + np.mod(u - u[0] + 0.5 * turn, turn) - 0.5 * turn
         j = np.floor(u).astype(int)
         a = u - j
         hmat = pl.matrix(hats)
@@ -206,14 +217,48 @@ class CycleSolver:
         tooth, cell = np.divmod(hats, self.planet.n_hats)
         return _flank_columns(j0, self.model.candidates, tooth, cell >= self.planet.n_hats / 2)
 
-    def solve(self, torque: float, progress=None) -> LoadSharing:
-        """Load sharing at every position for the planet torque (N m), either sign."""
+    def solve(self, torque: float, progress=None, *, deviation=None,
+              pitches=None) -> LoadSharing:
+        """Load sharing at every position for the planet torque (N m), either sign.
+
+        ``deviation``: the pair as built (:meth:`solve_position`); ``pitches`` (P,) puts
+        position p that many meshing periods on (the hat tables cover every tooth: exact).
+        The result keeps the labels of pitch 0: a period on, the mesh is the one of pitch
+        0 turned by 2 pi/z2 with every planet tooth index one up (SineGearPair.
+        crank_pitch_rad), so points are turned back and arc lengths put a tooth back."""
         _check_torque(torque)
-        it = range(self.positions_rad.size)
+        n_pos = self.positions_rad.size
+        pitches = np.zeros(n_pos, int) if pitches is None else np.asarray(pitches, int)
+        if pitches.shape != (n_pos,):
+            raise ToothfemError(f"pitches has shape {pitches.shape}, expected ({n_pos},)")
+        it = range(n_pos)
         if progress is not None:
             it = progress(it)
-        results = [self.solve_position(self.positions_rad[p], torque) for p in it]
+        pitch = self.model.pair.crank_pitch_rad
+        results = []
+        for p in it:
+            chi, m = float(self.positions_rad[p]), int(pitches[p])
+            r = self.solve_position(chi + m * pitch, torque, deviation)
+            if m:
+                r = dataclasses.replace(r, crank_angle=chi, point=rotate(r.point, -m * pitch),
+                                        sigma=r.sigma - m * self.planet.n_hats
+                                        * self.planet.spacing)
+            results.append(r)
         return _record("cycle", self.model, self.states, results, torque, self.planet.toothed)
+
+
+def deviation_gaps(pair, planet, ring, hats, f2, deviation) -> np.ndarray:
+    """(H,) gap closed at each planet hat by the profile deviations [m]: the material added
+    on the hat's planet flank and on the ring flank it faces. A flank is half a tooth's
+    window of its grid (``n_hats`` per tooth, split at the middle as the meshing columns
+    are)."""
+    tooth, cell = np.divmod(hats, planet.n_hats)
+    closing = deviation.planet_profile[np.mod(tooth, pair.planet_teeth),
+                                       (cell >= planet.n_hats / 2).astype(int)]
+    u = np.floor(ring.toothed.sigma_of_phi(f2) / ring.spacing).astype(int)
+    r_tooth, r_cell = np.divmod(u, ring.n_hats)
+    return closing + deviation.ring_profile[np.mod(r_tooth, pair.ring_teeth),
+                                            (r_cell >= ring.n_hats / 2).astype(int)]
 
 
 def _check_torque(torque):

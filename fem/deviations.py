@@ -1,0 +1,101 @@
+"""Manufacturing deviations of one built reducer, drawn from its tolerances.
+
+A deviation moves or resizes the parts by a few micrometres. It changes the initial gaps of
+the candidate contacts and not their compliance (the influence tables of the nominal
+design stay valid to first order in deviation / part size), so a sampled reducer costs a
+complementarity solve per position and no factorisation (docs/tolerance.md).
+
+Tolerance zones (ISO 1101 true position: a circle of the zone's diameter; a symmetric
+limit +-a; deviation limits [lo, hi]) become random values by a named distribution:
+``uniform`` over the zone, or ``normal`` with three standard deviations at its limit (per
+component for a true-position zone), the usual assumption of a capable process
+(Cpk = 1).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, replace
+
+import numpy as np
+
+from ..errors import ToothfemError
+
+DISTRIBUTIONS = ("normal", "uniform")
+#: Standard deviations from the mean to the limit of a zone under ``normal``.
+SIGMAS_AT_LIMIT = 3.0
+
+
+def symmetric(rng, limit: float, size, distribution: str) -> np.ndarray:
+    """Values within +-``limit`` (normal: sigma = limit/3)."""
+    if distribution == "uniform":
+        return rng.uniform(-limit, limit, size)
+    return rng.normal(0.0, limit / SIGMAS_AT_LIMIT, size)
+
+
+def between(rng, lo: float, hi: float, size, distribution: str) -> np.ndarray:
+    """Values within the deviation limits [lo, hi] (normal: mean at the middle, 3 sigma at
+    each limit)."""
+    if distribution == "uniform":
+        return rng.uniform(lo, hi, size)
+    return rng.normal(0.5 * (lo + hi), (hi - lo) / (2 * SIGMAS_AT_LIMIT), size)
+
+
+def in_zone(rng, diameter: float, count: int, distribution: str) -> np.ndarray:
+    """(2, count) offsets of points in a true-position zone (a circle of ``diameter``):
+    uniform over its area, or normal per component with 3 sigma at its radius."""
+    r_zone = 0.5 * diameter
+    if distribution == "uniform":
+        r = r_zone * np.sqrt(rng.uniform(0.0, 1.0, count))
+        a = rng.uniform(0.0, 2 * math.pi, count)
+        return np.stack([r * np.cos(a), r * np.sin(a)])
+    return rng.normal(0.0, r_zone / SIGMAS_AT_LIMIT, (2, count))
+
+
+@dataclass(frozen=True, kw_only=True)
+class CycloidDeviation:
+    """Deviations of a cycloid disc stage [m]: ``pin_offset`` (2, Zb) each pin centre off its
+    place (housing frame; the pin-circle radius error included); ``pin_radius`` (Zb,) each
+    pin's radius change; ``profile`` (Za, 2) material added along the normal of each lobe's
+    flank that carries a positive (column 0) or negative (column 1) torque;
+    ``member_offset`` (2,) the disc's profile off its crank bore(s) (disc frame);
+    ``eccentricity`` the crank's eccentricity error."""
+    pin_offset: np.ndarray
+    pin_radius: np.ndarray
+    profile: np.ndarray
+    member_offset: np.ndarray
+    eccentricity: float = 0.0
+
+    @classmethod
+    def zero(cls, pins: int, lobes: int) -> "CycloidDeviation":
+        return cls(pin_offset=np.zeros((2, pins)), pin_radius=np.zeros(pins),
+                   profile=np.zeros((lobes, 2)), member_offset=np.zeros(2))
+
+
+@dataclass(frozen=True, kw_only=True)
+class SineDeviation:
+    """Deviations of a sine pair [m]: material added along the normal of each flank of the
+    planet (Zp, 2) and of the ring (Zr, 2) (column 0, 1: the two flanks of a tooth), and
+    the eccentricity error of the crank."""
+    planet_profile: np.ndarray
+    ring_profile: np.ndarray
+    eccentricity: float = 0.0
+
+    @classmethod
+    def zero(cls, planet_teeth: int, ring_teeth: int) -> "SineDeviation":
+        return cls(planet_profile=np.zeros((planet_teeth, 2)),
+                   ring_profile=np.zeros((ring_teeth, 2)))
+
+
+def only(tolerances, name: str):
+    """``tolerances`` (a frozen record of zones and a ``distribution``) with every zone but
+    ``name`` set to zero: the reducer built with one tolerance at a time."""
+    zero = {}
+    for f in fields(tolerances):
+        if f.name in ("distribution", name) or f.name.startswith(name):
+            continue
+        value = getattr(tolerances, f.name)
+        if isinstance(value, (int, float)) and not isinstance(value, bool):
+            zero[f.name] = 0.0
+    if len(zero) == len([f for f in fields(tolerances) if f.name != "distribution"]):
+        raise ToothfemError(f"no tolerance named {name!r}")
+    return replace(tolerances, **zero)

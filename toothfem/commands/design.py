@@ -1,0 +1,34 @@
+"""`toothfem design CASE --out DIR`: the profile modification that meets the case's
+[design] targets, searched on the contact model (docs/tolerance.md)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..case import load_case
+from ..design import design_analysis, write_design
+from ..errors import decode_text
+from ..output import atomic_dir
+
+
+def add_parser(sub):
+    p = sub.add_parser("design", help="search the disc's equidistant, move-distance and "
+                       "rotation modifications for the [design] targets (backlash, "
+                       "contacts, Hertz pressure, optionally at a tolerance percentile)")
+    p.add_argument("case", help="case file (TOML) with a [design] section")
+    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--positions", type=int, default=18,
+                   help="meshing positions over one period per candidate (default 18)")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    case = load_case(args.case)
+    result = design_analysis(case, positions=args.positions)
+    source = decode_text(Path(args.case).read_bytes(), args.case)
+    with atomic_dir(args.out) as tmp:
+        summary = write_design(result, tmp, source)
+    print(json.dumps({"case": summary["case"], "best": summary["best"],
+                      "check_with_own_tables": summary["check_with_own_tables"],
+                      "datasheet": summary["datasheet"]}, indent=2))
+    return 0

@@ -1,0 +1,43 @@
+"""`toothfem tolerance CASE --samples N --out DIR [--seed S] [--workers N] [--scheduler
+ADDR]`: the tolerance Monte Carlo through the elastic contact model (docs/tolerance.md)."""
+from __future__ import annotations
+
+import json
+
+from ..case import load_case
+from ..output import atomic_dir
+from ..tolerance import tolerance_analysis, write_tolerance
+
+
+def add_parser(sub):
+    p = sub.add_parser("tolerance", help="distributions of pin force, Hertz pressure, "
+                       "contacts, lost motion, TE and efficiency over reducers built within "
+                       "the case's [tolerances], and where their scatter comes from")
+    p.add_argument("case", help="case file (TOML) with a [tolerances] section")
+    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--samples", type=int, default=200,
+                   help="built reducers to draw (default 200)")
+    p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    p.add_argument("--positions", type=int, default=36,
+                   help="positions per reducer, spread over the pairing period (default 36)")
+    p.add_argument("--share-samples", type=int, default=None, dest="share_samples",
+                   help="reducers per one-tolerance run for the variance shares (default "
+                        "a quarter of --samples, at least 20; 0: none)")
+    p.add_argument("--workers", type=int, default=1,
+                   help="processes (a Dask LocalCluster above 1; default 1)")
+    p.add_argument("--scheduler", default=None,
+                   help="address of a running Dask scheduler to use instead")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    case = load_case(args.case)
+    result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
+                                positions=args.positions, workers=args.workers,
+                                scheduler=args.scheduler, share_samples=args.share_samples)
+    with atomic_dir(args.out) as tmp:
+        summary = write_tolerance(result, tmp)
+    print(json.dumps({"case": summary["case"], "samples": summary["samples"],
+                      "nominal": summary["nominal"],
+                      "percentiles": summary["percentiles"]}, indent=2))
+    return 0

@@ -1,0 +1,310 @@
+"""Profile-modification design on the contact model (``toothfem design``).
+
+The search varies the disc's equidistant, move-distance and rotation modifications within
+the bounds of the case's ``[design]`` section. A candidate is solved with the influence
+tables of the case's own disc and the candidate's initial gaps (a modification of a few
+micrometres changes the gaps, not the compliance: docs/tolerance.md), so it costs three
+complementarity solves per position: the backlash (the closing rotations of both flanks at
+vanishing torque), the largest Hertz pressure and the fewest pins in contact at the peak
+member torque. With ``percentile`` set, each candidate is solved for ``samples`` reducers
+built within ``[tolerances]`` (the same draws for every candidate) and judged at that
+percentile. A quasi-random design of experiments (scipy.stats.qmc Sobol) maps the space
+and gives the trade-off between backlash and pressure; scipy.optimize.minimize (Powell,
+bounded) refines the best feasible point. The winner is solved again with its own FE
+tables (both flanks) for its datasheet figures.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from .case import Case
+from .errors import CaseError
+from .fem.datasheet.sheet import datasheet
+from .fem.datasheet.twist import ARCMIN, TwistModel
+from .fem.drives import drive_for
+from .geometry import cycloid as cy
+
+#: Points of the design of experiments (a power of two: Sobol balance), the seed of its
+#: scrambling, and the evaluations the refinement may add.
+DOE_POINTS, DOE_SEED, REFINE_EVALUATIONS = 32, 0, 40
+#: Penalty per unit of a target's relative violation, in units of the pressure objective.
+PENALTY = 1e3
+#: Keys of the [cycloid] section the search sets, with the factor from the key to SI.
+KEYS = {"equidistant_modification_mm": ("equidistant_m", 1e-3),
+        "move_distance_modification_mm": ("move_distance_m", 1e-3),
+        "rotation_modification_deg": ("rotation_rad", math.pi / 180)}
+
+
+@dataclass(frozen=True, kw_only=True)
+class Candidate:
+    """One modification and what it gives (at the percentile, when one is set)."""
+    modification: dict          # [cycloid] keys -> value (mm, deg)
+    backlash_arcmin: float
+    max_ph_MPa: float
+    contacts_min: float
+    feasible: bool
+
+
+@dataclass(frozen=True, kw_only=True)
+class DesignResult:
+    """The search: every ``candidates`` evaluated (design of experiments, then the
+    refinement), the ``best`` feasible one, its ``datasheet`` summary with its own FE
+    tables, its ``case`` and the targets."""
+    case_name: str
+    targets: dict
+    candidates: list
+    best: Candidate
+    datasheet: dict
+    check: dict
+    case: Case
+
+    def pareto(self) -> list:
+        """The candidates no other beats in both backlash and pressure (with the contacts
+        target met), by increasing backlash."""
+        ok = [c for c in self.candidates if c.contacts_min >= self.targets["min_contacts"]]
+        ok.sort(key=lambda c: (c.backlash_arcmin, c.max_ph_MPa))
+        front, best_ph = [], math.inf
+        for c in ok:
+            if c.max_ph_MPa < best_ph:
+                front.append(c)
+                best_ph = c.max_ph_MPa
+        return front
+
+    def summary(self) -> dict:
+        return {"case": self.case_name, "targets": self.targets,
+                "best": dataclasses.asdict(self.best), "datasheet": self.datasheet,
+                "check_with_own_tables": self.check, "evaluations": len(self.candidates),
+                "pareto": [dataclasses.asdict(c) for c in self.pareto()]}
+
+
+def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -> DesignResult:
+    """Search the modifications of a cycloid disc against the case's ``[design]`` targets.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        A cycloid or RV case with a ``[design]`` section (``[tolerances]`` too when its
+        ``percentile`` is set).
+    positions : int
+        Meshing positions over one period for every candidate.
+    progress : bool
+        A tqdm bar on stderr.
+
+    Returns
+    -------
+    DesignResult
+        CaseError when no candidate within the bounds meets the targets, naming the target
+        missed and by how much.
+    """
+    from scipy.optimize import minimize
+    from scipy.stats import qmc
+    from tqdm import tqdm
+
+    if case.design is None:
+        raise CaseError("[design] section is required (targets: max_backlash_arcmin, "
+                        "min_contacts, max_ph_MPa, percentile)")
+    if case.cycloid is None:
+        raise CaseError(f"drive = {case.drive!r}: toothfem design searches the cycloid "
+                        "disc's modifications; this case has no [cycloid] section")
+    target = case.design
+    drive = drive_for(case)
+    si = case.to_si()
+    solver = drive.cycle_solver(positions, solver_options=drive.both_flanks_options)
+    solver.prepare()
+    supports = drive.supports(si.supports)
+    torque = drive.member_torque(si.declared_output_torque_Nm())
+    deviations = [None]
+    if target.percentile is not None:
+        if not si.tolerances.active():
+            raise CaseError(f"design.percentile = {target.percentile!r} needs a "
+                            "[tolerances] section with a nonzero zone")
+        rng = np.random.default_rng(DOE_SEED)
+        deviations = [drive.sample_deviation(si.tolerances, rng)
+                      for _ in range(target.samples)]
+    bounds = target.bounds()
+    names = list(bounds)
+    lo = np.array([bounds[k][0] for k in names])
+    hi = np.array([bounds[k][1] for k in names])
+    base = drive.geometry
+    state = drive.meshing(solver.positions_rad)
+    evaluated = []
+    bar = tqdm(total=DOE_POINTS + REFINE_EVALUATIONS, desc="design", unit="candidate",
+               disable=not progress)
+
+    def evaluate(x, devs=None, record=True) -> Candidate:
+        mod = {k: float(v) for k, v in zip(names, x)}
+        geom = dataclasses.replace(base, **{KEYS[k][0]: v * KEYS[k][1]
+                                            for k, v in mod.items()})
+        backlash, ph, contacts = [], [], []
+        for dev in deviations if devs is None else devs:
+            opts = {"deviation": dev, "geometry": geom}
+            twist = TwistModel(drive, supports, solver, opts, state)
+            backlash.append((twist.at(0.0, 1).total.mean() - twist.at(0.0, -1).total.mean())
+                            / ARCMIN)
+            ls = solver.solve(torque, **opts)
+            ph.append(float(np.max(ls.ph)) * 1e-6)
+            contacts.append(float(np.min(ls.contacts_per_position)))
+        q = target.percentile if target.percentile is not None else 50.0
+        cand = Candidate(modification=mod,
+                         backlash_arcmin=float(np.percentile(backlash, q)),
+                         max_ph_MPa=float(np.percentile(ph, q)),
+                         contacts_min=float(np.percentile(contacts, 100 - q)),
+                         feasible=False)
+        cand = dataclasses.replace(cand, feasible=not _violations(cand, target))
+        if record:
+            evaluated.append(cand)
+            bar.update()
+        return cand
+
+    def objective(x):
+        c = evaluate(np.clip(x, lo, hi))
+        return c.max_ph_MPa + PENALTY * sum(_violations(c, target).values())
+
+    try:
+        doe = qmc.scale(qmc.Sobol(len(names), seed=DOE_SEED).random(DOE_POINTS), lo, hi) \
+            if np.any(hi > lo) else lo[None, :]
+        for x in doe:
+            evaluate(x)
+        start = min(evaluated, key=lambda c: _score(c, target))
+        x0 = np.array([start.modification[k] for k in names])
+        free = hi > lo
+        if np.any(free) and REFINE_EVALUATIONS > 0:
+            minimize(objective, x0, method="Powell",
+                     bounds=list(zip(lo, hi)), options={"maxfev": REFINE_EVALUATIONS,
+                                                        "xtol": 1e-4, "ftol": 1e-4})
+    finally:
+        bar.close()
+    feasible = [c for c in evaluated if c.feasible]
+    if not feasible:
+        closest = min(evaluated, key=lambda c: sum(_violations(c, target).values()))
+        raise CaseError(_infeasible(closest, target))
+    best = min(feasible, key=lambda c: c.max_ph_MPa)
+    best_case = _with_modification(case, best.modification)
+    nominal = evaluate([best.modification[k] for k in names], devs=[None], record=False)
+    sheet, check = _verify(best_case, nominal, positions, torque)
+    return DesignResult(case_name=case.name, targets=dataclasses.asdict(target),
+                        candidates=evaluated, best=best, datasheet=sheet, check=check,
+                        case=best_case)
+
+
+def _violations(c: Candidate, target) -> dict:
+    """{target key: relative violation > 0} of a candidate."""
+    out = {}
+    if c.backlash_arcmin > target.max_backlash_arcmin:
+        out["max_backlash_arcmin"] = (c.backlash_arcmin - target.max_backlash_arcmin) \
+            / target.max_backlash_arcmin
+    if c.backlash_arcmin < 0:          # interference: the stage cannot be assembled freely
+        out["backlash >= 0"] = -c.backlash_arcmin / target.max_backlash_arcmin
+    if c.contacts_min < target.min_contacts:
+        out["min_contacts"] = (target.min_contacts - c.contacts_min) / target.min_contacts
+    if target.max_ph_MPa is not None and c.max_ph_MPa > target.max_ph_MPa:
+        out["max_ph_MPa"] = (c.max_ph_MPa - target.max_ph_MPa) / target.max_ph_MPa
+    return out
+
+
+def _score(c: Candidate, target) -> float:
+    return c.max_ph_MPa + PENALTY * sum(_violations(c, target).values())
+
+
+def _infeasible(c: Candidate, target) -> str:
+    """One line: the targets the closest candidate misses, and by how much."""
+    parts = []
+    if c.backlash_arcmin > target.max_backlash_arcmin:
+        parts.append(f"design.max_backlash_arcmin = {target.max_backlash_arcmin:g} (reached "
+                     f"{c.backlash_arcmin:.3g}, {c.backlash_arcmin - target.max_backlash_arcmin:.3g}"
+                     " above)")
+    if c.backlash_arcmin < 0:
+        parts.append(f"a backlash >= 0 (reached {c.backlash_arcmin:.3g} arcmin: interference)")
+    if c.contacts_min < target.min_contacts:
+        parts.append(f"design.min_contacts = {target.min_contacts} (reached "
+                     f"{c.contacts_min:g}, {target.min_contacts - c.contacts_min:g} short)")
+    if target.max_ph_MPa is not None and c.max_ph_MPa > target.max_ph_MPa:
+        parts.append(f"design.max_ph_MPa = {target.max_ph_MPa:g} (reached "
+                     f"{c.max_ph_MPa:.4g}, {c.max_ph_MPa - target.max_ph_MPa:.4g} above)")
+    mod = ", ".join(f"{k} = {v:.4g}" for k, v in c.modification.items())
+    return ("no modification within the [design] bounds meets the targets: the closest ("
+            + mod + ") misses " + "; ".join(parts))
+
+
+def _with_modification(case: Case, modification: dict) -> Case:
+    return dataclasses.replace(case, cycloid=dataclasses.replace(case.cycloid, **modification))
+
+
+def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
+    """The winner with its own FE tables: its datasheet (rigidity, lost motion, backlash)
+    and its nominal pressure, contacts and backlash beside those the search's tables give
+    for the same nominal geometry (the error of solving a candidate on the case's tables)."""
+    drive = drive_for(case)
+    si = case.to_si()
+    rated, assumed = si.rated_output_torque_Nm()
+    solver = drive.cycle_solver(positions, solver_options=drive.both_flanks_options)
+    sheet = datasheet(TwistModel(drive, drive.supports(si.supports), solver), rated,
+                      rated_assumed=assumed)
+    ls = solver.solve(torque)
+    check = {"max_ph_MPa": float(np.max(ls.ph)) * 1e-6,
+             "contacts_min": float(np.min(ls.contacts_per_position)),
+             "backlash_arcmin": sheet.backlash_arcmin,
+             "search_tables_max_ph_MPa": nominal.max_ph_MPa,
+             "search_tables_contacts_min": nominal.contacts_min,
+             "search_tables_backlash_arcmin": nominal.backlash_arcmin}
+    summary = sheet.summary()
+    return {k: summary[k] for k in ("rated_torque_Nm", "torsional_rigidity_Nm_per_arcmin",
+                                    "lost_motion_arcmin", "backlash_arcmin")
+            if k in summary}, check
+
+
+def write_design(result: DesignResult, folder, source_text: str) -> dict:
+    """candidates.csv, tradeoff.png, summary.json, report.md and the case file to use
+    (``best_case.toml``: the source with its [cycloid] modification keys set) into
+    ``folder`` (an existing folder); returns the summary."""
+    import csv
+    import json
+    from pathlib import Path
+
+    from .report import save
+    from .report import design as report
+
+    folder = Path(folder)
+    names = list(KEYS)
+    with open(folder / "candidates.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([*names, "backlash_arcmin", "max_ph_MPa", "contacts_min", "feasible"])
+        for c in result.candidates:
+            w.writerow([*(f"{c.modification[k]:.6g}" for k in names),
+                        f"{c.backlash_arcmin:.6g}", f"{c.max_ph_MPa:.6g}",
+                        f"{c.contacts_min:g}", int(c.feasible)])
+    save(report.tradeoff(result), folder / "tradeoff.png")
+    (folder / "best_case.toml").write_text(with_keys(source_text, "cycloid",
+                                                     result.best.modification))
+    summary = {**result.summary(), "files": ["candidates.csv", "tradeoff.png",
+                                             "best_case.toml", "summary.json", "report.md"]}
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    (folder / "report.md").write_text(report.markdown(summary))
+    return summary
+
+
+def with_keys(text: str, section: str, values: dict) -> str:
+    """TOML ``text`` with ``values`` set in its ``[section]`` table (each key's line
+    replaced, or added under the header), comments and the rest left as they are."""
+    lines = text.splitlines()
+    head = next((i for i, ln in enumerate(lines)
+                 if re.match(rf"\s*\[{re.escape(section)}\]\s*(#.*)?$", ln)), None)
+    if head is None:
+        raise CaseError(f"the case file has no [{section}] table")
+    end = next((i for i in range(head + 1, len(lines))
+                if re.match(r"\s*\[", lines[i])), len(lines))
+    for key, value in values.items():
+        line = f"{key} = {value:.6g}".replace("e-0", "e-")
+        hit = next((i for i in range(head + 1, end)
+                    if re.match(rf"\s*{re.escape(key)}\s*=", lines[i])), None)
+        if hit is None:
+            lines.insert(head + 1, line + "   # toothfem design")
+            end += 1
+        else:
+            lines[hit] = line + "   # toothfem design"
+    return "\n".join(lines) + "\n"

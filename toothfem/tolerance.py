@@ -1,0 +1,305 @@
+"""Tolerance Monte Carlo through the elastic contact model (``toothfem tolerance``).
+
+Each sample is one reducer as built: its deviations are drawn from the case's
+``[tolerances]`` (:meth:`toothfem.fem.drives.Drive.sample_deviation`), turned into shifts of
+the candidates' initial gaps and solved with the nominal design's influence tables (no
+mesh, no factorisation: docs/tolerance.md). The positions of one meshing period are put
+over the stage's whole pairing period (``pitches``), so that every pin and lobe of the
+built stage takes part. Per sample: the maximum pin (tooth) force, the maximum Hertz
+pressure and the fewest contacts at the peak member torque; lost motion (+-3 % of the
+rated torque); the loaded transmission error and the mesh and total efficiency at the
+operating point. The share of each tolerance in each output's variance comes from runs
+with that tolerance alone.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .case import Case
+from .cluster import dask_client
+from .efficiency import evaluate, operating_point
+from .efficiency.mesh_table import table_from_records
+from .errors import CaseError, check_range
+from .fem.cache import DiskCache
+from .fem.datasheet.sheet import lost_motion_arcmin
+from .fem.datasheet.twist import ARCSEC, TwistModel
+from .fem.deviations import only
+from .fem.drives import drive_for
+
+#: The outputs of a sample: column -> (label, unit) for tables and pictures.
+OUTPUTS = {
+    "max_force_N": ("maximum contact force", "N"),
+    "max_ph_MPa": ("maximum Hertz pressure", "MPa"),
+    "contacts_min": ("fewest contacts at a position", "-"),
+    "lost_motion_arcmin": ("lost motion", "arcmin"),
+    "te_pp_arcsec": ("loaded transmission error, peak to peak", "arcsec"),
+    "mesh_efficiency_pct": ("mesh efficiency", "%"),
+    "total_efficiency_pct": ("total efficiency", "%"),
+}
+PERCENTILES = (50, 90, 99)
+#: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
+MAX_SAMPLES = 100_000
+#: Samples per Dask task: large enough that the task's setup (reading the tables from the
+#: disk cache) is a few per cent of it.
+CHUNK = 50
+
+
+@dataclass(frozen=True, kw_only=True)
+class ToleranceResult:
+    """The ensemble: ``samples`` {output: (N,)}, the ``nominal`` design's outputs on the
+    same positions, ``shares`` {tolerance: {output: share of the variance}} from the runs
+    with one tolerance at a time (and ``interaction``: 1 - their sum over the whole
+    ensemble's variance), ``settings`` (samples, seed, positions, tolerances in mm)."""
+    case_name: str
+    drive: str
+    contact_name: str
+    contacts_name: str
+    samples: dict
+    nominal: dict
+    shares: dict
+    settings: dict
+
+    def percentiles(self) -> dict:
+        """{output: {"P50": .., "P90": .., "P99": ..}}."""
+        return {k: {f"P{q}": float(np.percentile(v, q)) for q in PERCENTILES}
+                for k, v in self.samples.items()}
+
+    def summary(self) -> dict:
+        return {"case": self.case_name, "drive": self.drive, **self.settings,
+                "nominal": self.nominal, "percentiles": self.percentiles(),
+                "mean": {k: float(np.mean(v)) for k, v in self.samples.items()},
+                "variance_shares": self.shares}
+
+
+@dataclass(frozen=True, kw_only=True)
+class _Setup:
+    """What every sample of a case reads (picklable: sent to each Dask task)."""
+    case: Case
+    positions: int
+    pitches: np.ndarray
+    speed_rpm: float
+    output_torque_Nm: float
+    rated_torque_Nm: float
+    cache_dir: str | None
+
+
+def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positions: int = 36,
+                       workers: int = 1, scheduler=None, share_samples: int | None = None,
+                       overrides: dict | None = None, progress: bool = True,
+                       cache=True) -> ToleranceResult:
+    """The tolerance ensemble of a case.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        With a ``[tolerances]`` section (at least one nonzero zone).
+    samples : int
+        Built reducers drawn (1 to MAX_SAMPLES).
+    seed : int
+        Seed of the generator: the same seed gives the same samples and results.
+    positions : int
+        Positions per sample, one per meshing period spread over the pairing period.
+    workers : int
+        Processes (a Dask LocalCluster when above 1, or with ``scheduler``).
+    scheduler : str or distributed.Client, optional
+        A Dask scheduler to run on.
+    share_samples : int, optional
+        Samples of each one-tolerance run for the variance shares (default a quarter of
+        ``samples``, at least 20); 0 for none.
+    overrides : dict, optional
+        [tolerances] keys (mm) to use instead of the case's.
+    progress : bool
+        A tqdm bar on stderr.
+    cache : bool or toothfem.fem.cache.DiskCache
+        Where the nominal influence tables are kept (True: the user's cache).
+
+    Returns
+    -------
+    ToleranceResult
+    """
+    for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
+                                ("workers", workers, 1, 256), ("positions", positions, 2, 3600)):
+        if isinstance(value, bool) or int(value) != value:
+            raise CaseError(f"{name} = {value!r} must be an integer")
+        check_range(name, value, lo, hi, error=CaseError)
+    if overrides:
+        case = dataclasses.replace(case, tolerances=dataclasses.replace(case.tolerances,
+                                                                        **overrides))
+    si = case.to_si()
+    tol = si.tolerances
+    active = tol.active()
+    if not active:
+        raise CaseError("[tolerances] has no nonzero zone: nothing to sample (e.g. "
+                        "pin_position_mm = 0.005)")
+    drive = drive_for(case)
+    rated, _ = si.rated_output_torque_Nm()
+    speed, t_out = operating_point(case)
+    n = int(positions)
+    cache_obj = DiskCache() if cache is True else (cache or None)
+    setup = _Setup(case=case, positions=n,
+                   pitches=(np.arange(n) * drive.pairing_period_pitches) // n,
+                   speed_rpm=float(speed), output_torque_Nm=float(t_out),
+                   rated_torque_Nm=float(rated or t_out),
+                   cache_dir=None if cache_obj is None else str(cache_obj.directory))
+    _solver(setup).prepare()                      # tables once, here (and on disk)
+    rng = np.random.default_rng(seed)
+    runs = [("all", tol, int(samples))]
+    n_share = max(20, int(samples) // 4) if share_samples is None else int(share_samples)
+    if n_share and len(active) > 1:
+        runs += [(name, only(tol, name), n_share) for name in active]
+    plan = [(label, drive.sample_deviation(t, rng)) for label, t, count in runs
+            for _ in range(count)]
+    rows = _run_all(setup, [d for _, d in plan], int(workers), scheduler, progress)
+    nominal = _outputs(setup, _solver(setup), None)
+    labels = np.array([label for label, _ in plan])
+    table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
+    ensemble = {k: v[labels == "all"] for k, v in table.items()}
+    shares = _shares(table, labels, active)
+    settings = {"samples": int(samples), "seed": int(seed), "positions": n,
+                "pairing_period_pitches": int(drive.pairing_period_pitches),
+                "share_samples": n_share if len(active) > 1 else 0,
+                "distribution": tol.distribution,
+                "tolerances_mm": {k: v for k, v in dataclasses.asdict(case.tolerances).items()
+                                  if k.endswith("_mm") and v},
+                "operating_speed_rpm": setup.speed_rpm,
+                "operating_output_torque_Nm": setup.output_torque_Nm,
+                "rated_torque_Nm": setup.rated_torque_Nm}
+    return ToleranceResult(case_name=case.name, drive=drive.kind,
+                           contact_name=drive.contact_name,
+                           contacts_name=drive.contacts_name, samples=ensemble,
+                           nominal=nominal, shares=shares, settings=settings)
+
+
+def _shares(table, labels, active) -> dict:
+    """{tolerance: {output: Var(one tolerance) / sum over tolerances}} and, per output,
+    ``interaction`` = 1 - sum Var(one) / Var(all) (sampling noise included)."""
+    if len(active) < 2:
+        return {active[0]: {k: 1.0 for k in OUTPUTS}} if active else {}
+    parts = {name: {k: float(np.var(table[k][labels == name])) for k in OUTPUTS}
+             for name in active}
+    out = {name: {} for name in active}
+    out["interaction"] = {}
+    for k in OUTPUTS:
+        total = sum(parts[m][k] for m in active)
+        for name in active:
+            out[name][k] = parts[name][k] / total if total > 0 else 0.0
+        v_all = float(np.var(table[k][labels == "all"]))
+        out["interaction"][k] = 1 - total / v_all if v_all > 0 else 0.0
+    return out
+
+
+def _solver(setup: _Setup):
+    """The drive's cycle solver with both flanks as candidates in every solve (a built
+    stage's deviations can close the idle flank: interference, preload), its tables from
+    the disk cache."""
+    drive = drive_for(setup.case)
+    cache = False if setup.cache_dir is None else DiskCache(setup.cache_dir)
+    return drive.cycle_solver(setup.positions, cache=cache,
+                              solver_options=drive.both_flanks_options)
+
+
+def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
+    """The outputs of one built reducer (``deviation`` None: the nominal design);
+    ``state``: the drive's meshing at the solver's positions, if known."""
+    case, si = setup.case, setup.case.to_si()
+    drive = drive_for(case)
+    options = {"deviation": deviation, "pitches": setup.pitches}
+    twist = TwistModel(drive, drive.supports(si.supports), solver, options, state)
+    t = setup.output_torque_Nm
+    even = twist.at(t, 1).load_sharing
+    peak_torque = drive.member_torque(t, peak=True)
+    peak = even if math.isclose(peak_torque, even.torque, rel_tol=1e-12) else \
+        solver.solve(peak_torque, **options)
+    table = table_from_records(twist.state, [even], "fem")
+    eff = evaluate(si, setup.speed_rpm, t, table=table)
+    total = twist.at(t, 1).total
+    return {"max_force_N": float(np.max(peak.force)),
+            "max_ph_MPa": float(np.max(peak.ph)) * 1e-6,
+            "contacts_min": float(np.min(peak.contacts_per_position)),
+            "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
+            "te_pp_arcsec": float((np.max(total) - np.min(total)) / ARCSEC),
+            "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
+            "total_efficiency_pct": 100 * float(eff.efficiency[0])}
+
+
+def _run_chunk(setup: _Setup, deviations: list) -> list:
+    """Worker task: the outputs of each deviation, in order."""
+    solver = _solver(setup)
+    state = drive_for(setup.case).meshing(solver.positions_rad)
+    return [_outputs(setup, solver, d, state) for d in deviations]
+
+
+def _run_all(setup, deviations, workers, scheduler, progress) -> list:
+    """Outputs of every deviation, in order: here, or in Dask tasks of CHUNK samples."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=len(deviations), desc="tolerance", unit="ring", disable=not progress)
+    try:
+        if workers == 1 and scheduler is None:
+            solver = _solver(setup)
+            state = drive_for(setup.case).meshing(solver.positions_rad)
+            out = []
+            for d in deviations:
+                out.append(_outputs(setup, solver, d, state))
+                bar.update()
+            return out
+        from distributed import as_completed
+
+        chunks = [deviations[i:i + CHUNK] for i in range(0, len(deviations), CHUNK)]
+        results = [None] * len(chunks)
+        with dask_client(scheduler, workers) as client:
+            futures = {client.submit(_run_chunk, setup, c, pure=False): k
+                       for k, c in enumerate(chunks)}
+            for fut in as_completed(list(futures)):
+                k = futures[fut]
+                results[k] = fut.result()
+                bar.update(len(results[k]))
+        return [r for chunk in results for r in chunk]
+    finally:
+        bar.close()
+
+
+def write_tolerance(result: ToleranceResult, folder) -> dict:
+    """samples.csv, summary.json, histograms.png, shares.png (several tolerances) and
+    report.md into ``folder`` (an existing folder); returns the summary."""
+    import csv
+    import json
+    from pathlib import Path
+
+    from .report import save
+    from .report import tolerance as report
+
+    folder = Path(folder)
+    outputs = _labelled(result)
+    with open(folder / "samples.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["sample", *outputs])
+        for i in range(len(next(iter(result.samples.values())))):
+            w.writerow([i, *(f"{result.samples[k][i]:.9g}" for k in outputs)])
+    summary = result.summary()
+    zones = ", ".join(f"{k[:-3].replace('_', ' ')} {v:g} mm"
+                      for k, v in summary["tolerances_mm"].items())
+    title = (f"{result.case_name}: {summary['samples']} built reducers, {zones} "
+             f"({summary['distribution']})")
+    save(report.histograms(result, outputs, title), folder / "histograms.png")
+    files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
+    if len(result.shares) > 1:
+        save(report.shares(result, outputs, f"{result.case_name}: where the scatter comes "
+                                             "from"), folder / "shares.png")
+        files.insert(3, "shares.png")
+    summary["files"] = files
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    (folder / "report.md").write_text(report.markdown(summary, outputs))
+    return summary
+
+
+def _labelled(result: ToleranceResult) -> dict:
+    """OUTPUTS with the drive's own word for a contact (pin, tooth)."""
+    out = dict(OUTPUTS)
+    out["max_force_N"] = (f"maximum {result.contact_name} force", "N")
+    out["contacts_min"] = (f"fewest {result.contacts_name} in contact", "-")
+    return out
