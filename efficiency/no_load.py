@@ -35,6 +35,11 @@ from .lubricant import churning_lu_xu_2024
 
 #: ISO/TR 14179-1:2001 seal loss P = SEAL_LOSS_W * D^2 n [W] for D [mm], n [rpm]: the
 #: friction of a radial lip seal on a shaft of diameter D (torque 7.34e-5 D^2 N m).
+#: Provenance (issue 13 worked checks, docs/efficiency.md): the standard's text and a worked
+#: example of it were not obtainable; the same coefficient, units (W, mm, rpm) and form
+#: appear in an independent public gearbox-loss script that attributes them to ISO/TR
+#: 14179-2, and the torque it gives (0.18 N m on a 50 mm shaft) is of the order of lip-seal
+#: makers' friction curves (SKF radial shaft seals, "Friction"). Kept, not confirmed.
 SEAL_LOSS_W = 7.69e-6
 #: Palmgren's no-load moment M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 [N mm] (nu [mm^2/s], n [rpm],
 #: d_m [mm]) for nu n >= PALMGREN_NU_N_MIN, and 160e-7 f0 d_m^3 below it.
@@ -44,7 +49,10 @@ PALMGREN_LOW_SPEED = 160.0
 #: Engineering* (1959), as tabulated by T.A. Harris & M.N. Kotzalas, *Essential Concepts of
 #: Bearing Technology* (2007), Table "f0 versus bearing type and method of lubrication";
 #: the middle of a tabulated range where a range is given ("oil_jet": the column of oil
-#: jet and vertical shafts in an oil bath).
+#: jet and vertical shafts in an oil bath). The table could not be re-read for issue 13's
+#: worked checks: the "angular_ball" row (2 / 1.7 / 3.3 / 6.6) in particular is unconfirmed
+#: (whether it is per single row or per pair). No shipped case uses these factors: all run
+#: in an oil bath, where the churning law replaces Palmgren's drag.
 PALMGREN_F0 = {
     "ball": {"grease": 1.35, "oil_mist": 1.0, "oil_bath": 2.0, "oil_jet": 4.0},
     "angular_ball": {"grease": 2.0, "oil_mist": 1.7, "oil_bath": 3.3, "oil_jet": 6.6},
