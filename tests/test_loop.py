@@ -270,6 +270,8 @@ def test_cli_writes_report(cases, cases_dir, tmp_path):
     out = tmp_path / "loop"
     assert _cli(["loop", str(case_file), str(csv), "--out", str(out)]) == 0
     rep = json.loads((out / "report.json").read_text())
+    assert rep["n_rows"] == rep["n_points"] == 60       # not binned: nothing to note
+    assert rep["notes"] == [] and rep["binning"] is None
     assert rep["baseline"]["rmse"] > 3 * rep["final"]["rmse"]
     assert [e["name"] for e in rep["effects"]] == ["drag_torque"]
     assert rep["effects"][0]["parameters"]["drag_torque_Nmm"]["value"] == pytest.approx(

@@ -8,11 +8,13 @@ effects from the catalog one at a time while they help. One job per module:
   beside it) as a :class:`~.measured.MeasuredData` record;
 * :mod:`.effects`: the catalog of physical effects, each a parameter of the model with its
   bounds, case fields, equation and source;
+* :mod:`.binning`: many rows onto fewer operating points (the mean of each cell of a grid);
 * :mod:`.synthetic`: synthetic rig data (the model plus effects the case does not declare,
   plus sensor noise) for the tests and the figures;
 * :mod:`.fit`: bounded least squares of a set of effects, BIC, k-fold held-out errors;
 * :mod:`.trends`: residual trends against the covariates, and each effect's signature;
-* :mod:`.selection`: forward-backward selection by BIC and held-out gain (:func:`run_loop`);
+* :mod:`.selection`: the data checked and binned (:func:`loop_data`), forward-backward
+  selection by BIC and held-out gain (:func:`run_loop`);
 * :mod:`.report`: the :class:`LoopReport` record and its JSON;
 * :mod:`.settings`: the thresholds of all of the above.
 
@@ -21,11 +23,13 @@ Pictures and the Markdown text of a report are the reporting layer's
 """
 from .fit import (AT_BOUND_REL, FD_STEP, FIT_TOL, Fit, HeldOut, Problem,  # noqa: F401
                   at_bound)
+from .binning import Binning, bin_rows  # noqa: F401
 from .report import Candidate, Closing, EffectFit, LoopReport, Step  # noqa: F401
-from .selection import candidates_of, final_case, run_loop  # noqa: F401
+from .selection import candidates_of, final_case, loop_data, run_loop  # noqa: F401
 from .settings import Settings  # noqa: F401
 from .trends import Trend, residual_trends, signatures  # noqa: F401
 
-__all__ = ["AT_BOUND_REL", "FD_STEP", "FIT_TOL", "Candidate", "Closing", "EffectFit", "Fit",
-           "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
-           "candidates_of", "final_case", "residual_trends", "run_loop", "signatures"]
+__all__ = ["AT_BOUND_REL", "FD_STEP", "FIT_TOL", "Binning", "Candidate", "Closing", "EffectFit",
+           "Fit", "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
+           "bin_rows", "candidates_of", "final_case", "loop_data", "residual_trends",
+           "run_loop", "signatures"]

@@ -51,7 +51,8 @@ STEP_BOUND_EPS = 1e-15  # width added to the upper bound of a Gauss-Newton step:
 CACHE_DECIMALS = 12     # parameter values equal to this many decimals are one prediction:
                         # the optimiser revisits a point up to rounding in its steps
 PREDICTION_CACHE_SIZE = 4096   # predictions kept, each an (M,) array (1.6 kB at M = 200:
-                               # at most 6.5 MB), more than one least-squares fit asks for
+                               # at most 6.5 MB; 40 kB at Settings.max_points = 5000: at most
+                               # 164 MB), more than one least-squares fit asks for
                                # (max_nfev = 60 steps, each with its finite-difference columns)
 MODEL_CACHE_SIZE = 512  # model evaluations kept (effects.predict's cache, each a few (M,)
                         # loss arrays): bounds the memory while keeping the evaluations the
@@ -88,6 +89,12 @@ class HeldOut:
     wrmse: float
     residual: np.ndarray           # (M,) held-out residual of each point
     folds: int
+
+
+def fold_count(n: int, settings: Settings) -> int:
+    """Folds of the k-fold held-out error on ``n`` points: :attr:`Settings.folds`, but no
+    more than the points and no fewer than :data:`MIN_FOLDS`."""
+    return max(MIN_FOLDS, min(settings.folds, n))
 
 
 def at_bound(value, parameter) -> bool:
@@ -146,7 +153,7 @@ class Problem:
         self.evaluations = 0
         self._cache = {}            # (names, values) -> efficiency
         self._evals = {}            # model evaluations (effects.predict's cache)
-        folds = max(MIN_FOLDS, min(settings.folds, self.n))
+        folds = fold_count(self.n, settings)
         perm = np.random.default_rng(settings.seed).permutation(self.n)
         self.fold = np.empty(self.n, int)
         self.fold[perm] = np.arange(self.n) % folds

@@ -411,16 +411,20 @@ def distinct_points(data: MeasuredData) -> int:
     return int(np.unique(np.column_stack(cols), axis=0).shape[0]) if len(data) else 0
 
 
-def require_distinct(data: MeasuredData, needed: int, purpose: str) -> MeasuredData:
+def require_distinct(data: MeasuredData, needed: int, purpose: str, *,
+                     rows: int | None = None) -> MeasuredData:
     """``data`` if it has at least ``needed`` distinct operating points, else one line
     saying how many it has and what needs more (repeated readings of one point say
-    nothing about how the efficiency changes with speed, torque or temperature)."""
+    nothing about how the efficiency changes with speed, torque or temperature).
+    ``rows``: the good rows ``data`` was binned from (default: its own rows)."""
     n = distinct_points(data)
     if n < needed:
+        rows = len(data) if rows is None else rows
+        binned = f" binned onto {len(data)} points" if rows != len(data) else ""
         raise MeasuredDataError(
-            f"{data.source or 'measured data'}: {len(data)} good rows but only {n} distinct "
-            f"operating point{'s' if n != 1 else ''} (speed, torque, oil temperature); "
-            f"{purpose} needs at least {needed}")
+            f"{data.source or 'measured data'}: {rows} good rows{binned} but only {n} "
+            f"distinct operating point{'s' if n != 1 else ''} (speed, torque, oil "
+            f"temperature); {purpose} needs at least {needed}")
     return data
 
 

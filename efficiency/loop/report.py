@@ -62,10 +62,12 @@ class Closing:
 class LoopReport:
     """The outcome of :func:`~toothfem.efficiency.loop.run_loop`: errors before and after,
     the effects added, the selection steps, the residual trends. Efficiencies and errors as
-    fractions; arrays of shape (M,) over the measured points."""
+    fractions; arrays of shape (M,) over the measured points (the bins' means when the rows
+    were binned: ``binning``)."""
     case_name: str
     data_source: str
-    n_points: int
+    n_points: int                  # points fitted (M)
+    n_rows: int                    # good rows of the data (more than M when binned)
     weighted: bool
     baseline: HeldOut
     final: HeldOut
@@ -88,6 +90,9 @@ class LoopReport:
     sigma: np.ndarray | None = None          # measurement uncertainty of each point
     elapsed_s: float = 0.0
     evaluations: int = 0
+    notes: tuple = ()              # what was done to the data, one line each (dropped
+                                   # columns, binning)
+    binning: dict | None = None    # binning.Binning.to_dict(), None when not binned
 
     def to_dict(self) -> dict:
         """The JSON of the report (report.json).
@@ -95,9 +100,10 @@ class LoopReport:
         Returns
         -------
         dict
-            Plain JSON types only (NaN and infinities as None): baseline and final errors,
-            effects, selection steps, trends, signatures, skipped candidates, closing
-            values, refused rows, provenance, time and model evaluations.
+            Plain JSON types only (NaN and infinities as None): rows and points, baseline
+            and final errors, effects, selection steps, trends, signatures, skipped
+            candidates, closing values, refused rows, notes on the data and its binning,
+            provenance, time and model evaluations.
         """
         def held(h: HeldOut, fit: Fit):
             return {"rmse": h.rmse, "max_abs_error": h.max_abs, "weighted_rmse": h.wrmse,
@@ -109,7 +115,8 @@ class LoopReport:
                     "p_value": t.p_value, "amplitude": t.amplitude, "follows": t.follows}
 
         return _jsonable({
-            "case": self.case_name, "data": self.data_source, "n_points": self.n_points,
+            "case": self.case_name, "data": self.data_source, "n_rows": self.n_rows,
+            "n_points": self.n_points, "notes": list(self.notes), "binning": self.binning,
             "weighted": self.weighted, "selection": self.selection,
             "baseline": held(self.baseline, self.baseline_fit),
             "final": held(self.final, self.final_fit),

@@ -18,6 +18,11 @@ catalog one at a time while they help:
 4. After the last effect, a residual that still follows a covariate is reported as
    unexplained, with that covariate.
 
+Before all this the data are checked and, when large, binned (:func:`loop_data`): more than
+one row needs at least two distinct operating points, a selection at least one per fold;
+more than :attr:`Settings.max_points` rows are binned onto at most that many operating
+points (:mod:`.binning`), and the report's notes say so.
+
 With fewer than :attr:`Settings.min_points` points there is no held-out error to select on:
 the loop then reports the baseline error and, for each candidate, the parameter value that
 would bring the model onto the data (:attr:`LoopReport.closing`) with whether that value is
@@ -29,9 +34,11 @@ import time
 
 import numpy as np
 
-from ...errors import ToothfemError
+from ...errors import MeasuredDataError, ToothfemError
 from . import effects as fx
-from .fit import Fit, Problem, at_bound
+from .binning import bin_rows
+from .fit import Fit, Problem, at_bound, fold_count
+from .measured import MeasuredData, require_distinct
 from .report import Candidate, Closing, EffectFit, LoopReport, Step
 from .settings import Settings
 from .trends import residual_trends, signatures
@@ -79,6 +86,43 @@ def candidates_of(case, points, effects):
     return cands, skipped
 
 
+def loop_data(data: MeasuredData, settings: Settings = Settings()) -> tuple:
+    """The points the loop fits: ``data`` checked and, above :attr:`Settings.max_points`
+    rows, binned (:func:`.binning.bin_rows`).
+
+    Parameters
+    ----------
+    data : measured.MeasuredData
+        Measured rows.
+    settings : Settings
+        Folds, fewest points of a selection, most points kept.
+
+    Returns
+    -------
+    tuple
+        (MeasuredData of the points, :class:`.binning.Binning` or None when not binned).
+
+    Raises
+    ------
+    MeasuredDataError
+        No rows; several rows of one operating point (identical points: the loop compares
+        the model with the change of the efficiency between points); fewer distinct points
+        than folds where a selection is made (a held-out fold would hold copies of the
+        training points).
+    """
+    rows = len(data)
+    if rows == 0:
+        raise MeasuredDataError(f"{data.source or 'measured data'}: no measured points")
+    if rows > 1:
+        require_distinct(data, 2, "comparing the change of the efficiency between points")
+    points, binning = bin_rows(data, settings.max_points)
+    if len(points) >= settings.min_points:
+        k = fold_count(len(points), settings)
+        require_distinct(points, k, f"the selection's {k}-fold held-out error (a distinct "
+                                    "point per fold; fewer folds need fewer)", rows=rows)
+    return points, binning
+
+
 def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
              progress=None) -> LoopReport:
     """The measured-data loop (module docstring).
@@ -88,7 +132,7 @@ def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
     case : toothfem.Case
         The reducer case, as declared.
     data : measured.MeasuredData
-        Measured efficiencies, M points.
+        Measured efficiencies, M rows (binned when more than :attr:`Settings.max_points`).
     effects : sequence of effects.Effect, optional
         The catalog to draw from (default :func:`effects.catalog`).
     settings : Settings
@@ -102,11 +146,21 @@ def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
     -------
     LoopReport
         Errors before and after, the effects added, the selection steps, the residual
-        trends and what the final residual still follows.
+        trends and what the final residual still follows; ``notes`` says what was done to
+        the data (dropped columns, binning).
+
+    Raises
+    ------
+    MeasuredDataError
+        Data the loop cannot compare with (:func:`loop_data`), in one line.
     """
     t0 = time.perf_counter()
     effects = tuple(effects or fx.catalog())
     say = progress or (lambda msg: None)
+    rows = len(data)
+    data, binning = loop_data(data, settings)
+    if binning is not None:
+        say(binning.note())
     prob = Problem(case=case, data=data, effects=effects, settings=settings, loads=loads)
     cands, skipped = candidates_of(case, prob.points, effects)
     covs = data.covariates()
@@ -118,7 +172,8 @@ def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
                   trends_before=trends_before, signatures=signatures(prob, base, cands),
                   skipped=skipped, rejected_rows=tuple(data.rejected),
                   provenance=dict(data.provenance), covariates=covs, measured=prob.eta,
-                  sigma=data.sigma)
+                  sigma=data.sigma, n_rows=rows, notes=tuple(data.notes),
+                  binning=None if binning is None else binning.to_dict())
     say(f"baseline: RMSE {100 * base.rmse:.3f} points on {prob.n} points")
     if prob.n < settings.min_points:
         stop = (f"{prob.n} point(s): fewer than {settings.min_points}, so no held-out error "
@@ -166,7 +221,7 @@ def _select(prob: Problem, cands, base: Fit, settings: Settings, say):
         if not best.passed:
             closest = min((c for _, c in scored), key=lambda c: c.cv_wrmse)
             stop = (f"nothing helps: the best candidate, {closest.name}, changes the held-out "
-                    f"error by {100 * (closest.cv_wrmse / current.cv_wrmse - 1):+.1f} % and BIC "
+                    f"error {_change(closest.cv_wrmse, current.cv_wrmse)} and BIC "
                     f"by {closest.delta_bic:+.1f} (needs <= -{settings.min_cv_gain:.0%} and "
                     f"<= -{settings.delta_bic:g})")
             steps.append(Step(index=len(steps) + 1, added=None, candidates=cand_records,
@@ -188,6 +243,14 @@ def _select(prob: Problem, cands, base: Fit, settings: Settings, say):
             stop = "the selection keeps exchanging effects: stopped"
             break
     return current, tuple(steps), stop
+
+
+def _change(new: float, old: float) -> str:
+    """'by -12.3 %': the relative change of a held-out error; from 0 (the model already
+    meets every held-out point) there is no relative change to give."""
+    if old > 0:
+        return f"by {100 * (new / old - 1):+.1f} %"
+    return f"from 0 to {new:.4g}"
 
 
 def _score(prob: Problem, current: Fit, pool, settings: Settings) -> list:

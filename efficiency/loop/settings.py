@@ -2,11 +2,14 @@
 
 One record, shared by the fit (:mod:`.fit`: folds, seed, function evaluations), the residual
 analysis (:mod:`.trends`: trend level, share, levels, degree) and the selection
-(:mod:`.selection`: BIC and held-out gains, number of effects, aliasing).
+(:mod:`.selection`: BIC and held-out gains, number of effects, aliasing) and the binning of
+many rows (:mod:`.binning`).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+
+from ...errors import check_range
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -25,3 +28,13 @@ class Settings:
     alias_bic: float = 2.0         # candidates within this BIC of the chosen one: aliased
     seed: int = 0                  # fold assignment
     max_nfev: int = 60             # function evaluations per least-squares fit
+    max_points: int = 5000         # more rows than this are binned onto at most this many
+                                   # operating points (binning.py): the analytic model
+                                   # takes ~26 kB a point, so ~0.3 GB and ~10 s a loop on
+                                   # the sine prototype, with bins of 20 rows at 1e5 rows
+
+    def __post_init__(self):
+        check_range("folds", self.folds, 2, why="one fold to hold out and one to train on")
+        check_range("min_points", self.min_points, 1)
+        check_range("max_points", self.max_points, self.min_points,
+                    why="at least min_points, or no selection is made")

@@ -125,7 +125,8 @@ def _extra_loss(case, points, ev, values, tables: ThermalTables):
     factor = np.ones(len(points))
     if points.time_h is not None and r > 0:
         c = housing(case.to_si(), drive_for(case)).heat_capacity_J_K
-        factor = 1.0 - np.exp(-points.time_h * 3600.0 / (r * c))
+        with np.errstate(over="ignore"):    # R C -> 0: warm at once, exp(-inf) = 0
+            factor = 1.0 - np.exp(-points.time_h * 3600.0 / (r * c))
     dt = rise(total, tables.rise_K, r, factor)
     return _row_interp(dt, tables.rise_K, total) - total[:, 0]
 

@@ -48,8 +48,6 @@ def run(args) -> int:
         effects = tuple(fx.by_name(n, effects) for n in names)
     if args.folds < 2:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
-    if len(data) > 1:           # one point: the loop reports what would close the gap
-        ms.require_distinct(data, 2, "a fit of the effects (the change between points)")
     settings = lp.Settings(folds=args.folds)
     report = lp.run_loop(case, data, effects, settings=settings, loads=args.loads,
                          progress=lambda msg: print(f"  {msg}"))
@@ -70,7 +68,9 @@ def run(args) -> int:
              if report.selection else
              f"fit RMSE {100 * report.baseline_fit.rmse:.3f} points (too few points for a "
              "held-out error)")
-    print(f"{case.name}: {report.n_points} points; {error}; effects: "
+    size = (f"{report.n_rows} rows binned onto {report.n_points} points"
+            if report.n_rows != report.n_points else f"{report.n_points} points")
+    print(f"{case.name}: {size}; {error}; effects: "
           f"{', '.join(e.name for e in report.effects) or 'none'}; unexplained: "
           f"{', '.join(report.unexplained) or 'nothing'}")
     print(f"  {report.stop_reason}")

@@ -97,8 +97,10 @@ def plot_residuals(report: LoopReport, stage="before"):
         ax.grid(alpha=0.3)
     for ax in list(axes.flat)[len(covs):]:
         ax.set_visible(False)
-    fig.suptitle(f"Residual of {title} against each covariate, {report.n_points} "
-                 f"measured point{'s' if report.n_points != 1 else ''}\n{report.case_name}",
+    points = (f"{report.n_points} points binned from {report.n_rows} measured rows"
+              if report.n_rows != report.n_points else
+              f"{report.n_points} measured point{'s' if report.n_points != 1 else ''}")
+    fig.suptitle(f"Residual of {title} against each covariate, {points}\n{report.case_name}",
                  fontsize=9, x=0.01, ha="left")
     return fig
 
@@ -125,9 +127,10 @@ def markdown(report: LoopReport, images=("residuals_before.png", "residuals_afte
     Returns
     -------
     str
-        Markdown: errors before and after, effects added, selection steps (or, for small
-        data, each point against its uncertainty and what each candidate would need),
-        residual trends, signatures, skipped candidates and refused rows.
+        Markdown: what was done to the data (its notes: dropped columns, binning), errors
+        before and after, effects added, selection steps (or, for small data, each point
+        against its uncertainty and what each candidate would need), residual trends,
+        signatures, skipped candidates and refused rows.
     """
     out = _header(report) + _errors(report) + _effects(report)
     if report.steps:
@@ -158,14 +161,20 @@ def markdown(report: LoopReport, images=("residuals_before.png", "residuals_afte
 
 
 def _header(report: LoopReport) -> list:
+    """Title, the data (rows, points, refused rows, weights), provenance and what was done
+    to the data (the notes: dropped columns, binning)."""
+    size = (f"{report.n_rows} rows binned onto {report.n_points} points"
+            if report.n_rows != report.n_points else f"{report.n_points} points")
     out = [f"# Measured-data loop: {report.case_name}", "",
-           f"Data: `{report.data_source}`, {report.n_points} points"
+           f"Data: `{report.data_source}`, {size}"
            + (f" ({len(report.rejected_rows)} rows refused)" if report.rejected_rows else "")
-           + ("; weighted by the sensors' uncertainty" if report.weighted else "; unweighted"),
-           ""]
+           + ("; weighted by each point's uncertainty (1/sigma)" if report.weighted
+              else "; unweighted"), ""]
     src = report.provenance.get("source") if report.provenance else None
     if src:
         out += [f"Provenance: {src}", ""]
+    if report.notes:
+        out += ["## What was done to the data", ""] + [f"- {n}" for n in report.notes] + [""]
     return out
 
 
