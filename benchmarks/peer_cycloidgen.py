@@ -93,6 +93,19 @@ def ours(case, positions):
     return out
 
 
+def pinhousing_case(peer_python):
+    """The pin-housing case and its rated output torque [N m], once the peer's environment
+    is known to exist (the peer scripts' common start)."""
+    if not Path(peer_python).exists():
+        sys.exit(f"no peer environment at {peer_python}: create it as the module "
+                 "docstring says")
+    sys.path.insert(0, str(ROOT))
+    from toothfem import load_case
+
+    case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
+    return case, case.to_si().rated_output_torque_Nm()[0]
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--positions", type=int, default=12,
@@ -100,14 +113,7 @@ def main(argv=None):
     ap.add_argument("--peer-python", default=str(PEER_PYTHON))
     ap.add_argument("--out", default=None, help="write both results as JSON")
     args = ap.parse_args(argv)
-    sys.path.insert(0, str(ROOT))
-    from toothfem import load_case
-
-    case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-    torque = case.to_si().rated_output_torque_Nm()[0]
-    if not Path(args.peer_python).exists():
-        sys.exit(f"no peer environment at {args.peer_python}: create it as the module "
-                 "docstring says")
+    case, torque = pinhousing_case(args.peer_python)
     theirs = peer(torque, args.peer_python)
     mine = ours(case, args.positions)
     print(f"pin-housing drive at {torque:g} N m; cycloidgen {theirs['version']}")
