@@ -30,7 +30,7 @@ import numpy as np
 from peer_cycloidgen import PEER_PYTHON, pinhousing_case
 
 #: The outputs compared, toothfem's ``tolerance_analysis(...).samples`` keys.
-OUTPUTS = ("max_pin_force_N", "max_ph_MPa", "contacts_min", "lost_motion_arcmin",
+OUTPUTS = ("max_force_N", "max_ph_MPa", "contacts_min", "lost_motion_arcmin",
            "te_pp_arcsec", "mesh_efficiency_pct", "total_efficiency_pct")
 #: Outputs only the peer reports (per ring), printed below the table.
 PEER_ONLY = ("pins_engaged_mean", "load_concentration", "mesh_rigidity_Nm_per_arcmin",
@@ -101,7 +101,7 @@ def one_ring(spec, picked, tpd, error):
                                 _R_eq_ring(spec, cs.t[cs.loaded_mask]), e_star)
         fmax, pmax = max(fmax, float(f.max())), max(pmax, float(p.max()))
         cmin = min(cmin, int((f > 0).sum()))
-    return {"max_pin_force_N": fmax, "max_ph_MPa": pmax, "contacts_min": float(cmin),
+    return {"max_force_N": fmax, "max_ph_MPa": pmax, "contacts_min": float(cmin),
             "lost_motion_arcmin": 2.0 * max(close) / ARCMIN,
             "pins_engaged_mean": float(np.mean(engaged)),
             "load_concentration": float(np.mean(conc)),
@@ -184,7 +184,7 @@ def pin_position_only(case, zone, extra):
     """toothfem's ``overrides``: the pin true-position zone, every other deviation of the
     case's [tolerances] section (float keys with a unit ending) set to zero so that only
     the pin position is sampled, as in the peer; ``extra`` (from --override) last."""
-    over = {PIN_POSITION_KEY: zone}
+    over = {PIN_POSITION_KEY: zone, "distribution": "uniform"}     # as the peer draws
     tol = getattr(case, "tolerances", None)
     if dataclasses.is_dataclass(tol):
         for f in dataclasses.fields(tol):

@@ -32,9 +32,8 @@ def tradeoff(result):
                 label=f"trade-off front (at least {t['min_contacts']} pins in contact)")
     b = result.best
     ax.scatter([b.backlash_arcmin], [b.max_ph_MPa], s=120, marker="*", color="tab:red",
-               zorder=5, label="best: " + ", ".join(f"{k.split('_modification')[0]} "
-                                                   f"{v:.4g}" for k, v in
-                                                   b.modification.items()))
+               zorder=5, label="best: " + ", ".join(_shown(k, v)
+                                                   for k, v in b.modification.items()))
     ax.axvline(t["max_backlash_arcmin"], color="k", ls="--", lw=1,
                label=f"max backlash {t['max_backlash_arcmin']:g} arcmin")
     if t.get("max_ph_MPa"):
@@ -48,6 +47,14 @@ def tradeoff(result):
     ax.set_title(wrap(f"{result.case_name}: modification search, backlash against "
                       "contact pressure", 90), fontsize=10)
     return fig
+
+
+def _shown(key: str, value: float) -> str:
+    """``equidistant_modification_mm`` 6.2e-05 -> 'equidistant 0.062 um'."""
+    name = key.split("_modification")[0].replace("_", " ")
+    if key.endswith("_mm"):
+        return f"{name} {value * 1e3:.3g} um"
+    return f"{name} {value:.3g} deg"
 
 
 def markdown(summary: dict) -> str:
