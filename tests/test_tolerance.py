@@ -140,11 +140,9 @@ def test_gap_shifts_against_remeshed_pins(pinhousing):
     """Three rings with pins moved (normal, 5 um zone) and resized (0 to -2 um), solved by
     the cycle mode with the nominal influence tables and gap shifts, and by the detailed
     mode with the pins moved and resized in its meshes: the same pins carry load, and the
-    largest pin force agrees within 7 %. The cycle mode's local Hertz correction (patch
-    b_ref, docs/fem.md) is the limit: it agrees with the detailed mode to 0.4 % at the
-    nominal geometry and at 5x the load, but where micrometre gaps leave some pins with a
-    few times the load of others its stiffer local approach piles 1.7-6 % more load on the
-    most loaded pin (docs/tolerance.md; the issue's 2 % is not met)."""
+    largest pin force agrees within 2 % (the issue's bar; measured 0.2-1.9 %, the cycle
+    mode's own agreement with the detailed mode at the nominal geometry being 0.5 %: the
+    Hertz local approach on b_ref patches, docs/derivations.md 6)."""
     drive = drive_for(pinhousing)
     model = drive.fe_model(pin_structure="conventional")
     phis = drive.positions(36)[[0, 13]]
@@ -161,7 +159,7 @@ def test_gap_shifts_against_remeshed_pins(pinhousing):
             fe = solve_detailed(model, phi, torque, deviation=dev, force_margin=8)
             f_fe, f_c = fe.load_sharing.force[0], cycle.force[p]
             assert np.array_equal(f_fe > 0, f_c > 0), (seed, p)
-            assert np.max(f_fe) == pytest.approx(np.max(f_c), rel=0.07), (seed, p)
+            assert np.max(f_fe) == pytest.approx(np.max(f_c), rel=0.02), (seed, p)
 
 
 @pytest.mark.slow

@@ -26,6 +26,9 @@ from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
+#: A body's approach at the centre of a Hertzian strip less its pressure-weighted mean,
+#: per unit force per length, times E': 1/(2 pi) (docs/derivations.md, 6).
+CENTRE_APPROACH = 1 / (2 * math.pi)
 #: Initial gap [m] of a candidate that a modified profile cannot reach (no contact point on
 #: its working profile): far beyond any elastic approach.
 MODIFIED_GAP_FAR = 1e-3
@@ -338,10 +341,13 @@ class CycleSolver:
         m = self.model
         e_p = m.e_plane
         c_disc = self.influence(p, side)
+        # the tables measure each body's pressure-weighted mean approach; the gap closes at
+        # the contact's centre, F/(2 pi E') further per elastic body (docs/derivations.md 6)
+        centre = CENTRE_APPROACH * (1 if m.pin_structure == "rigid" else 2) / e_p
         lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
             b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
-            local = strip_width_correction(b, self.b_ref, e_p)
+            local = centre + strip_width_correction(b, self.b_ref, e_p)
             if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
                 local = local + strip_width_correction(b, self.b_ref / 2, e_p)
             elif m.pin_structure == "conventional":
