@@ -26,23 +26,65 @@ SIGMAS_AT_LIMIT = 3.0
 
 
 def symmetric(rng, limit: float, size, distribution: str) -> np.ndarray:
-    """Values within +-``limit`` (normal: sigma = limit/3)."""
+    """Values within a symmetric limit.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    limit : float
+        The zone is +-``limit`` (same unit as the values).
+    size : int or tuple
+        Shape of the values.
+    distribution : {"normal", "uniform"}
+        normal: sigma = limit/3; uniform over the zone.
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     if distribution == "uniform":
         return rng.uniform(-limit, limit, size)
     return rng.normal(0.0, limit / SIGMAS_AT_LIMIT, size)
 
 
 def between(rng, lo: float, hi: float, size, distribution: str) -> np.ndarray:
-    """Values within the deviation limits [lo, hi] (normal: mean at the middle, 3 sigma at
-    each limit)."""
+    """Values within deviation limits.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    lo, hi : float
+        The limits (ISO 286 lower and upper deviations), lo <= hi.
+    size : int or tuple
+    distribution : {"normal", "uniform"}
+        normal: mean at the middle, 3 sigma at each limit; uniform over [lo, hi].
+
+    Returns
+    -------
+    numpy.ndarray
+    """
     if distribution == "uniform":
         return rng.uniform(lo, hi, size)
     return rng.normal(0.5 * (lo + hi), (hi - lo) / (2 * SIGMAS_AT_LIMIT), size)
 
 
 def in_zone(rng, diameter: float, count: int, distribution: str) -> np.ndarray:
-    """(2, count) offsets of points in a true-position zone (a circle of ``diameter``):
-    uniform over its area, or normal per component with 3 sigma at its radius."""
+    """Offsets of points in an ISO 1101 true-position zone.
+
+    Parameters
+    ----------
+    rng : numpy.random.Generator
+    diameter : float
+        The zone's diameter.
+    count : int
+        Points drawn.
+    distribution : {"normal", "uniform"}
+        uniform over the circle's area, or normal per component with 3 sigma at its radius.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, count)
+    """
     r_zone = 0.5 * diameter
     if distribution == "uniform":
         r = r_zone * np.sqrt(rng.uniform(0.0, 1.0, count))
@@ -87,8 +129,21 @@ class SineDeviation:
 
 
 def only(tolerances, name: str):
-    """``tolerances`` (a frozen record of zones and a ``distribution``) with every zone but
-    ``name`` set to zero: the reducer built with one tolerance at a time."""
+    """The reducer built with one tolerance at a time.
+
+    Parameters
+    ----------
+    tolerances : toothfem.si.TolerancesSI
+        Zones and a ``distribution``.
+    name : str
+        The tolerance kept (a field name without its unit, e.g. ``pin_diameter`` for both
+        its limits).
+
+    Returns
+    -------
+    toothfem.si.TolerancesSI
+        Every other zone zero; ToothfemError for an unknown name.
+    """
     zero = {}
     for f in fields(tolerances):
         if f.name in ("distribution", name) or f.name.startswith(name):

@@ -299,7 +299,7 @@ def with_keys(text: str, section: str, values: dict) -> str:
     end = next((i for i in range(head + 1, len(lines))
                 if re.match(r"\s*\[", lines[i])), len(lines))
     for key, value in values.items():
-        line = f"{key} = {value:.6g}".replace("e-0", "e-")
+        line = f"{key} = {value:.6g}"
         hit = next((i for i in range(head + 1, end)
                     if re.match(rf"\s*{re.escape(key)}\s*=", lines[i])), None)
         if hit is None:

@@ -9,7 +9,8 @@ built stage takes part. Per sample: the maximum pin (tooth) force, the maximum H
 pressure and the fewest contacts at the peak member torque; lost motion (+-3 % of the
 rated torque); the loaded transmission error and the mesh and total efficiency at the
 operating point. The share of each tolerance in each output's variance comes from runs
-with that tolerance alone.
+with that tolerance alone (normalised over the tolerances: a ranking; the model is not
+additive, so the one-tolerance variances need not sum to the whole ensemble's).
 """
 from __future__ import annotations
 
@@ -52,8 +53,8 @@ CHUNK = 50
 class ToleranceResult:
     """The ensemble: ``samples`` {output: (N,)}, the ``nominal`` design's outputs on the
     same positions, ``shares`` {tolerance: {output: share of the variance}} from the runs
-    with one tolerance at a time (and ``interaction``: 1 - their sum over the whole
-    ensemble's variance), ``settings`` (samples, seed, positions, tolerances in mm)."""
+    with one tolerance at a time (and ALONE_OVER_ALL: their variances summed over the
+    whole ensemble's), ``settings`` (samples, seed, positions, tolerances in mm)."""
     case_name: str
     drive: str
     contact_name: str
@@ -174,21 +175,27 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                            nominal=nominal, shares=shares, settings=settings)
 
 
+#: Key of the shares' last row: the one-tolerance variances summed, over the whole
+#: ensemble's (1: the tolerances add up; above 1 they mask each other, as when one
+#: tolerance's interference already decides which pins carry; below 1 they compound).
+ALONE_OVER_ALL = "sum_alone_over_all"
+
+
 def _shares(table, labels, active) -> dict:
     """{tolerance: {output: Var(one tolerance) / sum over tolerances}} and, per output,
-    ``interaction`` = 1 - sum Var(one) / Var(all) (sampling noise included)."""
+    ALONE_OVER_ALL = sum Var(one) / Var(all) (sampling noise included)."""
     if len(active) < 2:
         return {active[0]: {k: 1.0 for k in OUTPUTS}} if active else {}
     parts = {name: {k: float(np.var(table[k][labels == name])) for k in OUTPUTS}
              for name in active}
     out = {name: {} for name in active}
-    out["interaction"] = {}
+    out[ALONE_OVER_ALL] = {}
     for k in OUTPUTS:
         total = sum(parts[m][k] for m in active)
         for name in active:
             out[name][k] = parts[name][k] / total if total > 0 else 0.0
         v_all = float(np.var(table[k][labels == "all"]))
-        out["interaction"][k] = 1 - total / v_all if v_all > 0 else 0.0
+        out[ALONE_OVER_ALL][k] = total / v_all if v_all > 0 else 0.0
     return out
 
 

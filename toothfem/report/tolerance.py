@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..tolerance import ALONE_OVER_ALL
 from . import pyplot, wrap
 
 
@@ -58,7 +59,7 @@ def shares(result, outputs: dict, title: str):
     matplotlib.figure.Figure
     """
     plt = pyplot()
-    names = [n for n in result.shares if n != "interaction"]
+    names = [n for n in result.shares if n != ALONE_OVER_ALL]
     keys = list(outputs)
     fig, ax = plt.subplots(figsize=(10, 0.55 * len(keys) * max(1, len(names)) / 2 + 2))
     height = 0.8 / max(len(names), 1)
@@ -91,20 +92,24 @@ def markdown(summary: dict, outputs: dict) -> str:
              "| output | nominal | P50 | P90 | P99 |", "|---|---|---|---|---|"]
     for k, (label, unit) in outputs.items():
         p = summary["percentiles"][k]
-        lines.append(f"| {label} [{unit}] | {summary['nominal'][k]:.4g} | {p['P50']:.4g} | "
-                     f"{p['P90']:.4g} | {p['P99']:.4g} |")
+        fmt = ".3f" if unit == "%" else ".4g"      # efficiencies near 100 %: decimals
+        lines.append(f"| {label} [{unit}] | {summary['nominal'][k]:{fmt}} | "
+                     f"{p['P50']:{fmt}} | {p['P90']:{fmt}} | {p['P99']:{fmt}} |")
     shares = summary["variance_shares"]
-    names = [n for n in shares if n != "interaction"]
+    names = [n for n in shares if n != ALONE_OVER_ALL]
     if len(names) > 1:
         lines += ["", f"Share of each output's variance from each tolerance alone "
-                  f"({summary['share_samples']} reducers per tolerance); interaction = 1 - "
-                  "their sum over the whole ensemble's variance (sampling noise included):",
-                  "", "| output | " + " | ".join(names) + " | interaction |",
+                  f"({summary['share_samples']} reducers per tolerance), normalised over "
+                  "the tolerances (a ranking); the last column sums the one-tolerance "
+                  "variances over the whole ensemble's: 1 where the tolerances add up, "
+                  "above 1 where they mask each other (one tolerance's interference already "
+                  "decides which pins carry), below 1 where they compound:",
+                  "", "| output | " + " | ".join(names) + " | sum alone / all |",
                   "|---" * (len(names) + 2) + "|"]
         for k, (label, unit) in outputs.items():
             lines.append(f"| {label} | " + " | ".join(f"{100 * shares[n][k]:.0f} %"
                                                       for n in names)
-                         + f" | {100 * shares['interaction'][k]:.0f} % |")
+                         + f" | {shares[ALONE_OVER_ALL][k]:.2f} |")
     lines += ["", "Files: samples.csv (one row per reducer), summary.json, histograms.png, "
               "shares.png.", ""]
     return "\n".join(lines)
