@@ -229,7 +229,23 @@ def mean_equivalent_load(loads_N, speeds_rpm, shares, exponent) -> float:
 
 def set_life(single_life, count, bearing_type):
     """Life of ``count`` equally loaded bearings, the first failure ending the set:
-    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`)."""
+    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`).
+
+    Parameters
+    ----------
+    single_life : float
+        L10 life of one bearing [h] (any unit: the result has it).
+    count : int
+        z, bearings in the set.
+    bearing_type : str
+        A key of :data:`WEIBULL_SLOPE` ("ball", "angular_ball", "cylindrical", "tapered",
+        "needle").
+
+    Returns
+    -------
+    float
+        L10 life of the set, the unit of ``single_life``.
+    """
     return single_life * float(count) ** (-1.0 / WEIBULL_SLOPE[bearing_type])
 
 
