@@ -126,12 +126,24 @@ class Case:
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see
-        :mod:`toothfem.geometry.train` for the sign convention)."""
+        :mod:`toothfem.geometry.train` for the sign convention).
+
+        Returns
+        -------
+        float
+            i = omega_input / omega_output [-].
+        """
         return _RATIO[self.drive](self)
 
     def to_si(self) -> si.CaseSI:
         """The case in SI records (:mod:`toothfem.si`): what fem/ and efficiency/ read.
-        Computed once per case (cached on the frozen record)."""
+        Computed once per case (cached on the frozen record).
+
+        Returns
+        -------
+        toothfem.si.CaseSI
+            The SI record.
+        """
         cached = self.__dict__.get("_si")
         if cached is None:
             cached = si.from_case(self)
