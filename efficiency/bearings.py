@@ -104,6 +104,11 @@ def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     Returns
     -------
     BearingLoads
+
+    Raises
+    ------
+    CaseError
+        If a K-H-V drive has no [output_mechanism].
     """
     env = envelope(si, drive)
     t_member = drive.member_torque(output_torque_Nm, peak=True)
@@ -144,6 +149,12 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     Returns
     -------
     BearingLoads
+
+    Raises
+    ------
+    CaseError
+        If an external moment is declared without ``bearings.main_span_mm``, or an external
+        axial load on a main bearing type other than 'angular_ball'.
     """
     b = si.bearings
     env = envelope(si, drive)
@@ -200,6 +211,11 @@ def rating_life_revolutions(rating_N, load_N, exponent):
     -------
     numpy.ndarray
         L10 in revolutions (inf where P = 0).
+
+    Raises
+    ------
+    CaseError
+        If the dynamic load rating is not positive.
     """
     check_range("dynamic load rating C [N]", rating_N, 0.0, None, lo_open=True,
                 error=CaseError)
@@ -303,6 +319,11 @@ def bearing_life(case, *, loads="analytic", n_positions=36, duty=None) -> LifeRe
     Returns
     -------
     LifeResult
+
+    Raises
+    ------
+    CaseError
+        If the duty cycle's time shares do not sum to 1, or no output torque is declared.
     """
     si = case.to_si()
     drive = drive_for(si)

@@ -130,6 +130,11 @@ def composite_rms_roughness(ra1_m: float, ra2_m: float | None = None) -> float:
     -------
     float
         sigma [m].
+
+    Raises
+    ------
+    ToothfemError
+        If an Ra is negative or not finite.
     """
     ra1 = float(check_range("ra1_m", ra1_m, 0.0, None))
     ra2 = ra1 if ra2_m is None else float(check_range("ra2_m", ra2_m, 0.0, None))

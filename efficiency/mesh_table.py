@@ -152,6 +152,11 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     Returns
     -------
     MeshTable
+
+    Raises
+    ------
+    CaseError
+        If ``loads`` is not one of :data:`LOADS`.
     """
     if loads not in LOADS:
         raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")

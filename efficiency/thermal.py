@@ -284,6 +284,11 @@ def warm_up(case, speed_rpm, torque_Nm, duration_s, *, samples=41, **kw) -> Warm
     Returns
     -------
     WarmUp
+
+    Raises
+    ------
+    CaseError
+        If the duration is not positive.
     """
     check_range("duration_s", duration_s, 0.0, None, lo_open=True, error=CaseError)
     si = case.to_si()

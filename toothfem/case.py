@@ -227,6 +227,13 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
     Case
         Validated; a bad value raises :class:`CaseError` naming the key, its value and the
         valid range.
+
+    Raises
+    ------
+    CaseError
+        A missing or unknown section or key, a section of the wrong kind, or a value of the
+        wrong type or outside its range (one line naming the key, its value and the valid
+        range).
     """
     mapping = dict(mapping)
     head = mapping.pop("case", None)

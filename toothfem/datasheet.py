@@ -59,6 +59,12 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     Returns
     -------
     StiffnessResult
+
+    Raises
+    ------
+    CaseError
+        If ``positions`` is outside its range, ``torque_max_Nm`` is not positive, or the
+        case declares neither a rated nor an operating torque and none is given.
     """
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     drive = drive_for(case)

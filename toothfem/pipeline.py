@@ -99,6 +99,12 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
     Returns
     -------
     ContactResult
+
+    Raises
+    ------
+    CaseError
+        If ``positions`` is outside its range, ``mode``, ``field`` or ``pins`` is unknown,
+        or ``pins`` is given for a sine pair.
     """
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if mode not in MODES:

@@ -219,6 +219,12 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     Returns
     -------
     (LoadedTE, MemberSplit or None)
+
+    Raises
+    ------
+    CaseError
+        If the torque is zero or not finite, or ``samples`` or ``per_pitch`` is outside
+        [1, 400].
     """
     check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
     if output_torque_Nm == 0:
