@@ -70,12 +70,14 @@ def loss_factor(z1: int, z2: int, pressure_angle_rad: float, internal: bool = Fa
 
     Parameters
     ----------
-    z1, z2 : int
-        Pinion and wheel teeth, >= 6.
+    z1 : int
+        Teeth of the pinion (the sun), >= 6.
+    z2 : int
+        Teeth of the wheel (the planet), >= 6; u = z2/z1.
     pressure_angle_rad : float
-        Pressure angle [rad].
+        Transverse pressure angle alpha [rad].
     internal : bool
-        An internal wheel (ring gear).
+        True for an internal mesh (u + 1 becomes u - 1).
 
     Returns
     -------

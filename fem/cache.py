@@ -124,7 +124,7 @@ class DiskCache:
         Parameters
         ----------
         key : str
-            A :func:`content_key`.
+            Names the file (64 hex digits of :func:`content_key`).
 
         Returns
         -------
@@ -165,7 +165,7 @@ class DiskCache:
         Parameters
         ----------
         key : str
-            A :func:`content_key`.
+            The key the arrays are stored under (:func:`content_key`).
         arrays : Mapping of str to numpy.ndarray
             The arrays by name.
 

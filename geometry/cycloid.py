@@ -240,11 +240,11 @@ def working_profile(g, psi):
     ----------
     g : _Generating or CycloidGeometry
     psi : array_like, shape (N,)
-        Profile parameters [rad].
+        Where the profile is evaluated [rad].
 
     Returns
     -------
-    numpy.ndarray, shape (2, N)
+    numpy.ndarray of float, shape (2, N)
         Points of the working profile in the disc frame [m].
     """
     g = g.generating() if isinstance(g, CycloidGeometry) else g
@@ -380,7 +380,7 @@ def disc_pose(geom: CycloidGeometry, crank_angle_rad):
     ----------
     geom : CycloidGeometry
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles phi [rad].
+        Crank angles phi [rad] of the poses.
 
     Returns
     -------
@@ -400,7 +400,7 @@ def to_disc_frame(geom, crank_angle_rad, points):
     ----------
     geom : CycloidGeometry
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles phi [rad].
+        Crank angle phi [rad] of each set of points.
     points : numpy.ndarray, shape (2, P, C)
         Points in the housing frame [m], one set of C per crank angle.
 
@@ -450,7 +450,7 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     ----------
     geom : CycloidGeometry
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles phi [rad].
+        Crank angles phi [rad] (counter-clockwise from +x).
     crank_speed_rad_s : float
         Crank (input) speed [rad/s], counter-clockwise positive.
     pin_motion : {"fixed", "rolling"}
@@ -656,7 +656,7 @@ def clearance_exact(geom: CycloidGeometry, crank_angle_rad) -> np.ndarray:
     ----------
     geom : CycloidGeometry
     crank_angle_rad : array_like, shape (P,) or scalar
-        Crank angles phi [rad].
+        Crank angles phi [rad] of the nominal poses.
 
     Returns
     -------
@@ -696,7 +696,7 @@ def clearance_closed_form(geom: CycloidGeometry, theta_b):
     ----------
     geom : CycloidGeometry
     theta_b : array_like
-        Pin angles from the line of centres [rad].
+        Pin angles theta from the line of centres [rad], loaded flank 0 < theta < pi.
 
     Returns
     -------

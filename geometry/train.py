@@ -203,12 +203,12 @@ def rv_ratio(z_sun, z_planet, z_disc, z_pins) -> float:
     Returns
     -------
     float
-        i = omega_sun / omega_carrier [-].
+        i = omega_sun / omega_carrier [-] (positive: output and input turn the same way).
 
     Raises
     ------
     GeometryError
-        As :func:`rv_speeds`.
+        For a tooth number that is not a positive integer, or equal disc and pin counts.
     """
     w = rv_speeds(z_sun, z_planet, z_disc, z_pins)
     return w["sun"] / w["carrier"]

@@ -101,12 +101,12 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
     result : StiffnessResult
         The data sheet, loaded TE and split.
     folder : pathlib.Path
-        An existing folder.
+        Where the files go (it must exist).
 
     Returns
     -------
     dict
-        The summary with its file list.
+        The data sheet's figures and the names of the files written.
     """
     import csv
 

@@ -339,7 +339,7 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     case : Case
         The case.
     folder : pathlib.Path
-        An existing folder.
+        The output folder (already created).
     points_per_tooth : int
         Profile points per lobe or tooth, [8, 10000].
 

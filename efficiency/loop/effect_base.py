@@ -123,7 +123,7 @@ class Effect:
         Parameters
         ----------
         case : toothfem.case.Case
-            The case.
+            Whose fields are looked at.
 
         Returns
         -------
@@ -138,7 +138,7 @@ class Effect:
         Parameters
         ----------
         case : toothfem.case.Case
-            The case.
+            The case the effect would act on (its drive and sections).
         points : Points
             The operating points.
 
@@ -159,7 +159,7 @@ class Effect:
         Parameters
         ----------
         case : toothfem.case.Case
-            The case.
+            Decides the route where an effect's route depends on it.
 
         Returns
         -------
@@ -178,7 +178,7 @@ class Effect:
         Parameters
         ----------
         case : toothfem.case.Case
-            The case.
+            The case whose losses the model evaluates.
 
         Returns
         -------
@@ -213,7 +213,7 @@ def with_effects(case, assignment):
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        The case before the effects (its own units, e.g. mm).
     assignment : dict of Effect to sequence of float
         {Effect: values}.
 
@@ -250,7 +250,7 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        The case the model evaluates, before the effects.
     points : Points
         The M operating points.
     assignment : dict of Effect to sequence of float, optional
@@ -312,7 +312,7 @@ def prepare(effects, case, points) -> dict:
     effects : iterable of Effect
         The effects (those that do not apply are skipped).
     case : toothfem.case.Case
-        The case.
+        The case the tables are made for.
     points : Points
         The operating points.
 
@@ -384,9 +384,9 @@ def setter(section, name):
     Parameters
     ----------
     section : str
-        The case section's attribute name.
+        Attribute of the case holding the section ("friction", "lubricant", ...).
     name : str
-        The field.
+        The field the effect's single value goes to.
 
     Returns
     -------
@@ -405,7 +405,7 @@ def crank_speed_factor(case) -> float:
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        Its drive gives the speeds.
 
     Returns
     -------
@@ -421,7 +421,7 @@ def need_cycloid(case, points):
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        Checked for the two sections.
     points : Points
         The operating points (unused; the ``not_applicable`` signature).
 

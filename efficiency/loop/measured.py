@@ -590,7 +590,7 @@ def from_case(case) -> MeasuredData:
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        With [[measured]] points: speed [rpm], output torque [N m], efficiency [-].
 
     Returns
     -------

@@ -87,7 +87,7 @@ def thermal_tables(case, points) -> ThermalTables:
     Parameters
     ----------
     case : toothfem.case.Case
-        The case.
+        The case whose oil limit bounds the grid.
     points : Points
         The operating points (with oil temperatures [deg C]).
 

@@ -31,12 +31,12 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 once the case has been read and shown.
 
     Raises
     ------
     CaseError
-        If the case cannot be read or is invalid (the CLI prints it in one line).
+        A case that cannot be read or holds an invalid value (the CLI prints the message).
     """
 
     case = load_case(args.case)

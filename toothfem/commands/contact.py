@@ -59,7 +59,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 when the load sharing and its files are written.
 
     Raises
     ------

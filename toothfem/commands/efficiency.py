@@ -62,7 +62,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 after the table (or JSON) is printed.
 
     Raises
     ------

@@ -37,7 +37,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 once the profiles are in the folder.
 
     Raises
     ------

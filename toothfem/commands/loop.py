@@ -51,7 +51,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 when the report is written.
 
     Raises
     ------

@@ -41,7 +41,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 when the report folder is complete.
     """
     import json
 

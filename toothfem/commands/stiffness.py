@@ -52,7 +52,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 once the data sheet is written.
     """
 
     case = load_case(args.case)

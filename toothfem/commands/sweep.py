@@ -57,7 +57,7 @@ def run(args) -> int:
     Returns
     -------
     int
-        Exit status 0.
+        0 after every design and load case has run (failed rows included).
 
     Raises
     ------

@@ -97,16 +97,16 @@ def sine_drawing(pair, crank_angle_rad=0.0, title="", case_name=""):
     pair : toothfem.geometry.sine.SineGearPair
         The pair.
     crank_angle_rad : float
-        Crank angle [rad].
+        Crank angle chi [rad] placing the planet.
     title : str
-        The figure's title; default: the dimensions.
+        Overrides the title (tooth numbers, module, tooth height).
     case_name : str
-        Named in the default title.
+        A second line of the default title.
 
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels, lengths in mm.
+        Whole pair and close-up [mm].
     """
     from shapely import affinity
 
