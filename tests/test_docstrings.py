@@ -59,8 +59,9 @@ ALLOWED_MODULES = {
 #: __iter__, __getitem__, ...) follow Python's protocol and say nothing a reader needs.
 CHECKED_DUNDERS = ("__init__", "__call__")
 
-#: Properties are documented as attributes: one summary line with the unit, no sections
-#: (numpydoc's convention), so they are not checked.
+# Not checked, by rule: properties (documented as attributes: one summary line with the
+# unit, numpydoc's convention) and the __init__ that @dataclass writes (the record's fields,
+# named with their units, are its documentation; see the module docstring).
 
 _SECTION = r"^[ \t]*{}[ \t]*\r?\n[ \t]*-{{3,}}[ \t]*$"
 
