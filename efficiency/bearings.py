@@ -104,6 +104,11 @@ def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     Returns
     -------
     BearingLoads
+
+    Raises
+    ------
+    CaseError
+        If a K-H-V drive has no [output_mechanism].
     """
     env = envelope(si, drive)
     t_member = drive.member_torque(output_torque_Nm, peak=True)
@@ -144,6 +149,12 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     Returns
     -------
     BearingLoads
+
+    Raises
+    ------
+    CaseError
+        If an external moment is declared without ``bearings.main_span_mm``, or an external
+        axial load on a main bearing type other than 'angular_ball'.
     """
     b = si.bearings
     env = envelope(si, drive)
@@ -200,6 +211,11 @@ def rating_life_revolutions(rating_N, load_N, exponent):
     -------
     numpy.ndarray
         L10 in revolutions (inf where P = 0).
+
+    Raises
+    ------
+    CaseError
+        If the dynamic load rating is not positive.
     """
     check_range("dynamic load rating C [N]", rating_N, 0.0, None, lo_open=True,
                 error=CaseError)
@@ -229,7 +245,23 @@ def mean_equivalent_load(loads_N, speeds_rpm, shares, exponent) -> float:
 
 def set_life(single_life, count, bearing_type):
     """Life of ``count`` equally loaded bearings, the first failure ending the set:
-    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`)."""
+    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`).
+
+    Parameters
+    ----------
+    single_life : float
+        L10 life of one bearing [h] (any unit: the result has it).
+    count : int
+        z, bearings in the set.
+    bearing_type : str
+        A key of :data:`WEIBULL_SLOPE` ("ball", "angular_ball", "cylindrical", "tapered",
+        "needle").
+
+    Returns
+    -------
+    float
+        L10 life of the set, the unit of ``single_life``.
+    """
     return single_life * float(count) ** (-1.0 / WEIBULL_SLOPE[bearing_type])
 
 
@@ -287,6 +319,11 @@ def bearing_life(case, *, loads="analytic", n_positions=36, duty=None) -> LifeRe
     Returns
     -------
     LifeResult
+
+    Raises
+    ------
+    CaseError
+        If the duty cycle's time shares do not sum to 1, or no output torque is declared.
     """
     si = case.to_si()
     drive = drive_for(si)

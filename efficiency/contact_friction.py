@@ -94,6 +94,23 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
 
 
 def sliding_loss(table, force, mu, crank_speed):
-    """(M,) cycle-mean friction loss sum mu F |v_s| over the period [W]."""
+    """Cycle-mean friction loss sum mu F |v_s| over the period [W].
+
+    Parameters
+    ----------
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The N loaded contacts (sliding speed at unit crank speed).
+    force : numpy.ndarray, shape (M, N)
+        Contact forces [N].
+    mu : numpy.ndarray, shape (M, N)
+        Friction coefficients [-].
+    crank_speed : numpy.ndarray, shape (M,)
+        Crank speed relative to the fixed member [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+        Loss [W].
+    """
     vs = table.vs[None, :] * crank_speed[:, None]
     return np.sum(mu * force * vs, axis=1) / table.n_positions

@@ -130,6 +130,11 @@ def composite_rms_roughness(ra1_m: float, ra2_m: float | None = None) -> float:
     -------
     float
         sigma [m].
+
+    Raises
+    ------
+    ToothfemError
+        If an Ra is negative or not finite.
     """
     ra1 = float(check_range("ra1_m", ra1_m, 0.0, None))
     ra2 = ra1 if ra2_m is None else float(check_range("ra2_m", ra2_m, 0.0, None))
@@ -147,14 +152,33 @@ def central_film_thickness_line(ve, eta0, r_eq, w_per_length, *, e_prime=E_PRIME
     *Fundamentals of Fluid Film Lubrication* (2004):
     ``h_c / R = 3.06 U^0.69 G^0.56 W^-0.10`` with ``U = eta0 ve / (E' R)``,
     ``G = alpha E'``, ``W = w / (E' R)``.
-
-    ve : mean entraining velocity (u1 + u2)/2 [m/s], > 0.
-    eta0 : dynamic viscosity at inlet temperature and ambient pressure [Pa s], > 0.
-    r_eq : equivalent radius [m], > 0.  w_per_length : load per length [N/m], > 0.
-    e_prime : E' = 2 E* [Pa], default 2.3e11 (steel/steel).
-    pressure_viscosity : Barus alpha [1/Pa], default 2.0e-8 (mineral oil).
     Smooth surfaces, fully flooded, isothermal, Newtonian inlet; no thermal or
     starvation correction.
+
+    Parameters
+    ----------
+    ve : array_like
+        Mean entraining velocity (u1 + u2)/2 [m/s], > 0.
+    eta0 : array_like
+        Dynamic viscosity at inlet temperature and ambient pressure [Pa s], > 0.
+    r_eq : array_like
+        Equivalent radius [m], > 0.
+    w_per_length : array_like
+        Load per length [N/m], > 0.
+    e_prime : array_like
+        E' = 2 E* [Pa], default 2.3e11 (steel/steel).
+    pressure_viscosity : array_like
+        Barus alpha [1/Pa], default 2.0e-8 (mineral oil).
+
+    Returns
+    -------
+    float or numpy.ndarray
+        h_c [m], the broadcast shape (a float for scalar input).
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument that is not positive and finite.
     """
     u = _array("ve", ve, 0.0, lo_open=True, why="mean entraining velocity [m/s]")
     eta = _array("eta0", eta0, 0.0, lo_open=True, why="dynamic viscosity [Pa s]")
@@ -175,6 +199,31 @@ def minimum_film_thickness_line(ve, eta0, r_eq, w_per_length, *, e_prime=E_PRIME
     Dowson & Higginson, *Elastohydrodynamic Lubrication* (1977 SI ed.):
     ``h_min / R = 2.65 U^0.70 G^0.54 W^-0.13``; symbols, units and validity as in
     :func:`central_film_thickness_line`.
+
+    Parameters
+    ----------
+    ve : array_like
+        Mean entraining velocity [m/s], > 0.
+    eta0 : array_like
+        Inlet dynamic viscosity [Pa s], > 0.
+    r_eq : array_like
+        Equivalent radius [m], > 0.
+    w_per_length : array_like
+        Load per length [N/m], > 0.
+    e_prime : array_like
+        E' = 2 E* [Pa].
+    pressure_viscosity : array_like
+        Barus alpha [1/Pa].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        h_min [m], the broadcast shape.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument that is not positive and finite.
     """
     u = _array("ve", ve, 0.0, lo_open=True, why="mean entraining velocity [m/s]")
     eta = _array("eta0", eta0, 0.0, lo_open=True, why="dynamic viscosity [Pa s]")
@@ -206,27 +255,45 @@ def ehl_xu2007(ph, sr, ve, eta0, r, roughness, *, e_prime=E_PRIME_STEEL,
     coefficients :data:`XU2007_COEFFICIENTS`.  Conversion from the SI arguments is done
     here.
 
-    ph : maximum Hertz pressure [Pa], > 0.
-    sr : slide-to-roll ratio vs/ve = 2(u1-u2)/(u1+u2) [-], any finite value; its sign
-        is ignored.  mu -> 0 as SR -> 0 (mu ~ |SR|^1.036), i.e. zero friction at the
-        pitch point.
-    ve : mean entraining velocity (u1 + u2)/2 [m/s], > 0.  (Primary text not read here;
-        see docs.  Using the sum instead changes mu by 2^-0.1006, i.e. -6.7 %.)
-    eta0 : dynamic viscosity at the inlet temperature, ambient pressure [Pa s], > 0.
-    r : equivalent radius of curvature [m], > 0.
-    roughness : composite RMS roughness S [m], >= 0.
-    e_prime, pressure_viscosity : E' = 2E* [Pa] and alpha [1/Pa] for the film ratio;
-        the load per length follows from Hertz, ``w = pi ph^2 R / E* = 2 pi ph^2 R / E'``.
-    lambda_min : full-film threshold on lambda = h_c/S (default 3, Tallian 1972); a
-        :class:`MixedLubricationWarning` is issued where lambda < lambda_min, since the
-        regression describes full-film EHL only.
-
     Trends built into the formula: mu rises with S (b9 > 0) and falls with Ve (b6 < 0).
     Validity: gear-like EHL conditions of the original simulations (pressures of order
     GPa, speeds of order m/s, one automotive gear oil); the exact regression ranges were
     not verified here.  Low speeds, low pressures or thin films are extrapolation.
 
-    Returns :class:`FrictionResult` (mu, film_ratio, film_thickness).
+    Parameters
+    ----------
+    ph : array_like
+        Maximum Hertz pressure [Pa], > 0.
+    sr : array_like
+        Slide-to-roll ratio vs/ve = 2(u1-u2)/(u1+u2) [-], any finite value; its sign is
+        ignored.  mu -> 0 as SR -> 0 (mu ~ |SR|^1.036), i.e. zero friction at the pitch
+        point.
+    ve : array_like
+        Mean entraining velocity (u1 + u2)/2 [m/s], > 0.  (Primary text not read here;
+        see docs.  Using the sum instead changes mu by 2^-0.1006, i.e. -6.7 %.)
+    eta0 : array_like
+        Dynamic viscosity at the inlet temperature, ambient pressure [Pa s], > 0.
+    r : array_like
+        Equivalent radius of curvature [m], > 0.
+    roughness : array_like
+        Composite RMS roughness S [m], >= 0.
+    e_prime, pressure_viscosity : array_like
+        E' = 2E* [Pa] and alpha [1/Pa] for the film ratio; the load per length follows
+        from Hertz, ``w = pi ph^2 R / E* = 2 pi ph^2 R / E'``.
+    lambda_min : array_like
+        Full-film threshold on lambda = h_c/S [-] (default 3, Tallian 1972); a
+        :class:`MixedLubricationWarning` is issued where lambda < lambda_min, since the
+        regression describes full-film EHL only.
+
+    Returns
+    -------
+    FrictionResult
+        mu [-], film_ratio [-] and film_thickness [m], the broadcast shape.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument outside its range.
     """
     b1, b2, b3, b4, b5, b6, b7, b8, b9 = XU2007_COEFFICIENTS
     ph_a = _array("ph", ph, 0.0, lo_open=True, why="maximum Hertz pressure [Pa]")
@@ -281,17 +348,34 @@ def benedict_kelley(w_per_length, vs, v_sum, eta0, roughness=None):
     C_R = 50 / (50 - S_avg), S_avg the average roughness [micro-inch].  In SI, with
     W [N/m], eta0 [Pa s], velocities [m/s], the constant is
     3.17e8 * 0.0254^3 / (175.1268 * 1000) = 0.029662 (29.66 if eta0 is in cP).
-
-    w_per_length : normal load per unit face width [N/m], > 0.
-    vs : sliding speed |u1 - u2| [m/s], > 0 (mu -> infinity as vs -> 0: the formula is
-        singular at the pitch point).
-    v_sum : sum velocity u1 + u2 [m/s], > 0 (twice the mean entraining velocity).
-    eta0 : dynamic viscosity at oil inlet temperature [Pa s], > 0.
-    roughness : average surface roughness S_avg [m], 0 <= S_avg < 50 micro-inch
-        (1.27 um); None gives C_R = 1.
     Disc-machine correlation for mineral oils; a :class:`FrictionExtrapolationWarning`
     is issued where it gives mu <= 0 (log argument <= 1, i.e. very high speed or low
     load).
+
+    Parameters
+    ----------
+    w_per_length : array_like
+        Normal load per unit face width [N/m], > 0.
+    vs : array_like
+        Sliding speed |u1 - u2| [m/s], > 0 (mu -> infinity as vs -> 0: the formula is
+        singular at the pitch point).
+    v_sum : array_like
+        Sum velocity u1 + u2 [m/s], > 0 (twice the mean entraining velocity).
+    eta0 : array_like
+        Dynamic viscosity at oil inlet temperature [Pa s], > 0.
+    roughness : array_like, optional
+        Average surface roughness S_avg [m], 0 <= S_avg < 50 micro-inch (1.27 um); None
+        gives C_R = 1.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        mu [-], the broadcast shape.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument outside its range.
     """
     w = _array("w_per_length", w_per_length, 0.0, lo_open=True, why="load per length [N/m]")
     v_s = _array("vs", vs, 0.0, lo_open=True, why="sliding speed [m/s]")
@@ -315,10 +399,23 @@ def benedict_kelley(w_per_length, vs, v_sum, eta0, roughness=None):
 def coulomb(mu):
     """Constant (Coulomb) friction law with the call shape of :func:`ehl_xu2007`.
 
-    ``coulomb(0.05)`` returns ``law(ph, sr, ve, eta0, r, roughness, **kwargs)`` (all
-    arguments optional and ignored except for their broadcast shape) that gives a
-    :class:`FrictionResult` with ``mu`` everywhere and ``film_ratio``/``film_thickness``
-    NaN (unknown).  mu in [0, inf).
+    Parameters
+    ----------
+    mu : float
+        The friction coefficient [-], in [0, inf).
+
+    Returns
+    -------
+    callable
+        ``law(ph, sr, ve, eta0, r, roughness, **kwargs)`` (all arguments optional and
+        ignored except for their broadcast shape) that gives a :class:`FrictionResult`
+        with ``mu`` everywhere and ``film_ratio``/``film_thickness`` NaN (unknown);
+        ``coulomb(0.05)(...)``.
+
+    Raises
+    ------
+    ToothfemError
+        If ``mu`` is negative or not finite.
     """
     m = float(check_range("mu", mu, 0.0, None, why="Coulomb friction coefficient"))
 

@@ -10,17 +10,50 @@ VOGEL_POLE_MARGIN_K = 1.0
 
 
 def temperature_range(lubricant) -> tuple:
-    """(lowest, highest) oil temperature [deg C] the viscosity law is used at: the pour
-    point (below it the oil does not flow; the law has no data) or just above Vogel's pole,
-    whichever is higher, up to the oil's ``max_temperature_C`` (mineral oil: 150 C, where
-    oxidation runs away; docs/case_schema.md)."""
+    """The oil temperatures the viscosity law is used at.
+
+    The lowest is the pour point (below it the oil does not flow; the law has no data) or
+    just above Vogel's pole, whichever is higher; the highest the oil's
+    ``max_temperature_C`` (mineral oil: 150 C, where oxidation runs away;
+    docs/case_schema.md).
+
+    Parameters
+    ----------
+    lubricant : toothfem.si.LubricantSI
+        Pour point, Vogel's C and the highest temperature [deg C].
+
+    Returns
+    -------
+    tuple of (float, float)
+        (lowest, highest) oil temperature [deg C].
+    """
     lo = max(lubricant.pour_point_C, -lubricant.vogel_C_C + VOGEL_POLE_MARGIN_K)
     return lo, lubricant.max_temperature_C
 
 
 def check_oil_temperature(lubricant, oil_temp_C, name="oil_temp_C"):
-    """``oil_temp_C`` as an array; CaseError (one line: the value and the valid range) where a
-    temperature leaves :func:`temperature_range`."""
+    """``oil_temp_C`` as an array, refused where a temperature leaves
+    :func:`temperature_range`.
+
+    Parameters
+    ----------
+    lubricant : toothfem.si.LubricantSI
+        The oil.
+    oil_temp_C : array_like
+        Oil temperatures [deg C].
+    name : str
+        The parameter's name in the message.
+
+    Returns
+    -------
+    numpy.ndarray
+        The temperatures [deg C], shape of ``oil_temp_C``.
+
+    Raises
+    ------
+    CaseError
+        One line: the first bad value and the valid range.
+    """
     t = np.asarray(oil_temp_C, float)
     lo, hi = temperature_range(lubricant)
     bad = ~np.isfinite(t) | (t < lo) | (t > hi)

@@ -51,7 +51,21 @@ class MeshTable:
     hertz_invalid: np.ndarray      # (N,) bool
 
     def at(self, torque):
-        """(force, ph) at moving-member torques ``torque`` (M,): arrays (M, N)."""
+        """Contact forces and peak pressures at moving-member torques, interpolated as F/T and
+        P_h/sqrt(T) (held at the end values outside ``torques``).
+
+        Parameters
+        ----------
+        torque : array_like, shape (M,)
+            Torques on the moving member [N m].
+
+        Returns
+        -------
+        force : numpy.ndarray, shape (M, N)
+            Contact forces [N].
+        ph : numpy.ndarray, shape (M, N)
+            Peak Hertz pressures [Pa].
+        """
         t = np.asarray(torque, float)[:, None]
         if self.torques.size == 1:
             f1 = self.force[0] / self.torques[0]
@@ -65,7 +79,18 @@ class MeshTable:
         return t * f, np.sqrt(t) * p
 
     def resultant(self, force):
-        """(M, P, 2) resultant contact force on the moving member at each position."""
+        """Resultant contact force on the moving member at each position.
+
+        Parameters
+        ----------
+        force : numpy.ndarray, shape (M, N)
+            Contact forces [N] (:meth:`at`).
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, P, 2)
+            Resultant [N], housing frame, fixed -> moving member.
+        """
         m = force.shape[0]
         out = np.zeros((m, self.n_positions, 2))
         for k in range(2):
@@ -127,6 +152,11 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     Returns
     -------
     MeshTable
+
+    Raises
+    ------
+    CaseError
+        If ``loads`` is not one of :data:`LOADS`.
     """
     if loads not in LOADS:
         raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
@@ -140,8 +170,23 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
 
 
 def fe_reference(declared_member_torque, member_torque, notes) -> float:
-    """Reference member torque of the FE table [N m]: the case's declared torque on the
-    member, else the largest asked for; a note where points fall outside the table."""
+    """Reference member torque of the FE table: the case's declared torque on the member,
+    else the largest asked for; a note where points fall outside the table.
+
+    Parameters
+    ----------
+    declared_member_torque : float or None
+        The case's declared torque on the member [N m].
+    member_torque : numpy.ndarray, shape (M,)
+        Member torques asked for [N m].
+    notes : list of str
+        A note is appended here when a point falls outside the table's range.
+
+    Returns
+    -------
+    float
+        The reference torque [N m].
+    """
     ref = declared_member_torque or float(np.max(member_torque))
     lo, hi = FE_TORQUE_FRACTIONS[0] * ref, FE_TORQUE_FRACTIONS[-1] * ref
     out = (member_torque < lo) | (member_torque > hi)

@@ -117,7 +117,25 @@ def palmgren_no_load_moment(f0, nu_m2_s, speed_rad_s, pitch_diameter_m):
 
 
 def palmgren_f0(bearing_type: str, lubrication: str) -> float:
-    """f0 of :data:`PALMGREN_F0`; CaseError naming the type or lubrication if unknown."""
+    """f0 of :data:`PALMGREN_F0`.
+
+    Parameters
+    ----------
+    bearing_type : str
+        A key of :data:`PALMGREN_F0`.
+    lubrication : str
+        "grease", "oil_mist", "oil_bath" or "oil_jet".
+
+    Returns
+    -------
+    float
+        Palmgren's no-load factor f0 [-].
+
+    Raises
+    ------
+    CaseError
+        Naming the type or lubrication if unknown.
+    """
     row = PALMGREN_F0.get(bearing_type)
     if row is None:
         raise CaseError(f"bearing type {bearing_type!r} is not one of {sorted(PALMGREN_F0)}")

@@ -67,8 +67,7 @@ def rv_split_power(z_sun, z_planet, z_disc, z_pins, input_power_W, mesh_efficien
                    mesh_efficiency_2, *, u_equation: int = 12) -> RVSplitPower:
     """The RV paper's efficiency of a 2K-V (RV) reducer, Eqs. 8-15, as printed.
 
-    ``mesh_efficiency_1``: sun-planet pair (eta1); ``mesh_efficiency_2``: cycloid-pin pair
-    (eta2). The ratios come from the Willis system (:func:`~toothfem.geometry.train.rv_speeds`):
+    The ratios come from the Willis system (:func:`~toothfem.geometry.train.rv_speeds`):
     ``beta = -w2/w4`` (Eq. 8), ``V = P (1 - 1/beta)`` (= Eq. 9 ``(2 z4 - z5)/z4 P``),
     ``alpha = (w4 - w3)/w4`` (= ``z5/(z5 - z4)``), and
 
@@ -81,6 +80,29 @@ def rv_split_power(z_sun, z_planet, z_disc, z_pins, input_power_W, mesh_efficien
     U = 58.2051 W, L1 = 136.2 W, L2 = 131.52 W, eta = 0.88206. The method is NOT a
     consistent power balance (the docs show why); the general virtual-power flow
     (``rv_power_flow`` in ``tests/oracles/power_flow.py``) is.
+
+    Parameters
+    ----------
+    z_sun, z_planet, z_disc, z_pins : int
+        Tooth numbers z1, z2, z4, z5 (z_pins > z_disc).
+    input_power_W : float
+        P [W], > 0.
+    mesh_efficiency_1 : float
+        Sun-planet pair (eta1), in (0, 1].
+    mesh_efficiency_2 : float
+        Cycloid-pin pair (eta2), in (0, 1].
+    u_equation : {11, 12}
+        The paper's equation for U.
+
+    Returns
+    -------
+    RVSplitPower
+        Ratios, split and virtual power, losses [W] and the efficiency.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument outside its range.
     """
     z_sun, z_planet = _teeth("z_sun", z_sun), _teeth("z_planet", z_planet)
     z_disc, z_pins = _pins_exceed_disc(z_disc, z_pins)
@@ -106,9 +128,30 @@ def rv_split_power(z_sun, z_planet, z_disc, z_pins, input_power_W, mesh_efficien
 
 
 def split_power_losses(si, input_speed_rad_s, output_torque_Nm) -> DriveLosses:
-    """The RV paper's method at each operating point of a case (SI record) with the
-    declared mesh efficiency (``[rv] mesh_efficiency`` for both meshes). The method is
-    linear in the input power: the losses per watt of input, scaled."""
+    """The RV paper's method at each operating point of a case with the declared mesh
+    efficiency (``[rv] mesh_efficiency`` for both meshes).
+
+    The method is linear in the input power: the losses per watt of input, scaled.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        An RV case.
+    input_speed_rad_s : numpy.ndarray, shape (M,)
+        Input speed [rad/s].
+    output_torque_Nm : numpy.ndarray, shape (M,)
+        Output torque [N m].
+
+    Returns
+    -------
+    DriveLosses
+        Output power and the two mesh losses [W] at the M points.
+
+    Raises
+    ------
+    CaseError
+        If the case is not an RV drive.
+    """
     if si.rv is None:
         raise CaseError(f"method = 'rv_split_power' needs drive = 'rv', not {si.drive!r}")
     z = si.rv

@@ -27,7 +27,27 @@ from ..errors import check_range
 
 
 def contact_ratios(z1: int, z2: int, pressure_angle_rad: float, internal: bool = False):
-    """(eps_1, eps_2) addendum contact ratios of a standard spur pair (h_a = m, x = 0)."""
+    """Addendum contact ratios of a standard spur pair (h_a = m, x = 0).
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Pinion and wheel teeth, >= 6.
+    pressure_angle_rad : float
+        Pressure angle [rad].
+    internal : bool
+        An internal wheel (ring gear).
+
+    Returns
+    -------
+    tuple of (float, float)
+        (eps_1, eps_2) [-].
+
+    Raises
+    ------
+    ToothfemError
+        If a tooth number is below 6.
+    """
     check_range("z1", z1, 6, None)
     check_range("z2", z2, 6, None)
     a = pressure_angle_rad
@@ -46,7 +66,29 @@ def contact_ratios(z1: int, z2: int, pressure_angle_rad: float, internal: bool =
 
 
 def loss_factor(z1: int, z2: int, pressure_angle_rad: float, internal: bool = False) -> float:
-    """Ohlendorf's tooth loss factor H_V of a standard spur pair (beta = 0)."""
+    """Ohlendorf's tooth loss factor H_V of a standard spur pair (beta = 0).
+
+    Parameters
+    ----------
+    z1 : int
+        Teeth of the pinion (the sun), >= 6.
+    z2 : int
+        Teeth of the wheel (the planet), >= 6; u = z2/z1.
+    pressure_angle_rad : float
+        Transverse pressure angle alpha [rad].
+    internal : bool
+        True for an internal mesh (u + 1 becomes u - 1).
+
+    Returns
+    -------
+    float
+        H_V [-].
+
+    Raises
+    ------
+    ToothfemError
+        As :func:`contact_ratios`.
+    """
     e1, e2 = contact_ratios(z1, z2, pressure_angle_rad, internal)
     u = z2 / z1
     sign = -1.0 if internal else 1.0
@@ -56,8 +98,32 @@ def loss_factor(z1: int, z2: int, pressure_angle_rad: float, internal: bool = Fa
 def schlenk_mu(load_per_width_N_mm, sum_velocity_m_s, rho_red_mm, eta_oil_mPa_s,
                ra_um, x_l: float = 1.0):
     """ISO/TR 14179-2 Eq. 10 mean friction coefficient (Schlenk 1994), arrays broadcast.
+
     Valid for lubricated steel gears at v_sum > 0; the velocity is floored at 0.1 m/s,
-    below which the formula's (v)^-0.2 is not supported by its data."""
+    below which the formula's (v)^-0.2 is not supported by its data. The units are the
+    standard's.
+
+    Parameters
+    ----------
+    load_per_width_N_mm : array_like
+        Transverse load in the plane of action per face width, F_bt/b [N/mm]
+        (floored at 1e-9).
+    sum_velocity_m_s : array_like
+        Sum velocity at the pitch point [m/s].
+    rho_red_mm : array_like
+        Reduced radius of curvature at the pitch point [mm].
+    eta_oil_mPa_s : array_like
+        Dynamic viscosity of the oil [mPa s].
+    ra_um : float
+        Arithmetic mean roughness Ra [um].
+    x_l : float
+        Lubricant factor X_L [-] (1 for mineral oil).
+
+    Returns
+    -------
+    numpy.ndarray
+        mu_mz [-], the broadcast shape.
+    """
     v = np.maximum(np.asarray(sum_velocity_m_s, float), 0.1)
     w = np.maximum(np.asarray(load_per_width_N_mm, float), 1e-9)
     return 0.048 * (w / (v * rho_red_mm)) ** 0.2 * np.asarray(eta_oil_mPa_s, float) ** -0.05 \

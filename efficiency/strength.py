@@ -37,7 +37,20 @@ class Strength:
 
 
 def safety_factor(limit, stress):
-    """limit / stress (inf for a zero stress)."""
+    """limit / stress (inf for a zero stress).
+
+    Parameters
+    ----------
+    limit : float
+        The allowable stress [Pa].
+    stress : float
+        The stress [Pa].
+
+    Returns
+    -------
+    float
+        The safety factor [-].
+    """
     return float("inf") if stress <= 0 else float(limit / stress)
 
 

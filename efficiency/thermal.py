@@ -87,19 +87,60 @@ def housing(si, drive=None) -> Housing:
 
 
 def convection_coefficient(delta_K, diameter_m):
-    """Holman's laminar natural convection of a horizontal cylinder in air [W/(m^2 K)]."""
+    """Holman's laminar natural convection of a horizontal cylinder in air [W/(m^2 K)].
+
+    Parameters
+    ----------
+    delta_K : array_like
+        Surface minus ambient temperature [K] (floored at 0).
+    diameter_m : float
+        Cylinder diameter [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        h = HOLMAN_CYLINDER (dT/d)^(1/4) [W/(m^2 K)], shape of ``delta_K``.
+    """
     return HOLMAN_CYLINDER * (np.maximum(np.asarray(delta_K, float), 0.0) / diameter_m) ** 0.25
 
 
 def radiation_coefficient(surface_C, ambient_C, emissivity):
-    """eps sigma (T^2 + T_a^2)(T + T_a) [W/(m^2 K)], temperatures in deg C."""
+    """eps sigma (T^2 + T_a^2)(T + T_a) [W/(m^2 K)], temperatures in deg C.
+
+    Parameters
+    ----------
+    surface_C : array_like
+        Surface temperature [deg C].
+    ambient_C : float
+        Ambient temperature [deg C].
+    emissivity : float
+        eps [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The linearised radiation coefficient [W/(m^2 K)], shape of ``surface_C``.
+    """
     t = np.asarray(surface_C, float) + KELVIN
     ta = ambient_C + KELVIN
     return emissivity * STEFAN_BOLTZMANN * (t ** 2 + ta ** 2) * (t + ta)
 
 
 def heat_transfer_coefficient(h: Housing, temperature_C):
-    """h(T) of the housing [W/(m^2 K)]: the declared one, else convection + radiation."""
+    """h(T) of the housing [W/(m^2 K)]: the declared one, else convection + radiation.
+
+    Parameters
+    ----------
+    h : Housing
+        The housing.
+    temperature_C : array_like
+        Surface (oil) temperature [deg C].
+
+    Returns
+    -------
+    numpy.ndarray
+        h [W/(m^2 K)], shape of ``temperature_C``.
+    """
     t = np.asarray(temperature_C, float)
     if h.heat_transfer_W_m2K is not None:
         return np.full_like(t, h.heat_transfer_W_m2K)
@@ -108,7 +149,20 @@ def heat_transfer_coefficient(h: Housing, temperature_C):
 
 
 def heat_flow(h: Housing, temperature_C):
-    """Heat the housing sheds at oil temperature T [W]: h(T) A (T - T_a)."""
+    """Heat the housing sheds at oil temperature T [W]: h(T) A (T - T_a).
+
+    Parameters
+    ----------
+    h : Housing
+        The housing.
+    temperature_C : array_like
+        Oil temperature [deg C].
+
+    Returns
+    -------
+    numpy.ndarray
+        Heat flow [W], shape of ``temperature_C``.
+    """
     t = np.asarray(temperature_C, float)
     return heat_transfer_coefficient(h, t) * h.area_m2 * (t - h.ambient_C)
 
@@ -230,6 +284,11 @@ def warm_up(case, speed_rpm, torque_Nm, duration_s, *, samples=41, **kw) -> Warm
     Returns
     -------
     WarmUp
+
+    Raises
+    ------
+    CaseError
+        If the duration is not positive.
     """
     check_range("duration_s", duration_s, 0.0, None, lo_open=True, error=CaseError)
     si = case.to_si()

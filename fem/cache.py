@@ -42,7 +42,13 @@ class CacheWarning(UserWarning):
 
 
 def default_dir() -> Path:
-    """``$TOOTHFEM_CACHE`` if set and non-empty, else ``~/.cache/toothfem`` (expanded)."""
+    """``$TOOTHFEM_CACHE`` if set and non-empty, else ``~/.cache/toothfem`` (expanded).
+
+    Returns
+    -------
+    pathlib.Path
+        The cache folder (not created here).
+    """
     env = os.environ.get(CACHE_ENV, "")
     return Path(env or DEFAULT_DIR).expanduser()
 
@@ -53,6 +59,21 @@ def content_key(*parts) -> str:
     Handles dataclasses (class name and fields by name), numpy arrays (dtype, shape, bytes),
     numbers (as exact binary floats, so 40 and 40.0 agree), strings, None, and sequences
     and mappings of these. Equal content gives an equal key in any process and session.
+
+    Parameters
+    ----------
+    *parts
+        The content.
+
+    Returns
+    -------
+    str
+        64 hex digits.
+
+    Raises
+    ------
+    TypeError
+        If a part (at any depth) is of another type.
     """
     h = hashlib.sha256()
     _feed(h, parts)
@@ -98,11 +119,34 @@ class DiskCache:
         object.__setattr__(self, "directory", Path(self.directory).expanduser())
 
     def path(self, key: str) -> Path:
+        """The file that holds (or would hold) the arrays of ``key``.
+
+        Parameters
+        ----------
+        key : str
+            Names the file (64 hex digits of :func:`content_key`).
+
+        Returns
+        -------
+        pathlib.Path
+            ``<directory>/<key>.npz``.
+        """
         return self.directory / f"{key}.npz"
 
     def load(self, key: str) -> dict[str, np.ndarray] | None:
         """The arrays stored under ``key``, or None when absent, unreadable, or stored
-        under another key (the file's name and its content disagree)."""
+        under another key (the file's name and its content disagree).
+
+        Parameters
+        ----------
+        key : str
+            A :func:`content_key`.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray or None
+            The arrays by name; None for a miss.
+        """
         path = self.path(key)
         try:
             with np.load(path, allow_pickle=False) as data:
@@ -116,8 +160,26 @@ class DiskCache:
 
     def store(self, key: str, arrays: Mapping[str, np.ndarray]) -> Path | None:
         """Write ``arrays`` under ``key`` atomically (with the key itself, checked by
-        :meth:`load`); returns the file's path, or None with a :class:`CacheWarning` when
-        the cache cannot be written (the caller goes on with its result)."""
+        :meth:`load`).
+
+        Parameters
+        ----------
+        key : str
+            The key the arrays are stored under (:func:`content_key`).
+        arrays : Mapping of str to numpy.ndarray
+            The arrays by name.
+
+        Returns
+        -------
+        pathlib.Path or None
+            The file's path, or None with a :class:`CacheWarning` when the cache cannot be
+            written (the caller goes on with its result).
+
+        Raises
+        ------
+        ValueError
+            If a name in ``arrays`` is the reserved KEY_ARRAY.
+        """
         if KEY_ARRAY in arrays:
             raise ValueError(f"{KEY_ARRAY!r} is reserved for the cache key")
         path = self.path(key)

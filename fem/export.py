@@ -9,8 +9,22 @@ from .elastic import lame_parameters
 
 
 def stress_at_nodes(body, u):
-    """Nodal (vertex) stresses of a P2 displacement ``u``: dict of sxx, syy, sxy, szz,
-    von_mises (Pa), by L2 projection onto P1. Plane strain: szz = lambda (exx + eyy)."""
+    """Nodal (vertex) stresses of a P2 displacement ``u`` by L2 projection onto P1.
+
+    Plane strain: szz = lambda (exx + eyy).
+
+    Parameters
+    ----------
+    body : toothfem.fem.elastic.Body
+        The solved body (its basis, material and plane state).
+    u : numpy.ndarray, shape (N_dofs,)
+        Displacement [m].
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        sxx, syy, sxy, szz and von_mises [Pa], each (N_vertices,).
+    """
     from skfem import ElementTriP1
 
     lam, mu = lame_parameters(body.youngs_modulus, body.poisson_ratio, body.plane)
@@ -30,7 +44,22 @@ def stress_at_nodes(body, u):
 
 
 def to_meshio(body, u, extra_point_data=None):
-    """meshio.Mesh of the body's triangles with displacement (m) and stresses (Pa)."""
+    """meshio.Mesh of the body's triangles with displacement (m) and stresses (Pa).
+
+    Parameters
+    ----------
+    body : toothfem.fem.elastic.Body
+        The solved body.
+    u : numpy.ndarray, shape (N_dofs,)
+        Displacement [m].
+    extra_point_data : dict of str to numpy.ndarray, optional
+        More vertex fields, each (N_vertices, ...).
+
+    Returns
+    -------
+    meshio.Mesh
+        Triangles (the P2 mesh's vertices, z = 0) with the point data.
+    """
     import meshio
 
     mesh = body.mesh
@@ -45,6 +74,24 @@ def to_meshio(body, u, extra_point_data=None):
 
 
 def write_vtu(path, body, u, extra_point_data=None) -> Path:
+    """Write the body's mesh, displacement and stresses as a VTU file (:func:`to_meshio`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        File to write (the suffix picks meshio's format: .vtu).
+    body : toothfem.fem.elastic.Body
+        The solved body.
+    u : numpy.ndarray, shape (N_dofs,)
+        Displacement [m].
+    extra_point_data : dict of str to numpy.ndarray, optional
+        More vertex fields.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+    """
     path = Path(path)
     to_meshio(body, u, extra_point_data).write(path)
     return path

@@ -16,7 +16,18 @@ from ..errors import checked_array as _array
 
 
 def float_or_array(x):
-    """A writable float copy of ``x``: a float for scalar input, else an array."""
+    """A writable float copy of ``x``: a float for scalar input, else an array.
+
+    Parameters
+    ----------
+    x : array_like
+        Any numbers.
+
+    Returns
+    -------
+    float or numpy.ndarray
+        The copy.
+    """
     x = np.array(x, dtype=float)          # a writable copy (inputs may be broadcast views)
     return float(x) if x.ndim == 0 else x
 
@@ -24,8 +35,24 @@ def float_or_array(x):
 def reduced_modulus(e1, nu1, e2, nu2):
     """Contact modulus E* [Pa] of two elastic bodies (Johnson 1985, Eq. 4.22/4.45).
 
-    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``.  E1, E2 in Pa (> 0); Poisson ratios in
-    (-1, 0.5].  Note: EHL film formulas use ``E' = 2 E*``.
+    ``1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2``.  Note: EHL film formulas use ``E' = 2 E*``.
+
+    Parameters
+    ----------
+    e1, e2 : array_like
+        Young's moduli [Pa], > 0.
+    nu1, nu2 : array_like
+        Poisson ratios [-] in (-1, 0.5].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        E* [Pa], the broadcast shape (a float for scalar input).
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first modulus or ratio outside its range.
     """
     e1 = _array("E1", e1, 0.0, lo_open=True, why="Young's modulus [Pa]")
     e2 = _array("E2", e2, 0.0, lo_open=True, why="Young's modulus [Pa]")
@@ -40,11 +67,28 @@ def hertz_line(w_per_length, r_eq, e_reduced):
     Johnson, *Contact Mechanics* (1985), Eq. 4.45:
     ``b = sqrt(4 w R / (pi E*))`` (semi-width, m) and ``p0 = 2 w / (pi b)
     = sqrt(w E* / (pi R))`` (peak pressure, Pa).
-
-    w_per_length : load per unit contact length [N/m], > 0.
-    r_eq : equivalent radius 1/R = 1/R1 + 1/R2 [m], > 0 (concave body: negative R2).
-    e_reduced : E* [Pa] from :func:`reduced_modulus` (not E' = 2E*).
     Valid for elastic, frictionless, non-conforming contact with b << R.
+
+    Parameters
+    ----------
+    w_per_length : array_like
+        Load per unit contact length [N/m], > 0.
+    r_eq : array_like
+        Equivalent radius 1/R = 1/R1 + 1/R2 [m], > 0 (concave body: negative R2).
+    e_reduced : array_like
+        E* [Pa] from :func:`reduced_modulus` (not E' = 2E*).
+
+    Returns
+    -------
+    p0 : float or numpy.ndarray
+        Peak pressure [Pa], the broadcast shape.
+    b : float or numpy.ndarray
+        Semi-width [m], the broadcast shape.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first argument that is not positive and finite.
     """
     w = _array("w_per_length", w_per_length, 0.0, lo_open=True, why="load per length [N/m]")
     r = _array("r_eq", r_eq, 0.0, lo_open=True, why="equivalent radius [m]")
@@ -56,5 +100,20 @@ def hertz_line(w_per_length, r_eq, e_reduced):
 
 def line_half_width(w, r, e):
     """Hertz's semi-width ``b = sqrt(4 w R / (pi E*))`` [m] of :func:`hertz_line` on arrays
-    already checked (the inner loop of the cycle solver's Hertz iteration)."""
+    already checked (the inner loop of the cycle solver's Hertz iteration).
+
+    Parameters
+    ----------
+    w : numpy.ndarray
+        Load per unit length [N/m].
+    r : numpy.ndarray
+        Equivalent radius [m].
+    e : float or numpy.ndarray
+        Contact modulus E* [Pa].
+
+    Returns
+    -------
+    numpy.ndarray
+        b [m], the broadcast shape.
+    """
     return np.sqrt(4.0 * w * r / (math.pi * e))

@@ -53,12 +53,24 @@ class LoadSharing:
         return np.sum(self.in_contact, axis=1)
 
     def torque_residual(self) -> np.ndarray:
-        """(P,) relative error of sum F_i l_i against the torque (equilibrium check)."""
+        """Relative error of sum F_i l_i against the torque (equilibrium check).
+
+        Returns
+        -------
+        numpy.ndarray, shape (P,)
+            |sum F_i l_i| / |T| - 1 [-] per position.
+        """
         return np.abs(np.sum(self.force * self.moment_arm, axis=1)) / abs(self.torque) - 1
 
     def rows(self):
-        """(position_deg, contact_id, force_N, moment_arm_mm, half_width_mm, ph_MPa, gap_mm)
-        for every candidate in contact (the load_sharing.csv rows)."""
+        """The rows of load_sharing.csv: every candidate in contact, position by position.
+
+        Yields
+        ------
+        tuple
+            (position [deg], contact_id, force [N], moment arm [mm], half-width [mm],
+            peak pressure [MPa], gap [mm]).
+        """
         for p in range(self.force.shape[0]):
             for c in np.flatnonzero(self.in_contact[p]):
                 yield (math.degrees(self.position_rad[p]), int(self.contact_id[p, c]),
@@ -70,8 +82,28 @@ class LoadSharing:
 def hertz_fields(force, face_width, equivalent_radius, e_star, radii=None):
     """Half-width and peak pressure of each contact from its force (line contact).
 
-    Returns (b, ph, invalid) with ``invalid`` where b exceeds HERTZ_VALID_B_OVER_R of the
-    smaller |radius| in ``radii`` (a sequence of (P, C) arrays) or where R_eq <= 0.
+    Parameters
+    ----------
+    force : array_like, shape (P, C)
+        Normal force over the face width [N].
+    face_width : float
+        Face width [m].
+    equivalent_radius : array_like, shape (P, C)
+        Equivalent radius [m].
+    e_star : float
+        Contact modulus E* [Pa].
+    radii : sequence of array_like, optional
+        The curvature radii of the two bodies [m], each (P, C).
+
+    Returns
+    -------
+    b : numpy.ndarray, shape (P, C)
+        Half-width [m] (0 where not in contact).
+    ph : numpy.ndarray, shape (P, C)
+        Peak pressure [Pa] (0 where not in contact).
+    invalid : numpy.ndarray of bool, shape (P, C)
+        Where b exceeds HERTZ_VALID_B_OVER_R of the smaller |radius| in ``radii`` or where
+        R_eq <= 0.
     """
     force = np.asarray(force, float)
     r = np.asarray(equivalent_radius, float)
@@ -104,10 +136,33 @@ def analytic_split(state, torque_Nm: float, face_width_m: float, e_star_Pa: floa
     its first load-carrying pair), F_0 = T / sum cos^2(alpha_i) r_i, which is the same
     rule since r_i cos(alpha_i) is the moment arm.
 
-    ``torque_Nm`` > 0 is the output torque carried by the moving member; the load-carrying
-    contacts are those with negative moment arm (MeshingState convention). ``weight``
-    names the rule: "moment_arm" (the cycloid seed) or "cos_pressure_angle" (the sine
-    seed); a drive passes its own (:attr:`toothfem.fem.drives.Drive.analytic_weight`).
+    Parameters
+    ----------
+    state : MeshingState
+        The candidate contacts, P positions by C.
+    torque_Nm : float
+        Output torque carried by the moving member [N m], > 0; the load-carrying contacts
+        are those with negative moment arm (MeshingState convention).
+    face_width_m : float
+        Face width [m], > 0.
+    e_star_Pa : float
+        Contact modulus E* [Pa].
+    in_mesh_gap_m : float
+        Contacts within this gap [m] after the rigid rotation carry load.
+    weight : {"moment_arm", "cos_pressure_angle"}
+        The rule: "moment_arm" (the cycloid seed) or "cos_pressure_angle" (the sine seed);
+        a drive passes its own (:attr:`toothfem.fem.drives.Drive.analytic_weight`).
+
+    Returns
+    -------
+    LoadSharing
+        ``method`` "analytic"; no transmission error (zeros).
+
+    Raises
+    ------
+    ToothfemError
+        If ``weight`` is unknown, the torque or face width is not positive, or no contact
+        can carry the torque at some position.
     """
     if weight not in SPLIT_WEIGHTS:
         raise ToothfemError(f"weight = {weight!r} is not one of {list(SPLIT_WEIGHTS)}")

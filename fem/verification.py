@@ -57,11 +57,32 @@ def _circle(centre, radius):
 
 def cylinder_contact(radius, e1, nu1, e2, nu2, load_per_length, *, bore_radius=None,
                      elements_per_halfwidth=20, plane="strain") -> HertzCheck:
-    """Cylinder (radius, E1, nu1) pressed with ``load_per_length`` [N/m] onto a flat block
-    (``bore_radius`` None) or into a concave bore of ``bore_radius`` in a block (E2, nu2).
+    """Cylinder pressed onto a flat block or into a concave bore, FE against Hertz.
 
     Units SI; one unit of thickness. Returns the FE peak pressure and half-width beside
     Hertz's (Johnson, Contact Mechanics, Eq. 4.45).
+
+    Parameters
+    ----------
+    radius : float
+        Cylinder radius [m].
+    e1, nu1 : float
+        Cylinder's Young's modulus [Pa] and Poisson ratio.
+    e2, nu2 : float
+        Block's Young's modulus [Pa] and Poisson ratio.
+    load_per_length : float
+        Load [N/m].
+    bore_radius : float, optional
+        Radius of the concave bore in the block [m]; None: a flat block.
+    elements_per_halfwidth : int
+        Elements over Hertz's half-width in the contact zone.
+    plane : {"strain", "stress"}
+        Plane state.
+
+    Returns
+    -------
+    HertzCheck
+        Analytic and FE pressure and half-width, the pressure profile and the mesh size.
     """
     r1 = float(radius)
     e_star = reduced_modulus(e1, nu1, e2, nu2)

@@ -129,11 +129,24 @@ class CycloidGeometry:
         return bool(self.equidistant_m or self.move_distance_m or self.rotation_rad)
 
     def generating(self) -> "_Generating":
-        """The parameters the grinding machine uses (with modifications applied)."""
+        """The parameters the grinding machine uses (with modifications applied).
+
+        Returns
+        -------
+        _Generating
+            Zb, Rz + Delta Rz [m], A [m] and the offset rz + Delta rz [m].
+        """
         return _Generating(self.pin_count, self.pin_circle_radius_m + self.move_distance_m,
                            self.eccentricity_m, self.pin_radius_m + self.equidistant_m)
 
     def nominal(self) -> "_Generating":
+        """The unmodified parameters (no equidistant, move-distance or rotation).
+
+        Returns
+        -------
+        _Generating
+            Zb, Rz [m], A [m] and the pin radius rz [m] as the offset.
+        """
         return _Generating(self.pin_count, self.pin_circle_radius_m, self.eccentricity_m,
                            self.pin_radius_m)
 
@@ -167,7 +180,25 @@ class _Generating:
 def theoretical_profile(g: _Generating | CycloidGeometry, psi, order=0):
     """Theoretical profile p(psi) (Eq. 1) and its derivatives: (2, N) arrays.
 
-    ``order`` 0, 1, 2 returns p, p', p'' respectively.
+    Parameters
+    ----------
+    g : _Generating or CycloidGeometry
+        Generating parameters; a CycloidGeometry is taken as generated (modifications
+        applied).
+    psi : array_like, shape (N,)
+        Profile parameters psi [rad].
+    order : int
+        0, 1, 2 returns p, p', p'' respectively.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, N)
+        p [m], or its first or second derivative by psi [m/rad, m/rad^2].
+
+    Raises
+    ------
+    ValueError
+        If ``order`` is not 0, 1 or 2.
     """
     g = g.generating() if isinstance(g, CycloidGeometry) else g
     psi = np.asarray(psi, float)
@@ -182,7 +213,19 @@ def theoretical_profile(g: _Generating | CycloidGeometry, psi, order=0):
 
 
 def inward_normal(g, psi):
-    """Unit inward normal n(psi) of the theoretical profile (Eqs. 3-4 corrected)."""
+    """Unit inward normal n(psi) of the theoretical profile (Eqs. 3-4 corrected).
+
+    Parameters
+    ----------
+    g : _Generating or CycloidGeometry
+    psi : array_like, shape (N,)
+        Profile parameters [rad].
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, N)
+        Unit normals pointing into the disc.
+    """
     g = g.generating() if isinstance(g, CycloidGeometry) else g
     psi = np.asarray(psi, float)
     k1 = g.k1
@@ -191,7 +234,19 @@ def inward_normal(g, psi):
 
 
 def working_profile(g, psi):
-    """Working (disc) profile w(psi) = p(psi) + r n(psi), unmodified or as generated."""
+    """Working (disc) profile w(psi) = p(psi) + r n(psi), unmodified or as generated.
+
+    Parameters
+    ----------
+    g : _Generating or CycloidGeometry
+    psi : array_like, shape (N,)
+        Where the profile is evaluated [rad].
+
+    Returns
+    -------
+    numpy.ndarray of float, shape (2, N)
+        Points of the working profile in the disc frame [m].
+    """
     g = g.generating() if isinstance(g, CycloidGeometry) else g
     return theoretical_profile(g, psi) + g.r * inward_normal(g, psi)
 
@@ -202,6 +257,17 @@ def curvature_radius(g, psi):
         rho = Rz S^{3/2} / (1 + Zb K1^2 - K1 (Zb + 1) cos(Za psi))
 
     (from rho = |p'|^3 / (p' x p''); docs/derivations.md C2).
+
+    Parameters
+    ----------
+    g : _Generating or CycloidGeometry
+    psi : array_like
+        Profile parameters [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        rho [m], shape of ``psi`` (inf at an inflection point).
     """
     g = g.generating() if isinstance(g, CycloidGeometry) else g
     theta = (g.zb - 1) * np.asarray(psi, float)
@@ -235,6 +301,16 @@ def min_convex_curvature_radius(g) -> float:
 
     The profile is convex where 1 + Zb K1^2 - K1 (Zb+1) cos(theta) > 0; rho is smooth there
     and we minimise it on a fine grid and polish with a bounded scalar search.
+
+    Parameters
+    ----------
+    g : _Generating
+
+    Returns
+    -------
+    float
+        The smallest convex curvature radius [m] (the undercut bound of the generating pin
+        radius).
     """
     from scipy.optimize import minimize_scalar
 
@@ -253,8 +329,20 @@ def min_convex_curvature_radius(g) -> float:
 def profile_points(geom: CycloidGeometry, points_per_lobe: int = 96, flank=0) -> np.ndarray:
     """Working profile as a closed polyline (2, N) in the disc frame (N = Za*points).
 
-    ``flank`` = +1/-1 rotates the whole profile by +-Delta delta (rotation modification);
-    0 ignores the rotation.
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The disc, as generated (modifications applied).
+    points_per_lobe : int
+        Samples per lobe.
+    flank : int
+        +1/-1 rotates the whole profile by +-Delta delta (rotation modification); 0 ignores
+        the rotation.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, N)
+        Profile points [m], counter-clockwise, the first point not repeated.
     """
     n = geom.lobe_count * int(points_per_lobe)
     psi = np.linspace(0.0, 2 * math.pi, n, endpoint=False)
@@ -269,19 +357,58 @@ def profile_points(geom: CycloidGeometry, points_per_lobe: int = 96, flank=0) ->
 # Disc polygon
 
 def pin_centres(geom: CycloidGeometry) -> np.ndarray:
-    """(2, Zb) pin centres in the housing frame; pin 0 on +x."""
+    """(2, Zb) pin centres in the housing frame; pin 0 on +x.
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The pin ring (Zb pins on the circle of radius Rz).
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, Zb)
+        Pin centres [m].
+    """
     theta = 2 * math.pi * np.arange(geom.pin_count) / geom.pin_count
     return geom.pin_circle_radius_m * unit(theta)
 
 
 def disc_pose(geom: CycloidGeometry, crank_angle_rad):
-    """(centre (2, P), rotation (P,)) of the disc for crank angles phi (K-H-V: -phi/Za)."""
+    """(centre (2, P), rotation (P,)) of the disc for crank angles phi (K-H-V: -phi/Za).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    crank_angle_rad : array_like, shape (P,) or scalar
+        Crank angles phi [rad] of the poses.
+
+    Returns
+    -------
+    centre : numpy.ndarray, shape (2, P)
+        Disc centre A u(phi) in the housing frame [m].
+    rotation : numpy.ndarray, shape (P,)
+        Disc rotation -phi/Za [rad].
+    """
     phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
     return geom.eccentricity_m * unit(phi), -phi / geom.lobe_count
 
 
 def to_disc_frame(geom, crank_angle_rad, points):
-    """Housing-frame points (2, P, C) -> disc frame for each crank angle."""
+    """Housing-frame points (2, P, C) -> disc frame for each crank angle.
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    crank_angle_rad : array_like, shape (P,) or scalar
+        Crank angle phi [rad] of each set of points.
+    points : numpy.ndarray, shape (2, P, C)
+        Points in the housing frame [m], one set of C per crank angle.
+
+    Returns
+    -------
+    numpy.ndarray, shape (2, P, C)
+        The same points in the disc frame [m].
+    """
     centre, rot = disc_pose(geom, crank_angle_rad)
     return rotate(points - centre[:, :, None], -rot[:, None])
 
@@ -291,6 +418,17 @@ def seed_moment_arm(geom: CycloidGeometry, theta_b):
 
     Unsigned as printed; the load-carrying pins have sin(theta_b) > 0 for a
     counter-clockwise crank (see :func:`meshing`).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    theta_b : array_like
+        Pin angles from the line of centres [rad].
+
+    Returns
+    -------
+    numpy.ndarray
+        Moment arm l [m], shape of ``theta_b``.
     """
     rz, rb = geom.pin_circle_radius_m, geom.pin_pitch_radius_m
     theta_b = np.asarray(theta_b, float)
@@ -302,16 +440,34 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
             pin_motion: str = "fixed") -> MeshingState:
     """Kinematics of all Zb pin contacts at each crank angle (vectorised).
 
-    ``pin_motion``: "fixed" (pins one piece with the housing, the integral structure: the
-    disc slides on the pins) or "rolling" (conventional pins turning freely in their
-    grooves: no sliding at the disc, the pin surface speed there equals the disc's, and
-    the pin slides in its groove at that speed instead).
-
     Contact points, normals, moment arms and velocities are those of the conjugate
     (unmodified) profile, whose normals pass through the pitch point; ``gap`` is the exact
     initial clearance of the modified profile at the nominal pose (zero if unmodified).
     A counter-clockwise crank (crank_speed > 0) turns the disc clockwise; the pins that
     carry the output torque are those with negative moment arm (0 < theta_b < pi).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    crank_angle_rad : array_like, shape (P,) or scalar
+        Crank angles phi [rad] (counter-clockwise from +x).
+    crank_speed_rad_s : float
+        Crank (input) speed [rad/s], counter-clockwise positive.
+    pin_motion : {"fixed", "rolling"}
+        "fixed" (pins one piece with the housing, the integral structure: the disc slides on
+        the pins) or "rolling" (conventional pins turning freely in their grooves: no sliding
+        at the disc, the pin surface speed there equals the disc's, and the pin slides in its
+        groove at that speed instead).
+
+    Returns
+    -------
+    MeshingState
+        P positions by C = Zb pins (see :mod:`toothfem.geometry.kinematics`).
+
+    Raises
+    ------
+    GeometryError
+        If ``pin_motion`` is not one of the two, or ``crank_speed_rad_s`` is not finite.
     """
     if pin_motion not in ("fixed", "rolling"):
         raise GeometryError(f"pin_motion = {pin_motion!r} is not one of ['fixed', 'rolling']")
@@ -370,8 +526,22 @@ def foot_point(g: _Generating, points, psi0):
     """Parameter of the point of the working curve nearest to ``points`` (2, N).
 
     Newton on f(psi) = (w(psi) - c) . p'(psi) = 0 (the working and theoretical curves share
-    their tangent), started from ``psi0`` (N,). Returns (psi, signed distance from the
-    curve along the outward normal).
+    their tangent), started from the nearest point within half a lobe of ``psi0``.
+
+    Parameters
+    ----------
+    g : _Generating
+    points : numpy.ndarray, shape (2, N)
+        Points in the disc frame [m].
+    psi0 : array_like, shape (N,)
+        Starting parameters [rad].
+
+    Returns
+    -------
+    psi : numpy.ndarray, shape (N,)
+        Parameters of the foot points [rad].
+    distance : numpy.ndarray, shape (N,)
+        Signed distance from the curve along the outward normal [m].
     """
     # start at the nearest point within half a lobe (nested grids): Newton from psi0 itself
     # can settle on a farther stationary point or wander where K1 is near 1 (issue 14)
@@ -447,8 +617,22 @@ def distance_to_profile(geom: CycloidGeometry, points, flank: int = 0, psi0=None
     """Exact signed distance of disc-frame points (2, N) from the working profile
     (positive outside the disc), found on the parametric curve (Newton foot point).
 
-    With a rotation modification, the point is first turned by -flank*Delta delta.
-    ``psi0``: starting parameters; by default a global brute-force search on 8192 samples.
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The disc, as generated.
+    points : array_like, shape (2, N)
+        Points in the disc frame [m].
+    flank : int
+        With a rotation modification, the point is first turned by -flank*Delta delta
+        (+1 or -1; 0 ignores the rotation).
+    psi0 : array_like, shape (N,), optional
+        Starting parameters [rad]; by default a global brute-force search on 8192 samples.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+        Signed distance [m].
     """
     g = geom.generating()
     pts = np.asarray(points, float)
@@ -467,6 +651,17 @@ def clearance_exact(geom: CycloidGeometry, crank_angle_rad) -> np.ndarray:
     With a rotation modification the disc is the intersection of the two turned profiles,
     so the clearance is the larger of the two distances (exact on the flanks; at the tip
     corner the true distance differs at second order in Delta delta).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    crank_angle_rad : array_like, shape (P,) or scalar
+        Crank angles phi [rad] of the nominal poses.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, Zb)
+        Clearance [m].
     """
     phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
     c = np.broadcast_to(pin_centres(geom)[:, None, :], (2, phi.size, geom.pin_count))
@@ -495,7 +690,22 @@ def clearance_closed_form(geom: CycloidGeometry, theta_b):
         D = Delta_rz (1 - sin(theta)/sqrt(S)) - Delta_Rz (1 - K1 cos theta
             - sqrt(1 - K1^2) sin theta)/sqrt(S)
     (Li Lixing, Cycloid pin-wheel planetary transmission, 1987; also Blagojevic et al.,
-    Strojniski vestnik 58 (2012)). Returns (D0, D, beta0) with D0, D shaped like theta_b.
+    Strojniski vestnik 58 (2012)).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    theta_b : array_like
+        Pin angles theta from the line of centres [rad], loaded flank 0 < theta < pi.
+
+    Returns
+    -------
+    d0 : numpy.ndarray
+        Clearance at the nominal pose [m], shape of ``theta_b``.
+    d : numpy.ndarray
+        Clearance after the turn beta0 [m], shape of ``theta_b``.
+    beta0 : float
+        The closing rotation [rad] (:func:`closing_rotation`).
     """
     theta = np.asarray(theta_b, float)
     k1 = geom.k1
@@ -514,6 +724,15 @@ def closing_rotation(geom: CycloidGeometry) -> float:
     For Delta_rz, -Delta_Rz >= 0 both terms are smallest at cos(theta) = K1, giving
     beta0 = (Delta_rz - Delta_Rz sqrt(1 - K1^2)) / r_a + Delta_delta; otherwise it is
     found on a fine grid.
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+
+    Returns
+    -------
+    float
+        beta0 [rad].
     """
     k1 = geom.k1
     if geom.equidistant_m >= 0 and geom.move_distance_m <= 0:

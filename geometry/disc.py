@@ -22,7 +22,13 @@ class DiscHolesSI:
     pillar_hole_radius_m: float = 0.0
 
     def circles(self):
-        """[(x, y, r, label)] of every hole; crank holes start on +x, pillars halfway."""
+        """Every hole as a circle; crank holes start on +x, pillars halfway.
+
+        Returns
+        -------
+        list of (float, float, float, str)
+            (x [m], y [m], radius [m], label) per hole, the centre bore first.
+        """
         out = []
         if self.centre_bore_radius_m > 0:
             out.append((0.0, 0.0, self.centre_bore_radius_m, "centre_bore"))
@@ -46,7 +52,27 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
 
     With a rotation modification the disc is the intersection of the profile turned by
     +Delta delta and by -Delta delta (each flank turned toward its tooth centre).
-    Raises GeometryError if a hole leaves the disc, holes overlap, or the polygon is invalid.
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The disc's profile.
+    holes : DiscHolesSI, optional
+        Its holes [m]; None: no holes.
+    points_per_lobe : int
+        Samples of the profile per lobe.
+    hole_points : int
+        Samples per hole circle.
+
+    Returns
+    -------
+    shapely.geometry.Polygon
+        The disc [m], exterior counter-clockwise.
+
+    Raises
+    ------
+    GeometryError
+        If a hole leaves the disc, holes overlap, or the polygon is invalid.
     """
     import shapely
     from shapely.geometry import Point, Polygon

@@ -52,14 +52,38 @@ class MeshingState:
 
 
 def equivalent_radius(r1, r2):
-    """1/R = 1/r1 + 1/r2 for signed curvature radii (positive convex). Hertz line contact."""
+    """1/R = 1/r1 + 1/r2 for signed curvature radii (positive convex). Hertz line contact.
+
+    Parameters
+    ----------
+    r1, r2 : array_like
+        Signed curvature radii of the two bodies [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        Equivalent radius R [m], the broadcast shape.
+    """
     r1 = np.asarray(r1, float)
     r2 = np.asarray(r2, float)
     return r1 * r2 / (r1 + r2)
 
 
 def slide_to_roll(sliding, entrainment):
-    """SR = v_s / U; where U = 0 (pure spin about the contact) SR is reported as inf."""
+    """SR = v_s / U; where U = 0 (pure spin about the contact) SR is reported as inf.
+
+    Parameters
+    ----------
+    sliding : array_like
+        Sliding velocity v_s [m/s].
+    entrainment : array_like
+        Entrainment velocity U [m/s].
+
+    Returns
+    -------
+    numpy.ndarray
+        Slide-to-roll ratio [-] (0 where both are 0), the broadcast shape.
+    """
     sliding = np.asarray(sliding, float)
     entrainment = np.asarray(entrainment, float)
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -36,9 +36,24 @@ def _teeth(name, z):
 def solve_train(equations, fixed, names):
     """Solve linear speed constraints.
 
-    ``equations``: list of ``({name: coefficient}, rhs)`` rows, each linear in the angular
-    velocities; ``fixed``: ``{name: value}`` speeds imposed (input = 1, housing = 0).
-    Returns ``{name: omega}``. Raises :class:`GeometryError` if the train is not determined.
+    Parameters
+    ----------
+    equations : list of (dict, float)
+        ``({name: coefficient}, rhs)`` rows, each linear in the angular velocities.
+    fixed : dict
+        ``{name: value}`` speeds imposed (input = 1, housing = 0), any consistent unit.
+    names : list of str
+        The members.
+
+    Returns
+    -------
+    dict
+        ``{name: omega}``, the unit of ``fixed``; the imposed speeds exactly.
+
+    Raises
+    ------
+    GeometryError
+        If the train is not determined.
     """
     idx = {n: k for k, n in enumerate(names)}
     rows, rhs = [], []
@@ -62,13 +77,48 @@ def solve_train(equations, fixed, names):
 
 
 def willis(a, b, carrier, z_a, z_b, internal):
-    """Willis row: (w_a - w_H) - k (w_b - w_H) = 0 with k = +-z_b/z_a."""
+    """Willis row: (w_a - w_H) - k (w_b - w_H) = 0 with k = +-z_b/z_a.
+
+    Parameters
+    ----------
+    a, b : str
+        Names of the two meshing members.
+    carrier : str
+        Name of the carrier H.
+    z_a, z_b : int
+        Their tooth numbers.
+    internal : bool
+        An internal mesh (k = +z_b/z_a) or an external one (k = -z_b/z_a).
+
+    Returns
+    -------
+    tuple of (dict, float)
+        One row for :func:`solve_train`.
+    """
     k = (z_b / z_a) if internal else -(z_b / z_a)
     return ({a: 1.0, carrier: -1.0 + k, b: -k}, 0.0)
 
 
 def khv_speeds(z_moving, z_fixed):
-    """Speeds of a K-H-V stage for unit crank speed: {'crank', 'moving', 'fixed'}."""
+    """Speeds of a K-H-V stage for unit crank speed.
+
+    Parameters
+    ----------
+    z_moving : int
+        Teeth of the moving member (disc lobes, planet teeth), >= 1.
+    z_fixed : int
+        Teeth of the held member (pins, ring teeth), >= 1, not ``z_moving``.
+
+    Returns
+    -------
+    dict
+        {'crank', 'moving', 'fixed'} angular velocities per unit crank speed [-].
+
+    Raises
+    ------
+    GeometryError
+        If a tooth number is not a positive integer or the two are equal.
+    """
     z_moving = _teeth("z_moving", z_moving)
     z_fixed = _teeth("z_fixed", z_fixed)
     if z_moving == z_fixed:
@@ -79,7 +129,25 @@ def khv_speeds(z_moving, z_fixed):
 
 def khv_ratio(z_moving, z_fixed) -> float:
     """Crank-to-output ratio of a K-H-V stage; closed form z_m/(z_m - z_f) (-39 for a
-    39-lobe disc in 40 pins, -79 for the 79/80 sine pair)."""
+    39-lobe disc in 40 pins, -79 for the 79/80 sine pair).
+
+    Parameters
+    ----------
+    z_moving : int
+        Teeth of the moving member (disc lobes, planet teeth).
+    z_fixed : int
+        Teeth of the held member (pins, ring teeth).
+
+    Returns
+    -------
+    float
+        i = omega_crank / omega_moving [-].
+
+    Raises
+    ------
+    GeometryError
+        As :func:`khv_speeds`.
+    """
     w = khv_speeds(z_moving, z_fixed)
     return w["crank"] / w["moving"]
 
@@ -92,6 +160,22 @@ def rv_speeds(z_sun, z_planet, z_disc, z_pins):
     Eq. 3: w2 = w3, w4 = w6 = w7. In Eq. 2 the crankshaft's absolute speed w3 acts as the
     K-H-V crank, because the disc's orbit follows the crank's absolute angle when the disc
     turns with the carrier.
+
+    Parameters
+    ----------
+    z_sun, z_planet, z_disc, z_pins : int
+        Tooth numbers (>= 1; ``z_pins`` not ``z_disc``).
+
+    Returns
+    -------
+    dict
+        {'sun', 'planet', 'disc', 'carrier', 'pins'} angular velocities per unit sun
+        speed [-].
+
+    Raises
+    ------
+    GeometryError
+        If a tooth number is not a positive integer or z_pins == z_disc.
     """
     for name, z in (("z_sun", z_sun), ("z_planet", z_planet), ("z_disc", z_disc),
                     ("z_pins", z_pins)):
@@ -109,6 +193,22 @@ def rv_speeds(z_sun, z_planet, z_disc, z_pins):
 
 def rv_ratio(z_sun, z_planet, z_disc, z_pins) -> float:
     """Sun-to-output ratio of a 2K-V train; closed form
-    1 + (z_planet/z_sun) * z_pins/(z_pins - z_disc) (121 for RV-40E: 1 + 3*40)."""
+    1 + (z_planet/z_sun) * z_pins/(z_pins - z_disc) (121 for RV-40E: 1 + 3*40).
+
+    Parameters
+    ----------
+    z_sun, z_planet, z_disc, z_pins : int
+        Tooth numbers.
+
+    Returns
+    -------
+    float
+        i = omega_sun / omega_carrier [-] (positive: output and input turn the same way).
+
+    Raises
+    ------
+    GeometryError
+        For a tooth number that is not a positive integer, or equal disc and pin counts.
+    """
     w = rv_speeds(z_sun, z_planet, z_disc, z_pins)
     return w["sun"] / w["carrier"]

@@ -126,12 +126,24 @@ class Case:
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see
-        :mod:`toothfem.geometry.train` for the sign convention)."""
+        :mod:`toothfem.geometry.train` for the sign convention).
+
+        Returns
+        -------
+        float
+            i = omega_input / omega_output [-].
+        """
         return _RATIO[self.drive](self)
 
     def to_si(self) -> si.CaseSI:
         """The case in SI records (:mod:`toothfem.si`): what fem/ and efficiency/ read.
-        Computed once per case (cached on the frozen record)."""
+        Computed once per case (cached on the frozen record).
+
+        Returns
+        -------
+        toothfem.si.CaseSI
+            The SI record.
+        """
         cached = self.__dict__.get("_si")
         if cached is None:
             cached = si.from_case(self)
@@ -215,6 +227,13 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
     Case
         Validated; a bad value raises :class:`CaseError` naming the key, its value and the
         valid range.
+
+    Raises
+    ------
+    CaseError
+        A missing or unknown section or key, a section of the wrong kind, or a value of the
+        wrong type or outside its range (one line naming the key, its value and the valid
+        range).
     """
     mapping = dict(mapping)
     head = mapping.pop("case", None)

@@ -50,8 +50,18 @@ MESH_EFFICIENCY_MIN = 0.5
 
 
 def expected_type(f) -> str:
-    """What a field holds: "integer", "number", "string" or "table" (from its metadata and
-    annotation)."""
+    """What a field holds (from its metadata and annotation).
+
+    Parameters
+    ----------
+    f : dataclasses.Field
+        A case section's field.
+
+    Returns
+    -------
+    str
+        "integer", "number", "string" or "table".
+    """
     md = f.metadata
     if md.get("choices") is not None or f.type == "str":
         return "string"
@@ -80,7 +90,22 @@ def _kind(value) -> str:
 def check_type(key: str, value, expected: str):
     """Refuse a value of the wrong type, naming the key (issue 14, item 1): a string, bool,
     table or array where a number belongs would otherwise fail later in arithmetic, with a
-    message about an internal variable."""
+    message about an internal variable.
+
+    Parameters
+    ----------
+    key : str
+        The dotted case key, for the message.
+    value : object
+        The value as the TOML reader gave it.
+    expected : str
+        :func:`expected_type` of the field ("table" is not checked here).
+
+    Raises
+    ------
+    CaseError
+        One line naming the key, the value and what it must be.
+    """
     if expected == "string":
         ok = isinstance(value, str)
     elif expected == "integer":

@@ -193,7 +193,18 @@ class CycloidStage(_Section):
         super().__post_init__()
 
     def geometry(self):
-        """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`."""
+        """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`.
+
+        Returns
+        -------
+        CycloidGeometry
+            Radii and modifications in m, the rotation modification in rad.
+
+        Raises
+        ------
+        GeometryError
+            If the profile is looped, undercut or interferes (the record's own checks).
+        """
         return CycloidGeometry(
             pin_count=self.pin_count,
             pin_circle_radius_m=self.pin_circle_radius_mm * 1e-3,
@@ -205,6 +216,13 @@ class CycloidStage(_Section):
         )
 
     def holes_si(self):
+        """The disc's holes in metres.
+
+        Returns
+        -------
+        toothfem.geometry.disc.DiscHolesSI
+            Counts and radii [m] of the centre bore, crank holes and pillar holes.
+        """
         h = self.disc_holes
         return DiscHolesSI(
             centre_bore_radius_m=h.centre_bore_radius_mm * 1e-3,
@@ -259,6 +277,18 @@ class SineStage(_Section):
             raise _restate(exc, "sine", _SINE_KEYS) from None
 
     def geometry(self):
+        """The SI geometry record of the pair.
+
+        Returns
+        -------
+        toothfem.geometry.sine.SineGearPair
+            Tooth numbers, module, tooth height and face width [m].
+
+        Raises
+        ------
+        GeometryError
+            If the pair's shape is invalid (the record's own checks).
+        """
         return SineGearPair(planet_teeth=self.planet_teeth, ring_teeth=self.ring_teeth,
                             module_m=self.module_mm * 1e-3,
                             tooth_height_m=self.tooth_height_mm * 1e-3,
@@ -440,7 +470,20 @@ DUTY_SHARE_TOL = 1e-3
 
 def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
     """Refuse an ambient at which the oil is outside its range (below its pour point, at or
-    above its upper limit): one line with the valid range."""
+    above its upper limit).
+
+    Parameters
+    ----------
+    thermal : Thermal
+        The ``[thermal]`` section (ambient [deg C]).
+    lubricant : Lubricant
+        The ``[lubricant]`` section (pour point and upper limit [deg C]).
+
+    Raises
+    ------
+    CaseError
+        One line with the valid range.
+    """
     lo, hi = lubricant.pour_point_C, lubricant.max_temperature_C
     if not lo <= thermal.ambient_C < hi:
         raise CaseError(f"thermal.ambient_C = {thermal.ambient_C!r} is outside the valid "
@@ -449,7 +492,18 @@ def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
 
 
 def check_duty_cycle(rows) -> None:
-    """Refuse a duty cycle whose time shares do not sum to 1 (one line, the valid range)."""
+    """Refuse a duty cycle whose time shares do not sum to 1.
+
+    Parameters
+    ----------
+    rows : sequence of DutyPoint
+        The ``[[duty_cycle]]`` rows (empty: nothing to check).
+
+    Raises
+    ------
+    CaseError
+        One line with the sum and the valid range (1 within DUTY_SHARE_TOL).
+    """
     if rows:
         total = float(sum(r.time_share for r in rows))
         check_range("duty_cycle time_share sum", total, 1 - DUTY_SHARE_TOL,

@@ -59,6 +59,12 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     Returns
     -------
     StiffnessResult
+
+    Raises
+    ------
+    CaseError
+        If ``positions`` is outside its range, ``torque_max_Nm`` is not positive, or the
+        case declares neither a rated nor an operating torque and none is given.
     """
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     drive = drive_for(case)
@@ -88,7 +94,20 @@ HYSTERESIS_COLUMNS = ("torque_Nm", "twist_arcmin", "twist_min_arcmin", "twist_ma
 
 def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
     """hysteresis.csv/png, te.csv/png, split.csv (several members) and summary.json into
-    ``folder`` (an existing folder); returns the summary with its file list."""
+    ``folder``.
+
+    Parameters
+    ----------
+    result : StiffnessResult
+        The data sheet, loaded TE and split.
+    folder : pathlib.Path
+        Where the files go (it must exist).
+
+    Returns
+    -------
+    dict
+        The data sheet's figures and the names of the files written.
+    """
     import csv
 
 
@@ -128,7 +147,18 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
 
 
 def datasheet_rows(summary: dict) -> list:
-    """(quantity, value) rows of the datasheet table of a report."""
+    """(quantity, value) rows of the datasheet table of a report.
+
+    Parameters
+    ----------
+    summary : dict
+        The summary :func:`write_stiffness` returns.
+
+    Returns
+    -------
+    list of (str, str)
+        Quantity with its unit, and the formatted value.
+    """
     rows = [("rated torque [N m]", f"{summary['rated_torque_Nm']:.4g}"
              + (" (operating torque, assumed)" if summary["rated_torque_assumed"] else "")),
             ("torsional rigidity 50-100 % [N m/arcmin]",

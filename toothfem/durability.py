@@ -141,5 +141,16 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> d
 
 def finite(x):
     """``x`` for strict JSON: None for a missing or unbounded value (a zero load or
-    stress: infinite life or safety)."""
+    stress: infinite life or safety).
+
+    Parameters
+    ----------
+    x : float or None
+        Any value.
+
+    Returns
+    -------
+    float or None
+        ``x``, or None.
+    """
     return None if x is None or not math.isfinite(x) else x

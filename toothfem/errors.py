@@ -21,7 +21,22 @@ class ToothfemError(ValueError):
     param = None
 
     def restated(self, name: str, scale: float = 1.0, error=None):
-        """The same range error for parameter ``name`` in units ``scale`` x SI."""
+        """The same range error for parameter ``name`` in units ``scale`` x SI.
+
+        Parameters
+        ----------
+        name : str
+            The parameter's name as the caller knows it (a TOML key).
+        scale : float
+            The caller's unit per SI unit (1e3 for mm).
+        error : type, optional
+            The exception type; default this error's.
+
+        Returns
+        -------
+        ToothfemError
+            The new error (not raised); without range parts, the same message.
+        """
         if self.param is None:
             return (error or type(self))(str(self))
         return _range_error(name, self.value * scale,
@@ -45,7 +60,27 @@ class MeasuredDataError(ToothfemError):
 def decode_text(raw: bytes, path, error=ToothfemError) -> str:
     """UTF-8 text of a file's bytes; a UTF-8 byte-order mark is dropped (spreadsheet and
     Windows editors write one). Other encodings are refused in one line that names the
-    file and the first bad byte, its line and column (issue 14, item 1)."""
+    file and the first bad byte, its line and column (issue 14, item 1).
+
+    Parameters
+    ----------
+    raw : bytes
+        The file's content.
+    path : str or pathlib.Path
+        The file, for the message.
+    error : type
+        The exception type raised.
+
+    Returns
+    -------
+    str
+        The text.
+
+    Raises
+    ------
+    ToothfemError
+        (``error``) for UTF-16 or other non-UTF-8 bytes.
+    """
     if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
         raise error(f"{path}: is UTF-16 text; save it as UTF-8")
     try:
@@ -62,12 +97,37 @@ def check_range(name: str, value, lo=None, hi=None, *, lo_open=False, hi_open=Fa
                 error=ToothfemError, why: str = ""):
     """Return ``value`` if it lies in the range, else raise ``error`` naming it.
 
-    ``lo``/``hi`` are the bounds (None: unbounded); ``lo_open``/``hi_open`` exclude them.
     The message reads ``name = value is outside the valid range [lo, hi)`` plus ``why``.
     NaN and infinite values are always refused, and so are integers too large for a float
     (reported as outside the range). Strings and bools are not numbers here, even where
     ``float()`` would read them ("1.0", True): a value of the wrong type fails later with
     a message that names no parameter.
+
+    Parameters
+    ----------
+    name : str
+        The parameter, as the message names it.
+    value : float or int
+        The value (any unit; the bounds share it).
+    lo, hi : float, optional
+        The bounds (None: unbounded).
+    lo_open, hi_open : bool
+        Exclude the bound.
+    error : type
+        The exception type raised.
+    why : str
+        The reason for the range, appended to the message.
+
+    Returns
+    -------
+    float or int
+        ``value`` itself.
+
+    Raises
+    ------
+    ToothfemError
+        (``error``) naming the parameter, its value and the valid range; it carries those
+        parts (:meth:`ToothfemError.restated`).
     """
     if isinstance(value, (str, bytes, bool, np.bool_)):
         raise error(f"{name} = {value!r} is not a number")
@@ -109,8 +169,32 @@ def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
 
 
 def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False, why=""):
-    """``value`` as a float array; raise ToothfemError naming the first bad element (the
-    vectorised :func:`check_range`)."""
+    """``value`` as a float array, refused at its first bad element (the vectorised
+    :func:`check_range`).
+
+    Parameters
+    ----------
+    name : str
+        The parameter; an element is named ``name[i,j]``.
+    value : array_like
+        The values.
+    lo, hi : float, optional
+        The bounds (None: unbounded).
+    lo_open, hi_open : bool
+        Exclude the bound.
+    why : str
+        The reason for the range.
+
+    Returns
+    -------
+    numpy.ndarray
+        The values as floats, shape of ``value``.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the first bad element, its value and the valid range.
+    """
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):

@@ -44,8 +44,19 @@ def _alive(pid: int) -> bool:
 
 def clean_stale(out) -> list[Path]:
     """Remove the temporary siblings of ``out`` left by runs on this machine whose process
-    has ended; returns what was removed. Siblings of live processes, of other machines and
-    of other names are left alone (a hidden folder is ignored by everything else)."""
+    has ended. Siblings of live processes, of other machines and of other names are left
+    alone (a hidden folder is ignored by everything else).
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder.
+
+    Returns
+    -------
+    list of pathlib.Path
+        What was removed.
+    """
     out = Path(out)
     pattern = re.compile(rf"^\.{re.escape(out.name)}\.(tmp|old)-{re.escape(_host())}-"
                          r"(\d+)-[^/]*$")
@@ -82,6 +93,16 @@ def atomic_dir(out):
     is removed and ``out`` is left as it was, so a failed run never leaves a half-written
     result folder. Stale temporary folders of killed runs are removed first
     (:func:`clean_stale`).
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder (its parent is created).
+
+    Yields
+    ------
+    pathlib.Path
+        The temporary folder to write into.
     """
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)

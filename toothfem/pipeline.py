@@ -99,6 +99,12 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
     Returns
     -------
     ContactResult
+
+    Raises
+    ------
+    CaseError
+        If ``positions`` is outside its range, ``mode``, ``field`` or ``pins`` is unknown,
+        or ``pins`` is given for a sine pair.
     """
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if mode not in MODES:
@@ -173,7 +179,18 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
 
 
 def stack_records(records):
-    """One LoadSharing of several one-position records (concatenated over positions)."""
+    """One LoadSharing of several one-position records (concatenated over positions).
+
+    Parameters
+    ----------
+    records : sequence of LoadSharing
+        One position each, in order.
+
+    Returns
+    -------
+    LoadSharing
+        The arrays concatenated along the position axis; scalars from the first record.
+    """
     first = records[0]
     out = {}
     for f in dataclasses.fields(first):
@@ -188,7 +205,18 @@ CONTACT_COLUMNS = ("position_deg", "contact_id", "force_N", "moment_arm_mm", "ha
 
 
 def contact_labels(result: ContactResult):
-    """The :class:`toothfem.report.contact.ContactLabels` of a contact result."""
+    """The :class:`toothfem.report.contact.ContactLabels` of a contact result.
+
+    Parameters
+    ----------
+    result : ContactResult
+        The contact analysis.
+
+    Returns
+    -------
+    toothfem.report.contact.ContactLabels
+        Names of the case, contacts and member, the torques [N m] and the mode.
+    """
 
     s = result.summary
     return ContactLabels(case_name=result.case_name, contact=result.contact_name,
@@ -199,12 +227,23 @@ def contact_labels(result: ContactResult):
 
 
 def write_contact(result: ContactResult, folder: Path) -> dict:
-    """Write load_sharing.csv, the pictures, the VTU field and summary.json into
-    ``folder`` (an existing folder); returns the summary with its file list.
+    """Write load_sharing.csv, the pictures, the VTU field and summary.json into ``folder``.
 
     Pictures: ``load_per_<contact>.png`` (force and P_h per contact over the period),
     ``load_around_ring.png``, ``transmission_error.png`` and, with a field,
     ``von_mises.png`` (whole member) and ``von_mises_contact.png`` (close-up).
+
+    Parameters
+    ----------
+    result : ContactResult
+        The contact analysis.
+    folder : pathlib.Path
+        An existing folder.
+
+    Returns
+    -------
+    dict
+        The summary with its file list.
     """
     import csv
 
@@ -234,7 +273,22 @@ def write_contact(result: ContactResult, folder: Path) -> dict:
 def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
     """von_mises.png (the whole member) and von_mises_contact.png (close-up of the most
     loaded contact) of the member's field ``vtu``, labelled structural or
-    contact-resolved; returns the names."""
+    contact-resolved.
+
+    Parameters
+    ----------
+    result : ContactResult
+        The contact analysis (with a field).
+    vtu : pathlib.Path
+        The member's VTU field.
+    folder : pathlib.Path
+        Where the pictures go.
+
+    Returns
+    -------
+    list of str
+        The names of the pictures.
+    """
 
     labels = contact_labels(result)
     ls, worst = result.load_sharing, result.worst
@@ -280,10 +334,24 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     about its own centre) as CSV (x_mm,y_mm), DXF (one closed LWPOLYLINE, mm) and SVG
     (one closed path, mm).
 
+    Parameters
+    ----------
+    case : Case
+        The case.
+    folder : pathlib.Path
+        The output folder (already created).
+    points_per_tooth : int
+        Profile points per lobe or tooth, [8, 10000].
+
     Returns
     -------
     dict
         The derived quantities (``toothfem check``) with the files written.
+
+    Raises
+    ------
+    CaseError
+        If ``points_per_tooth`` is outside its range.
     """
 
     check_range("points_per_tooth", points_per_tooth, 8, 10000, error=CaseError)
@@ -306,7 +374,29 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
 
 def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
                        method="power_flow") -> dict:
-    """The efficiency record of one operating point as a plain mapping (the JSON)."""
+    """The efficiency record of one operating point as a plain mapping (the JSON).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case.
+    speed : float
+        Input speed [rpm].
+    torque : float
+        Output torque [N m].
+    oil_temp : float, optional
+        Oil temperature [deg C]; None: the lubricant's reference.
+    loads : {"analytic", "fem"}
+        The meshing table's load source.
+    method : {"power_flow", "rv_split_power"}
+        As :func:`toothfem.efficiency.evaluation.evaluate`.
+
+    Returns
+    -------
+    dict
+        Efficiency [-], powers and losses [W], loss shares [-], mesh efficiencies and
+        notes.
+    """
     e = evaluate(case, speed, torque, oil_temp, loads=loads, method=method)
     shares = e.shares()
     return {

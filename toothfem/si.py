@@ -202,7 +202,13 @@ class TolerancesSI:
 
     def active(self) -> list:
         """Names of the tolerances with a nonzero zone (the pin diameter's two limits as
-        one, ``pin_diameter``)."""
+        one, ``pin_diameter``).
+
+        Returns
+        -------
+        list of str
+            The names without their ``_m`` suffix.
+        """
         out = []
         for f in dataclasses.fields(self):
             if f.name == "distribution" or not getattr(self, f.name):
@@ -238,12 +244,24 @@ class CaseSI:
     duty_cycle: tuple = ()
 
     def to_si(self) -> "CaseSI":
-        """Itself: analyses accept a case or its SI record alike."""
+        """Itself: analyses accept a case or its SI record alike.
+
+        Returns
+        -------
+        CaseSI
+            ``self``.
+        """
         return self
 
     def declared_output_torque_Nm(self) -> float | None:
-        """The output torque [N m] the operating point declares, lossless: the output torque,
-        else the input torque or power times |ratio|; None if none is declared."""
+        """The output torque the operating point declares, lossless: the output torque, else the
+        input torque or power times |ratio|.
+
+        Returns
+        -------
+        float or None
+            Output torque [N m]; None if none is declared.
+        """
         op = self.operating
         if op.output_torque_Nm:
             return float(op.output_torque_Nm)
@@ -254,8 +272,15 @@ class CaseSI:
         return None
 
     def rated_output_torque_Nm(self) -> tuple[float | None, bool]:
-        """(torque [N m], assumed): the rated output torque, else the declared one (assumed
-        True: the case names no rating); (None, True) if it declares neither."""
+        """The rated output torque, else the declared one.
+
+        Returns
+        -------
+        torque : float or None
+            [N m]; None if the case declares neither.
+        assumed : bool
+            True when the case names no rating.
+        """
         if self.operating.rated_torque_Nm:
             return float(self.operating.rated_torque_Nm), False
         return self.declared_output_torque_Nm(), True
@@ -279,7 +304,18 @@ _HV = 9.80665e6
 
 def from_case(case) -> CaseSI:
     """Every section of a :class:`toothfem.case.Case` as its SI record: the one place units
-    change (:meth:`toothfem.case.Case.to_si` calls it once per case)."""
+    change (:meth:`toothfem.case.Case.to_si` calls it once per case).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case, in its own units (mm, GPa, um, deg, rpm).
+
+    Returns
+    -------
+    CaseSI
+        Every section in SI (m, Pa, rad, rad/s, N m, W).
+    """
     mat = case.material
     cyc = case.cycloid
     fs = case.first_stage

@@ -63,7 +63,18 @@ RESULT_COLUMNS = ("output_torque_Nm", "loads", "max_force_N", "{contacts}_in_con
 
 
 def result_columns(drive) -> list:
-    """:data:`RESULT_COLUMNS` in the words of ``drive`` (a Drive)."""
+    """:data:`RESULT_COLUMNS` in the words of ``drive`` (a Drive).
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+        Names its contacts.
+
+    Returns
+    -------
+    list of str
+        The column names of sweep.csv.
+    """
     return [c.format(contacts=drive.contacts_name) for c in RESULT_COLUMNS]
 
 #: Largest number of meshing positions per design.
@@ -90,26 +101,52 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
           sine_loads: str = "fem") -> SweepResult:
     """Run designs x load cases x meshing positions through Dask; write ``out/sweep.csv``.
 
-    ``case``: a :class:`~toothfem.case.Case` or the path of a case file: a sine drive or any
-    drive with a ``[cycloid]`` disc (cycloid, RV).
-    ``vary``: dotted case key -> values; ``operating.*`` keys are load cases, all others
-    designs. ``torques_Nm``: reducer output torques [N m] as further load cases (a cycloid
-    disc carries disc_load_factor * T / disc_count, as in ``toothfem contact``). Without
-    them the torque is the load case's ``operating.output_torque_Nm``, else the output
-    torque its input torque or power gives through the efficiency model
-    (``efficiency.operating_point``, as ``toothfem contact`` and ``run``).
-    ``positions``: meshing positions over one pin (cycloid disc) or ring-tooth (sine) pitch.
-    ``pins``: cycloid pin structure override (conventional, integral, rigid).
-    ``scheduler``: None for a LocalCluster of ``n_workers`` single-threaded processes
-    (default: one per CPU), a scheduler address, or a ``distributed.Client``.
-    ``cache_dir``: the disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
-    ``~/.cache/toothfem``; False: none.
-    ``on_row(row)`` is called after each row is written and flushed.
-    ``sine_loads``: "fem" (default) or "analytic".
+    Parameters
+    ----------
+    case : toothfem.case.Case or str or pathlib.Path
+        The case or the path of a case file: a sine drive or any drive with a
+        ``[cycloid]`` disc (cycloid, RV).
+    vary : Mapping of str to sequence
+        Dotted case key -> values; ``operating.*`` keys are load cases, all others designs.
+    torques_Nm : sequence of float, optional
+        Reducer output torques [N m] as further load cases (a cycloid disc carries
+        disc_load_factor * T / disc_count, as in ``toothfem contact``). Without them the
+        torque is the load case's ``operating.output_torque_Nm``, else the output torque its
+        input torque or power gives through the efficiency model
+        (``efficiency.operating_point``, as ``toothfem contact`` and ``run``).
+    positions : int
+        Meshing positions over one pin (cycloid disc) or ring-tooth (sine) pitch.
+    pins : str, optional
+        Cycloid pin structure override (conventional, integral, rigid).
+    scheduler : str or distributed.Client, optional
+        None for a LocalCluster of ``n_workers`` single-threaded processes, a scheduler
+        address, or a ``distributed.Client``.
+    n_workers : int, optional
+        Processes of the local cluster (default: one per CPU).
+    out : str or pathlib.Path
+        The output folder (written atomically).
+    cache_dir : str or pathlib.Path or None or False
+        The disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
+        ``~/.cache/toothfem``; False: none.
+    progress : bool
+        Show a progress bar.
+    on_row : callable, optional
+        ``on_row(row)`` is called after each row is written and flushed.
+    sine_loads : {"fem", "analytic"}
+        The sine pair's load split.
 
-    Raises CaseError before any work for an unknown key (naming the valid keys of its
-    section), a value outside its key's own range, or a bad argument; a design refused only
-    in combination (a looped profile, say) is a failed row.
+    Returns
+    -------
+    SweepResult
+        The folder, its sweep.csv, the rows in the order they arrived, the failed count
+        and the wall time [s].
+
+    Raises
+    ------
+    CaseError
+        Before any work for an unknown key (naming the valid keys of its section), a value
+        outside its key's own range, or a bad argument; a design refused only in
+        combination (a looped profile, say) is a failed row.
     """
     from tqdm import tqdm
 

@@ -45,7 +45,19 @@ class Points:
 
     @classmethod
     def of(cls, data) -> "Points":
-        """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`."""
+        """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`.
+
+        Parameters
+        ----------
+        data : MeasuredData
+            Measured rows (speed [rpm], output torque [N m], oil temperature [deg C] and time
+            [h] if given).
+
+        Returns
+        -------
+        Points
+            The same points as float arrays (M,).
+        """
         return cls(np.asarray(data.speed_rpm, float), np.asarray(data.torque_Nm, float),
                    None if data.oil_temp_C is None else np.asarray(data.oil_temp_C, float),
                    None if data.time_h is None else np.asarray(data.time_h, float))
@@ -78,7 +90,25 @@ class Effect:
         return f"Effect({self.name!r})"
 
     def apply(self, case, values):
-        """The case with this effect's fields set to ``values``."""
+        """The case with this effect's fields set to ``values``.
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            The case (its units, e.g. mm).
+        values : sequence of float
+            One value per entry of ``parameters``, in the parameter's unit.
+
+        Returns
+        -------
+        toothfem.case.Case
+            A copy with the fields set.
+
+        Raises
+        ------
+        ToothfemError
+            If the number of values is wrong or a value leaves its parameter's bounds.
+        """
         values = tuple(float(v) for v in values)
         if len(values) != len(self.parameters):
             raise ToothfemError(f"{self.name}: {len(values)} values for "
@@ -88,11 +118,35 @@ class Effect:
         return self.set_fields(case, values)
 
     def declared(self, case) -> str | None:
-        """The case field that already declares this effect (non-default), or None."""
+        """The case field that already declares this effect (non-default), or None.
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            Whose fields are looked at.
+
+        Returns
+        -------
+        str or None
+            "field = value", or None.
+        """
         return self.declared_by(case)
 
     def applicable(self, case, points) -> str | None:
-        """Why the effect cannot act on this case and data (None: it can)."""
+        """Why the effect cannot act on this case and data (None: it can).
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            The case the effect would act on (its drive and sections).
+        points : Points
+            The operating points.
+
+        Returns
+        -------
+        str or None
+            The reason, or None.
+        """
         if case.drive not in self.drives:
             return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
         if self.not_applicable is not None:
@@ -100,7 +154,18 @@ class Effect:
         return None
 
     def route(self, case) -> str:
-        """'model': the efficiency model evaluates the field; 'loss': a loss term here."""
+        """'model': the efficiency model evaluates the field; 'loss': a loss term here.
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            Decides the route where an effect's route depends on it.
+
+        Returns
+        -------
+        str
+            "model" or "loss".
+        """
         if self.loss_route is not None and self.loss_route(case):
             return "loss"
         return "model"
@@ -108,7 +173,18 @@ class Effect:
     def linear_component(self, case) -> str | None:
         """The loss component (a key of the losses) that is exactly proportional to this
         effect's single parameter, nothing else depending on it; None if there is none.
-        Such an effect needs no new model evaluation when only its value changes."""
+        Such an effect needs no new model evaluation when only its value changes.
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            The case whose losses the model evaluates.
+
+        Returns
+        -------
+        str or None
+            The key, or None.
+        """
         return None if self.linear_in is None else self.linear_in(case)
 
     @property
@@ -131,8 +207,26 @@ class Prediction:
 
 
 def with_effects(case, assignment):
-    """The case with every effect of ``assignment`` ({Effect: values}) applied: the case
-    a report states (the loss-term effects' fields set as well)."""
+    """The case with every effect of ``assignment`` applied: the case a report states (the
+    loss-term effects' fields set as well).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case before the effects (its own units, e.g. mm).
+    assignment : dict of Effect to sequence of float
+        {Effect: values}.
+
+    Returns
+    -------
+    toothfem.case.Case
+        The case with the fields set.
+
+    Raises
+    ------
+    ToothfemError
+        As :meth:`Effect.apply`.
+    """
     for eff, values in assignment.items():
         case = eff.apply(case, values)
     return case
@@ -147,14 +241,33 @@ class _Losses:
 
 def predict(case, points: Points, assignment=None, prepared=None, *, loads="analytic",
             cache=None) -> Prediction:
-    """Efficiency of ``case`` with the effects ``assignment`` ({Effect: values}) at the
-    points. ``prepared`` holds the tables of effects that need them ({name: object},
-    :func:`prepare`); missing ones are computed here.
+    """Efficiency of ``case`` with the effects ``assignment`` at the points.
 
-    ``cache`` (a dict, optional) keeps model evaluations keyed by the values of the effects
-    that need one: an effect with a linear component (:meth:`Effect.linear_component`) is
-    evaluated at its reference value and its component scaled, so a change of its value
-    alone costs no evaluation (exact: the component is proportional to the parameter)."""
+    An effect with a linear component (:meth:`Effect.linear_component`) is evaluated at its
+    reference value and its component scaled, so a change of its value alone costs no
+    evaluation (exact: the component is proportional to the parameter).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case the model evaluates, before the effects.
+    points : Points
+        The M operating points.
+    assignment : dict of Effect to sequence of float, optional
+        {Effect: values}; None: the model alone.
+    prepared : dict, optional
+        The tables of effects that need them ({name: object}, :func:`prepare`); missing
+        ones are computed here and added.
+    loads : {"analytic", "fem"}
+        The meshing table's load source.
+    cache : dict, optional
+        Keeps model evaluations keyed by the values of the effects that need one.
+
+    Returns
+    -------
+    Prediction
+        Efficiency [-], output power and losses [W] at the points, and the model's notes.
+    """
     assignment = assignment or {}
     prepared = {} if prepared is None else prepared
     model_case, key, scale = case, [], {}
@@ -192,7 +305,22 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
 
 
 def prepare(effects, case, points) -> dict:
-    """Tables of the effects that need them for these points ({name: object})."""
+    """Tables of the effects that need them for these points.
+
+    Parameters
+    ----------
+    effects : iterable of Effect
+        The effects (those that do not apply are skipped).
+    case : toothfem.case.Case
+        The case the tables are made for.
+    points : Points
+        The operating points.
+
+    Returns
+    -------
+    dict
+        {name: object}.
+    """
     return {e.name: e.prepare(case, points) for e in effects
             if e.prepare is not None and e.route(case) == "loss"
             and e.applicable(case, points) is None}
@@ -203,12 +331,42 @@ def prepare(effects, case, points) -> dict:
 
 
 def default_of(section_cls, name):
+    """The default of a field of a case section.
+
+    Parameters
+    ----------
+    section_cls : type
+        A section's dataclass (e.g. :class:`toothfem.case_sections.Friction`).
+    name : str
+        The field.
+
+    Returns
+    -------
+    object
+        The field's default (``dataclasses.MISSING`` if it has none).
+    """
     f = {x.name: x for x in dataclasses.fields(section_cls)}[name]
     return f.default
 
 
 def declared_if_changed(section, name, label):
-    """declared_by(case) for a field that is declared when it differs from its default."""
+    """declared_by(case) for a field that is declared when it differs from its default.
+
+    Parameters
+    ----------
+    section : str
+        The case section's attribute name.
+    name : str
+        The field.
+    label : str
+        How the result names the field.
+
+    Returns
+    -------
+    callable
+        ``declared(case) -> str or None``: "label = value" where the field differs from its
+        default, else None.
+    """
     def declared(case):
         sec = getattr(case, section)
         if sec is None:
@@ -221,7 +379,20 @@ def declared_if_changed(section, name, label):
 
 
 def setter(section, name):
-    """set_fields(case, values) for one field of one section."""
+    """set_fields(case, values) for one field of one section.
+
+    Parameters
+    ----------
+    section : str
+        Attribute of the case holding the section ("friction", "lubricant", ...).
+    name : str
+        The field the effect's single value goes to.
+
+    Returns
+    -------
+    callable
+        ``setter(case, values) -> case`` with the field set to ``values[0]``.
+    """
     def setter(case, values):
         sec = getattr(case, section)
         return dataclasses.replace(case, **{section: dataclasses.replace(sec, **{name: values[0]})})
@@ -229,11 +400,36 @@ def setter(section, name):
 
 
 def crank_speed_factor(case) -> float:
-    """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage)."""
+    """|crank speed / input speed| of a cycloid or RV drive (1 for a plain K-H-V stage).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        Its drive gives the speeds.
+
+    Returns
+    -------
+    float
+        The factor [-].
+    """
     return abs(drive_for(case).speeds()["crank"])
 
 
 def need_cycloid(case, points):
+    """Why a cycloid effect cannot act: the case lacks [cycloid] or [material].
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        Checked for the two sections.
+    points : Points
+        The operating points (unused; the ``not_applicable`` signature).
+
+    Returns
+    -------
+    str or None
+        The reason, or None.
+    """
     if case.cycloid is None or case.material is None:
         return "needs the [cycloid] and [material] sections (disc, pins, contact stiffness)"
     return None

@@ -77,7 +77,13 @@ def drag_torque() -> Effect:
     torque on the shaft (the model has the seals of ISO/TR 14179-1 at their diameters); a
     preloaded bearing pair or a tighter seal adds a load-independent moment of the same
     kind (SKF, 'The SKF model for calculating the frictional moment', 2018: M_drag,
-    M_seal)."""
+    M_seal).
+
+    Returns
+    -------
+    Effect
+        Parameter drag_torque_Nmm [N mm] (friction.drag_torque_Nmm).
+    """
     return Effect(
         name="drag_torque",
         summary="load-independent drag on the input shaft (seals, bearing preload)",
@@ -111,7 +117,13 @@ def churning() -> Effect:
     P0 = k 1e-7 a0 (n/60)^(4/3) (nu/n)^0.1 (nu + 90) kW, a0 the stage's centre distance
     [mm] (the eccentricity of a K-H-V stage), n its pinion's speed [rpm], nu the kinematic
     viscosity at the oil temperature [mm^2/s]; the factor k is fitted (1 = the law as
-    the model takes it by default, efficiency/no_load.py)."""
+    the model takes it by default, efficiency/no_load.py).
+
+    Returns
+    -------
+    Effect
+        Parameter churning_scale [-] (lubricant.churning_scale).
+    """
     return Effect(
         name="churning",
         summary="speed- and viscosity-dependent no-load loss (oil agitation, splash)",
@@ -150,7 +162,13 @@ def viscosity_temperature() -> Effect:
     exp(B/(T + C) - B/(T_ref + C)); the fitted B [deg C] sets how fast the viscosity falls
     with temperature (C kept at the case's value; B and C together are not identifiable
     from efficiency data over a few tens of kelvin). Acts on the EHL friction (eta0 in the
-    Xu regression and the film ratio) and on the churning law (nu)."""
+    Xu regression and the film ratio) and on the churning law (nu).
+
+    Returns
+    -------
+    Effect
+        Parameter vogel_B_C [deg C] (lubricant.vogel_B_C).
+    """
     return Effect(
         name="viscosity_temperature",
         summary="oil viscosity versus temperature (Vogel B), acting on EHL friction and "
@@ -185,7 +203,13 @@ def mixed_lubrication() -> Effect:
     Poon 1972 with plastically flattened Gaussian asperities, efficiency/mixed_film.py);
     the model's mu_b is 0.1 (lubricated steel, Bowden & Tabor 1950) and the fit corrects it
     (additives, coatings, running-in change it). Since the film ratio grows with speed and
-    viscosity, its loss is largest at low speed and high temperature."""
+    viscosity, its loss is largest at low speed and high temperature.
+
+    Returns
+    -------
+    Effect
+        Parameter boundary_coefficient [-] (friction.boundary_coefficient).
+    """
     return Effect(
         name="mixed_lubrication",
         summary="boundary (asperity) friction of the load the film cannot carry",
@@ -208,7 +232,13 @@ def bearing_friction() -> Effect:
     M = mu_b F r (the SKF simplified frictional moment M = 0.5 mu P d; Palmgren's
     load-dependent term), P = M omega_rel, with F the bearing force from the member's
     equilibrium (sine paper Eq. 32). The fitted mu_b replaces the library's default; a case
-    that declares its own bearing coefficient is not refitted."""
+    that declares its own bearing coefficient is not refitted.
+
+    Returns
+    -------
+    Effect
+        Parameter bearing_coefficient [-] (friction.bearing_coefficient).
+    """
     return Effect(
         name="bearing_friction",
         summary="load-dependent friction of the eccentric/crank bearings",
@@ -236,7 +266,13 @@ def output_mechanism_friction() -> Effect:
     """Sliding of the output pins in the planet's holes (pins-in-holes W mechanism).
 
     Sine paper Eqs. 37-39: P = f_k sum(Q) v_k with sum(Q) = 4 T2/(pi R_w) and v_k = 2 a0
-    omega_rel; the fitted f_k replaces the library default."""
+    omega_rel; the fitted f_k replaces the library default.
+
+    Returns
+    -------
+    Effect
+        Parameter output_pin_coefficient [-] (friction.output_pin_coefficient).
+    """
     return Effect(
         name="output_mechanism_friction",
         summary="pins sliding in the holes of the pins-in-holes output mechanism",
@@ -269,7 +305,13 @@ def pin_sliding() -> Effect:
     A pin free to turn takes the sliding at whichever interface resists less: the loss per
     contact is min(mu_disc, mu_g) F v_s (efficiency/drive_losses.py); mu_g = 0 is ideal rolling.
     The pins' sliding in the grooves is the loss mechanism of the roller/pin analyses of
-    Malhotra & Parameswaran (1983) and Gorla et al. (2008)."""
+    Malhotra & Parameswaran (1983) and Gorla et al. (2008).
+
+    Returns
+    -------
+    Effect
+        Parameter pin_groove_coefficient [-] (friction.pin_groove_coefficient).
+    """
     return Effect(
         name="pin_sliding",
         summary="conventional pins sliding in their grooves (Coulomb mu_g) instead of rolling",
@@ -301,13 +343,25 @@ CLEARANCE_POSITIONS = 36
 
 @lru_cache(maxsize=8)
 def contact_compliance(drive) -> float:
-    """Compliance of one pin contact [m per N/m of face width] for the equal-springs
-    contact model: the mean diagonal of the disc's FE influence matrix (plus the integral
-    housing's, which the cycle solver adds) at the candidate pins of one position, plus
-    for conventional pins the pin's own FE compliance averaged over contact angles within
-    45 deg. One disc factorisation (seconds). The Hertz local correction at the actual
-    half-width (about 10 % at these loads) and the coupling between contacts (off-diagonal
-    terms about 10 % of the diagonal) are left out: that is the equal-springs limit."""
+    """Compliance of one pin contact for the equal-springs contact model.
+
+    The mean diagonal of the disc's FE influence matrix (plus the integral housing's, which
+    the cycle solver adds) at the candidate pins of one position, plus for conventional pins
+    the pin's own FE compliance averaged over contact angles within 45 deg. One disc
+    factorisation (seconds). The Hertz local correction at the actual half-width (about 10 %
+    at these loads) and the coupling between contacts (off-diagonal terms about 10 % of the
+    diagonal) are left out: that is the equal-springs limit.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+        A cycloid or RV drive.
+
+    Returns
+    -------
+    float
+        Compliance [m per N/m of face width].
+    """
     solver = drive.cycle_solver(1, cache=False)
     model = solver.model
     c = float(np.mean(np.diag(solver.influence(0))))
@@ -333,8 +387,7 @@ class ClearanceTables:
 def clearance_tables(case, points: Points, compliance=None,
                      grid_mm=CLEARANCE_GRID_MM) -> ClearanceTables:
     """Loss ratios over a grid of clearances (equidistant modification Delta r_z) at the
-    points, in the limit of rigid bodies on equal contact springs (``compliance`` m per
-    N/m; default :func:`contact_compliance`, from the FE).
+    points, in the limit of rigid bodies on equal contact springs.
 
     Per clearance the cycle solver finds the contact set and forces at every position
     (complementarity with the torque balance: fem/cycloid_fe.CycleSolver with
@@ -342,7 +395,24 @@ def clearance_tables(case, points: Points, compliance=None,
     is the model's (same law, lubricant and oil temperature as the case), and the ratio
     sum(mu F v_s)(c) / sum(mu F v_s)(0) scales the model's pin-contact loss (the mean
     bearing force likewise scales the crank-bearing loss). At c = 0 the equal-springs split
-    is the analytic F proportional to the moment arm, so the ratio starts at exactly 1."""
+    is the analytic F proportional to the moment arm, so the ratio starts at exactly 1.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        A cycloid or RV case.
+    points : Points
+        The M operating points.
+    compliance : float, optional
+        Contact spring [m per N/m]; default :func:`contact_compliance`, from the FE.
+    grid_mm : sequence of float
+        The K clearances [mm].
+
+    Returns
+    -------
+    ClearanceTables
+        Pin-contact and crank-bearing loss ratios (K, M) [-].
+    """
     cyc = case.cycloid
     drive = drive_for(case)
     if compliance is None:
@@ -408,10 +478,22 @@ def load_sharing_clearance(compliance=None) -> Effect:
     gap >= 0, F >= 0, F gap = 0, sum F l = T), so fewer pins carry more load at low torque
     and the set grows with torque. The friction loss changes with it (the loaded pins
     differ in sliding speed and pressure). The load split comes from the contact model in
-    the limit of rigid bodies on equal contact springs (``compliance``, default from the
-    FE; see :func:`clearance_tables`), tabulated over :data:`CLEARANCE_GRID_MM` once per
-    data set. The full FE cycle mode (about 25-50 s per geometry here) is the reference it
-    is checked against in the slow tests."""
+    the limit of rigid bodies on equal contact springs (see :func:`clearance_tables`),
+    tabulated over :data:`CLEARANCE_GRID_MM` once per data set. The full FE cycle mode
+    (about 25-50 s per geometry here) is the reference it is checked against in the slow
+    tests.
+
+    Parameters
+    ----------
+    compliance : float, optional
+        Contact spring [m per N/m]; default from the FE.
+
+    Returns
+    -------
+    Effect
+        Parameter equidistant_modification_mm [mm] (cycloid.equidistant_modification_mm),
+        a loss term beside the model.
+    """
     return Effect(
         name="load_sharing_clearance",
         summary="disc-pin clearance (equidistant modification) changing the load split, "
@@ -442,16 +524,44 @@ NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication"
 
 
 def catalog(*, clearance_compliance=None) -> tuple:
-    """Every effect of the catalog (the order of :data:`NAMES`). ``clearance_compliance``
-    [m per N/m] fixes the contact springs of ``load_sharing_clearance`` instead of taking
-    them from the FE (one disc factorisation per design)."""
+    """Every effect of the catalog (the order of :data:`NAMES`).
+
+    Parameters
+    ----------
+    clearance_compliance : float, optional
+        Fixes the contact springs of ``load_sharing_clearance`` [m per N/m] instead of
+        taking them from the FE (one disc factorisation per design).
+
+    Returns
+    -------
+    tuple of Effect
+        The nine effects.
+    """
     return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
             bearing_friction(), output_mechanism_friction(),
             load_sharing_clearance(clearance_compliance), pin_sliding(), thermal())
 
 
 def by_name(name, effects=None) -> Effect:
-    """The catalog effect called ``name``."""
+    """The catalog effect called ``name``.
+
+    Parameters
+    ----------
+    name : str
+        One of :data:`NAMES`.
+    effects : iterable of Effect, optional
+        Where to look; default :func:`catalog`.
+
+    Returns
+    -------
+    Effect
+        The effect.
+
+    Raises
+    ------
+    ToothfemError
+        If no effect has that name.
+    """
     for e in effects or catalog():
         if e.name == name:
             return e

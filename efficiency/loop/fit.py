@@ -93,7 +93,20 @@ class HeldOut:
 
 def fold_count(n: int, settings: Settings) -> int:
     """Folds of the k-fold held-out error on ``n`` points: :attr:`Settings.folds`, but no
-    more than the points and no fewer than :data:`MIN_FOLDS`."""
+    more than the points and no fewer than :data:`MIN_FOLDS`.
+
+    Parameters
+    ----------
+    n : int
+        Points.
+    settings : Settings
+        The loop's settings.
+
+    Returns
+    -------
+    int
+        Folds.
+    """
     return max(MIN_FOLDS, min(settings.folds, n))
 
 

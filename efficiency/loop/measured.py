@@ -102,8 +102,13 @@ class MeasuredData:
         return int(self.speed_rpm.size)
 
     def covariates(self) -> dict:
-        """Every covariate in the data, name (with unit) -> (M,) array; ``run_id`` is a
-        label array, the others numbers."""
+        """Every covariate in the data; ``run_id`` is a label array, the others numbers.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            Name (with unit) -> (M,) array.
+        """
         out = {"input_speed_rpm": self.speed_rpm, "output_torque_Nm": self.torque_Nm}
         for name, arr in (("oil_temp_C", self.oil_temp_C), ("time_h", self.time_h),
                           ("run_id", self.run_id)):
@@ -113,7 +118,18 @@ class MeasuredData:
         return out
 
     def subset(self, index) -> "MeasuredData":
-        """The rows ``index`` (an index array or boolean mask)."""
+        """The rows ``index``.
+
+        Parameters
+        ----------
+        index : array_like
+            An index array or boolean mask over the M rows.
+
+        Returns
+        -------
+        MeasuredData
+            Those rows (rejected rows, provenance and notes kept).
+        """
         def take(a):
             return None if a is None else np.asarray(a)[index]
         return MeasuredData(speed_rpm=take(self.speed_rpm), torque_Nm=take(self.torque_Nm),
@@ -165,7 +181,30 @@ def _number(text, name):
 def sensor_sigma(eff, t_in, t_out, sensors) -> np.ndarray | None:
     """Standard uncertainty of eta = T2 / (i T1) from the torque sensors' accuracy (a
     fraction of range, taken as one standard deviation): eta sqrt((a1 R1/T1)^2 +
-    (a2 R2/T2)^2). None without both sensors or without input torques."""
+    (a2 R2/T2)^2).
+
+    Parameters
+    ----------
+    eff : array_like, shape (M,)
+        Efficiency [-].
+    t_in : array_like, shape (M,) or None
+        Input torque [N m].
+    t_out : array_like, shape (M,)
+        Output torque [N m].
+    sensors : dict or None
+        The provenance ``sensors`` table: ``input_torque`` and ``output_torque``, each with
+        ``range_Nm`` [N m] and ``accuracy`` [-].
+
+    Returns
+    -------
+    numpy.ndarray or None
+        sigma [-], shape (M,); None without both sensors or without input torques.
+
+    Raises
+    ------
+    MeasuredDataError
+        If the sensors table lacks a sensor, its range or accuracy.
+    """
     if t_in is None or not sensors:
         return None
     try:
@@ -182,9 +221,31 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
                    strict=False) -> MeasuredData:
     """Validate CSV text into :class:`MeasuredData` (module docstring for the rules).
 
-    ``ratio``: the reducer's speed ratio (its magnitude is used), needed when the
-    efficiency comes from an input-torque column and used to check one against the other
-    when both are given. ``provenance``: a mapping merged over the header comments."""
+    Parameters
+    ----------
+    text : str
+        The CSV, header comments included.
+    ratio : float, optional
+        The reducer's speed ratio (its magnitude is used), needed when the efficiency comes
+        from an input-torque column and used to check one against the other when both are
+        given.
+    provenance : dict, optional
+        A mapping merged over the header comments.
+    source : str
+        Names the text in messages.
+    strict : bool
+        Refuse the whole text at the first bad row instead of rejecting the row.
+
+    Returns
+    -------
+    MeasuredData
+        The good rows, with the rejected ones listed.
+
+    Raises
+    ------
+    MeasuredDataError
+        No header, no good row, a missing ratio, or (strict) a bad row.
+    """
     lines = text.splitlines()
     prov, start = _comments(lines)
     prov.update(provenance or {})
@@ -405,7 +466,18 @@ def _check_row(v, i_abs):
 
 def distinct_points(data: MeasuredData) -> int:
     """Number of distinct operating points (speed, output torque and, if given, oil
-    temperature) among the rows."""
+    temperature) among the rows.
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The rows.
+
+    Returns
+    -------
+    int
+        The count.
+    """
     cols = [data.speed_rpm, data.torque_Nm] + ([data.oil_temp_C]
                                                if data.oil_temp_C is not None else [])
     return int(np.unique(np.column_stack(cols), axis=0).shape[0]) if len(data) else 0
@@ -413,10 +485,31 @@ def distinct_points(data: MeasuredData) -> int:
 
 def require_distinct(data: MeasuredData, needed: int, purpose: str, *,
                      rows: int | None = None) -> MeasuredData:
-    """``data`` if it has at least ``needed`` distinct operating points, else one line
-    saying how many it has and what needs more (repeated readings of one point say
-    nothing about how the efficiency changes with speed, torque or temperature).
-    ``rows``: the good rows ``data`` was binned from (default: its own rows)."""
+    """``data`` if it has at least ``needed`` distinct operating points (repeated readings of
+    one point say nothing about how the efficiency changes with speed, torque or
+    temperature).
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The rows.
+    needed : int
+        Distinct points required.
+    purpose : str
+        What needs them (for the message).
+    rows : int, optional
+        The good rows ``data`` was binned from (default: its own rows).
+
+    Returns
+    -------
+    MeasuredData
+        ``data`` itself.
+
+    Raises
+    ------
+    MeasuredDataError
+        One line saying how many it has and what needs more.
+    """
     n = distinct_points(data)
     if n < needed:
         rows = len(data) if rows is None else rows
@@ -429,12 +522,44 @@ def require_distinct(data: MeasuredData, needed: int, purpose: str, *,
 
 
 def sidecar_path(path) -> Path:
-    """The provenance sidecar of a CSV: the same name with ``.json``."""
+    """The provenance sidecar of a CSV: the same name with ``.json``.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV.
+
+    Returns
+    -------
+    pathlib.Path
+        The sidecar's path.
+    """
     return Path(path).with_suffix(".json")
 
 
 def load_measured(path, *, ratio=None, strict=False) -> MeasuredData:
-    """Open a measured-data CSV and its sidecar ``<stem>.json`` (if present)."""
+    """Open a measured-data CSV and its sidecar ``<stem>.json`` (if present).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The CSV (UTF-8).
+    ratio : float, optional
+        As :func:`parse_measured`.
+    strict : bool
+        As :func:`parse_measured`.
+
+    Returns
+    -------
+    MeasuredData
+        The good rows.
+
+    Raises
+    ------
+    MeasuredDataError
+        If a file cannot be read or decoded, the sidecar is not a JSON object, or as
+        :func:`parse_measured`.
+    """
     path = Path(path)
     try:
         raw = path.read_bytes()
@@ -460,7 +585,23 @@ def load_measured(path, *, ratio=None, strict=False) -> MeasuredData:
 
 
 def from_case(case) -> MeasuredData:
-    """The case's ``[[measured]]`` points as :class:`MeasuredData` (no oil temperature)."""
+    """The case's ``[[measured]]`` points as :class:`MeasuredData` (no oil temperature).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        With [[measured]] points: speed [rpm], output torque [N m], efficiency [-].
+
+    Returns
+    -------
+    MeasuredData
+        Speed [rpm], output torque [N m] and efficiency [-].
+
+    Raises
+    ------
+    MeasuredDataError
+        If the case has no [[measured]] points.
+    """
     pts = case.measured
     if not pts:
         raise MeasuredDataError(f"case {case.name!r} has no [[measured]] points")
@@ -474,7 +615,18 @@ def from_case(case) -> MeasuredData:
 
 
 def to_csv(data: MeasuredData) -> str:
-    """CSV text of a record (canonical columns; the inverse of :func:`parse_measured`)."""
+    """CSV text of a record (canonical columns; the inverse of :func:`parse_measured`).
+
+    Parameters
+    ----------
+    data : MeasuredData
+        The record.
+
+    Returns
+    -------
+    str
+        The CSV, 10 significant digits.
+    """
     cols = {"input_speed_rpm": data.speed_rpm, "output_torque_Nm": data.torque_Nm}
     if data.input_torque_Nm is not None:
         cols["input_torque_Nm"] = data.input_torque_Nm

@@ -57,7 +57,13 @@ class Rig:
         return self.output_accuracy * self.output_range_Nm
 
     def sensors(self) -> dict:
-        """The provenance ``sensors`` table (measured.sensor_sigma reads it)."""
+        """The provenance ``sensors`` table (measured.sensor_sigma reads it).
+
+        Returns
+        -------
+        dict
+            ``input_torque`` and ``output_torque``, each {"range_Nm": [N m], "accuracy": [-]}.
+        """
         return {"input_torque": {"range_Nm": self.input_range_Nm,
                                  "accuracy": self.input_accuracy},
                 "output_torque": {"range_Nm": self.output_range_Nm,

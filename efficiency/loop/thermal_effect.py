@@ -55,7 +55,18 @@ class ThermalTables:
     tables: dict = field(default_factory=dict)
 
     def components(self, case) -> dict:
-        """{component: (M, G) losses [W]} of ``case`` at T_sensor + rise."""
+        """Each loss component of ``case`` at T_sensor + rise (filled on first use).
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            The model case.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            {component: (M, G) losses [W]}.
+        """
         key = _model_key(case)
         hit = self.tables.get(key)
         if hit is None:
@@ -71,7 +82,20 @@ class ThermalTables:
 
 def thermal_tables(case, points) -> ThermalTables:
     """The grid of temperature rises for these points: 0 up to the oil's upper limit above
-    the warmest sensor reading."""
+    the warmest sensor reading.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case whose oil limit bounds the grid.
+    points : Points
+        The operating points (with oil temperatures [deg C]).
+
+    Returns
+    -------
+    ThermalTables
+        The grid [K]; the tables are filled on first use.
+    """
     hi = temperature_range(case.to_si().lubricant)[1]
     top = max(hi - float(np.max(points.oil_temp_C)), 0.0)
     if top <= 0.0:                   # the sensor already reads the oil's limit: no room
@@ -95,9 +119,26 @@ def _row_interp(x, grid, values):
 
 
 def rise(total, grid, resistance, factor):
-    """The fixed point dT = R phi P(dT) per point on the tabulated ``total`` (M, G) [W]:
-    the first crossing of R phi P(dT) - dT on the grid, interpolated (the grid's end if
-    there is none: the oil's limit)."""
+    """The fixed point dT = R phi P(dT) per point on the tabulated losses: the first crossing
+    of R phi P(dT) - dT on the grid, interpolated (the grid's end if there is none: the
+    oil's limit).
+
+    Parameters
+    ----------
+    total : numpy.ndarray, shape (M, G)
+        Total loss P [W] at each rise of ``grid``.
+    grid : numpy.ndarray, shape (G,)
+        Temperature rises [K], from 0.
+    resistance : float
+        Thermal resistance R [K/W].
+    factor : numpy.ndarray, shape (M,)
+        phi, the share of the steady rise reached (1 - exp(-t/(R C))) [-].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+        dT [K].
+    """
     gap = resistance * factor[:, None] * total - grid[None, :]
     out = np.full(total.shape[0], grid[-1])
     for i in range(total.shape[0]):
@@ -140,7 +181,14 @@ def _needs_sensor(case, points):
 
 def thermal() -> Effect:
     """The oil in the contacts warmer than the sensor by R times the losses (module
-    docstring), with the time constant R C when the data carry time."""
+    docstring), with the time constant R C when the data carry time.
+
+    Returns
+    -------
+    Effect
+        Parameter thermal_resistance_K_W [K/W] (thermal.sensor_resistance_K_W), a loss term
+        beside the model.
+    """
     return Effect(
         name="thermal",
         summary="oil warmer than the sump sensor by a thermal resistance x the losses "

@@ -43,7 +43,13 @@ class CycloidFEModel(SameMaterial):
     housing_outer_radius: float | None = None   # integral structure: clamped outer edge, m
 
     def describe(self) -> dict:
-        """The model's choices as a report shows them."""
+        """The model's choices as a report shows them.
+
+        Returns
+        -------
+        dict
+            {"pin_structure": str}.
+        """
         return {"pin_structure": self.pin_structure}
 
     def __post_init__(self):
@@ -185,16 +191,53 @@ class PinModel:
         return np.array([c[0, 0] for c in self.body.flexibility(loads, [1] * pts.shape[1])])
 
     def compliance(self, gamma, b):
-        """C(gamma, b) = C_table(gamma) - (2/(pi E')) ln(b / b_ref)."""
+        """C(gamma, b) = C_table(gamma) - (2/(pi E')) ln(b / b_ref).
+
+        Parameters
+        ----------
+        gamma : array_like
+            Contact angles on the pin [rad] from the direction toward the housing centre.
+        b : array_like
+            Hertz half-widths [m].
+
+        Returns
+        -------
+        numpy.ndarray
+            Compliance along the inward normal [m per N/m], the broadcast shape.
+        """
         c_ref = np.interp(gamma, self.angles, self.table)
         e_p = plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
         return c_ref + strip_width_correction(b, self.b_ref, e_p)
 
 
 def patch_loads(body, ring, points, normals, b_ref):
-    """Unit loads (N_dofs, K): Hertzian strips of half-width ``b_ref`` centred at each point
-    along ``normals`` over the body's ``ring`` boundary nodes (vertices and midsides);
-    the same vectors measure the work-conjugate mean normal displacement."""
+    """Unit loads: Hertzian strips of half-width ``b_ref`` centred at each point along
+    ``normals`` over the body's ``ring`` boundary nodes (vertices and midsides); the same
+    vectors measure the work-conjugate mean normal displacement.
+
+    Parameters
+    ----------
+    body : toothfem.fem.elastic.Body
+        The loaded body.
+    ring : str
+        Name of the boundary ring carrying the strips.
+    points : numpy.ndarray, shape (2, K)
+        Strip centres [m].
+    normals : numpy.ndarray, shape (2, K)
+        Load directions (unit).
+    b_ref : float
+        Strip half-width [m].
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix, shape (N_dofs, K)
+        One unit load per column.
+
+    Raises
+    ------
+    ToothfemError
+        If fewer than three boundary nodes lie within ``b_ref`` of a point.
+    """
     from scipy.sparse import coo_matrix
 
     sl = contact.slave_surface(body, body.body_mesh.rings[ring])
@@ -227,9 +270,29 @@ def housing_rings(model: CycloidFEModel, zones: dict, transform=None):
     """(inner toothed ring, outer circle) of the integral housing.
 
     The inner boundary is the circle of radius Rz with the inner half of every pin circle
-    protruding from it; ``zones`` maps a pin index to angles t (housing frame, around the pin
-    centre) that must be vertices. ``transform(points) -> points`` maps the housing frame to
-    the frame of the caller (the disc frame in the detailed mode)."""
+    protruding from it.
+
+    Parameters
+    ----------
+    model : CycloidFEModel
+        The drive (integral pin structure: ``housing_outer_radius`` set).
+    zones : dict of int to array_like
+        Pin index -> angles t [rad] (housing frame, around the pin centre) that must be
+        vertices.
+    transform : callable, optional
+        ``transform(points) -> points`` maps the housing frame to the frame of the caller
+        (the disc frame in the detailed mode).
+
+    Returns
+    -------
+    inner, outer : numpy.ndarray, shape (2, N)
+        The two rings [m].
+
+    Raises
+    ------
+    ToothfemError
+        If a zone leaves its pin's inner arc.
+    """
     g = model.geometry
     rz, big_r = g.pin_radius_m, g.pin_circle_radius_m
     alpha = math.acos(-rz / (2 * big_r))       # pin circle meets the circle of radius Rz
@@ -267,6 +330,27 @@ def housing_rings(model: CycloidFEModel, zones: dict, transform=None):
 
 
 def housing_body(model, zones, refinements, keep_below, transform=None):
+    """The integral housing as an elastic body, clamped at its outer circle.
+
+    Parameters
+    ----------
+    model : CycloidFEModel
+        The drive (integral pin structure).
+    zones : dict of int to array_like
+        As :func:`housing_rings`.
+    refinements : list of toothfem.fem.mesh.Refinement
+        Mesh refinements (contact zones).
+    keep_below : float
+        Ring segments shorter than this [m] stay single element edges (conforming contact
+        zones; :func:`toothfem.fem.mesh.mesh_rings`).
+    transform : callable, optional
+        As :func:`housing_rings`.
+
+    Returns
+    -------
+    toothfem.fem.elastic.Body
+        Rings named "outer" (held) and "teeth".
+    """
     inner, outer = housing_rings(model, zones, transform)
     bm = mesh_rings([outer, inner], size_max=model.geometry.pin_circle_radius_m / 25,
                     refinements=refinements, names=["outer", "teeth"], keep_below=keep_below)
@@ -274,6 +358,21 @@ def housing_body(model, zones, refinements, keep_below, transform=None):
                 model.plane)
 
 def strip_width_correction(b, b_ref, e_plane):
-    """Compliance change (m per N/m) of a half-space loaded by a Hertzian strip of
-    half-width b instead of b_ref: -(2/(pi E')) ln(b/b_ref) (docs/derivations.md, 6)."""
+    """Compliance change of a half-space loaded by a Hertzian strip of half-width b instead of
+    b_ref: -(2/(pi E')) ln(b/b_ref) (docs/derivations.md, 6).
+
+    Parameters
+    ----------
+    b : array_like
+        Strip half-width [m].
+    b_ref : float
+        Reference half-width [m].
+    e_plane : float
+        Plane modulus E' [Pa].
+
+    Returns
+    -------
+    numpy.ndarray
+        Compliance change [m per N/m], shape of ``b``.
+    """
     return -(2 / (math.pi * e_plane)) * np.log(np.asarray(b) / b_ref)

@@ -97,7 +97,22 @@ def simply_supported_influence(x_m, a_m, span_m, diameter_m, youngs_modulus_Pa,
 
 
 def torsion_compliance(length_m, diameter_m, youngs_modulus_Pa, poisson_ratio) -> float:
-    """Twist [rad per N m] of a solid round shaft of ``length`` under a torque: L/(G J)."""
+    """Twist [rad per N m] of a solid round shaft of ``length`` under a torque: L/(G J).
+
+    Parameters
+    ----------
+    length_m, diameter_m : float
+        Shaft length and diameter [m].
+    youngs_modulus_Pa : float
+        Young's modulus [Pa].
+    poisson_ratio : float
+        Poisson ratio [-] (G = E / (2 (1 + nu))).
+
+    Returns
+    -------
+    float
+        Compliance [rad/(N m)].
+    """
     shear_modulus = youngs_modulus_Pa / (2 * (1 + poisson_ratio))
     return length_m / (shear_modulus * math.pi * diameter_m ** 4 / 32)
 
@@ -115,7 +130,13 @@ class Supports:
     assumed: tuple = ()
 
     def describe(self) -> dict:
-        """The values in the case's units, each with ``assumed`` True or False."""
+        """The values in the case's units, each with ``assumed`` True or False.
+
+        Returns
+        -------
+        dict
+            name (in mm or N m/arcmin) -> {"value": float or None, "assumed": bool}.
+        """
         mm = 1e3
         per_arcmin = math.pi / (180 * 60)
         rows = {
@@ -155,13 +176,21 @@ def resolved(declared, *, raceway_radius_m: float, roller_length_m: float,
     Parameters
     ----------
     declared : toothfem.si.SupportsSI
+        The case's supports; None fields are assumed.
     raceway_radius_m : float
         Radius of the raceway the rollers run on in the member: the crank hole (outer
-        raceway) or the eccentric's inner ring (``outer_raceway`` False).
+        raceway) or the eccentric's inner ring (``outer_raceway`` False) [m].
     roller_length_m : float
-        Assumed roller length (the member's face width).
+        Assumed roller length (the member's face width) [m].
     crankshaft_diameter_m, crankshaft_span_m : float, optional
-        Assumed crankshaft dimensions (None: the drive has no crankshafts).
+        Assumed crankshaft dimensions [m] (None: the drive has no crankshafts).
+    outer_raceway : bool
+        Whether the rollers run on an outer raceway of radius ``raceway_radius_m``.
+
+    Returns
+    -------
+    Supports
+        Every value SI; ``assumed`` names the values the case did not give.
     """
     assumed = []
 

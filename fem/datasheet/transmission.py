@@ -61,12 +61,31 @@ class LoadedTE:
         return float(np.sqrt(np.mean((self.te_rad - self.te_rad.mean()) ** 2)) / ARCSEC)
 
     def harmonics(self, count: int = HARMONICS_LISTED) -> list:
-        """The ``count`` largest harmonics, by order: {order, amplitude_arcsec}."""
+        """The ``count`` largest harmonics, by order.
+
+        Parameters
+        ----------
+        count : int
+            How many.
+
+        Returns
+        -------
+        list of dict
+            {"order_per_output_rev": float, "amplitude_arcsec": float}, by rising order.
+        """
         top = np.argsort(self.amplitude_arcsec)[::-1][:count]
         return [{"order_per_output_rev": float(self.orders_per_output_rev[i]),
                  "amplitude_arcsec": float(self.amplitude_arcsec[i])} for i in sorted(top)]
 
     def summary(self) -> dict:
+        """The figures of the data sheet's TE row.
+
+        Returns
+        -------
+        dict
+            te_torque_Nm [N m], mean, peak-to-peak and RMS [arcsec], the period's pitches, the
+            positions per pitch and :meth:`harmonics`.
+        """
         return {"te_torque_Nm": self.output_torque_Nm,
                 "te_mean_arcsec": float(self.te_rad.mean() / ARCSEC),
                 "te_peak_to_peak_arcsec": self.peak_to_peak_arcsec,
@@ -89,6 +108,13 @@ class MemberSplit:
         return float(np.max(self.share) * self.share.shape[0])
 
     def summary(self) -> dict:
+        """The figures of the data sheet's member-split row.
+
+        Returns
+        -------
+        dict
+            Largest, smallest and mean share per member [-], and the load factor.
+        """
         return {"member_share_max": float(np.max(self.share)),
                 "member_share_min": float(np.min(self.share)),
                 "member_share_mean": [float(x) for x in self.share.mean(axis=1)],
@@ -96,14 +122,42 @@ class MemberSplit:
 
 
 def sampled_pitches(full_period: int, samples: int) -> tuple:
-    """Pitches m_q = round(q k / Q), q < Q, of the cycle solvers over a full period of k."""
+    """Pitches m_q = round(q k / Q), q < Q, of the cycle solvers over a full period of k.
+
+    Parameters
+    ----------
+    full_period : int
+        k, pitches in the full period.
+    samples : int
+        Q, cycle solvers wanted (at most k are used).
+
+    Returns
+    -------
+    tuple of int
+        The distinct pitches, sorted.
+    """
     q = min(int(samples), full_period)
     return tuple(sorted({int(round(i * full_period / q)) % full_period for i in range(q)}))
 
 
 def fourier_fill(pitches, values, full_period: int) -> np.ndarray:
-    """(k, n) values at every pitch of the period from those at ``pitches`` (Q, n): the
-    least-squares Fourier series in the pitch of order (Q - 1) // 2 (period k)."""
+    """Values at every pitch of the period from those at ``pitches``: the least-squares
+    Fourier series in the pitch of order (Q - 1) // 2 (period k).
+
+    Parameters
+    ----------
+    pitches : sequence of int
+        The Q sampled pitches.
+    values : array_like, shape (Q, n)
+        Values at them (any unit).
+    full_period : int
+        k.
+
+    Returns
+    -------
+    numpy.ndarray, shape (k, n)
+        Values at pitches 0..k-1 (the samples themselves when Q = k).
+    """
     values = np.asarray(values, float)
     if len(pitches) == full_period:
         return values[np.argsort(pitches)]
@@ -120,9 +174,24 @@ def fourier_fill(pitches, values, full_period: int) -> np.ndarray:
 
 
 def harmonic_amplitudes(signal, full_period_output_rad: float):
-    """(orders per output revolution, amplitudes) of a signal sampled evenly over one full
-    period of ``full_period_output_rad`` output angle: harmonic h has amplitude
-    2 |X_h| / N and order h 2 pi / (output angle of the period)."""
+    """Spectrum of a signal sampled evenly over one full period of ``full_period_output_rad``
+    output angle: harmonic h has amplitude 2 |X_h| / N and order h 2 pi / (output angle of
+    the period).
+
+    Parameters
+    ----------
+    signal : array_like, shape (N,)
+        The samples (any unit).
+    full_period_output_rad : float
+        Output angle of the period [rad].
+
+    Returns
+    -------
+    orders : numpy.ndarray, shape (N//2,)
+        Orders per output revolution.
+    amplitudes : numpy.ndarray, shape (N//2,)
+        Amplitudes, the unit of ``signal``.
+    """
     x = np.asarray(signal, float)
     spec = np.fft.rfft(x - x.mean())
     h = np.arange(1, spec.size)
@@ -150,6 +219,12 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     Returns
     -------
     (LoadedTE, MemberSplit or None)
+
+    Raises
+    ------
+    CaseError
+        If the torque is zero or not finite, or ``samples`` or ``per_pitch`` is outside
+        [1, 400].
     """
     check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
     if output_torque_Nm == 0:

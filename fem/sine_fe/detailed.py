@@ -65,7 +65,33 @@ def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,
                    zone_gap: float = DETAILED_ZONE_GAP) -> DetailedResult:
     """Two-body FE contact at one crank angle with every contact zone refined (element size
     ``element_size``) and conforming; the zones are found from the geometry (module
-    constants) and grown until the contact lies inside them."""
+    constants) and grown until the contact lies inside them.
+
+    Parameters
+    ----------
+    model : SineFEModel
+        The pair, material and supports.
+    crank_angle_rad : float
+        Crank angle chi [rad].
+    torque : float
+        Torque carried by the planet [N m] over the face width, either sign, nonzero.
+    element_size : float
+        Element size along the contact zones [m], 1/500 to 1/10 of the module.
+    zone_gap : float
+        Initial gap [m] below which a flank is a contact zone, (0, SELECT_GAP_MAX].
+
+    Returns
+    -------
+    DetailedResult
+        The load sharing, the nodal solution and both bodies.
+
+    Raises
+    ------
+    ToothfemError
+        If an argument is outside its range (the torque zero).
+    toothfem.fem.contact.ContactError
+        If the contact does not stay inside zones of initial gap up to SELECT_GAP_MAX.
+    """
     check_range("crank_angle_rad", crank_angle_rad)
     _check_torque(torque)
     m = model.pair.module_m

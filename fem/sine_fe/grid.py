@@ -104,8 +104,24 @@ def _ring_toothed(pair) -> _Toothed:
 
 
 def ring_foot(pair, points):
-    """(ring parameter phi2, signed normal gap, unit ring normal into the free space (2, N))
-    of ring-frame points (2, N): the foot of the perpendicular on the ring profile."""
+    """The foot of the perpendicular from ring-frame points on the ring profile.
+
+    Parameters
+    ----------
+    pair : toothfem.geometry.sine.SineGearPair
+        The pair.
+    points : array_like, shape (2, N)
+        Points in the ring frame [m].
+
+    Returns
+    -------
+    phi2 : numpy.ndarray, shape (N,)
+        Ring parameter of the foot [rad].
+    gap : numpy.ndarray, shape (N,)
+        Signed normal gap [m].
+    normal : numpy.ndarray, shape (2, N)
+        Unit ring normal into the free space.
+    """
     K = np.asarray(points, float)
     f2, _ = sine.foot_point(pair, K)
     c = sine.ring_curve(pair, f2)

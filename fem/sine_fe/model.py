@@ -50,7 +50,13 @@ class SineFEModel(SameMaterial):
         return self.pair.face_width_m
 
     def describe(self) -> dict:
-        """The model's supports as a report shows them."""
+        """The model's supports as a report shows them.
+
+        Returns
+        -------
+        dict
+            planet_bore_radius_mm and ring_outer_radius_mm [mm].
+        """
         return {"planet_bore_radius_mm": self.planet_bore_radius * 1e3,
                 "ring_outer_radius_mm": self.ring_outer_radius * 1e3}
 
@@ -64,13 +70,35 @@ RING_RIM_MODULES = 5.0
 def model_from_pair(pair, material, output_mechanism=None, *,
                     planet_bore_radius_m: float | None = None,
                     ring_outer_radius_m: float | None = None, **kw) -> SineFEModel:
-    """The FE model of a sine pair (SI records: :class:`toothfem.si.MaterialSI`,
-    :class:`toothfem.si.OutputMechanismSI` or None); ``kw`` are :class:`SineFEModel`'s.
+    """The FE model of a sine pair.
 
     Defaults (ASSUMPTIONS, the paper gives neither): the planet is held at the inner edge
     of its output-pin holes, R_w - (r_x + a0) (19.75 mm for the prototype; the holes
     themselves are not modelled: a solid web, stiffer than the real one), or at r1/2
     without an output mechanism; the ring is clamped at r2 + 5 m.
+
+    Parameters
+    ----------
+    pair : toothfem.geometry.sine.SineGearPair
+        The pair.
+    material : toothfem.si.MaterialSI
+        Young's modulus [Pa] and Poisson ratio.
+    output_mechanism : toothfem.si.OutputMechanismSI, optional
+        Places the planet's support; None: at r1/2.
+    planet_bore_radius_m, ring_outer_radius_m : float, optional
+        The supports [m], instead of the defaults.
+    **kw
+        Further :class:`SineFEModel` fields (plane, candidates).
+
+    Returns
+    -------
+    SineFEModel
+        The model.
+
+    Raises
+    ------
+    ToothfemError
+        As :class:`SineFEModel` (a support outside its range).
     """
     if planet_bore_radius_m is None:
         om = output_mechanism

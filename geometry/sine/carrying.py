@@ -61,8 +61,19 @@ def _drive_gap(g: ProfileParams, chi) -> np.ndarray:
 
 @lru_cache(maxsize=256)
 def max_drive_gap_m(g: ProfileParams) -> float:
-    """Largest, over a mesh period, of the smallest gap of a load-carrying flank (m): a
-    grid, then nested grids around the worst positions. inf: some crank angle has none."""
+    """Largest, over a mesh period, of the smallest gap of a load-carrying flank: a grid,
+    then nested grids around the worst positions.
+
+    Parameters
+    ----------
+    g : ProfileParams
+        The pair.
+
+    Returns
+    -------
+    float
+        The gap [m]; inf where some crank angle has no load-carrying flank.
+    """
     pitch = 2 * math.pi / g.z2
     chi = np.arange(_CARRY_GRID) * pitch / _CARRY_GRID
     h = _drive_gap(g, chi)
@@ -88,10 +99,22 @@ def _carries(g: ProfileParams) -> bool:
 
 @lru_cache(maxsize=64)
 def min_tooth_height_m(planet_teeth: int, ring_teeth: int, module_m: float) -> float:
-    """Smallest tooth height a (m) with a drive flank within LOAD_CARRYING_GAP_M at every
-    crank angle, by scan and bisection (the largest gap falls as a grows), to
-    _CARRY_RTOL*m above; the upper bound :func:`tooth_height_limits` ``.max`` itself if no
-    tooth height works."""
+    """Smallest tooth height a with a drive flank within LOAD_CARRYING_GAP_M at every crank
+    angle, by scan and bisection (the largest gap falls as a grows), to _CARRY_RTOL*m above.
+
+    Parameters
+    ----------
+    planet_teeth, ring_teeth : int
+        Tooth numbers z1, z2.
+    module_m : float
+        Module [m].
+
+    Returns
+    -------
+    float
+        Tooth height [m]; the upper bound :func:`tooth_height_limits` ``.max`` itself if no
+        tooth height works.
+    """
     z1, z2, m = int(planet_teeth), int(ring_teeth), float(module_m)
     top = tooth_height_limits(z1, z2, m).max
     lo = _largest_valid(lambda g: not _carries(g), z1, z2, m, top, rtol=_CARRY_RTOL)
@@ -99,10 +122,27 @@ def min_tooth_height_m(planet_teeth: int, ring_teeth: int, module_m: float) -> f
 
 
 def check_load_carrying(pair: SineGearPair) -> SineGearPair:
-    """``pair`` if a drive flank is within LOAD_CARRYING_GAP_M at every crank angle; else
-    GeometryError naming tooth_height_m, its value and the valid range (the lower bound
-    :func:`min_tooth_height_m`). Not part of the pair's own validation (a pair with low
-    teeth is a valid shape); the case model applies it to a reducer's sine stage."""
+    """The pair if a drive flank is within LOAD_CARRYING_GAP_M at every crank angle.
+
+    Not part of the pair's own validation (a pair with low teeth is a valid shape); the case
+    model applies it to a reducer's sine stage.
+
+    Parameters
+    ----------
+    pair : SineGearPair
+        The pair to check.
+
+    Returns
+    -------
+    SineGearPair
+        ``pair`` itself.
+
+    Raises
+    ------
+    GeometryError
+        Naming tooth_height_m, its value and the valid range (the lower bound
+        :func:`min_tooth_height_m`) when some crank angle has no carrying flank.
+    """
     g = profile_params(pair)
     if _carries(g):
         return pair

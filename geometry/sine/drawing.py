@@ -64,6 +64,11 @@ def ring_polygon(pair: SineGearPair, outer_radius_m: float | None = None,
     Returns
     -------
     shapely.geometry.Polygon
+
+    Raises
+    ------
+    GeometryError
+        If the outer radius does not lie outside the ring's tooth spaces (r2 + a).
     """
     from shapely.geometry import Polygon
 

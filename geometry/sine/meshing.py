@@ -352,6 +352,11 @@ def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
     -------
     MeshingState
         Shapes (P, C), points and normals (P, C, 2); ``drive`` "sine".
+
+    Raises
+    ------
+    GeometryError
+        If the crank speed is not finite or ``candidates`` is outside [1, (z1 - 1)//2].
     """
     check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
     k = int(check_range("candidates", candidates, 1, (pair.planet_teeth - 1) // 2,
@@ -418,6 +423,11 @@ def contact_count(pair: SineGearPair, crank_angle_rad, gap_m: float,
     Returns
     -------
     numpy.ndarray of int, shape (P,)
+
+    Raises
+    ------
+    GeometryError
+        If ``gap_m`` is negative or not finite.
     """
     check_range("gap_m", gap_m, 0, None, error=GeometryError)
     g = profile_params(pair)
@@ -485,6 +495,11 @@ def kinematics_at(pair: SineGearPair, crank_angle_rad, phi, crank_speed_rad_s: f
     Returns
     -------
     ContactKinematics
+
+    Raises
+    ------
+    GeometryError
+        If the crank speed is not finite.
     """
     check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
     g = profile_params(pair)

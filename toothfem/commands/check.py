@@ -7,6 +7,13 @@ from ..derived import derived
 
 
 def add_parser(sub):
+    """Add ``toothfem check`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("check", help="validate a case file and print derived quantities")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
@@ -14,6 +21,23 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Validate a case and print its derived quantities (a table, or JSON with ``--json``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case`` (path) and ``json``.
+
+    Returns
+    -------
+    int
+        0 once the case has been read and shown.
+
+    Raises
+    ------
+    CaseError
+        A case that cannot be read or holds an invalid value (the CLI prints the message).
+    """
 
     case = load_case(args.case)
     d = derived(case)

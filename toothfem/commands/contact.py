@@ -13,6 +13,13 @@ from ..report import summary as report_summary
 
 
 def add_parser(sub):
+    """Add ``toothfem contact`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("contact", help="FE load sharing, Hertz or FE pressure and transmission "
                        "error over one meshing period (cycloid discs, sine pair)")
     p.add_argument("case", help="case file (TOML)")
@@ -40,6 +47,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """FE load sharing of a case over one meshing period: the files in ``--out``, a summary on
+    screen.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``positions``, ``torque`` [N m] or None, ``mode``, ``pins``, ``field``,
+        ``out`` and ``json``.
+
+    Returns
+    -------
+    int
+        0 when the load sharing and its files are written.
+
+    Raises
+    ------
+    CaseError
+        If ``--positions`` or ``--torque-Nm`` is outside its range, or the case is invalid.
+    """
     from tqdm import tqdm
 
 

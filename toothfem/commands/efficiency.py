@@ -15,6 +15,13 @@ from ..report import summary as report_summary
 
 
 def add_parser(sub):
+    """Add ``toothfem efficiency`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
 
     p = sub.add_parser("efficiency", help="reducer efficiency and the loss of every component "
                        "at one operating point")
@@ -43,6 +50,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Efficiency and the loss of every component at one operating point (or at the
+    oil temperature of the heat balance with ``--thermal``).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``loads``, ``method``, ``torque`` [N m], ``speed`` [rpm], ``oil_temp``
+        [deg C], ``thermal``, ``duration`` [h] and ``json``.
+
+    Returns
+    -------
+    int
+        0 after the table (or JSON) is printed.
+
+    Raises
+    ------
+    CaseError
+        If a value is outside its range or the options exclude each other.
+    """
 
     for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
                                   ("--torque-Nm", args.torque, TORQUE_NM)):

@@ -10,6 +10,13 @@ from ..pipeline import write_geometry
 
 
 def add_parser(sub):
+    """Add ``toothfem geometry`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("geometry", help="write the tooth profiles (CSV, DXF, SVG in mm), a "
                        "drawing (PNG) and a check summary (JSON)")
     p.add_argument("case", help="case file (TOML)")
@@ -20,6 +27,23 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Write the profiles, the drawing and the check summary of a case into ``--out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``out`` and ``points_per_tooth``.
+
+    Returns
+    -------
+    int
+        0 once the profiles are in the folder.
+
+    Raises
+    ------
+    CaseError
+        If ``--points-per-tooth`` is outside [8, 10000] or the case is invalid.
+    """
 
     check_range("--points-per-tooth", args.points_per_tooth, 8, 10000, error=CaseError)
     case = load_case(args.case)

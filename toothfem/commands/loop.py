@@ -14,6 +14,13 @@ from ..report import loop as rl
 
 
 def add_parser(sub):
+    """Add ``toothfem loop`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("loop", help="fit physical effects to measured efficiency and report "
                        "the error before and after (report.md, report.json, PNGs)")
     p.add_argument("case", help="case file (TOML)")
@@ -32,6 +39,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Compare the model with measured efficiency, add the effects the data ask for and write
+    the report into ``--out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``measured`` (CSV path or None: the case's points), ``out``, ``effects``,
+        ``folds``, ``loads`` and ``strict``.
+
+    Returns
+    -------
+    int
+        0 when the report is written.
+
+    Raises
+    ------
+    ToothfemError
+        If ``--folds`` is below 2, an effect is unknown, or the case or data are refused.
+    """
 
     case = load_case(args.case)
     if args.measured:

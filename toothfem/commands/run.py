@@ -6,6 +6,13 @@ from ..report import summary as report_summary
 
 
 def add_parser(sub):
+    """Add ``toothfem run`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("run", help="geometry, FE contact and efficiency of a case, with a "
                        "report (report.md, PNGs, CSV, VTU)")
     p.add_argument("case", help="case file (TOML)")
@@ -23,6 +30,19 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """The whole pipeline of a case (:func:`toothfem.pipeline.run_case`) and its summary on
+    screen.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``out``, ``positions``, ``field``, ``no_fem`` and ``json``.
+
+    Returns
+    -------
+    int
+        0 when the report folder is complete.
+    """
     import json
 
     from tqdm import tqdm

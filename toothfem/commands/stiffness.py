@@ -11,6 +11,13 @@ from ..datasheet import stiffness_analysis, write_stiffness
 
 
 def add_parser(sub):
+    """Add ``toothfem stiffness`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("stiffness", help="torsional stiffness, hysteresis, lost motion, "
                        "backlash, loaded transmission error and disc split from the FE "
                        "contact and the supports in series")
@@ -34,6 +41,19 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """The stiffness data sheet of a case into ``--out``, its key figures on screen (JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``out``, ``torque_max`` [N m], ``steps``, ``positions``, ``te_torque``
+        [N m], ``te_samples`` and ``te_positions``.
+
+    Returns
+    -------
+    int
+        0 once the data sheet is written.
+    """
 
     case = load_case(args.case)
     result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,

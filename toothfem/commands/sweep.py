@@ -9,6 +9,13 @@ from ..sweep import sweep
 
 
 def add_parser(sub):
+    """Add ``toothfem sweep`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("sweep", help="designs x load cases x meshing positions through Dask; "
                        "one CSV row per design and load case")
     p.add_argument("case", help="case file (TOML)")
@@ -38,6 +45,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """Run a design and load-case sweep (:func:`toothfem.sweep.sweep`) and print its summary.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``vary`` (list of KEY=V1,V2), ``torques`` [N m] or None, ``positions``,
+        ``pins``, ``scheduler``, ``workers``, ``cache_dir``, ``no_cache``, ``sine_loads``
+        and ``out``.
+
+    Returns
+    -------
+    int
+        0 after every design and load case has run (failed rows included).
+
+    Raises
+    ------
+    CaseError
+        If a key is given twice, a value cannot be read, or as :func:`toothfem.sweep.sweep`.
+    """
 
     vary = {}
     for item in args.vary:
@@ -59,7 +85,23 @@ def run(args) -> int:
 
 
 def parse_vary(item: str):
-    """'KEY=V1,V2' -> (KEY, [V1, V2]) with each value an int, float or string."""
+    """'KEY=V1,V2' -> (KEY, [V1, V2]) with each value an int, float or string.
+
+    Parameters
+    ----------
+    item : str
+        One ``--vary`` argument.
+
+    Returns
+    -------
+    tuple of (str, list)
+        The key and its values.
+
+    Raises
+    ------
+    CaseError
+        If there is no ``=``, no key, or an empty value.
+    """
 
     key, sep, values = item.partition("=")
     if not sep or not key.strip():
@@ -68,6 +110,25 @@ def parse_vary(item: str):
 
 
 def parse_values(name: str, text: str) -> list:
+    """Comma-separated values, each an int, float or string.
+
+    Parameters
+    ----------
+    name : str
+        The option, for the message.
+    text : str
+        "V1,V2,...".
+
+    Returns
+    -------
+    list
+        The values.
+
+    Raises
+    ------
+    CaseError
+        If a value is empty.
+    """
 
     out = []
     for token in text.split(","):

@@ -12,7 +12,13 @@ outside the data.
 
 
 def pyplot():
-    """matplotlib.pyplot on the off-screen Agg backend (imported on first use)."""
+    """matplotlib.pyplot on the off-screen Agg backend (imported on first use).
+
+    Returns
+    -------
+    module
+        matplotlib.pyplot.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -26,14 +32,42 @@ DPI = 120
 
 
 def save(fig, path, dpi: int = DPI):
-    """Write ``fig`` to ``path`` (PNG) and close it (figures are not kept in memory)."""
+    """Write ``fig`` to ``path`` (PNG) and close it (figures are not kept in memory).
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        The figure.
+    path : str or pathlib.Path
+        The PNG.
+    dpi : int
+        Resolution [dots per inch].
+
+    Returns
+    -------
+    str or pathlib.Path
+        ``path``.
+    """
     fig.savefig(path, dpi=dpi, bbox_inches="tight", pad_inches=0.1)   # nothing clipped
     pyplot().close(fig)
     return path
 
 
 def wrap(text: str, width: int) -> str:
-    """``text`` with each of its lines wrapped at ``width`` characters (titles that fit)."""
+    """``text`` with each of its lines wrapped at ``width`` characters (titles that fit).
+
+    Parameters
+    ----------
+    text : str
+        The text, lines separated by newlines.
+    width : int
+        Characters per line.
+
+    Returns
+    -------
+    str
+        The wrapped text.
+    """
     import textwrap
 
     return "\n".join(textwrap.fill(line, width) for line in text.split("\n"))

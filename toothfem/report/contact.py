@@ -51,7 +51,18 @@ class ContactLabels:
         return f"{self.output_torque_Nm:.4g} N m output, {share}"
 
     def title(self, what: str) -> str:
-        """Two lines: what the picture shows, then the case with its load and mode."""
+        """Two lines: what the picture shows, then the case with its load and mode.
+
+        Parameters
+        ----------
+        what : str
+            What the picture shows.
+
+        Returns
+        -------
+        str
+            The title.
+        """
         return f"{what}\n{self.case_name}: {self.torque_text} ({self.mode} mode)"
 
 
@@ -313,7 +324,28 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises", outlines=(),
 def contacts_versus_torque(torques, counts, max_forces, labels, title="",
                            contacts="pins", member="disc"):
     """Contacts carrying load (and the largest force) against the member torque, one line
-    per design (``labels``)."""
+    per design (``labels``).
+
+    Parameters
+    ----------
+    torques : array_like, shape (T,)
+        Member torques [N m].
+    counts : sequence of array_like, shape (T,)
+        Contacts carrying load, one series per design.
+    max_forces : sequence of array_like, shape (T,)
+        Largest contact force [N], one series per design.
+    labels : sequence of str
+        The designs.
+    title : str
+        The figure's title.
+    contacts, member : str
+        The drive's words ("pins", "disc"; "teeth", "planet").
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels.
+    """
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.8), layout="constrained")
     for n, f, lab in zip(counts, max_forces, labels):

@@ -30,7 +30,18 @@ UNIT_SUFFIXES = (("_mm2_s", "mm²/s"), ("_rpm", "rpm"), ("_Nm", "N m"), ("_C", "
 
 
 def axis_label(name: str) -> str:
-    """'input_speed_rpm' -> 'input speed [rpm]' (a covariate's name with its unit)."""
+    """'input_speed_rpm' -> 'input speed [rpm]' (a covariate's name with its unit).
+
+    Parameters
+    ----------
+    name : str
+        A covariate's name with its unit suffix.
+
+    Returns
+    -------
+    str
+        The label.
+    """
     for suffix, unit in UNIT_SUFFIXES:
         if name.endswith(suffix):
             return f"{name[:-len(suffix)].replace('_', ' ')} [{unit}]"

@@ -23,7 +23,26 @@ def _draw_polygon(ax, poly, scale=1e3, **kw):
 
 def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     """Disc with holes placed at a crank angle among its pins; right: close-up of the
-    loaded zone with the contact normals through the pitch point."""
+    loaded zone with the contact normals through the pitch point.
+
+    Parameters
+    ----------
+    geom : toothfem.geometry.cycloid.CycloidGeometry
+        The disc and pin ring.
+    holes : toothfem.geometry.disc.DiscHolesSI
+        The disc's holes.
+    crank_angle_rad : float
+        Crank angle [rad].
+    title : str
+        The figure's title; default: the dimensions.
+    case_name : str
+        Named in the default title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, lengths in mm.
+    """
     from shapely import affinity
 
 
@@ -71,7 +90,24 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
 
 
 def sine_drawing(pair, crank_angle_rad=0.0, title="", case_name=""):
-    """Planet inside the ring at a crank angle; right: close-up at the pitch point."""
+    """Planet inside the ring at a crank angle; right: close-up at the pitch point.
+
+    Parameters
+    ----------
+    pair : toothfem.geometry.sine.SineGearPair
+        The pair.
+    crank_angle_rad : float
+        Crank angle chi [rad] placing the planet.
+    title : str
+        Overrides the title (tooth numbers, module, tooth height).
+    case_name : str
+        A second line of the default title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Whole pair and close-up [mm].
+    """
     from shapely import affinity
 
 
@@ -247,7 +283,20 @@ def loss_shares(labels, shares: dict, title=""):
 
 def drawing(drive, case_name=""):
     """The drawing of a drive's pair (:func:`cycloid_drawing` or :func:`sine_drawing`),
-    titled with its dimensions and ``case_name``."""
+    titled with its dimensions and ``case_name``.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+        A cycloid or sine drive.
+    case_name : str
+        Named in the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        The drawing.
+    """
     draw = {"cycloid": lambda d: cycloid_drawing(d.geometry, d.stage.holes,
                                                  case_name=case_name),
             "sine": lambda d: sine_drawing(d.pair, case_name=case_name)}

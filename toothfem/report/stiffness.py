@@ -65,7 +65,20 @@ def hysteresis(sheet, title: str = ""):
 def transmission_error(te, title: str = ""):
     """The figure of a :class:`~toothfem.fem.datasheet.transmission.LoadedTE`: the TE over
     the full period against crank angle (output angle on the top axis), and below the
-    amplitudes of its largest harmonics by order per output revolution."""
+    amplitudes of its largest harmonics by order per output revolution.
+
+    Parameters
+    ----------
+    te : toothfem.fem.datasheet.transmission.LoadedTE
+        The loaded TE.
+    title : str
+        The top panel's title; default: the torque and the period.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two panels, TE in arcsec.
+    """
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
     arcsec = np.degrees(1.0) * 3600

@@ -135,7 +135,20 @@ def _columns(rows) -> list:
 
 
 def text(rows, title: str = "") -> str:
-    """The rows as an aligned plain-text table (the terminal's summary)."""
+    """The rows as an aligned plain-text table (the terminal's summary).
+
+    Parameters
+    ----------
+    rows : sequence of (str, str, dict)
+        (quantity, unit, {column: value}).
+    title : str
+        A first line, if given.
+
+    Returns
+    -------
+    str
+        The table.
+    """
     cols = _columns(rows)
     head = ["quantity", "unit", *cols]
     body = [[what, unit, *(_cell(vals.get(c)) for c in cols)] for what, unit, vals in rows]
@@ -150,7 +163,18 @@ def text(rows, title: str = "") -> str:
 
 
 def markdown(rows) -> list:
-    """The rows as a Markdown table (lines of report.md)."""
+    """The rows as a Markdown table (lines of report.md).
+
+    Parameters
+    ----------
+    rows : sequence of (str, str, dict)
+        (quantity, unit, {column: value}).
+
+    Returns
+    -------
+    list of str
+        The lines.
+    """
     cols = _columns(rows)
     out = ["| quantity | unit | " + " | ".join(cols) + " |",
            "|---|---|" + "---|" * len(cols)]
