@@ -296,7 +296,8 @@ def write_tolerance(result: ToleranceResult, folder) -> dict:
     files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
     if len(result.shares) > 1:
         save(report.shares(result, outputs, f"{result.case_name}: where the scatter comes "
-                                             "from"), folder / "shares.png")
+                                             f"from ({summary['share_samples']} reducers "
+                                             "per tolerance alone)"), folder / "shares.png")
         files.insert(3, "shares.png")
     summary["files"] = files
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
