@@ -29,14 +29,10 @@ ROOTS = ("toothfem", "toothfem.geometry", "toothfem.fem", "toothfem.efficiency")
 #: Modules others are rewriting while this check landed; the lead documents them and
 #: shrinks the list (issue 10, item 7). A module here is skipped whole.
 ALLOWED_MODULES = {
-    "toothfem.fem.cycloid_fe.cycle": "under edit in parallel (issue 10)",
-    "toothfem.fem.cycloid_fe.detailed": "under edit in parallel (issue 10)",
-    "toothfem.fem.sine_fe.cycle": "under edit in parallel (issue 10)",
-    "toothfem.fem.deviations": "under edit in parallel (issue 10)",
-    "toothfem.fem.elastic": "under edit in parallel (issue 10)",
-    "toothfem.fem.mesh": "under edit in parallel (issue 10)",
-    "toothfem.fem.contact": "under edit in parallel (issue 10)",
-    "toothfem.fem.linsolve": "under edit in parallel (issue 10)",
+    "toothfem.fem.elastic": "code under change for issue 16; document after it lands",
+    "toothfem.fem.mesh": "code under change for issue 16; document after it lands",
+    "toothfem.fem.contact": "code under change for issue 16; document after it lands",
+    "toothfem.fem.linsolve": "code under change for issue 16; document after it lands",
     "toothfem.fem.drives.base": "under edit in parallel (issue 10)",
     "toothfem.fem.drives.cycloid": "under edit in parallel (issue 10)",
     "toothfem.fem.drives.sine": "under edit in parallel (issue 10)",
