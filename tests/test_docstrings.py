@@ -33,8 +33,6 @@ ALLOWED_MODULES = {
     "toothfem.fem.mesh": "code under change for issue 16; document after it lands",
     "toothfem.fem.contact": "code under change for issue 16; document after it lands",
     "toothfem.fem.linsolve": "code under change for issue 16; document after it lands",
-    "toothfem.fem.datasheet.twist": "under edit in parallel (issue 10)",
-    "toothfem.fem.datasheet.sheet": "under edit in parallel (issue 10)",
     "toothfem.tolerance": "under edit in parallel (issue 10)",
     "toothfem.design": "under edit in parallel (issue 10)",
     "toothfem.case_design": "under edit in parallel (issue 10)",
