@@ -71,11 +71,37 @@ def _table(si, drive, points, member_torque, notes):
 
 
 def w_mechanism(si, table, force, member_torque, a0_m, rel):
-    """(eccentric bearing, pins-in-holes output mechanism) losses [W] of a K-H-V member
-    carrying ``member_torque`` (M,) out through pins in holes (sine paper Eqs. 26-39,
+    """Eccentric-bearing and output-mechanism losses of a K-H-V member.
+
+    The member's torque leaves through pins in holes (sine paper Eqs. 26-39,
     docs/derivations.md 7): the pins' load sum Q = 4T/(pi R_w) acts along -e on the
     member, the eccentric bearing carries |mesh resultant - sum Q e| (the member's
-    equilibrium), the pins slide in their sleeves at 2 a0 w_rel (Eq. 38)."""
+    equilibrium), the pins slide in their sleeves at 2 a0 w_rel (Eq. 38).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        Its ``output_mechanism`` and ``friction``.
+    table : toothfem.efficiency.mesh_table.MeshTable
+    force : numpy.ndarray, shape (M, N)
+        Contact forces [N] at the points (``table.at``).
+    member_torque : numpy.ndarray, shape (M,)
+        T [N m].
+    a0_m : float
+        Eccentricity a0 [m].
+    rel : numpy.ndarray, shape (M,)
+        w_rel, the crank's speed relative to the member [rad/s].
+
+    Returns
+    -------
+    eccentric, output : numpy.ndarray, shape (M,)
+        The two losses [W].
+
+    Raises
+    ------
+    CaseError
+        Without an [output_mechanism].
+    """
     om = si.output_mechanism
     if om is None:
         raise CaseError("a K-H-V drive (no [first_stage]) needs [output_mechanism] (pins in "
@@ -91,7 +117,27 @@ def w_mechanism(si, table, force, member_torque, a0_m, rel):
 
 
 def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of the sine reducer (Lu & Xu 2024, Eqs. 21-45)."""
+    """Losses of the sine reducer (Lu & Xu 2024, Eqs. 21-45).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        Needs [output_mechanism] (pins in holes, plain bearings).
+    drive : toothfem.fem.drives.SineDrive
+    points : OperatingPoints
+        Speeds [rad/s], torques [N m] and the load source of the meshing table.
+
+    Returns
+    -------
+    DriveLosses
+        Components mesh, eccentric_bearing, plain_bearings, output_mechanism and the
+        load-independent ones; the mesh efficiency in the crank frame.
+
+    Raises
+    ------
+    CaseError
+        Without an [output_mechanism] (:func:`w_mechanism`).
+    """
     pair = drive.pair
     w = drive.speeds()
     crank = points.input_speed_rad_s
@@ -130,7 +176,20 @@ def pin_contact_mu(si, mu_disc):
     coefficient ``friction.pin_groove_coefficient``: the pin turns until the two friction
     torques balance, so the interface that slides more easily takes the sliding (loss
     mu F v_s either way, v_s the sliding speed of a fixed pin, since the groove radius is
-    the pin radius)."""
+    the pin radius).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        Its pin structure and groove coefficient.
+    mu_disc : numpy.ndarray
+        The disc contact's coefficient per contact [-].
+
+    Returns
+    -------
+    numpy.ndarray
+        The coefficient of the sliding interface, ``mu_disc``'s shape [-].
+    """
     if si.cycloid.pin_structure == "integral":
         return mu_disc
     return np.minimum(mu_disc, si.friction.pin_groove_coefficient)
@@ -186,7 +245,29 @@ def crank_bearing_loss(si, f_resultant, t_disc, rel):
     them, evenly: hole i carries -F/k + T/(k R_c) t_i (t_i its tangent), so
     sum |F_i| = k <|a e - b t|> with a = F/k, b = T/(k R_c), averaged over the angle
     between e and t (uniform over a crank turn). Loss = f r_b sum |F_i| w_rel (Palmgren's
-    load-dependent friction torque f F r_b)."""
+    load-dependent friction torque f F r_b).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        The disc's crank holes and the bearing coefficient f.
+    f_resultant : numpy.ndarray, shape (M,)
+        |F|, the mean pin resultant [N].
+    t_disc : numpy.ndarray, shape (M,)
+        T [N m].
+    rel : numpy.ndarray, shape (M,)
+        w_rel, the crank relative to the disc [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+        [W].
+
+    Raises
+    ------
+    CaseError
+        Without the crank holes' count, radius and circle.
+    """
     h = si.cycloid.holes
     k = h.crank_hole_count
     r_b = h.crank_hole_radius_m
@@ -214,7 +295,26 @@ def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
 
 
 def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of a cycloid drive (K-H-V) or of an RV-type drive (2K-V)."""
+    """Losses of a cycloid drive (K-H-V) or of an RV-type drive (2K-V).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.CycloidDrive
+        Its ``two_stage`` picks the K-H-V or the 2K-V power flow.
+    points : OperatingPoints
+
+    Returns
+    -------
+    DriveLosses
+        Components as the module docstring lists them; the cycloid (and first-stage)
+        mesh efficiency.
+
+    Raises
+    ------
+    CaseError
+        For a missing section, or a 2K-V train that self-locks at these points.
+    """
     cyc = si.cycloid
     w = drive.speeds()
     w_in = points.input_speed_rad_s
@@ -270,8 +370,18 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
 
 
 def bearing_component(drive) -> str:
-    """The loss component of the bearing that carries the moving member: the crank bearings
-    of a 2K-V drive, else the eccentric bearing (K-H-V: sine planet, plain cycloid disc)."""
+    """The loss component of the bearing that carries the moving member.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    str
+        "crank_bearings" for a 2K-V drive, else "eccentric_bearing" (K-H-V: sine planet,
+        plain cycloid disc).
+    """
     return "crank_bearings" if drive.two_stage else "eccentric_bearing"
 
 

@@ -50,7 +50,13 @@ class Efficiency:
         return self.output_power_W / self.input_power_W
 
     def shares(self) -> dict:
-        """Each loss as a fraction of the input power (the sine paper's 'loss shares')."""
+        """Each loss as a fraction of the input power (the sine paper's 'loss shares').
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            component -> (M,) share [-]; with the efficiency they sum to 1.
+        """
         p = self.input_power_W
         return {k: v / p for k, v in self.losses_W.items()}
 
@@ -100,6 +106,14 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     -------
     Efficiency
         Losses [W] per component, efficiency, notes on the laws' validity.
+
+    Raises
+    ------
+    CaseError
+        For an unknown load source or method, positions out of range, a speed or torque
+        not above zero, or the split-power method with a temperature or FE loads.
+    ToothfemError
+        If the operating-point arrays do not broadcast.
     """
     if loads not in LOADS:
         raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
@@ -142,6 +156,11 @@ def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:
     -------
     numpy.ndarray
         The efficiency, shape of the broadcast inputs.
+
+    Raises
+    ------
+    CaseError
+        Where :func:`evaluate` refuses the points or options.
     """
     eta = evaluate(case, speed_rpm, torque_Nm, oil_temp_C, **kw).efficiency
     return eta.reshape(np.broadcast_shapes(np.shape(speed_rpm), np.shape(torque_Nm),
@@ -164,6 +183,12 @@ def operating_point(case, **kw):
         The declared input speed [rpm] and output torque [N m]: the declared output torque,
         or the output torque that the declared input torque or power gives through the
         model's own efficiency (fixed point T2 = i T1 eta(T2)).
+
+    Raises
+    ------
+    CaseError
+        If [operating] declares no torque or power, or the declared input does not
+        overcome the load-independent losses.
     """
     si = case.to_si()
     op = si.operating

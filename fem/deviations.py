@@ -109,6 +109,20 @@ class CycloidDeviation:
 
     @classmethod
     def zero(cls, pins: int, lobes: int) -> "CycloidDeviation":
+        """The stage as designed.
+
+        Parameters
+        ----------
+        pins : int
+            Zb, the pin count.
+        lobes : int
+            Za, the disc's lobe count.
+
+        Returns
+        -------
+        CycloidDeviation
+            Every deviation zero.
+        """
         return cls(pin_offset=np.zeros((2, pins)), pin_radius=np.zeros(pins),
                    profile=np.zeros((lobes, 2)), member_offset=np.zeros(2))
 
@@ -124,6 +138,18 @@ class SineDeviation:
 
     @classmethod
     def zero(cls, planet_teeth: int, ring_teeth: int) -> "SineDeviation":
+        """The pair as designed.
+
+        Parameters
+        ----------
+        planet_teeth, ring_teeth : int
+            Zp and Zr.
+
+        Returns
+        -------
+        SineDeviation
+            No profile material added, no eccentricity error.
+        """
         return cls(planet_profile=np.zeros((planet_teeth, 2)),
                    ring_profile=np.zeros((ring_teeth, 2)))
 
@@ -142,7 +168,12 @@ def only(tolerances, name: str):
     Returns
     -------
     toothfem.si.TolerancesSI
-        Every other zone zero; ToothfemError for an unknown name.
+        Every other zone zero.
+
+    Raises
+    ------
+    ToothfemError
+        For a name that matches no tolerance.
     """
     zero = {}
     for f in fields(tolerances):

@@ -85,7 +85,13 @@ class Design(_Section):
                                 f"(-inf, {name}_max_{unit} = {hi!r}]")
 
     def bounds(self) -> dict:
-        """{modification: (lo, hi)} in the [cycloid] keys' units."""
+        """The box the search varies the modifications in.
+
+        Returns
+        -------
+        dict of str to tuple
+            [cycloid] key -> (lo, hi) in that key's unit (mm, deg).
+        """
         return {"equidistant_modification_mm": (self.equidistant_min_mm,
                                                 self.equidistant_max_mm),
                 "move_distance_modification_mm": (self.move_distance_min_mm,
@@ -102,8 +108,19 @@ STAGE_TOLERANCES = {
 
 
 def check_tolerances(tolerances: Tolerances, stage: str | None) -> None:
-    """Refuse a tolerance of a part the reducer lacks (a pin zone on a sine pair), naming
-    the key; ``stage`` is "cycloid", "sine" or None (no meshing stage modelled)."""
+    """Refuse a tolerance of a part the reducer lacks (a pin zone on a sine pair).
+
+    Parameters
+    ----------
+    tolerances : Tolerances
+    stage : {"cycloid", "sine"} or None
+        The meshing stage modelled (None: none).
+
+    Raises
+    ------
+    CaseError
+        Naming the first nonzero key of another stage.
+    """
     for kind, keys in STAGE_TOLERANCES.items():
         if kind == stage:
             continue

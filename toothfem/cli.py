@@ -36,6 +36,13 @@ class Terminated(BaseException):
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand of COMMANDS.
+
+    Returns
+    -------
+    argparse.ArgumentParser
+        Each subcommand sets ``func`` (its ``run``).
+    """
     parser = argparse.ArgumentParser(
         prog="toothfem",
         description="Tooth-contact analysis and efficiency of precision robot reducers "
@@ -48,7 +55,19 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
+    """Run one subcommand, turning toothfem's errors into a line on stderr.
 
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments without the program name (None: ``sys.argv[1:]``).
+
+    Returns
+    -------
+    int
+        The exit code (module docstring): 0, EXIT_REFUSED, EXIT_INTERNAL, or 128 plus
+        the signal's number.
+    """
     args = build_parser().parse_args(argv)
     name = f"toothfem {args.command}"
     try:

@@ -64,8 +64,14 @@ class DesignResult:
     case: Case
 
     def pareto(self) -> list:
-        """The candidates no other beats in both backlash and pressure (with the contacts
-        target met), by increasing backlash."""
+        """The trade-off between backlash and pressure.
+
+        Returns
+        -------
+        list of Candidate
+            The candidates no other beats in both backlash and pressure (with the contacts
+            target met), by increasing backlash.
+        """
         ok = [c for c in self.candidates if c.contacts_min >= self.targets["min_contacts"]]
         ok.sort(key=lambda c: (c.backlash_arcmin, c.max_ph_MPa))
         front, best_ph = [], math.inf
@@ -76,6 +82,14 @@ class DesignResult:
         return front
 
     def summary(self) -> dict:
+        """The search as summary.json holds it.
+
+        Returns
+        -------
+        dict
+            Targets, the best candidate, its datasheet and own-table check, the number of
+            evaluations and the Pareto front.
+        """
         return {"case": self.case_name, "targets": self.targets,
                 "best": dataclasses.asdict(self.best), "datasheet": self.datasheet,
                 "check_with_own_tables": self.check, "evaluations": len(self.candidates),
@@ -98,8 +112,13 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     Returns
     -------
     DesignResult
-        CaseError when no candidate within the bounds meets the targets, naming the target
-        missed and by how much.
+
+    Raises
+    ------
+    CaseError
+        When no candidate within the bounds meets the targets (naming the target missed and
+        by how much), or the case lacks [design], [cycloid] or, with a percentile, a
+        nonzero tolerance.
     """
     from scipy.optimize import minimize
     from scipy.stats import qmc
@@ -259,9 +278,28 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
 
 
 def write_design(result: DesignResult, folder, source_text: str) -> dict:
-    """candidates.csv, tradeoff.png, summary.json, report.md and the case file to use
-    (``best_case.toml``: the source with its [cycloid] modification keys set) into
-    ``folder`` (an existing folder); returns the summary."""
+    """Write the search's files.
+
+    Parameters
+    ----------
+    result : DesignResult
+    folder : str or pathlib.Path
+        An existing folder; it receives candidates.csv, tradeoff.png, summary.json,
+        report.md and the case file to use (``best_case.toml``).
+    source_text : str
+        The case file's text; ``best_case.toml`` is it with its [cycloid] modification
+        keys set.
+
+    Returns
+    -------
+    dict
+        The summary, with the ``files`` written.
+
+    Raises
+    ------
+    CaseError
+        If ``source_text`` has no [cycloid] table.
+    """
     import csv
     import json
     from pathlib import Path
@@ -289,8 +327,26 @@ def write_design(result: DesignResult, folder, source_text: str) -> dict:
 
 
 def with_keys(text: str, section: str, values: dict) -> str:
-    """TOML ``text`` with ``values`` set in its ``[section]`` table (each key's line
-    replaced, or added under the header), comments and the rest left as they are."""
+    """Set keys in one table of a TOML text, comments and the rest left as they are.
+
+    Parameters
+    ----------
+    text : str
+        TOML.
+    section : str
+        The table's name (``[section]``).
+    values : dict of str to float
+        Each key's line replaced, or added under the header.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    CaseError
+        If ``text`` has no such table.
+    """
     lines = text.splitlines()
     head = next((i for i, ln in enumerate(lines)
                  if re.match(rf"\s*\[{re.escape(section)}\]\s*(#.*)?$", ln)), None)

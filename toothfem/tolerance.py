@@ -65,11 +65,25 @@ class ToleranceResult:
     settings: dict
 
     def percentiles(self) -> dict:
-        """{output: {"P50": .., "P90": .., "P99": ..}}."""
+        """The ensemble's percentiles (PERCENTILES) of each output.
+
+        Returns
+        -------
+        dict
+            {output: {"P50": .., "P90": .., "P99": ..}}, in the output's unit (OUTPUTS).
+        """
         return {k: {f"P{q}": float(np.percentile(v, q)) for q in PERCENTILES}
                 for k, v in self.samples.items()}
 
     def summary(self) -> dict:
+        """The result as summary.json holds it.
+
+        Returns
+        -------
+        dict
+            Case, drive, the settings, the nominal outputs, percentiles, means and the
+            variance shares.
+        """
         return {"case": self.case_name, "drive": self.drive, **self.settings,
                 "nominal": self.nominal, "percentiles": self.percentiles(),
                 "mean": {k: float(np.mean(v)) for k, v in self.samples.items()},
@@ -121,6 +135,12 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     Returns
     -------
     ToleranceResult
+
+    Raises
+    ------
+    CaseError
+        For a count that is not an integer or out of range, or tolerances without a
+        nonzero zone.
     """
     for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
                                 ("workers", workers, 1, 256), ("positions", positions, 2, 3600)):
@@ -271,8 +291,20 @@ def _run_all(setup, deviations, workers, scheduler, progress) -> list:
 
 
 def write_tolerance(result: ToleranceResult, folder) -> dict:
-    """samples.csv, summary.json, histograms.png, shares.png (several tolerances) and
-    report.md into ``folder`` (an existing folder); returns the summary."""
+    """Write the ensemble's files.
+
+    Parameters
+    ----------
+    result : ToleranceResult
+    folder : str or pathlib.Path
+        An existing folder; it receives samples.csv, summary.json, histograms.png,
+        shares.png (several tolerances) and report.md.
+
+    Returns
+    -------
+    dict
+        The summary as written, with the names of the ``files``.
+    """
     import csv
     import json
     from pathlib import Path

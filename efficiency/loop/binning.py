@@ -56,7 +56,14 @@ class Binning:
                                    # run_id column)
 
     def note(self) -> str:
-        """One line for the data's notes and the report."""
+        """One line for the data's notes and the report.
+
+        Returns
+        -------
+        str
+            Rows and points, the cells per axis, the rows per point, the mixed runs and
+            where sigma comes from.
+        """
         least, median, most = self.rows_per_point
         return (f"{self.rows} rows binned onto {self.points} operating points (more rows "
                 f"than max_points = {self.max_points}): {self.cells} equal cells on each of "
@@ -67,7 +74,13 @@ class Binning:
                 + f"; its sigma {self.sigma}")
 
     def to_dict(self) -> dict:
-        """Plain JSON types: the fields by name."""
+        """Plain JSON types: the fields by name.
+
+        Returns
+        -------
+        dict
+            ``cells`` as ``cells_per_axis``, ``rows_per_point`` as {min, median, max}.
+        """
         return {"rows": self.rows, "points": self.points, "max_points": self.max_points,
                 "axes": list(self.axes),
                 "cells_per_axis": self.cells,
@@ -78,7 +91,19 @@ class Binning:
 
 
 def grid_axes(data: MeasuredData) -> dict:
-    """The covariates the grid is cut on (the operating point), name -> (M,) array."""
+    """The covariates the grid is cut on (the operating point).
+
+    Parameters
+    ----------
+    data : MeasuredData
+        M rows.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        input_speed_rpm [rpm], output_torque_Nm [N m] and, when the data carry it,
+        oil_temp_C [deg C]; each (M,).
+    """
     axes = {"input_speed_rpm": data.speed_rpm, "output_torque_Nm": data.torque_Nm}
     if data.oil_temp_C is not None:
         axes["oil_temp_C"] = data.oil_temp_C

@@ -153,9 +153,24 @@ class CycleSolver:
         return {}
 
     def influence(self, p: int, side: int = 1):
-        """(C, C) disc compliance at position p's candidates for a torque of sign ``side``
-        (patch b_ref), per unit length; computed with every position of that side not yet
-        known in one block solve, and kept (a new torque costs no new solve)."""
+        """Disc compliance at one position's candidates (patch b_ref), per unit length.
+
+        Computed with every position of that side not yet known in one block solve, and
+        kept (a new torque costs no new solve).
+
+        Parameters
+        ----------
+        p : int
+            Index into ``positions_rad``.
+        side : {1, -1}
+            Sign of the torque whose flank is loaded (ignored for ``sides=(0,)``).
+
+        Returns
+        -------
+        numpy.ndarray, shape (C, C)
+            Approach per unit force per length [m per N/m] of candidate i under a unit
+            patch load at candidate j.
+        """
         side = 1 if self.sides == (0,) else side
         key = p if side > 0 else (p, side)
         if key in self._influence:
@@ -178,9 +193,15 @@ class CycleSolver:
         return self._influence[key]
 
     def cache_key(self) -> str:
-        """Hash of what the influence tables depend on: geometry, holes, material, pin
-        structure, plane, positions, b_ref and mesh density. Not the torque, and not the
-        face width (the tables are per unit length)."""
+        """Hash of what the influence tables depend on.
+
+        Returns
+        -------
+        str
+            :func:`toothfem.fem.cache.content_key` of the geometry, holes, material, pin
+            structure, plane, positions, b_ref and mesh density. Not the torque, and not
+            the face width (the tables are per unit length).
+        """
         m = self.model
         # both flanks refine another mesh; the one-sided key stays as it was
         sides = () if self.sides == (1,) else (self.sides,)
@@ -197,9 +218,22 @@ class CycleSolver:
                 for side in self._tabled for p in range(n)]
 
     def tables(self) -> dict:
-        """The torque-independent arrays of the solve: ``influence_<p>`` (C_p, C_p) for
-        every position and, for conventional pins, ``pin_table``. Taken from ``cache``
-        when it holds them (no mesh, no factorisation), else computed and stored there."""
+        """The torque-independent arrays of the solve.
+
+        Taken from ``cache`` when it holds them (no mesh, no factorisation), else computed
+        and stored there.
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            ``influence_<p>`` (C_p, C_p) for every position (``influence_neg_<p>`` for the
+            other flank) and, for conventional pins, ``pin_table``.
+
+        Raises
+        ------
+        ToothfemError
+            For a solver in the equal-springs limit (it has no tables).
+        """
         if self.equal_springs is not None:
             raise ToothfemError("the equal-springs limit has no influence tables")
         keys = self._table_keys()
@@ -221,8 +255,18 @@ class CycleSolver:
         return out
 
     def adopt(self, tables) -> None:
-        """Use ``tables`` (as returned by :meth:`tables`, e.g. from another process) instead
-        of computing them; refused (ToothfemError) if they do not fit these positions."""
+        """Use given tables instead of computing them.
+
+        Parameters
+        ----------
+        tables : mapping of str to array_like
+            As returned by :meth:`tables`, e.g. from another process or the disk cache.
+
+        Raises
+        ------
+        ToothfemError
+            If they do not fit these positions (shape, count, a non-finite entry).
+        """
         keys = self._table_keys()
         for name, p, side in keys:
             q = self._candidates(side)[p]
@@ -250,8 +294,22 @@ class CycleSolver:
         self.tables()
 
     def structural_field(self, p: int, load_sharing: LoadSharing):
-        """(disc Body, displacement dofs) at position p under the solved contact forces
-        (Hertz strips of b_ref pressing along the inward normal), disc frame."""
+        """The disc's displacement at one position under the solved contact forces.
+
+        Parameters
+        ----------
+        p : int
+            Index into ``positions_rad``.
+        load_sharing : LoadSharing
+            A result of :meth:`solve`; its forces press as Hertz strips of b_ref along
+            the inward normal.
+
+        Returns
+        -------
+        disc : toothfem.fem.elastic.Body
+        u : numpy.ndarray
+            Displacement dofs [m], disc frame.
+        """
         _, _, disc, _ = self._setup
         q = self._candidates(1 if load_sharing.torque > 0 else -1)[p]
         f = load_sharing.force[p, q.pins] / self.model.face_width
@@ -260,18 +318,41 @@ class CycleSolver:
 
     def solve(self, torque: float, progress=None, *, deviation=None,
               pitches=None, geometry=None) -> LoadSharing:
-        """Load sharing at every position for the disc torque (N m); a negative torque
-        loads the other flank (a solver built with ``sides=(1, -1)``).
+        """Load sharing at every position for one disc torque.
 
-        ``deviation`` (:class:`toothfem.fem.deviations.CycloidDeviation`) shifts the initial
-        gaps of the candidates (:func:`deviation_gaps`), the influence tables unchanged;
-        ``pitches`` (P,) puts position p that many pin pitches on, where other pins and
-        lobes take the contacts' places (the tables of pitch 0: the holes' effect on the
-        disc's compliance at the other pitches is left out). The result keeps the labels of
-        pitch 0 (pin j stands for pin j + pitch). ``geometry``: another modification of
-        this disc (:class:`toothfem.geometry.cycloid.CycloidGeometry`, micrometres from
-        this one) solved with this disc's tables: its initial gaps at these candidates
-        (``toothfem design``)."""
+        Parameters
+        ----------
+        torque : float
+            Disc torque [N m]; a negative torque loads the other flank (a solver built
+            with ``sides=(1, -1)``).
+        progress : callable, optional
+            Wraps the iterable of positions (e.g. a progress bar).
+        deviation : toothfem.fem.deviations.CycloidDeviation, optional
+            Shifts the initial gaps of the candidates (:func:`deviation_gaps`), the
+            influence tables unchanged.
+        pitches : array_like of int, shape (P,), optional
+            Puts position p that many pin pitches on, where other pins and lobes take the
+            contacts' places (the tables of pitch 0: the holes' effect on the disc's
+            compliance at the other pitches is left out).
+        geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+            Another modification of this disc (micrometres from this one) solved with this
+            disc's tables: its initial gaps at these candidates (``toothfem design``).
+
+        Returns
+        -------
+        LoadSharing
+            Method "cycle"; it keeps the labels of pitch 0 (pin j stands for pin j +
+            pitch).
+
+        Raises
+        ------
+        ToothfemError
+            For a zero or non-finite torque, a torque sign the solver was not built for,
+            ``pitches`` of another shape, or a ``geometry`` that differs in more than its
+            modifications.
+        toothfem.fem.contact.ContactError
+            If the Hertz local approach does not settle.
+        """
         check_range("torque", torque)
         if torque == 0:
             raise ToothfemError("torque = 0 is outside the valid range: nonzero (the "
@@ -363,12 +444,27 @@ class CycleSolver:
 
 
 def deviation_gaps(model, q: _Position, deviation, pitch: int = 0) -> np.ndarray:
-    """(C,) change of the initial gaps of position ``q``'s candidates [m] for a built disc
-    stage (:class:`toothfem.fem.deviations.CycloidDeviation`), to first order in the
-    deviations, ``pitch`` pin pitches on: each pin's move against the disc projected on the
+    """Change of the initial gaps of one position's candidates for a built disc stage.
+
+    To first order in the deviations: each pin's move against the disc projected on the
     disc's outward normal n opens its gap (:func:`pin_moves`); a larger pin or added
     profile material closes it (on the flank of the contact's moment arm: < 0 carries a
-    positive torque, column 0)."""
+    positive torque, column 0).
+
+    Parameters
+    ----------
+    model : CycloidFEModel
+    q : _Position
+        The candidates of one crank angle (disc frame).
+    deviation : toothfem.fem.deviations.CycloidDeviation
+    pitch : int
+        Pin pitches on from ``q``.
+
+    Returns
+    -------
+    numpy.ndarray, shape (C,)
+        Gap change [m] (> 0 opens).
+    """
     za = model.geometry.lobe_count
     d, dr = pin_moves(model, q, deviation, pitch)
     # lobe l spans psi in [2 pi l/Za, 2 pi (l+1)/Za): root to root, both flanks
@@ -378,14 +474,30 @@ def deviation_gaps(model, q: _Position, deviation, pitch: int = 0) -> np.ndarray
 
 
 def pin_moves(model, q: _Position, deviation, pitch: int = 0):
-    """((2, C) move of each candidate pin's centre against the disc, disc frame of pitch 0;
-    (C,) its radius change) [m] for a :class:`toothfem.fem.deviations.CycloidDeviation`.
+    """Moves of the candidate pins against the disc for a built stage.
 
     At crank angle phi + m 2 pi/Zb the stage is the one at phi turned by 2 pi m/Zb: pin
     j + m and lobe l + m take the places of pin j and lobe l (docs/tolerance.md). A pin's
     offset is turned back by 2 pi m/Zb and into the disc frame (by phi/Za); the disc's
     own move (the crank's eccentricity error along the crank, its profile off its bore)
-    counts against every pin."""
+    counts against every pin.
+
+    Parameters
+    ----------
+    model : CycloidFEModel
+    q : _Position
+        The candidates of one crank angle.
+    deviation : toothfem.fem.deviations.CycloidDeviation
+    pitch : int
+        m, the pin pitches on.
+
+    Returns
+    -------
+    move : numpy.ndarray, shape (2, C)
+        Each candidate pin centre's move against the disc [m], disc frame of pitch 0.
+    radius : numpy.ndarray, shape (C,)
+        Each candidate pin's radius change [m].
+    """
     g = model.geometry
     zb, za = g.pin_count, g.lobe_count
     m = int(pitch)

@@ -53,12 +53,38 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     """Two-body FE contact at one crank angle with the contact zones refined and conforming.
 
     The zone sizes come from the seed's force estimate times a margin; after the solve the
-    contact must end inside each slave zone (checked; ContactError otherwise).
-    ``deviation`` (:class:`toothfem.fem.deviations.CycloidDeviation`): the pins moved and
-    resized in the meshes themselves (conventional pins; the check of the cycle mode's gap
-    shifts, docs/tolerance.md); profile deviations are the cycle mode's only.
-    ``force_margin``: the largest pin force over the seed's, for the zone sizes (deviations
-    of a few micrometres can load a pin several times the seed's force).
+    contact must end inside each slave zone (checked).
+
+    Parameters
+    ----------
+    model : CycloidFEModel
+        With elastic pins (conventional or integral).
+    crank_angle_rad : float
+        Crank angle [rad].
+    torque : float
+        Disc torque [N m], nonzero; a negative one loads the other flank of each lobe.
+    elements_per_halfwidth : int
+        Element size in the zones: the estimated Hertz half-width over this.
+    deviation : toothfem.fem.deviations.CycloidDeviation, optional
+        The pins moved and resized in the meshes themselves (conventional pins; the check
+        of the cycle mode's gap shifts, docs/tolerance.md); profile deviations are the
+        cycle mode's only.
+    force_margin : float
+        The largest pin force over the seed's, for the zone sizes (deviations of a few
+        micrometres can load a pin several times the seed's force).
+
+    Returns
+    -------
+    DetailedResult
+        The load sharing of the one position and the FE pressure profiles.
+
+    Raises
+    ------
+    ToothfemError
+        For a zero or non-finite torque, rigid pins, or a deviation the mode cannot mesh
+        (profile deviations, integral pins).
+    toothfem.fem.contact.ContactError
+        If the contact reaches the edge of a refined zone (raise ``force_margin``).
     """
     check_range("torque", torque)
     if torque == 0:

@@ -38,8 +38,25 @@ MIN_CONTACTS_AT_MAX = 2
 
 
 def loop_torques(torque_max_Nm: float, steps: int) -> np.ndarray:
-    """Output torques of the loop: 0 -> +T -> -T -> +T in steps of T/steps (5 steps + 1
-    points; 41 for 8 steps)."""
+    """Output torques of the loop: 0 -> +T -> -T -> +T in steps of T/steps.
+
+    Parameters
+    ----------
+    torque_max_Nm : float
+        T [N m], > 0.
+    steps : int
+        MIN_STEPS to MAX_STEPS.
+
+    Returns
+    -------
+    numpy.ndarray, shape (5 steps + 1,)
+        [N m] (41 points for 8 steps).
+
+    Raises
+    ------
+    CaseError
+        For a torque or a step count out of range.
+    """
     check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
     if isinstance(steps, bool) or int(steps) != steps:
         raise CaseError(f"steps = {steps!r} must be an integer")
@@ -63,7 +80,13 @@ class Loop:
     contacts: np.ndarray
 
     def rows(self):
-        """(torque_Nm, twist_arcmin, twist_min_arcmin, twist_max_arcmin, contacts)."""
+        """The loop's table, one row per torque step.
+
+        Returns
+        -------
+        iterator of tuple
+            (torque_Nm, twist_arcmin, twist_min_arcmin, twist_max_arcmin, contacts).
+        """
         return zip(self.torque_Nm, self.twist_arcmin, self.twist_min_arcmin,
                    self.twist_max_arcmin, self.contacts)
 
@@ -92,7 +115,14 @@ class Datasheet:
         return {k: v / total for k, v in self.compliance_arcmin_per_Nm.items()}
 
     def summary(self) -> dict:
-        """Plain mapping (summary.json)."""
+        """Plain mapping (summary.json).
+
+        Returns
+        -------
+        dict
+            The figures with their units in the keys, the supports, the contacts at the
+            rated torque and the ``extra`` summaries.
+        """
         out = {
             "rated_torque_Nm": self.rated_torque_Nm,
             "rated_torque_assumed": self.rated_torque_assumed,
@@ -122,6 +152,17 @@ PLURALS = {"tooth": "teeth"}
 
 
 def plural(name: str) -> str:
+    """Plural of a contact name (PLURALS, else an added s).
+
+    Parameters
+    ----------
+    name : str
+        E.g. "pin" or "tooth".
+
+    Returns
+    -------
+    str
+    """
     return PLURALS.get(name, name + "s")
 
 
@@ -153,6 +194,12 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
     Returns
     -------
     Datasheet
+
+    Raises
+    ------
+    CaseError
+        For a rating, torque or step count out of range, or a largest torque that leaves
+        fewer than MIN_CONTACTS_AT_MAX contacts at some position.
     """
     rated = check_range("rated_torque_Nm", rated_torque_Nm, 0, None, lo_open=True,
                         error=CaseError)
@@ -195,8 +242,20 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
 
 
 def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
-    """Lost motion [arcmin]: the range of the mean twist between -3 % and +3 % of the rated
-    torque (LOST_MOTION_FRACTION), each on its own flank."""
+    """Lost motion: the range of the mean twist between -3 % and +3 % of the rated torque
+    (LOST_MOTION_FRACTION), each on its own flank.
+
+    Parameters
+    ----------
+    model : TwistModel
+    rated_torque_Nm : float
+        [N m].
+
+    Returns
+    -------
+    float
+        [arcmin].
+    """
     t_lm = LOST_MOTION_FRACTION * rated_torque_Nm
     return float((model.at(t_lm, 1).total.mean() - model.at(-t_lm, -1).total.mean())
                  / ARCMIN)

@@ -44,9 +44,28 @@ class TwistPoint:
 
 
 def closing_rotation(state, side: int) -> np.ndarray:
-    """(P,) rigid rotation [rad, signed] of the member that closes its first contact on the
-    flank carrying a torque of sign ``side`` (the twist in the limit of zero torque):
-    side * min gap/|l| over the contacts with side * l < 0 (MeshingState convention)."""
+    """Rigid rotation of the member that closes its first contact on one flank.
+
+    The twist in the limit of zero torque: side * min gap/|l| over the contacts with
+    side * l < 0 (MeshingState convention).
+
+    Parameters
+    ----------
+    state : toothfem.geometry.kinematics.MeshingState
+        Its gaps and moment arms l.
+    side : {1, -1}
+        Sign of the torque whose flank closes.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P,)
+        [rad], signed.
+
+    Raises
+    ------
+    CaseError
+        If a position has no contact on that flank.
+    """
     arm = state.moment_arm
     carry = (side * arm < 0) & np.isfinite(state.gap)
     ratio = np.where(carry, state.gap / np.where(carry, np.abs(arm), 1.0), np.inf)
@@ -58,8 +77,20 @@ def closing_rotation(state, side: int) -> np.ndarray:
 
 
 def resultant(load_sharing, state) -> np.ndarray:
-    """(P, 2) resultant contact force on the member [N, housing frame]: forces along the
-    MeshingState normals (fixed -> moving member)."""
+    """Resultant contact force on the member: forces along the MeshingState normals.
+
+    Parameters
+    ----------
+    load_sharing : LoadSharing
+        Forces (P, C) [N].
+    state : toothfem.geometry.kinematics.MeshingState
+        Normals (P, C, 2), fixed -> moving member.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, 2)
+        [N], housing frame.
+    """
     return np.sum(load_sharing.force[:, :, None] * state.normal, axis=1)
 
 
@@ -110,13 +141,36 @@ class TwistModel:
         return ["mesh", *own]
 
     def member_torque(self, output_torque_Nm: float) -> float:
-        """Even share of a signed output torque on one member [N m]."""
+        """Even share of a signed output torque on one member.
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            Signed [N m].
+
+        Returns
+        -------
+        float
+            [N m], the output torque's sign.
+        """
         t = float(output_torque_Nm)
         return math.copysign(self.drive.member_torque(abs(t), peak=False), t)
 
     def at(self, output_torque_Nm: float, side: int = 1) -> TwistPoint:
-        """The twist at a signed output torque; at zero, the limit from the flank of
-        ``side`` (the rigid closing rotation, every support unloaded)."""
+        """The twist at a signed output torque (kept: each torque is solved once).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], either sign.
+        side : {1, -1}
+            At zero torque, the flank the limit comes from (the rigid closing rotation,
+            every support unloaded); ignored otherwise.
+
+        Returns
+        -------
+        TwistPoint
+        """
         t = float(output_torque_Nm)
         key = (t, side if t == 0 else 0)
         if key not in self._memo:

@@ -72,17 +72,46 @@ class Drive(abc.ABC):
 
     @abc.abstractmethod
     def speeds(self) -> dict:
-        """Speeds for a unit input speed: ``input``, ``crank``, ``member`` (disc or planet),
-        ``output`` (carrier or planet's output), signed as in :mod:`toothfem.geometry.train`."""
+        """Speeds of the train's parts for a unit input speed.
+
+        Returns
+        -------
+        dict of str to float
+            ``input``, ``crank``, ``member`` (disc or planet), ``output`` (carrier or
+            planet's output) [-, per unit input speed], signed as in
+            :mod:`toothfem.geometry.train`.
+        """
 
     @abc.abstractmethod
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
-        """:class:`~toothfem.geometry.kinematics.MeshingState` at the crank angles, the fixed
-        member at rest (the sliding speeds the friction loss needs)."""
+        """Rigid-body meshing at the crank angles, the fixed member at rest.
+
+        Parameters
+        ----------
+        positions_rad : array_like, shape (P,)
+            Crank angles [rad].
+        crank_speed_rad_s : float
+            Crank speed [rad/s] (scales the sliding speeds the friction loss needs).
+
+        Returns
+        -------
+        toothfem.geometry.kinematics.MeshingState
+        """
 
     @abc.abstractmethod
     def fe_model(self, **overrides):
-        """The FE model of the pair (``overrides`` are the model's own options)."""
+        """The FE model of the pair.
+
+        Parameters
+        ----------
+        **overrides
+            The model's own options (:attr:`fe_options` names the choices).
+
+        Returns
+        -------
+        object
+            The drive's FE model (``CycloidFEModel`` or ``SineFEModel``).
+        """
 
     @abc.abstractmethod
     def _new_cycle_solver(self, model, positions_rad, cache, **options):
@@ -95,23 +124,76 @@ class Drive(abc.ABC):
 
     @abc.abstractmethod
     def solve_detailed(self, model, position_rad: float, member_torque_Nm: float):
-        """Two-body FE contact at one position (verification, stress fields)."""
+        """Two-body FE contact at one position (verification, stress fields).
+
+        Parameters
+        ----------
+        model : object
+            From :meth:`fe_model`.
+        position_rad : float
+            Crank angle [rad].
+        member_torque_Nm : float
+            Torque on the moving member [N m], nonzero.
+
+        Returns
+        -------
+        object
+            The mode's result: its ``load_sharing`` (one position), ``member_body`` and
+            ``member_displacement``.
+        """
 
     @abc.abstractmethod
     def profiles(self, points_per_tooth: int):
-        """(profiles, checks): {name: (2, N) closed outline in its member's frame [m]} and
-        the checks of the outlines as a report shows them."""
+        """The members' outlines for pictures and DXF.
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Samples per lobe or tooth.
+
+        Returns
+        -------
+        profiles : dict of str to numpy.ndarray
+            name -> (2, N) closed outline in its member's frame [m].
+        checks : dict
+            The checks of the outlines as a report shows them.
+        """
 
     @abc.abstractmethod
     def member_frame_point(self, model, position_rad: float, point):
-        """``point`` (2,) or points (2, N) of the housing frame in the moving member's own
-        frame at one crank angle [m]."""
+        """Housing-frame points in the moving member's own frame.
+
+        Parameters
+        ----------
+        model : object
+            The FE model whose geometry places the member.
+        position_rad : float
+            The crank's angle [rad].
+        point : array_like, shape (2,) or (2, N)
+            Housing frame [m].
+
+        Returns
+        -------
+        numpy.ndarray
+            Same shape as ``point`` [m], member frame.
+        """
 
     @abc.abstractmethod
     def fixed_outlines(self, points_per_tooth: int = 48) -> list:
-        """Outlines of the fixed member's contact surfaces in the housing frame: a list of
-        closed (2, N) polylines [m] (each pin's circle; the ring's tooth profile), for
-        pictures of the moving member among them."""
+        """Outlines of the fixed member's contact surfaces in the housing frame.
+
+        For pictures of the moving member among them.
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Samples per pin or ring tooth.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            Closed (2, N) polylines [m] (each pin's circle; the ring's tooth profile).
+        """
 
     @property
     def two_stage(self) -> bool:
@@ -120,32 +202,84 @@ class Drive(abc.ABC):
 
     @abc.abstractmethod
     def supports(self, declared):
-        """The supports in series with the mesh (:class:`toothfem.fem.datasheet.supports.
-        Supports`) from the case's :class:`toothfem.si.SupportsSI`, the drive's own
-        assumptions where it gives none."""
+        """The supports in series with the mesh.
+
+        Parameters
+        ----------
+        declared : toothfem.si.SupportsSI
+            The case's supports; the drive's own assumptions fill what it leaves out.
+
+        Returns
+        -------
+        toothfem.fem.datasheet.supports.Supports
+        """
 
     @abc.abstractmethod
     def member_support_twists(self, supports, member_torque, resultant, positions_rad):
-        """Output twist [rad] of one member's own supports at each position: {path: (P,)}.
+        """Output twist of one member's own supports at each position.
 
-        ``member_torque`` (P,) N m, signed; ``resultant`` (P, 2) the contact resultant on
-        the member [N, housing frame]; ``positions_rad`` (P,) crank angles."""
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        member_torque : array_like, shape (P,)
+            Torque on the member [N m], signed.
+        resultant : array_like, shape (P, 2)
+            The contact resultant on the member [N, housing frame].
+        positions_rad : array_like, shape (P,)
+            Crank angles [rad].
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            path -> (P,) twist [rad].
+        """
 
     def coupled_compliance(self, supports) -> dict:
-        """{path: (M, M)} twist of member j [rad] per N m on member i through parts the
-        members share (a drive without such parts: {})."""
+        """Twist of each member per torque on another through parts the members share.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+
+        Returns
+        -------
+        dict of str to numpy.ndarray
+            path -> (M, M) twist of member j [rad] per N m on member i (a drive without
+            such parts: {}).
+        """
         return {}
 
     def output_compliance(self, supports) -> dict:
-        """{path: rad per N m of output torque} of parts every member's path runs through
-        (the carrier is the datasheet's own)."""
+        """Compliance of parts every member's path runs through.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+
+        Returns
+        -------
+        dict of str to float
+            path -> [rad per N m] of output torque (the carrier is the datasheet's own).
+        """
         return {}
 
     # -- the reducer as built (toothfem tolerance) ------------------------------------------
     @abc.abstractmethod
     def sample_deviation(self, tolerances, rng):
-        """One built stage's deviations (:mod:`toothfem.fem.deviations`) drawn from
-        ``tolerances`` (:class:`toothfem.si.TolerancesSI`) with the generator ``rng``."""
+        """One built stage's deviations.
+
+        Parameters
+        ----------
+        tolerances : toothfem.si.TolerancesSI
+            The zones drawn from and their ``distribution``.
+        rng : numpy.random.Generator
+
+        Returns
+        -------
+        object
+            The drive's record of :mod:`toothfem.fem.deviations`, as its cycle solver
+            takes it.
+        """
 
     @property
     @abc.abstractmethod
@@ -159,15 +293,40 @@ class Drive(abc.ABC):
         return 1
 
     def member_offsets(self, per_pitch: int) -> tuple:
-        """Index of each member's configuration on the grid of
-        ``per_pitch`` positions per meshing period over :attr:`full_period_pitches`
-        periods, relative to the first member's (one member: (0,))."""
+        """Where each member's configuration stands on the full-period grid.
+
+        Parameters
+        ----------
+        per_pitch : int
+            Positions per meshing period; the grid spans :attr:`full_period_pitches`
+            periods.
+
+        Returns
+        -------
+        tuple of int
+            Grid index of each member relative to the first member's (one member: (0,)).
+        """
         return (0,)
 
     # -- shared by every drive ------------------------------------------------------------
     def positions(self, n_positions: int = DEFAULT_POSITIONS) -> np.ndarray:
-        """``n_positions`` crank angles evenly over one meshing period, the period's end
-        excluded (the one position grid of every analysis)."""
+        """Crank angles evenly over one meshing period (every analysis's position grid).
+
+        Parameters
+        ----------
+        n_positions : int
+            How many, 1 to MAX_POSITIONS.
+
+        Returns
+        -------
+        numpy.ndarray, shape (n_positions,)
+            [rad], from 0, the period's end excluded.
+
+        Raises
+        ------
+        CaseError
+            For a count that is not an integer or outside the range.
+        """
         n = n_positions
         if isinstance(n, bool) or not isinstance(n, (int, np.integer)) and int(n) != n:
             raise CaseError(f"n_positions = {n!r} must be an integer")
@@ -175,12 +334,26 @@ class Drive(abc.ABC):
         return np.arange(int(n)) * (self.period_rad / int(n))
 
     def member_torque(self, output_torque_Nm, *, peak: bool = True):
-        """Torque on one moving member [N m] for a reducer output torque [N m]: the one
-        torque rule.
+        """Torque on one moving member for a reducer output torque: the one torque rule.
 
-        ``peak`` True (contact, strength): ``load_factor * T / members`` (the pin-housing
-        paper's Eq. 6 with its disc load factor); False (losses): the even share
-        ``T / members``, whose sum over the members is the output torque.
+        Parameters
+        ----------
+        output_torque_Nm : float or array_like
+            Output torque [N m], > 0.
+        peak : bool
+            True (contact, strength): ``load_factor * T / members`` (the pin-housing
+            paper's Eq. 6 with its disc load factor); False (losses): the even share
+            ``T / members``, whose sum over the members is the output torque.
+
+        Returns
+        -------
+        float or numpy.ndarray
+            Member torque [N m], shaped as the input.
+
+        Raises
+        ------
+        CaseError
+            For a torque that is not finite and positive.
         """
         t = np.asarray(output_torque_Nm, float)
         bad = ~np.isfinite(t) | (t <= 0)
@@ -199,21 +372,51 @@ class Drive(abc.ABC):
                                      m.youngs_modulus_Pa, m.poisson_ratio))
 
     def analytic_split(self, state, member_torque_Nm: float) -> LoadSharing:
-        """The seeds' analytic load split on ``state`` at a member torque (see
-        :func:`toothfem.fem.load_sharing.analytic_split`)."""
+        """The seeds' analytic load split (:func:`toothfem.fem.load_sharing.analytic_split`).
+
+        Parameters
+        ----------
+        state : toothfem.geometry.kinematics.MeshingState
+        member_torque_Nm : float
+            Torque on the moving member [N m].
+
+        Returns
+        -------
+        LoadSharing
+            Method "analytic", the drive's weight rule and in-mesh gap.
+        """
         return analytic_split(state, member_torque_Nm, self.face_width_m, self.e_star_Pa,
                               self.analytic_in_mesh_gap_m, weight=self.analytic_weight)
 
     def cycle_solver(self, n_positions: int = DEFAULT_POSITIONS, *, cache=True,
                      solver_options: dict | None = None, pitch: int = 0, **overrides):
-        """The FE cycle-mode solver over :meth:`positions` (``n_positions``), built once per
-        design and options in this process; ``pitch`` m puts the positions m meshing
-        periods on (the same contacts m lobes on against the disc holes).
+        """The FE cycle-mode solver over :meth:`positions`, built once per design and
+        options in this process.
 
-        ``cache``: True, the user's disk cache (:func:`toothfem.fem.cache.default_dir`);
-        a :class:`~toothfem.fem.cache.DiskCache`; or None/False for none.
-        ``solver_options`` go to the solver (e.g. the cycloid's ``equal_springs``);
-        ``overrides`` go to :meth:`fe_model` (e.g. ``pin_structure``).
+        Parameters
+        ----------
+        n_positions : int
+            Positions per meshing period.
+        cache : bool or DiskCache or None
+            True, the user's disk cache (:func:`toothfem.fem.cache.default_dir`); a
+            :class:`~toothfem.fem.cache.DiskCache`; or None/False for none.
+        solver_options : dict, optional
+            Go to the solver (e.g. the cycloid's ``equal_springs``).
+        pitch : int
+            m puts the positions m meshing periods on (the same contacts m lobes on
+            against the disc holes).
+        **overrides
+            Go to :meth:`fe_model` (e.g. ``pin_structure``).
+
+        Returns
+        -------
+        object
+            The drive's ``CycleSolver`` (shared with earlier callers of the same key).
+
+        Raises
+        ------
+        CaseError
+            For a position count outside the range (:meth:`positions`).
         """
         if cache is True:
             cache = DiskCache(default_dir())

@@ -37,6 +37,23 @@ class CycloidDrive(Drive):
 
     @classmethod
     def from_case(cls, si) -> "CycloidDrive":
+        """The drive of a case.
+
+        Parameters
+        ----------
+        si : toothfem.si.CaseSI
+            The case in SI (:meth:`toothfem.case.Case.to_si`).
+
+        Returns
+        -------
+        CycloidDrive
+            With the first stage's (sun, planet) teeth of a 2K-V train.
+
+        Raises
+        ------
+        CaseError
+            Without a [cycloid] or a [material] section.
+        """
         if si.cycloid is None:
             raise CaseError(f"drive = {si.drive!r}: a [cycloid] section (disc and pins) is "
                             "required for the contact analyses of this drive")
@@ -81,6 +98,14 @@ class CycloidDrive(Drive):
         return self.first_teeth is not None
 
     def speeds(self) -> dict:
+        """Per unit input speed, from :func:`~toothfem.geometry.train.rv_speeds` (2K-V) or
+        :func:`~toothfem.geometry.train.khv_speeds`.
+
+        Returns
+        -------
+        dict of str to float
+            input, crank, member (the disc), output (the carrier; K-H-V: the disc).
+        """
         z4, z5 = self.stage.lobe_count, self.geometry.pin_count
         if self.first_teeth is not None:
             w = rv_speeds(*self.first_teeth, z4, z5)
@@ -90,11 +115,38 @@ class CycloidDrive(Drive):
         return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
-        """Pins fixed: the sliding speed at the disc (conventional pins that turn in their
-        grooves are handled by the friction rule of the efficiency model)."""
+        """:func:`toothfem.geometry.cycloid.meshing` with the pins fixed.
+
+        Conventional pins that turn in their grooves are handled by the friction rule of
+        the efficiency model.
+
+        Parameters
+        ----------
+        positions_rad : array_like, shape (P,)
+            Crank angles [rad].
+        crank_speed_rad_s : float
+            [rad/s]; the sliding speed is the one at the disc.
+
+        Returns
+        -------
+        toothfem.geometry.kinematics.MeshingState
+        """
         return cy.meshing(self.geometry, positions_rad, crank_speed_rad_s, pin_motion="fixed")
 
     def fe_model(self, *, pin_structure: str | None = None, plane: str = "strain"):
+        """The disc, its pins and material as an FE model.
+
+        Parameters
+        ----------
+        pin_structure : {"conventional", "integral", "rigid"}, optional
+            Instead of the stage's.
+        plane : {"strain", "stress"}
+            The 2-D idealisation.
+
+        Returns
+        -------
+        toothfem.fem.cycloid_fe.CycloidFEModel
+        """
         st, m = self.stage, self.material_si
         return cf.CycloidFEModel(
             geometry=st.geometry, holes=st.holes, youngs_modulus=m.youngs_modulus_Pa,
@@ -106,10 +158,37 @@ class CycloidDrive(Drive):
         return cf.CycleSolver(model, positions_rad, cache=cache, **options)
 
     def solve_detailed(self, model, position_rad: float, member_torque_Nm: float):
+        """:func:`toothfem.fem.cycloid_fe.solve_detailed` with its default refinement.
+
+        Parameters
+        ----------
+        model : toothfem.fem.cycloid_fe.CycloidFEModel
+        position_rad : float
+            Crank angle [rad].
+        member_torque_Nm : float
+            Disc torque [N m].
+
+        Returns
+        -------
+        toothfem.fem.cycloid_fe.DetailedResult
+        """
         return cf.solve_detailed(model, position_rad, member_torque_Nm)
 
     def profiles(self, points_per_tooth: int):
-        """The disc's working outline with its holes' polygon checks (``profile``)."""
+        """The disc's working outline with its holes' polygon checks.
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Samples per lobe.
+
+        Returns
+        -------
+        profiles : dict
+            ``profile``: the (2, N) outline [m], disc frame.
+        checks : dict
+            ``disc_area_mm2`` and ``disc_polygon_valid``.
+        """
         disc = disc_polygon(self.geometry, self.stage.holes,
                                points_per_lobe=points_per_tooth)
         return ({"profile": np.asarray(disc.exterior.coords).T[:, :-1]},
@@ -132,7 +211,23 @@ class CycloidDrive(Drive):
         angle, the smallest i_j that puts its crank holes on the cranks:
         (i_j - j/discs) s / Za whole, s the crank holes. Turning the part by i lobes moves
         its contacts i lobes back against its holes, so on the full-period grid disc j is
-        the first disc at pitch Zb j / discs - i_j (CaseError if no i_j exists)."""
+        the first disc at pitch Zb j / discs - i_j.
+
+        Parameters
+        ----------
+        per_pitch : int
+            Positions per pin pitch.
+
+        Returns
+        -------
+        tuple of int
+            Grid index of disc j, modulo the full period's positions.
+
+        Raises
+        ------
+        CaseError
+            If a disc's crank offset is off the grid, or no i_j exists.
+        """
         zb, za, n = self.geometry.pin_count, self.stage.lobe_count, self.members
         sym = self.stage.holes.crank_hole_count
         k = self.full_period_pitches
@@ -154,7 +249,17 @@ class CycloidDrive(Drive):
     def supports(self, declared) -> sp.Supports:
         """Needle rollers in the crank holes (outer raceway the hole) on the cranks' eccentric
         journals; assumed crankshaft: the journal's diameter less twice the eccentricity,
-        on a span of the discs side by side plus one face width for each carrier bearing."""
+        on a span of the discs side by side plus one face width for each carrier bearing.
+
+        Parameters
+        ----------
+        declared : toothfem.si.SupportsSI
+            The case's bearing and crankshaft values (None: the assumption above).
+
+        Returns
+        -------
+        toothfem.fem.datasheet.supports.Supports
+        """
         h, g, w = self.stage.holes, self.geometry, self.face_width_m
         d_roller = declared.bearing_roller_diameter_m or \
             sp.ROLLER_DIAMETER_REL * h.crank_hole_radius_m
@@ -167,7 +272,23 @@ class CycloidDrive(Drive):
         """The crank bearings: hole k (of n, radius R_c) takes -F/n + T/(n R_c) t_k (the
         contact resultant F and the torque T shared evenly, as the efficiency model's
         crank-bearing loss); each deflects along its load by Palmgren and Stribeck; the
-        output turns by their mean tangential deflection over R_c."""
+        output turns by their mean tangential deflection over R_c.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        member_torque : array_like, shape (P,)
+            T, the disc torque [N m].
+        resultant : array_like, shape (P, 2)
+            F, on the disc [N], housing frame.
+        positions_rad : array_like, shape (P,)
+            [rad].
+
+        Returns
+        -------
+        dict
+            ``crank bearings``: (P,) [rad].
+        """
         h = self.stage.holes
         n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
         _, rot = cy.disc_pose(self.geometry, positions_rad)
@@ -190,7 +311,18 @@ class CycloidDrive(Drive):
         """The crankshafts: each a shaft on two simple supports (its carrier bearings)
         loaded by every disc's tangential force T_i/(n R_c) at the disc's axial place; disc
         j turns by the crank's deflection there over R_c (the pin resultants' share cancels
-        over the n cranks)."""
+        over the n cranks).
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+            Its crankshaft span and diameter.
+
+        Returns
+        -------
+        dict
+            ``crankshafts``: (discs, discs) [rad/(N m)].
+        """
         h = self.stage.holes
         n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
         a = self._disc_axial_positions(supports)
@@ -203,7 +335,17 @@ class CycloidDrive(Drive):
     def output_compliance(self, supports) -> dict:
         """2K-V: torsion of the n crankshafts between the first-stage gear (input held) and
         the discs: crank torque T/(n Zb), output turn = crank twist / Zb (the cranks turn Zb
-        times per output turn relative to the carrier); over half the span. K-H-V: none."""
+        times per output turn relative to the carrier); over half the span. K-H-V: none.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+
+        Returns
+        -------
+        dict
+            ``crankshaft torsion`` [rad/(N m)] of output torque; {} for K-H-V.
+        """
         if not self.two_stage:
             return {}
         n, zb = self.stage.holes.crank_hole_count, self.geometry.pin_count
@@ -218,7 +360,17 @@ class CycloidDrive(Drive):
         the ring), pin diameters within their limits, each lobe flank off its profile, the
         disc's profile off its crank holes (the mean of the holes' offsets: a best fit of
         the disc on its cranks; its turn goes into the rigid rotation), the crank's
-        eccentricity off its nominal."""
+        eccentricity off its nominal.
+
+        Parameters
+        ----------
+        tolerances : toothfem.si.TolerancesSI
+        rng : numpy.random.Generator
+
+        Returns
+        -------
+        toothfem.fem.deviations.CycloidDeviation
+        """
         t, dist = tolerances, tolerances.distribution
         zb, za = self.geometry.pin_count, self.stage.lobe_count
         radial = cy.pin_centres(self.geometry) / self.geometry.pin_circle_radius_m
@@ -241,12 +393,38 @@ class CycloidDrive(Drive):
         return self.geometry.pin_count * self.stage.lobe_count
 
     def member_frame_point(self, model, position_rad: float, point):
+        """Points in the disc frame (:func:`toothfem.geometry.cycloid.to_disc_frame`).
+
+        Parameters
+        ----------
+        model : toothfem.fem.cycloid_fe.CycloidFEModel
+        position_rad : float
+            [rad].
+        point : array_like, shape (2,) or (2, N)
+            [m].
+
+        Returns
+        -------
+        numpy.ndarray
+            [m], the input's shape.
+        """
         pts = np.asarray(point, float)
         local = cy.to_disc_frame(model.geometry, [position_rad], pts.reshape(2, 1, -1))
         return local[:, 0, :].reshape(pts.shape)
 
     def fixed_outlines(self, points_per_tooth: int = 48) -> list:
-        """Each pin's circle (pin j centred at angle 2 pi j / Zb)."""
+        """Each pin's circle (pin j centred at angle 2 pi j / Zb).
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Points on each circle.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            Zb (2, points_per_tooth) circles [m].
+        """
         g = self.geometry
         t = np.linspace(0.0, 2 * math.pi, points_per_tooth, endpoint=False)
         circle = g.pin_radius_m * np.stack([np.cos(t), np.sin(t)])

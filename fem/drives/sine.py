@@ -40,6 +40,21 @@ class SineDrive(Drive):
 
     @classmethod
     def from_case(cls, si) -> "SineDrive":
+        """The sine pair of a case, with its output mechanism if it has one.
+
+        Parameters
+        ----------
+        si : toothfem.si.CaseSI
+
+        Returns
+        -------
+        SineDrive
+
+        Raises
+        ------
+        CaseError
+            If the [sine] or the [material] section is missing.
+        """
         if si.sine is None:
             raise CaseError("a [sine] section is required for drive = 'sine'")
         if si.material is None:
@@ -72,13 +87,44 @@ class SineDrive(Drive):
         return SINE_IN_MESH_GAP_M
 
     def speeds(self) -> dict:
+        """K-H-V speeds of the pair (:func:`~toothfem.geometry.train.khv_speeds`).
+
+        Returns
+        -------
+        dict of str to float
+            The crank turns with the input; member and output are the planet.
+        """
         w = khv_speeds(self.pair.planet_teeth, self.pair.ring_teeth)
         return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
+        """:func:`toothfem.geometry.sine.meshing` of the pair.
+
+        Parameters
+        ----------
+        positions_rad : array_like, shape (P,)
+            [rad] of crank.
+        crank_speed_rad_s : float
+            [rad/s].
+
+        Returns
+        -------
+        toothfem.geometry.kinematics.MeshingState
+        """
         return sg.meshing(self.pair, positions_rad, crank_speed_rad_s)
 
     def fe_model(self, **overrides):
+        """:func:`toothfem.fem.sine_fe.model_from_pair` of the pair and its material.
+
+        Parameters
+        ----------
+        **overrides
+            Its keywords (supports, plane, candidates).
+
+        Returns
+        -------
+        toothfem.fem.sine_fe.SineFEModel
+        """
         return sf.model_from_pair(self.pair, self.material_si, self.output_mechanism,
                                   **overrides)
 
@@ -86,10 +132,37 @@ class SineDrive(Drive):
         return sf.CycleSolver(model, positions_rad, cache=cache, **options)
 
     def solve_detailed(self, model, position_rad: float, member_torque_Nm: float):
+        """:func:`toothfem.fem.sine_fe.solve_detailed` with its default zones.
+
+        Parameters
+        ----------
+        model : toothfem.fem.sine_fe.SineFEModel
+        position_rad : float
+            [rad] of crank.
+        member_torque_Nm : float
+            Planet torque [N m].
+
+        Returns
+        -------
+        toothfem.fem.sine_fe.DetailedResult
+        """
         return sf.solve_detailed(model, position_rad, member_torque_Nm)
 
     def profiles(self, points_per_tooth: int):
-        """The planet's and the ring's profiles, each about its own centre."""
+        """The planet's and the ring's profiles, each about its own centre.
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Samples per tooth of each.
+
+        Returns
+        -------
+        profiles : dict
+            ``planet`` and ``ring``, (2, N) [m].
+        checks : dict
+            None for this pair ({}).
+        """
         pair = self.pair
         phi1 = np.linspace(0, 2 * np.pi, pair.planet_teeth * points_per_tooth, endpoint=False)
         (ring,) = self.fixed_outlines(points_per_tooth)
@@ -98,7 +171,17 @@ class SineDrive(Drive):
     # -- the datasheet: supports --------------------------------------------------------
     def supports(self, declared) -> sp.Supports:
         """Rollers of the eccentric bearing on the eccentric (inner raceway of radius
-        r_p, the output mechanism's ``eccentric_bearing_inner_radius``); no crankshafts."""
+        r_p, the output mechanism's ``eccentric_bearing_inner_radius``); no crankshafts.
+
+        Parameters
+        ----------
+        declared : toothfem.si.SupportsSI
+
+        Returns
+        -------
+        toothfem.fem.datasheet.supports.Supports
+            Without an output mechanism r_p is ECCENTRIC_RACEWAY_REL r1.
+        """
         om = self.output_mechanism
         r_in = (om.eccentric_bearing_inner_radius_m if om is not None
                 else ECCENTRIC_RACEWAY_REL * self.pair.planet_pitch_radius_m)
@@ -111,7 +194,24 @@ class SineDrive(Drive):
         efficiency model); it deflects along its load (Palmgren, Stribeck), and its
         deflection across the eccentric turns the planet about the pitch point by d_t/r1.
         The output pins: the most loaded of n pins carries 4T/(n R_w) (Eq. 26) on one line
-        contact of the face width (Palmgren); the output turns by its approach over R_w."""
+        contact of the face width (Palmgren); the output turns by its approach over R_w.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        member_torque : array_like, shape (P,)
+            T on the planet [N m].
+        resultant : array_like, shape (P, 2)
+            Tooth resultant on the planet [N], housing frame.
+        positions_rad : array_like, shape (P,)
+            Crank angles [rad].
+
+        Returns
+        -------
+        dict
+            ``eccentric bearing`` and (with an output mechanism) ``output pins``, each
+            (P,) [rad].
+        """
         t = np.asarray(member_torque, float)
         centre, _ = sg.planet_pose(self.pair, positions_rad)
         e = centre / np.hypot(*centre)                                   # (2, P)
@@ -132,7 +232,18 @@ class SineDrive(Drive):
 
     def sample_deviation(self, tolerances, rng) -> dv.SineDeviation:
         """Each flank of the planet and the ring off its profile, the crank's eccentricity
-        off its nominal."""
+        off its nominal.
+
+        Parameters
+        ----------
+        tolerances : toothfem.si.TolerancesSI
+            ``tooth_profile_m`` and ``eccentricity_m`` are read.
+        rng : numpy.random.Generator
+
+        Returns
+        -------
+        toothfem.fem.deviations.SineDeviation
+        """
         t, dist, pair = tolerances, tolerances.distribution, self.pair
         return dv.SineDeviation(
             planet_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.planet_teeth, 2), dist),
@@ -145,12 +256,38 @@ class SineDrive(Drive):
         return self.pair.planet_teeth * self.pair.ring_teeth
 
     def member_frame_point(self, model, position_rad: float, point):
+        """Ring-frame points about the planet's centre, turned back by its rotation.
+
+        Parameters
+        ----------
+        model : toothfem.fem.sine_fe.SineFEModel
+        position_rad : float
+            [rad] of crank.
+        point : array_like, shape (2,) or (2, N)
+            [m].
+
+        Returns
+        -------
+        numpy.ndarray
+            Planet frame [m].
+        """
         c, th = sg.planet_pose(model.pair, position_rad)
         pts = np.asarray(point, float)
         return rotate(pts - c.reshape((2,) + (1,) * (pts.ndim - 1)), -th[0])
 
     def fixed_outlines(self, points_per_tooth: int = 48) -> list:
-        """The ring's tooth profile (one closed polyline, ring centre at the origin)."""
+        """The ring's tooth profile (one closed polyline, ring centre at the origin).
+
+        Parameters
+        ----------
+        points_per_tooth : int
+            Samples per ring tooth.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            One (2, Zr points_per_tooth) polyline [m].
+        """
         pair = self.pair
         phi = np.linspace(0, 2 * np.pi * pair.ring_teeth / pair.planet_teeth,
                           pair.ring_teeth * points_per_tooth, endpoint=False)

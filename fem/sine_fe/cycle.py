@@ -116,8 +116,20 @@ class CycleSolver:
                                                  self.reach))
 
     def cache_key(self, which: str) -> str:
-        """Hash of what a body's hat table depends on (not the torque, not the face
-        width: the tables are per unit length)."""
+        """Hash of what a body's hat table depends on.
+
+        Parameters
+        ----------
+        which : {"planet", "ring"}
+            The body.
+
+        Returns
+        -------
+        str
+            :func:`toothfem.fem.cache.content_key` of the pair, material, support, plane,
+            spacing and reach (not the torque, not the face width: the tables are per unit
+            length).
+        """
         m = self.model
         pair = dataclasses.replace(m.pair, face_width_m=1.0)     # per unit length
         support = m.planet_bore_radius if which == "planet" else m.ring_outer_radius
@@ -145,10 +157,33 @@ class CycleSolver:
                             candidates=self.model.candidates)
 
     def solve_position(self, chi: float, torque: float, deviation=None) -> PositionResult:
-        """Contact at crank angle ``chi`` (rad) under the planet torque (N m); a negative
-        torque loads the other flank of the teeth (the hat grids cover both).
-        ``deviation`` (:class:`toothfem.fem.deviations.SineDeviation`): the pair as built
-        (:func:`deviation_gaps`)."""
+        """Contact at one crank angle.
+
+        The hats selected as unknowns widen (the selection gap doubled) until the contact
+        stays inside them.
+
+        Parameters
+        ----------
+        chi : float
+            Crank angle [rad].
+        torque : float
+            Planet torque [N m], nonzero; a negative torque loads the other flank of the
+            teeth (the hat grids cover both).
+        deviation : toothfem.fem.deviations.SineDeviation, optional
+            The pair as built (:func:`deviation_gaps`).
+
+        Returns
+        -------
+        PositionResult
+
+        Raises
+        ------
+        ToothfemError
+            For a zero or non-finite torque or crank angle.
+        toothfem.fem.contact.ContactError
+            If no hat lies within the selection gap, or the contact reaches hats beyond
+            SELECT_GAP_MAX (the load is too high for the candidate teeth).
+        """
         _check_torque(torque)
         check_range("chi", chi)
         sel_gap = self.select_gap
@@ -219,13 +254,35 @@ class CycleSolver:
 
     def solve(self, torque: float, progress=None, *, deviation=None,
               pitches=None) -> LoadSharing:
-        """Load sharing at every position for the planet torque (N m), either sign.
+        """Load sharing of the sine pair at every position.
 
-        ``deviation``: the pair as built (:meth:`solve_position`); ``pitches`` (P,) puts
-        position p that many meshing periods on (the hat tables cover every tooth: exact).
-        The result keeps the labels of pitch 0: a period on, the mesh is the one of pitch
-        0 turned by 2 pi/z2 with every planet tooth index one up (SineGearPair.
-        crank_pitch_rad), so points are turned back and arc lengths put a tooth back."""
+        Parameters
+        ----------
+        torque : float
+            Planet torque [N m], either sign.
+        progress : callable, optional
+            Wraps the iterable of positions (e.g. a progress bar).
+        deviation : toothfem.fem.deviations.SineDeviation, optional
+            The pair as built (:meth:`solve_position`).
+        pitches : array_like of int, shape (P,), optional
+            Puts position p that many meshing periods on (the hat tables cover every
+            tooth: exact).
+
+        Returns
+        -------
+        LoadSharing
+            Method "cycle", with the labels of pitch 0: a period on, the mesh is the one of
+            pitch 0 turned by 2 pi/z2 with every planet tooth index one up (SineGearPair.
+            crank_pitch_rad), so points are turned back and arc lengths put a tooth back.
+
+        Raises
+        ------
+        ToothfemError
+            For a zero or non-finite torque, or ``pitches`` of another shape.
+        toothfem.fem.contact.ContactError
+            If a position does not solve (:meth:`solve_position`) or the outermost
+            candidate teeth carry load.
+        """
         _check_torque(torque)
         n_pos = self.positions_rad.size
         pitches = np.zeros(n_pos, int) if pitches is None else np.asarray(pitches, int)
@@ -248,10 +305,28 @@ class CycleSolver:
 
 
 def deviation_gaps(pair, planet, ring, hats, f2, deviation) -> np.ndarray:
-    """(H,) gap closed at each planet hat by the profile deviations [m]: the material added
-    on the hat's planet flank and on the ring flank it faces. A flank is half a tooth's
-    window of its grid (``n_hats`` per tooth, split at the middle as the meshing columns
-    are)."""
+    """Gap closed at each planet hat by the profile deviations.
+
+    The material added on the hat's planet flank and on the ring flank it faces. A flank
+    is half a tooth's window of its grid (``n_hats`` per tooth, split at the middle as the
+    meshing columns are).
+
+    Parameters
+    ----------
+    pair : toothfem.geometry.sine.SineGearPair
+    planet, ring : _GridBody
+        The hat grids of the two bodies.
+    hats : numpy.ndarray of int, shape (H,)
+        Global planet hat indices (tooth * n_hats + k).
+    f2 : numpy.ndarray, shape (H,)
+        Ring parameter of each hat's foot [rad] (:func:`ring_foot`).
+    deviation : toothfem.fem.deviations.SineDeviation
+
+    Returns
+    -------
+    numpy.ndarray, shape (H,)
+        Closed gap [m] (> 0 closes).
+    """
     tooth, cell = np.divmod(hats, planet.n_hats)
     closing = deviation.planet_profile[np.mod(tooth, pair.planet_teeth),
                                        (cell >= planet.n_hats / 2).astype(int)]

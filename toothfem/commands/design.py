@@ -12,6 +12,13 @@ from ..output import atomic_dir
 
 
 def add_parser(sub):
+    """Add ``toothfem design`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("design", help="search the disc's equidistant, move-distance and "
                        "rotation modifications for the [design] targets (backlash, "
                        "contacts, Hertz pressure, optionally at a tolerance percentile)")
@@ -23,6 +30,25 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """The modification search of a case into ``--out``, the best design on screen (JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case`` (a TOML path whose text best_case.toml copies), ``out`` and
+        ``positions`` per candidate.
+
+    Returns
+    -------
+    int
+        0 once best_case.toml and the search's files are written.
+
+    Raises
+    ------
+    CaseError
+        For an invalid case, one without [design] or [cycloid], or targets no candidate
+        meets.
+    """
     case = load_case(args.case)
     result = design_analysis(case, positions=args.positions)
     source = decode_text(Path(args.case).read_bytes(), args.case)

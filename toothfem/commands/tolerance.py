@@ -10,6 +10,13 @@ from ..tolerance import tolerance_analysis, write_tolerance
 
 
 def add_parser(sub):
+    """Add ``toothfem tolerance`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
     p = sub.add_parser("tolerance", help="distributions of pin force, Hertz pressure, "
                        "contacts, lost motion, TE and efficiency over reducers built within "
                        "the case's [tolerances], and where their scatter comes from")
@@ -31,6 +38,24 @@ def add_parser(sub):
 
 
 def run(args) -> int:
+    """The tolerance ensemble of a case into ``--out``, its percentiles on screen (JSON).
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``out``, ``samples``, ``seed``, ``positions``, ``share_samples``,
+        ``workers`` and ``scheduler``.
+
+    Returns
+    -------
+    int
+        0 once the ensemble's files are written.
+
+    Raises
+    ------
+    CaseError
+        For an invalid case, no nonzero tolerance, or a count out of range.
+    """
     case = load_case(args.case)
     result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
                                 positions=args.positions, workers=args.workers,

@@ -58,7 +58,18 @@ def _shown(key: str, value: float) -> str:
 
 
 def markdown(summary: dict) -> str:
-    """report.md of the search."""
+    """report.md of the search: targets, the best modification, its own-table check.
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`toothfem.design.DesignResult.summary`.
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     t, b = summary["targets"], summary["best"]
     lines = [f"# Modification design: {summary['case']}", "",
              f"Targets: backlash <= {t['max_backlash_arcmin']:g} arcmin, at least "

@@ -54,6 +54,14 @@ def shares(result, outputs: dict, title: str):
     """Horizontal bars: for each output, the share of its variance due to each tolerance
     alone (runs with one tolerance at a time).
 
+    Parameters
+    ----------
+    result : toothfem.tolerance.ToleranceResult
+        Its ``shares`` (ALONE_OVER_ALL left out).
+    outputs : dict
+        {column: (label, unit)}, one group of bars each.
+    title : str
+
     Returns
     -------
     matplotlib.figure.Figure
@@ -79,7 +87,20 @@ def shares(result, outputs: dict, title: str):
 
 
 def markdown(summary: dict, outputs: dict) -> str:
-    """report.md of the ensemble: settings, percentiles beside the nominal, shares."""
+    """report.md of the ensemble: settings, percentiles beside the nominal, shares.
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`toothfem.tolerance.ToleranceResult.summary` with ``share_samples``.
+    outputs : dict
+        {column: (label, unit)}, one table row each.
+
+    Returns
+    -------
+    str
+        Markdown.
+    """
     lines = [f"# Tolerance ensemble: {summary['case']}", "",
              f"{summary['samples']} built reducers (seed {summary['seed']}, "
              f"{summary['distribution']} distributions), {summary['positions']} positions "
