@@ -34,7 +34,7 @@ import numpy as np
 
 from ..errors import CaseError, check_range
 from ..fem.drives import drive_for
-from ..geometry import cycloid as cy
+from ..geometry import cycloid_mesh as cym
 from .envelope import envelope
 from .mesh_table import mesh_table
 
@@ -119,7 +119,7 @@ def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
         h = si.cycloid.holes
         k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
         b = t_member / (k * r_c)
-        _, rot = cy.disc_pose(si.cycloid.geometry, drive.positions(table.n_positions))
+        _, rot = cym.disc_pose(si.cycloid.geometry, drive.positions(table.n_positions))
         tangent = np.stack([-np.sin(rot), np.cos(rot)], axis=1)     # hole on +x
         vec = -r / k + b * tangent
         load = _turning(np.linalg.norm(r, axis=1) / k, np.full(len(r), b))

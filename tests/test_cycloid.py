@@ -13,7 +13,7 @@ import pytest
 from shapely import affinity
 
 from toothfem.errors import GeometryError
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
 from toothfem.geometry.disc import DiscHolesSI, disc_polygon
 
 PIN_HOUSING = cy.CycloidGeometry(40, 0.100, 0.001, 0.002)
@@ -24,15 +24,15 @@ CRANK = np.linspace(0.0, 2 * math.pi, 13)[:-1] + 0.123  # 12 generic crank angle
 
 
 def _pins_in_disc_frame(g, phi):
-    c = np.broadcast_to(cy.pin_centres(g)[:, None, :], (2, phi.size, g.pin_count))
-    return cy.to_disc_frame(g, phi, c).reshape(2, -1)
+    c = np.broadcast_to(cym.pin_centres(g)[:, None, :], (2, phi.size, g.pin_count))
+    return cym.to_disc_frame(g, phi, c).reshape(2, -1)
 
 
 @pytest.mark.parametrize("g", GEOMS, ids=["pin-housing", "K1=0.72"])
 def test_unmodified_profile_tangent_to_every_pin(g):
     """|distance(pin centre, working profile) - rz| < 1e-6 Rz at 12 crank angles, every pin,
     measured by a Newton foot point on the parametric curve started from a global search."""
-    d = cy.distance_to_profile(g, _pins_in_disc_frame(g, CRANK))
+    d = cym.distance_to_profile(g, _pins_in_disc_frame(g, CRANK))
     err = np.max(np.abs(d - g.pin_radius_m))
     assert err < 1e-6 * g.pin_circle_radius_m
     assert err < 1e-12  # in fact exact to rounding: the pins lie on the theoretical curve
@@ -81,11 +81,11 @@ def test_clearance_closed_form_matches_exact_geometry(mods):
     error is second order: see the next test)."""
     g = cy.CycloidGeometry(40, 0.100, 0.001, 0.002, **mods)
     theta = np.linspace(0.02, math.pi - 0.02, 90)
-    exact0 = cy.clearance_exact(g, -theta)[:, 0]    # pin 0 at angle theta from the centres' line
-    d0, d, beta0 = cy.clearance_closed_form(g, theta)
+    exact0 = cym.clearance_exact(g, -theta)[:, 0]    # pin 0 at angle theta from the centres' line
+    d0, d, beta0 = cym.clearance_closed_form(g, theta)
     scale = np.max(np.abs(d0))
     assert np.max(np.abs(exact0 - d0)) < 0.02 * scale
-    arm = np.abs(cy.seed_moment_arm(g, theta))
+    arm = np.abs(cym.seed_moment_arm(g, theta))
     beta_exact = np.min(exact0 / arm)
     exact = exact0 - beta_exact * arm
     assert np.max(np.abs(exact - d)) < 0.02 * scale
@@ -100,8 +100,8 @@ def test_clearance_error_is_second_order():
     for s in (1.0, 0.1):
         g = cy.CycloidGeometry(40, 0.100, 0.001, 0.002, equidistant_m=40e-6 * s,
                                move_distance_m=-40e-6 * s, rotation_rad=2e-4 * s)
-        errs.append(np.max(np.abs(cy.clearance_exact(g, -theta)[:, 0]
-                                  - cy.clearance_closed_form(g, theta)[0])))
+        errs.append(np.max(np.abs(cym.clearance_exact(g, -theta)[:, 0]
+                                  - cym.clearance_closed_form(g, theta)[0])))
     assert 50 < errs[0] / errs[1] < 200
 
 
@@ -112,7 +112,7 @@ def test_textbook_form_for_positive_equidistant_negative_move():
     s = np.sqrt(1 + k1**2 - 2 * k1 * np.cos(theta))
     book = (15e-6 * (1 - np.sin(theta) / s)
             + 8e-6 * (1 - k1 * np.cos(theta) - math.sqrt(1 - k1**2) * np.sin(theta)) / s)
-    assert np.allclose(cy.clearance_closed_form(g, theta)[1], book, rtol=0, atol=1e-15)
+    assert np.allclose(cym.clearance_closed_form(g, theta)[1], book, rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize("kwargs, match", [
@@ -153,14 +153,14 @@ def test_kinematics_against_profile_and_seed(g):
     against the same quantities computed from the parametric profile; velocities against
     finite differences of the disc pose."""
     phi = CRANK
-    m = cy.meshing(g, phi, crank_speed_rad_s=2.0)
+    m = cym.meshing(g, phi, crank_speed_rad_s=2.0)
     # -- from the profile: foot point of each pin centre, normal of the working curve there
     gg = g.generating()
     local = _pins_in_disc_frame(g, phi)
-    psi, _ = cy.foot_point(gg, local, cy._nearest_psi(gg, local))
+    psi, _ = cym.foot_point(gg, local, cym._nearest_psi(gg, local))
     n_loc = -cy.inward_normal(gg, psi)                 # outward normal of the disc
     k_loc = cy.working_profile(gg, psi)
-    centre, rot = cy.disc_pose(g, phi)
+    centre, rot = cym.disc_pose(g, phi)
     rot = np.repeat(rot, g.pin_count)
     c, s = np.cos(rot), np.sin(rot)
     k = np.stack([c * k_loc[0] - s * k_loc[1], s * k_loc[0] + c * k_loc[1]])
@@ -172,13 +172,13 @@ def test_kinematics_against_profile_and_seed(g):
     assert np.allclose(m.moment_arm, arm, atol=1e-12)
     theta_b = np.mod(2 * math.pi * np.arange(g.pin_count) / g.pin_count - phi[:, None],
                      2 * math.pi)
-    assert np.allclose(m.moment_arm, -cy.seed_moment_arm(g, theta_b), atol=1e-12)
+    assert np.allclose(m.moment_arm, -cym.seed_moment_arm(g, theta_b), atol=1e-12)
     alpha = np.arccos(np.abs(arm) / np.hypot(*rel).reshape(m.shape))
     assert np.allclose(m.pressure_angle, alpha, atol=1e-9)
     # -- velocities: disc material point and contact point by central differences in time
     omega, h = 2.0, 1e-6
     def pose_point(dphi, local_pts):
-        cc, rr = cy.disc_pose(g, phi + dphi)
+        cc, rr = cym.disc_pose(g, phi + dphi)
         rr = np.repeat(rr, g.pin_count)
         p = np.stack([np.cos(rr) * local_pts[0] - np.sin(rr) * local_pts[1],
                       np.sin(rr) * local_pts[0] + np.cos(rr) * local_pts[1]])
@@ -186,8 +186,8 @@ def test_kinematics_against_profile_and_seed(g):
     v_mat = (pose_point(h, k_loc) - pose_point(-h, k_loc)) / (2 * h) * omega
     t = np.moveaxis(np.stack([-m.normal[..., 1], m.normal[..., 0]]), 0, 0).reshape(2, -1)
     assert np.allclose(m.sliding_velocity.ravel(), np.sum(v_mat * t, axis=0), atol=1e-9)
-    k_next = cy.meshing(g, phi + h).point
-    k_prev = cy.meshing(g, phi - h).point
+    k_next = cym.meshing(g, phi + h).point
+    k_prev = cym.meshing(g, phi - h).point
     dk = (np.moveaxis(k_next - k_prev, -1, 0) / (2 * h) * omega).reshape(2, -1)
     u_pin = np.sum(dk * t, axis=0)
     u_disc = u_pin - np.sum(v_mat * t, axis=0)
@@ -195,12 +195,12 @@ def test_kinematics_against_profile_and_seed(g):
 
 
 def test_normals_pass_through_pitch_point_and_disc_turns_back():
-    m = cy.meshing(PIN_HOUSING, CRANK)
+    m = cym.meshing(PIN_HOUSING, CRANK)
     pitch = PIN_HOUSING.pin_pitch_radius_m * np.stack([np.cos(CRANK), np.sin(CRANK)], -1)
     d = pitch[:, None, :] - m.point
     cross = d[..., 0] * m.normal[..., 1] - d[..., 1] * m.normal[..., 0]
     assert np.max(np.abs(cross)) < 1e-14
-    _, rot = cy.disc_pose(PIN_HOUSING, [0.0, 2 * math.pi])
+    _, rot = cym.disc_pose(PIN_HOUSING, [0.0, 2 * math.pi])
     assert math.isclose(rot[1] - rot[0], -2 * math.pi / 39, rel_tol=1e-14)
 
 
@@ -215,7 +215,7 @@ def test_seed_sum_of_squared_moment_arms():
     target = g.pin_count * g.disc_pitch_radius_m**2 / 4
     sym = np.arange(6) * math.pi / g.pin_count
     for phi, rtol in ((sym, 1e-12), (CRANK, 1e-4)):
-        m = cy.meshing(g, phi)
+        m = cym.meshing(g, phi)
         s = np.sum(np.where(m.moment_arm < 0, m.moment_arm**2, 0.0), axis=1)
         assert np.allclose(s, target, rtol=rtol)
         assert np.allclose(np.sum(m.moment_arm**2, axis=1), 2 * target, rtol=1e-12)
@@ -223,17 +223,17 @@ def test_seed_sum_of_squared_moment_arms():
 
 
 def test_rolling_pins_do_not_slide_on_the_disc():
-    m_fixed = cy.meshing(PIN_HOUSING, CRANK, pin_motion="fixed")
-    m_roll = cy.meshing(PIN_HOUSING, CRANK, pin_motion="rolling")
+    m_fixed = cym.meshing(PIN_HOUSING, CRANK, pin_motion="fixed")
+    m_roll = cym.meshing(PIN_HOUSING, CRANK, pin_motion="rolling")
     assert np.all(m_roll.sliding_velocity == 0)
     assert np.max(np.abs(m_fixed.sliding_velocity)) > 0
     assert np.all(np.isfinite(m_fixed.slide_to_roll))
     assert np.all(m_fixed.equivalent_radius > 0)
     with pytest.raises(GeometryError, match="pin_motion = 'sliding' is not one of"):
-        cy.meshing(PIN_HOUSING, CRANK, pin_motion="sliding")
+        cym.meshing(PIN_HOUSING, CRANK, pin_motion="sliding")
 
 
 def test_modified_meshing_gap_is_exact_clearance():
     g = cy.CycloidGeometry(40, 0.100, 0.001, 0.002, equidistant_m=10e-6)
-    m = cy.meshing(g, CRANK)
+    m = cym.meshing(g, CRANK)
     assert np.allclose(m.gap, 10e-6, atol=1e-12)  # equidistant: uniform normal clearance

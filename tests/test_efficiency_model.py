@@ -12,7 +12,7 @@ from toothfem.efficiency.lubricant import viscosity_factor
 from toothfem.fem.drives import drive_for
 from toothfem.efficiency import spur
 from toothfem.fem.load_sharing import analytic_split
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid_mesh as cym
 
 
 @pytest.fixture(scope="module")
@@ -47,7 +47,7 @@ def test_pin_contact_loss_matches_mesh_loss_module(pinhousing):
     crank = abs(n_in * 2 * math.pi / 60 * w["crank"])
     g = cyc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, 36, endpoint=False)
-    state = cy.meshing(g, phis, crank, pin_motion="fixed")
+    state = cym.meshing(g, phis, crank, pin_motion="fixed")
     ls = analytic_split(state, t2 / cyc.disc_count, cyc.face_width_mm * 1e-3, 1.14e11,
                         weight="moment_arm")
     ml = mesh_loss(state, ls, 1.0, mu=0.05)

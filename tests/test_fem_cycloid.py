@@ -12,7 +12,7 @@ import pytest
 from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.load_sharing import analytic_split
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid_mesh as cym
 from toothfem.fem.drives import drive_for
 
 
@@ -59,7 +59,7 @@ def test_rigid_body_limit_reproduces_seed(model, case):
     20 pins with 0 < theta_b < pi; F_max from the exact sum of l_i^2 (Eq. 13 within 1e-4)."""
     torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     ls = cf.CycleSolver(model, PHIS, equal_springs=1e-11).solve(torque)
-    state = cy.meshing(model.geometry, PHIS)
+    state = cym.meshing(model.geometry, PHIS)
     seed = analytic_split(state, torque, model.face_width, model.e_star, weight="moment_arm")
     assert np.all(ls.contacts_per_position == 20)
     assert np.allclose(ls.force, seed.force, rtol=1e-9, atol=1e-9)

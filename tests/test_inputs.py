@@ -19,7 +19,7 @@ from toothfem.report import plots
 from toothfem.efficiency.loop import measured as ms
 from toothfem.errors import MeasuredDataError, check_range
 from toothfem.fem.cache import CacheWarning, DiskCache, content_key
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
 from toothfem.output import atomic_dir, clean_stale
 
 try:
@@ -194,13 +194,13 @@ def test_cycloid_meshing_finite_at_an_inflection_point():
     the pin on the line of centres gets R_eq = r_pin, not inf/inf."""
     g = cy.CycloidGeometry(20, 40e-3, 0.1e-3, 2e-3)
     assert g.k1 == pytest.approx(1 / 20)
-    m = cy.meshing(g, np.linspace(0, 2 * math.pi / 20, 5))
+    m = cym.meshing(g, np.linspace(0, 2 * math.pi / 20, 5))
     for f in ("equivalent_radius", "moment_arm", "pressure_angle", "gap"):
         assert np.all(np.isfinite(getattr(m, f))), f
     assert m.equivalent_radius[0, 0] == pytest.approx(2e-3, rel=1e-12)
     # the two-radius form elsewhere: 1/R = 1/(rho - r) + 1/r
     g2 = cy.CycloidGeometry(40, 100e-3, 1e-3, 2e-3)
-    m2 = cy.meshing(g2, [0.1])
+    m2 = cym.meshing(g2, [0.1])
     rho = cy._rho_of_theta(g2.nominal(), np.mod(2 * np.pi * np.arange(40) / 40 - 0.1,
                                                  2 * np.pi))
     np.testing.assert_allclose(m2.equivalent_radius[0],
@@ -212,10 +212,10 @@ def test_cycloid_clearance_of_a_strongly_curtate_modified_disc():
     wandered; the nested-grid start gives the minimum distance (checked by brute force)."""
     g = cy.CycloidGeometry(89, 100e-3, 1e-3, 2e-3, 0.01e-3, 0.005e-3, math.radians(0.05))
     phi = np.array([0.0, math.pi / 89])
-    d = cy.clearance_exact(g, phi)
+    d = cym.clearance_exact(g, phi)
     assert np.all(np.isfinite(d))
     gen = g.generating()
-    local = cy.to_disc_frame(g, phi, np.broadcast_to(cy.pin_centres(g)[:, None, :],
+    local = cym.to_disc_frame(g, phi, np.broadcast_to(cym.pin_centres(g)[:, None, :],
                                                      (2, 2, 89))).reshape(2, -1)
     psi = np.linspace(0, 2 * np.pi, 200_001)
     ref = []

@@ -77,12 +77,12 @@ def _pin_loss(case, c_mm, springs, torque=120.0, speed=1000.0, positions=12):
     """Cycle-mean sum mu F v_s of the pins at one operating point, load split from the FE
     cycle mode (springs None) or the equal-springs limit."""
     from toothfem.fem import cycloid_fe as cf
-    from toothfem.geometry import cycloid as cy
+    from toothfem.geometry import cycloid_mesh as cym
 
     cc = R(case.cycloid, equidistant_modification_mm=c_mm)
     g = cc.geometry()
     phis = np.linspace(0, 2 * math.pi / g.pin_count, positions, endpoint=False)
-    state = cy.meshing(g, phis, 1.0, pin_motion="fixed")
+    state = cym.meshing(g, phis, 1.0, pin_motion="fixed")
     model = drive_for(R(case, cycloid=cc)).fe_model()
     rec = cf.CycleSolver(model, phis, equal_springs=springs).solve(torque / cc.disc_count)
     tab = table_from_records(state, [rec], "check")

@@ -8,7 +8,7 @@ import pytest
 from tests.oracles.mesh_loss import mesh_loss, stage_power
 from toothfem import ToothfemError, load_case
 from toothfem.fem.load_sharing import analytic_split
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid_mesh as cym
 
 PHIS = np.linspace(0, 2 * math.pi / 40, 6, endpoint=False)
 
@@ -18,8 +18,8 @@ def setup(cases_dir):
     case = load_case(cases_dir / "cycloid_pinhousing.toml")
     g = case.cycloid.geometry()
     torque, crank = 91.85, 60.0
-    fixed = cy.meshing(g, PHIS, crank, pin_motion="fixed")
-    rolling = cy.meshing(g, PHIS, crank, pin_motion="rolling")
+    fixed = cym.meshing(g, PHIS, crank, pin_motion="fixed")
+    rolling = cym.meshing(g, PHIS, crank, pin_motion="rolling")
     ls = analytic_split(fixed, torque, 0.01, 1.14e11, weight="moment_arm")
     return fixed, rolling, ls, stage_power(torque, crank, -39)
 

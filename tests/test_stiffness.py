@@ -18,7 +18,7 @@ from toothfem.fem.datasheet.transmission import (fourier_fill, harmonic_amplitud
                                                   sampled_pitches)
 from toothfem.fem.datasheet.twist import ARCMIN, TwistModel, closing_rotation
 from toothfem.fem.drives import drive_for
-from toothfem.geometry import cycloid as cy
+from toothfem.geometry import cycloid_mesh as cym
 
 
 @pytest.fixture(scope="module")
@@ -118,8 +118,8 @@ def test_backlash_is_the_closing_rotation(drive, supports):
     solver = cf.CycleSolver(d.fe_model(), phis, equal_springs=SPRING, sides=(1, -1))
     model = TwistModel(d, supports, solver)
     theta_b = np.mod(2 * np.pi * np.arange(40)[None, :] / 40 - phis[:, None], 2 * np.pi)
-    d0, _, _ = cy.clearance_closed_form(g, theta_b)
-    arm = np.abs(cy.seed_moment_arm(g, theta_b))
+    d0, _, _ = cym.clearance_closed_form(g, theta_b)
+    arm = np.abs(cym.seed_moment_arm(g, theta_b))
     for side, flank in ((1, theta_b < np.pi), (-1, theta_b > np.pi)):
         want = np.min(np.where(flank & (arm > 0), d0 / np.where(arm > 0, arm, 1), np.inf),
                       axis=1)
@@ -128,7 +128,7 @@ def test_backlash_is_the_closing_rotation(drive, supports):
     sheet = datasheet(model, 167.0)
     backlash = np.mean(model.at(0.0, 1).total - model.at(0.0, -1).total) / ARCMIN
     assert sheet.backlash_arcmin == pytest.approx(backlash, rel=1e-12)
-    assert backlash == pytest.approx(2 * cy.closing_rotation(g) / ARCMIN, rel=1e-2)
+    assert backlash == pytest.approx(2 * cym.closing_rotation(g) / ARCMIN, rel=1e-2)
 
 
 # -- FE: mirror symmetry and the cycle solver's TE ------------------------------------------

@@ -8,7 +8,7 @@ import numpy as np
 from .case import Case
 from .efficiency import evaluate, operating_point
 from .errors import ToothfemError
-from .geometry import cycloid as cy, sine, train
+from .geometry import cycloid as cy, cycloid_mesh as cym, sine, train
 
 
 #: The sign convention of every ratio `check` prints (toothfem.geometry.train), said once.
@@ -87,7 +87,7 @@ def _cycloid(case: Case) -> dict:
         "disc_tip_radius_mm": _r(g.tip_radius_m * 1e3),
         "min_convex_curvature_radius_mm": _r(rho * 1e3),
         "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
-        "backlash_arcmin": _r(math.degrees(cy.closing_rotation(g)) * 60) if g.modified else 0.0,
+        "backlash_arcmin": _r(math.degrees(cym.closing_rotation(g)) * 60) if g.modified else 0.0,
     }
     if case.first_stage is not None:
         fs = case.first_stage
@@ -98,7 +98,7 @@ def _cycloid(case: Case) -> dict:
         d["disc_torque_Nm"] = _r(m_a)
         # seed Eq. 13: P_max = 4 M_a / (r_a Zb) (rigid pins, all pins on one side loaded)
         d["seed_max_pin_force_N"] = _r(4 * m_a / (g.disc_pitch_radius_m * st.pin_count))
-    m = cy.meshing(g, 0.0)
+    m = cym.meshing(g, 0.0)
     d["pins_with_load_carrying_normal"] = int(np.sum(m.moment_arm[0] < 0))
     d["min_pressure_angle_loaded_deg"] = _r(math.degrees(
         float(np.min(m.pressure_angle[0][m.moment_arm[0] < 0]))))

@@ -185,18 +185,18 @@ def _ccw(conn, xy):
 
 def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = None) -> Mesh2D:
     import gmsh
-    from toothfem.geometry import cycloid
+    from toothfem.geometry import cycloid, cycloid_mesh
 
     geom = pb.geom
     g = geom.generating()
-    centre_m, theta = cycloid.disc_pose(geom, phi)
+    centre_m, theta = cycloid_mesh.disc_pose(geom, phi)
     oc = centre_m[:, 0] * 1e3                       # disc centre, mm
     rot = _rot(float(theta[0]))
     to_h = lambda pts: (rot @ pts).T + oc           # disc frame (2, n) mm -> (n, 2) housing
 
-    state = cycloid.meshing(geom, phi)
+    state = cycloid_mesh.meshing(geom, phi)
     kpts = state.point[0] * 1e3                      # (Zb, 2) contact points, housing, mm
-    pins = cycloid.pin_centres(geom).T * 1e3         # (Zb, 2)
+    pins = cycloid_mesh.pin_centres(geom).T * 1e3         # (Zb, 2)
 
     hc = opt.mesh_size
     r_in = max(opt.refine_radius, 3 * hc)
@@ -346,7 +346,7 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
     cand = (j[:, None] + np.arange(-60, 61)[None, :]) % dense.size
     d2 = (wd[0][cand] - local[0][:, None]) ** 2 + (wd[1][cand] - local[1][:, None]) ** 2
     psi0 = dense[cand[np.arange(cand.shape[0]), np.argmin(d2, axis=1)]]
-    psi, dist = cycloid.foot_point(g, local, psi0)
+    psi, dist = cycloid_mesh.foot_point(g, local, psi0)
     move_prof = float(np.max(np.abs(dist))) * 1e3
     xy[prof_nodes] = to_h(cycloid.working_profile(g, psi) * 1e3)
     move_pin = 0.0
@@ -405,7 +405,7 @@ class Deck:
 
 
 def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
-    from toothfem.geometry import cycloid
+    from toothfem.geometry import cycloid_mesh
     xy = mesh.xy
     n = xy.shape[0]
     t = opt.slab
@@ -418,7 +418,7 @@ def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
         out.append(f"{nid(i)}, {x:.12g}, {y:.12g}, 0")
     for i, (x, y) in enumerate(xy):
         out.append(f"{nid(i, True)}, {x:.12g}, {y:.12g}, {t:.12g}")
-    centre_m, _ = cycloid.disc_pose(pb.geom, phi)
+    centre_m, _ = cycloid_mesh.disc_pose(pb.geom, phi)
     oc = centre_m[:, 0] * 1e3
     ref, rotn = 2 * n + 1, 2 * n + 2
     out += [f"{ref}, {oc[0]:.12g}, {oc[1]:.12g}, {t / 2:.12g}", f"{rotn}, 0, 0, 0"]
@@ -581,18 +581,18 @@ def run_ccx(exe: str, deck: Deck, work: Path, job: str, opt: Options) -> tuple[d
 def seed_distribution(pb: Problem, phi: float):
     """Seed's rigid-body sharing: P_i = P_max l_i / r_a on the pins with 0 < theta_b < pi,
     P_max = 4 M_a / (r_a Zb). Returns (P (Zb,), theta_b (Zb,), loaded mask)."""
-    from toothfem.geometry import cycloid
+    from toothfem.geometry import cycloid_mesh
     geom = pb.geom
     theta_b = np.mod(2 * math.pi * np.arange(pb.zb) / pb.zb - phi, 2 * math.pi)
     loaded = np.sin(theta_b) > 1e-12
     r_a = geom.disc_pitch_radius_m
-    l = np.abs(cycloid.seed_moment_arm(geom, theta_b))
+    l = np.abs(cycloid_mesh.seed_moment_arm(geom, theta_b))
     p_max = 4 * pb.torque_Nmm * 1e-3 / (r_a * pb.zb)
     return np.where(loaded, p_max * l / r_a, 0.0), theta_b, loaded, p_max
 
 
 def run_position(pb: Problem, frac: Fraction, opt: Options, exe: str, work: Path) -> dict:
-    from toothfem.geometry import cycloid
+    from toothfem.geometry import cycloid_mesh
     phi = float(frac) * 2 * math.pi / pb.zb
     tag = f"phi{float(frac):.4f}_h{opt.mesh_size:g}".replace(".", "p")
     wdir = work / tag
@@ -605,7 +605,7 @@ def run_position(pb: Problem, frac: Fraction, opt: Options, exe: str, work: Path
 
     if np.isnan(res["pin_rf"]).any() or not res["cstr"]:
         raise RuntimeError(f"could not read pin forces / contact stresses from {wdir}/disc.dat")
-    state = cycloid.meshing(pb.geom, phi)
+    state = cycloid_mesh.meshing(pb.geom, phi)
     normal = state.normal[0]                          # (Zb, 2) pin -> disc
     kpts = state.point[0] * 1e3
     rf = res["pin_rf"][:, :2] * deck.scale            # reaction on the fixed pin nodes

@@ -5,7 +5,8 @@
 effects from the catalog one at a time while they help. One job per module:
 
 * :mod:`.measured`: measured efficiency data (CSV with units in the column names, provenance
-  beside it) as a :class:`~.measured.MeasuredData` record;
+  beside it) as a :class:`~.measured.MeasuredData` record; :mod:`.measured_columns`: the
+  columns' units and the checks of the header, cells and rows;
 * :mod:`.effects`: the catalog of physical effects, each a parameter of the model with its
   bounds, case fields, equation and source;
 * :mod:`.binning`: many rows onto fewer operating points (the mean of each cell of a grid);

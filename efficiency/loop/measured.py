@@ -4,7 +4,8 @@
 ``parse_measured(text, ...)`` validates text, so tests pass strings. The result is a
 :class:`MeasuredData` record of arrays.
 
-Columns (the unit is the suffix of the name; :data:`QUANTITIES` lists the units known):
+Columns (the unit is the suffix of the name; :data:`.measured_columns.QUANTITIES` lists the
+units known):
 
 * required: ``input_speed_rpm``, ``output_torque_Nm`` and ``efficiency`` (a fraction;
   ``efficiency_pct`` in percent) or ``input_torque_Nm`` (then the efficiency is
@@ -37,7 +38,6 @@ from __future__ import annotations
 import csv
 import io
 import json
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -45,29 +45,9 @@ import numpy as np
 
 from ...errors import MeasuredDataError, decode_text
 from ...errors import ToothfemError  # noqa: F401 (re-exported)
-
-
-#: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
-#: value_canonical = factor * value + offset.
-QUANTITIES = {
-    "input_speed": {"rpm": (1.0, 0.0), "rad_s": (60.0 / (2 * math.pi), 0.0),
-                    "rps": (60.0, 0.0)},
-    "output_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
-    "input_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
-    "oil_temp": {"C": (1.0, 0.0), "K": (1.0, -273.15), "F": (5.0 / 9.0, -160.0 / 9.0)},
-    "time": {"h": (1.0, 0.0), "min": (1.0 / 60.0, 0.0), "s": (1.0 / 3600.0, 0.0)},
-    "efficiency_sigma": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
-    "efficiency": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
-}
-#: Canonical column names of the record.
-CANONICAL = {"input_speed": "input_speed_rpm", "output_torque": "output_torque_Nm",
-             "input_torque": "input_torque_Nm", "oil_temp": "oil_temp_C", "time": "time_h",
-             "efficiency": "efficiency", "efficiency_sigma": "efficiency_sigma"}
-#: Relative disagreement allowed between an efficiency column and T2 / (|i| T1) (the
-#: rounding of values written with 6-7 significant digits, with a wide margin).
-CONSISTENCY_RTOL = 1e-4
-#: Oil temperatures outside this range [deg C] are refused as misread.
-OIL_TEMP_RANGE_C = (-40.0, 250.0)
+from .measured_columns import (QUANTITIES, _check_percent_column, _check_row, _columns,
+                               _comments, _free_columns, _header, _next_row, _number,
+                               _percent_hint)
 
 
 @dataclass(frozen=True)
@@ -140,42 +120,6 @@ class MeasuredData:
                             lines=take(self.lines), rejected=self.rejected,
                             provenance=dict(self.provenance), source=self.source,
                             notes=self.notes)
-
-
-def _column(name: str):
-    """(quantity, factor, offset) of a known column, ('run_id', None, None), or
-    (None, None, None) for a free covariate. Raises on a known quantity in an unknown
-    unit."""
-    if name == "run_id":
-        return "run_id", None, None
-    for q, units in QUANTITIES.items():     # efficiency_sigma before efficiency
-        if name == q or name.startswith(q + "_"):
-            unit = name[len(q) + 1:]
-            if q == "efficiency" and unit.startswith("sigma"):
-                continue
-            if unit not in units:
-                known = ", ".join(repr(u) if u else "(none)" for u in units)
-                raise MeasuredDataError(
-                    f"column {name!r}: unknown unit {unit!r} for {q}; known: {known}")
-            f, o = units[unit]
-            return q, f, o
-    return None, None, None
-
-
-def _number(text, name):
-    """(value, reason): the float in a cell, or None and why not."""
-    s = text.strip()
-    if s == "":
-        return None, f"{name} is empty"
-    try:
-        v = float(s)
-    except ValueError:
-        return None, f"{name} = {s!r} is not a number"
-    if math.isnan(v):
-        return None, f"{name} is NaN"
-    if math.isinf(v):
-        return None, f"{name} = {s} is not finite"
-    return v, None
 
 
 def sensor_sigma(eff, t_in, t_out, sensors) -> np.ndarray | None:
@@ -328,140 +272,6 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
                         input_torque_Nm=t_in, sigma=sigma, extra=extra,
                         lines=np.array(line_no), rejected=tuple(rejected), provenance=prov,
                         source=source, notes=tuple(notes))
-
-
-def _comments(lines):
-    """(provenance from ``# key: value`` lines, index of the header line)."""
-    prov, start = {}, 0
-    while start < len(lines) and (lines[start].lstrip().startswith("#")
-                                  or not lines[start].strip()):
-        body = lines[start].lstrip().lstrip("#").strip()
-        if ":" in body:
-            k, v = body.split(":", 1)
-            prov[k.strip()] = v.strip()
-        start += 1
-    return prov, start
-
-
-def _next_row(reader, source, line):
-    """The next row of cells, or None at the end; a row the csv module cannot split (a NUL
-    byte, a field beyond its size limit) refuses the file naming the line."""
-    try:
-        return next(reader)
-    except StopIteration:
-        return None
-    except csv.Error as exc:
-        raise MeasuredDataError(f"{source}: line {line}: cannot be read as CSV ({exc})") \
-            from None
-
-
-def _header(cells, source):
-    """Column names, stripped; empty names at the end (a trailing comma) are dropped."""
-    header = [h.strip() for h in cells or ()]
-    while header and not header[-1]:
-        header.pop()
-    for j, name in enumerate(header):
-        if not name:
-            raise MeasuredDataError(f"{source}: column {j + 1} of the header has no name")
-    return header
-
-
-def _columns(header, source):
-    """quantity or column name -> (index, factor, offset); refuses a bad header."""
-    columns = {}
-    for j, name in enumerate(header):
-        q, f, o = _column(name)
-        key = q or name
-        if key in columns:
-            raise MeasuredDataError(f"{source}: {key} appears twice in the header "
-                                    f"({header[columns[key][0]]!r} and {name!r})")
-        columns[key] = (j, f, o)
-    for q in ("input_speed", "output_torque"):
-        if q not in columns:
-            raise MeasuredDataError(f"{source}: missing column {CANONICAL[q]} (have "
-                                    f"{header})")
-    if "efficiency" not in columns and "input_torque" not in columns:
-        raise MeasuredDataError(f"{source}: missing column efficiency (or input_torque_Nm "
-                                f"with the reducer ratio); have {header}")
-    return columns
-
-
-def _free_columns(cells):
-    """Further covariates from their cells: a column whose every cell is a finite number is
-    kept; any other (text, a label, empty or NaN cells) is dropped whole, with a note, so
-    that it never refuses a good row nor puts a hole in a covariate."""
-    extra, notes = {}, []
-    for name, col in cells.items():
-        parsed = [_number(c, name) for c in col]
-        bad = [why for _, why in parsed if why]
-        if not bad:
-            extra[name] = np.array([v for v, _ in parsed], float)
-            continue
-        n_text = sum(" is not a number" in why for why in bad)
-        kind = ("text" if n_text == len(col) else
-                f"{len(bad)} of {len(col)} cells empty or not a number")
-        notes.append(f"column {name!r} dropped ({kind}): not used as a covariate; the rows "
-                     "are kept")
-    return extra, notes
-
-
-#: An efficiency in percent at or below this in every row reads as a fraction.
-PERCENT_AS_FRACTION_MAX = 1.0
-
-
-def _check_percent_column(header, columns, values, source):
-    """Refuse an ``efficiency_pct`` column whose every value looks like a fraction (a
-    column in percent that holds 0.82 would make the efficiency 0.8 %)."""
-    if "efficiency" not in columns or columns["efficiency"][1] != 0.01:
-        return
-    pct = np.asarray(values["efficiency"]) * 100
-    if pct.size and np.all(pct <= PERCENT_AS_FRACTION_MAX):
-        name = header[columns["efficiency"][0]]
-        raise MeasuredDataError(
-            f"{source}: column {name!r} holds fractions (every value <= "
-            f"{PERCENT_AS_FRACTION_MAX:g}, largest {pct.max():.6g}): name it 'efficiency' for "
-            "fractions, or give the values in percent")
-
-
-def _percent_hint(rejected) -> str:
-    """A hint when every row was refused for an efficiency above 1 (percent in a column of
-    fractions)."""
-    if rejected and all(r.reason.startswith("efficiency =") and "outside (0, 1]" in r.reason
-                        and not r.reason.startswith("efficiency = -") for r in rejected):
-        return ": the efficiency column seems to hold percent; name it 'efficiency_pct'"
-    return ""
-
-
-def _check_row(v, i_abs):
-    """Why a parsed row is refused, or None."""
-    if v["input_speed"] < 0:
-        return f"input_speed_rpm = {v['input_speed']:g} is negative"
-    if v["input_speed"] == 0:
-        return "input_speed_rpm = 0: no efficiency at standstill"
-    for q in ("output_torque", "input_torque"):
-        if q in v and v[q] <= 0:
-            return f"{CANONICAL[q]} = {v[q]:g} must be > 0 (the drive direction)"
-    eff = v.get("efficiency")
-    if eff is None:
-        eff = v["output_torque"] / (i_abs * v["input_torque"])
-        label = "efficiency T2/(|i| T1)"
-    else:
-        label = "efficiency"
-    if not 0 < eff <= 1:
-        return f"{label} = {eff:.6g} is outside (0, 1]"
-    if "efficiency" in v and "input_torque" in v and i_abs is not None:
-        from_torques = v["output_torque"] / (i_abs * v["input_torque"])
-        if abs(from_torques - eff) > CONSISTENCY_RTOL * eff:
-            return (f"efficiency = {eff:.6g} disagrees with T2/(|i| T1) = {from_torques:.6g} "
-                    f"(ratio {i_abs:g})")
-    if "efficiency_sigma" in v and not v["efficiency_sigma"] > 0:
-        return f"efficiency_sigma = {v['efficiency_sigma']:g} must be > 0"
-    if "oil_temp" in v and not OIL_TEMP_RANGE_C[0] <= v["oil_temp"] <= OIL_TEMP_RANGE_C[1]:
-        return (f"oil_temp_C = {v['oil_temp']:g} is outside [{OIL_TEMP_RANGE_C[0]:g}, "
-                f"{OIL_TEMP_RANGE_C[1]:g}]")
-    if "time" in v and v["time"] < 0:
-        return f"time_h = {v['time']:g} is negative"
-    return None
 
 
 def distinct_points(data: MeasuredData) -> int:

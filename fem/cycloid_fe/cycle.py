@@ -11,7 +11,7 @@ import numpy as np
 
 from ..hertz import line_half_width
 from ...errors import ToothfemError, check_range
-from ...geometry import cycloid as cy
+from ...geometry import cycloid_mesh as cy
 from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key

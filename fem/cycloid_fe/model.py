@@ -9,7 +9,7 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import ToothfemError, check_range
-from ...geometry import cycloid as cy
+from ...geometry import cycloid_mesh as cy  # with the profile names it imports
 from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body, SameMaterial, plane_modulus

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import CaseError
-from ...geometry import cycloid as cy
+from ...geometry import cycloid as cy, cycloid_mesh as cym
 from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
 from .. import deviations as dv
@@ -131,7 +131,7 @@ class CycloidDrive(Drive):
         -------
         toothfem.geometry.kinematics.MeshingState
         """
-        return cy.meshing(self.geometry, positions_rad, crank_speed_rad_s, pin_motion="fixed")
+        return cym.meshing(self.geometry, positions_rad, crank_speed_rad_s, pin_motion="fixed")
 
     def fe_model(self, *, pin_structure: str | None = None, plane: str = "strain"):
         """The disc, its pins and material as an FE model.
@@ -291,7 +291,7 @@ class CycloidDrive(Drive):
         """
         h = self.stage.holes
         n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-        _, rot = cy.disc_pose(self.geometry, positions_rad)
+        _, rot = cym.disc_pose(self.geometry, positions_rad)
         ang = 2 * math.pi * np.arange(n)[None, :] / n + rot[:, None]      # (P, n)
         t = np.stack([-np.sin(ang), np.cos(ang)])                          # (2, P, n)
         tq = np.asarray(member_torque, float)[:, None] / (n * r_c)
@@ -373,7 +373,7 @@ class CycloidDrive(Drive):
         """
         t, dist = tolerances, tolerances.distribution
         zb, za = self.geometry.pin_count, self.stage.lobe_count
-        radial = cy.pin_centres(self.geometry) / self.geometry.pin_circle_radius_m
+        radial = cym.pin_centres(self.geometry) / self.geometry.pin_circle_radius_m
         offset = dv.in_zone(rng, t.pin_position_m, zb, dist) \
             + radial * dv.symmetric(rng, t.pin_circle_radius_m, 1, dist)
         holes = dv.in_zone(rng, t.crank_hole_position_m, self.stage.holes.crank_hole_count,
@@ -409,7 +409,7 @@ class CycloidDrive(Drive):
             [m], the input's shape.
         """
         pts = np.asarray(point, float)
-        local = cy.to_disc_frame(model.geometry, [position_rad], pts.reshape(2, 1, -1))
+        local = cym.to_disc_frame(model.geometry, [position_rad], pts.reshape(2, 1, -1))
         return local[:, 0, :].reshape(pts.shape)
 
     def fixed_outlines(self, points_per_tooth: int = 48) -> list:
@@ -428,7 +428,7 @@ class CycloidDrive(Drive):
         g = self.geometry
         t = np.linspace(0.0, 2 * math.pi, points_per_tooth, endpoint=False)
         circle = g.pin_radius_m * np.stack([np.cos(t), np.sin(t)])
-        return [c[:, None] + circle for c in cy.pin_centres(g).T]
+        return [c[:, None] + circle for c in cym.pin_centres(g).T]
 
 
 def _whole(x: float, tol: float = 1e-9) -> bool:

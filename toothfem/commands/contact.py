@@ -8,7 +8,8 @@ from ..case import load_case
 from ..case_checks import TORQUE_NM
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
-from ..pipeline import contact_analysis, contact_labels, write_contact
+from ..pipeline import contact_analysis
+from ..pipeline_files import contact_labels, write_contact
 from ..report import summary as report_summary
 
 

@@ -6,7 +6,7 @@ from pathlib import Path
 from ..case import load_case
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
-from ..pipeline import write_geometry
+from ..pipeline_files import write_geometry
 
 
 def add_parser(sub):

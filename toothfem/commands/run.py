@@ -1,7 +1,8 @@
 """`toothfem run CASE --out DIR`: the whole pipeline (geometry, contact, efficiency) and a
 Markdown report with its pictures, CSV tables and VTU fields."""
 from __future__ import annotations
-from ..pipeline import contact_labels, run_case
+from ..pipeline import run_case
+from ..pipeline_files import contact_labels
 from ..report import summary as report_summary
 
 

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import pyplot
-from ..geometry import cycloid as cy, sine
+from ..geometry import cycloid_mesh as cym, sine
 from ..geometry.disc import disc_polygon
 
 
@@ -49,11 +49,11 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     plt = pyplot()
     fig, axes = plt.subplots(1, 2, figsize=(12, 6.3), layout="constrained")
     disc = disc_polygon(geom, holes)
-    centre, rot = cy.disc_pose(geom, crank_angle_rad)
+    centre, rot = cym.disc_pose(geom, crank_angle_rad)
     placed = affinity.translate(affinity.rotate(disc, float(rot[0]), origin=(0, 0),
                                                 use_radians=True), *centre[:, 0])
-    m = cy.meshing(geom, crank_angle_rad)
-    pins = cy.pin_centres(geom)
+    m = cym.meshing(geom, crank_angle_rad)
+    pins = cym.pin_centres(geom)
     t = np.linspace(0, 2 * math.pi, 60)
     for ax in axes:
         _draw_polygon(ax, placed, color="#9ecae1", ec="k", lw=0.5)
