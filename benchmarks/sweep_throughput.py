@@ -63,6 +63,7 @@ def throughput(case, designs, positions, pins, n_workers, out):
 def repeated_load(case, positions, pins):
     from toothfem.fem import cycloid_fe as cf
     from toothfem.fem.cache import DiskCache
+    from toothfem.fem.drives import drive_for
 
     model = drive_for(case).fe_model(pin_structure=pins)
     phis = np.linspace(0, 2 * math.pi / model.geometry.pin_count, positions, endpoint=False)

@@ -27,7 +27,6 @@ from .errors import CaseError
 from .fem.datasheet.sheet import datasheet
 from .fem.datasheet.twist import ARCMIN, TwistModel
 from .fem.drives import drive_for
-from .geometry import cycloid as cy
 
 #: Points of the design of experiments (a power of two: Sobol balance), the seed of its
 #: scrambling, and the evaluations the refinement may add.
