@@ -25,7 +25,7 @@ from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_
 
 #: Bump when the discretisation behind the influence tables changes (mesh sizes, patches,
 #: pin table angles): it is part of :meth:`CycleSolver.cache_key`, so old files go unused.
-TABLES_VERSION = 1
+TABLES_VERSION = 2
 
 
 @dataclass(eq=False)
