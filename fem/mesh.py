@@ -106,13 +106,14 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
             loops.append(geo.addCurveLoop(lines))
             ring_lines.append(lines)
         geo.addPlaneSurface(loops)
+        # the refinement points as free model points, with one synchronisation for all
+        ref_tags = [[geo.addPoint(x, y, 0.0)
+                     for x, y in np.asarray(ref.points, float).reshape(2, -1).T]
+                    for ref in refinements]
         geo.synchronize()
         fields = []
         fm = gmsh.model.mesh.field
-        for ref in refinements:
-            pts = np.asarray(ref.points, float).reshape(2, -1)
-            tags = [geo.addPoint(x, y, 0.0) for x, y in pts.T]
-            geo.synchronize()
+        for ref, tags in zip(refinements, ref_tags):
             f_d = fm.add("Distance")
             fm.setNumbers(f_d, "PointsList", tags)
             f_t = fm.add("Threshold")

@@ -206,16 +206,22 @@ def patch_loads(body, ring, points, normals, b_ref):
     along ``normals`` over the body's ``ring`` boundary nodes (vertices and midsides);
     the same vectors measure the work-conjugate mean normal displacement."""
     from scipy.sparse import coo_matrix
+    from scipy.spatial import cKDTree
 
     sl = contact.slave_surface(body, body.body_mesh.rings[ring])
+    # the surface nodes near each point, found at once (a k-d tree; a radius a hair over
+    # b_ref, then the exact test below, so that round-off in the tree drops no node)
+    candidates = cKDTree(sl.points.T).query_ball_point(np.asarray(points, float).T,
+                                                       b_ref * (1 + 1e-9))
     rows, cols, vals = [], [], []
-    for k in range(points.shape[1]):
-        d = np.hypot(*(sl.points - points[:, k:k + 1]))
-        near = np.flatnonzero(d < b_ref)
+    for k, found in enumerate(candidates):
+        found = np.sort(np.asarray(found, int))
+        d = np.hypot(*(sl.points[:, found] - points[:, k:k + 1]))
+        near, d = found[d < b_ref], d[d < b_ref]
         if near.size < 3:
             raise ToothfemError(f"the mesh does not resolve the load patch b_ref = {b_ref:.3g} m "
                                 f"at ({points[0, k]:.6g}, {points[1, k]:.6g}) m")
-        w = sl.weights[near] * np.sqrt(1 - (d[near] / b_ref) ** 2)
+        w = sl.weights[near] * np.sqrt(1 - (d / b_ref) ** 2)
         w /= w.sum()
         for comp in (0, 1):
             rows.append(sl.dofs[comp, near])
