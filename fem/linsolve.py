@@ -387,6 +387,7 @@ def _etree_parent(lower) -> np.ndarray:
 
 
 def _superlu_factor(matrix) -> Factor:
+    from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
 
     # minimum degree on K^T + K in symmetric mode: half the fill of COLAMD on these FE
@@ -400,10 +401,11 @@ def _superlu_factor(matrix) -> Factor:
     # need a sort, and U its diagonal all the same). SuperLU keeps U once handed out: the
     # Body's memory grows by half the factor after its first flexibility.
     def triangle():
-        lower = lu.U.T.tocsc()
-        d = lower.diagonal()
-        lower.data /= np.repeat(d, np.diff(lower.indptr))
-        return lower, 1 / d, np.argsort(lu.perm_r), True
+        upper = lu.U
+        d = upper.diagonal()
+        scaled = csc_matrix((upper.data / d[upper.indices], upper.indices, upper.indptr),
+                            shape=upper.shape)     # D^-1 U = L^T (a new array: U is kept)
+        return scaled.T.tocsc(), 1 / d, np.argsort(lu.perm_r), True
     return Factor("superlu", matrix.shape[0], lu.solve, triangle)
 
 
