@@ -88,6 +88,10 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
     # once, leaving a half-written output folder) and may do so only on the main thread.
     # Python's own handler stays, so a Ctrl-C while gmsh meshes raises KeyboardInterrupt
     # as soon as the mesher returns, and the output folder is cleaned up (issue 14).
+    # segments no longer than the smallest element size are single edges either way
+    # (gmsh divides a curve into (int)(a + 1.99) - 1 elements, a = its length in local
+    # sizes <= 1 here); saying so spares gmsh their 1D meshing (the same mesh, faster)
+    single = min([size_max] + [ref.size_min for ref in refinements])
     gmsh.initialize(interruptible=False)
     try:
         gmsh.option.setNumber("General.Terminal", 0)
@@ -98,22 +102,22 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
             ring = np.asarray(ring, float)
             pts = [geo.addPoint(x, y, 0.0) for x, y in ring.T]
             lines = [geo.addLine(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))]
-            if keep_below is not None:   # short segments stay single element edges
-                seg = np.hypot(*(np.roll(ring, -1, axis=1) - ring))
-                for ln, length in zip(lines, seg):
-                    if length < keep_below:
-                        geo.mesh.setTransfiniteCurve(ln, 2)
+            seg = np.hypot(*(np.roll(ring, -1, axis=1) - ring))
+            for ln, length in zip(lines, seg):
+                if length < single or (keep_below is not None and length < keep_below):
+                    geo.mesh.setTransfiniteCurve(ln, 2)
             loops.append(geo.addCurveLoop(lines))
             ring_lines.append(lines)
         geo.addPlaneSurface(loops)
-        # the refinement points as free model points, with one synchronisation for all
-        ref_tags = [[geo.addPoint(x, y, 0.0)
-                     for x, y in np.asarray(ref.points, float).reshape(2, -1).T]
-                    for ref in refinements]
         geo.synchronize()
         fields = []
         fm = gmsh.model.mesh.field
-        for ref, tags in zip(refinements, ref_tags):
+        for ref in refinements:
+            # added and synchronised after the surface: one synchronisation for all was
+            # measured to change the integral housing's mesh
+            pts = np.asarray(ref.points, float).reshape(2, -1)
+            tags = [geo.addPoint(x, y, 0.0) for x, y in pts.T]
+            geo.synchronize()
             f_d = fm.add("Distance")
             fm.setNumbers(f_d, "PointsList", tags)
             f_t = fm.add("Threshold")
