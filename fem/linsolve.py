@@ -301,7 +301,7 @@ def _gram(solved, counts, n):
     ``solved`` = [(rows, columns, values (rows, columns))], each part's columns zero off its
     rows. The rows one part alone reaches add that part's own V_p^T V_p; the rows several
     parts reach (the top separators) are gathered into one dense V_S whose V_S^T V_S
-    couples the parts: on a detailed cycloid disc (882 loads on 20 pins) V_S has a tenth
+    couples the parts: on a detailed cycloid disc (860 loads at 20 pins) V_S has a tenth
     of the rows of V (bounds V_S to |S| x FORWARD_CHUNK doubles on the cycle route)."""
     from scipy.linalg.blas import dsyrk
 
