@@ -8,7 +8,9 @@ the disk cache).
 """
 from __future__ import annotations
 
+import contextlib
 import math
+from contextvars import ContextVar
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -25,6 +27,12 @@ LOADS = ("analytic", "fem")
 FE_TORQUE_FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0)
 #: Mesh tables kept per process (designs x load sources x torque references of one run).
 TABLES_KEPT = 16
+#: How an FE load table shows its progress: None (quietly), or a progress-bar factory
+#: called as ``bar(total=..., desc=..., unit=...)`` that returns a context manager with an
+#: ``update()`` method (tqdm's signature). The command line sets it for one command
+#: (:func:`fe_progress`): the table's solves take seconds to a minute, deep in the
+#: efficiency model.
+FE_PROGRESS: ContextVar = ContextVar("FE_PROGRESS", default=None)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -164,9 +172,35 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     if loads == "analytic":
         recs = [drive.analytic_split(state, 1.0)]
     else:
-        solver = drive.cycle_solver(n_positions)
-        recs = [solver.solve(f * torque_ref) for f in FE_TORQUE_FRACTIONS]
+        recs = _fe_records(drive.cycle_solver(n_positions),
+                           [f * torque_ref for f in FE_TORQUE_FRACTIONS], n_positions)
     return table_from_records(state, recs, loads)
+
+
+@contextlib.contextmanager
+def fe_progress(bar):
+    """Within this context, FE load tables report their positions to ``bar`` (a progress-bar
+    factory such as tqdm, :data:`FE_PROGRESS`)."""
+    token = FE_PROGRESS.set(bar)
+    try:
+        yield
+    finally:
+        FE_PROGRESS.reset(token)
+
+
+def _fe_records(solver, torques, n_positions):
+    """The cycle solver's load sharing at each torque, the positions counted on the
+    :data:`FE_PROGRESS` bar when one is set (the first torque also builds the solver's
+    meshes and tables)."""
+    bar = FE_PROGRESS.get()
+    if bar is None:
+        return [solver.solve(t) for t in torques]
+    with bar(total=len(torques) * n_positions, desc="FE load table", unit="position") as shown:
+        def counted(positions):
+            for p in positions:
+                yield p
+                shown.update()
+        return [solver.solve(t, progress=counted) for t in torques]
 
 
 def fe_reference(declared_member_torque, member_torque, notes) -> float:

@@ -180,22 +180,30 @@ class CondensedPair:
 def nearest_on_boundary(body_mesh, ring: str, points) -> np.ndarray:
     """Nearest point of each of ``points`` (2, M) on the polygonal boundary ``ring`` of a
     mesh. Used to evaluate the master body's field at a projection computed on the exact
-    curve, which may sit a chord's sag outside the polygon."""
+    curve, which may sit a chord's sag outside the polygon.
+
+    Only the facets that can hold it are tried: the nearest facet midpoint bounds the
+    distance, and a facet lies within half its length of its midpoint (a k-d tree finds
+    those within the bound plus the longest half-length); ties go to the lowest facet."""
+    from scipy.spatial import cKDTree
+
     mesh = body_mesh.mesh
     f = body_mesh.rings[ring]
     a = mesh.p[:, mesh.facets[0, f]]
     b = mesh.p[:, mesh.facets[1, f]]
     points = np.asarray(points, float)
-    out = np.empty_like(points)
     ab = b - a
     ab2 = np.sum(ab * ab, axis=0)
-    for i in range(0, points.shape[1], 256):
-        p = points[:, i:i + 256]
-        t = np.clip(np.einsum("kf,kpf->pf", ab, p[:, :, None] - a[:, None, :]) / ab2, 0, 1)
-        q = a[:, None, :] + ab[:, None, :] * t[None]
-        d2 = np.sum((q - p[:, :, None]) ** 2, axis=0)
-        k = np.argmin(d2, axis=1)
-        out[:, i:i + 256] = q[:, np.arange(p.shape[1]), k]
+    tree = cKDTree((a + 0.5 * ab).T)
+    bound, _ = tree.query(points.T)
+    reach = bound + 0.5 * np.sqrt(np.max(ab2))
+    out = np.empty_like(points)
+    for i, near in enumerate(tree.query_ball_point(points.T, reach * (1 + 1e-9))):
+        near = np.sort(near)
+        d = points[:, i:i + 1] - a[:, near]
+        t = np.clip((ab[0, near] * d[0] + ab[1, near] * d[1]) / ab2[near], 0, 1)
+        q = a[:, near] + ab[:, near] * t
+        out[:, i] = q[:, np.argmin(np.sum((q - points[:, i:i + 1]) ** 2, axis=0))]
     return out
 
 

@@ -180,7 +180,12 @@ class Body:
         from scipy.sparse import csr_matrix
 
         free, _ = self._dofs
-        return self.factor.flexibility(csr_matrix(loads)[free], blocks)
+        loads = csr_matrix(loads)
+        pattern = abs(loads)
+        # loads on neighbouring nodes reach nearly the same rows of the factor: coupled
+        # through the stiffness, they are solved together (fem.linsolve)
+        coupling = pattern.T @ abs(self.stiffness) @ pattern
+        return self.factor.flexibility(loads[free], blocks, coupling)
 
     def point_load_matrix(self, points, directions):
         """Load vectors (N_dofs, K) of unit forces at ``points`` (2, K) along ``directions``

@@ -9,8 +9,8 @@ P K P^T = L D L^T with no pivoting. Two operations are needed:
   B^T K^-1 B = W^T D^-1 W with W = L^-1 P B, and W is zero outside the rows that the
   elimination tree reaches from B's nonzero rows (Gilbert & Peierls 1988; Davis, *Direct
   Methods for Sparse Linear Systems*, SIAM 2006, sec. 3.2 and 4.1). The solve runs on that
-  sub-triangle alone: for the contact windows of a disc it is a quarter of the rows and
-  under half of the factor.
+  sub-triangle alone, for each set of loads that share rows (one pin's contact window of a
+  disc: 1.7k of its 68k rows, where all the windows together reach 19k).
 
 Backends, chosen by availability in the order of :data:`BACKENDS` (fastest first, measured
 on the pin-housing disc and pin; README "Faster solves"), or forced by the ``backend``
@@ -123,8 +123,8 @@ def factorize(matrix, backend: str | None = None) -> "Factor":
 
 #: Columns solved at once on the full-solve route (bounds memory to chunk x n doubles).
 SOLVE_CHUNK = 64
-#: Columns of W = L^-1 P B held at once on the forward route (whole blocks; ~40 MB for
-#: the 19k rows a disc's contact windows reach).
+#: Columns of W = L^-1 P B solved at once on the forward route (whole blocks): bounds the
+#: parts' W and the dense rows they share (a few MB for a disc's contact windows).
 FORWARD_CHUNK = 256
 #: Flop rate of the dense products W^T D^-1 W (BLAS 3) over that of the sparse triangular
 #: solves, in the cost model of :meth:`Factor.flexibility` (measured here: about 10).
@@ -177,19 +177,24 @@ class Factor:
                 return self._solve(rhs[:, None])[:, 0]
             return self._solve(np.ascontiguousarray(rhs))
 
-    def flexibility(self, loads, blocks=None):
+    def flexibility(self, loads, blocks=None, coupling=None):
         """B^T K^-1 B for sparse ``loads`` B (n, k).
 
         By the forward substitution on the rows B reaches (module docstring) when that is
         the cheaper way, else by full solves in chunks of :data:`SOLVE_CHUNK` columns: the
-        forward route pays nnz(L_RR) k for the solve and |R| sum(k_i^2) / DENSE_SPEEDUP for
-        the products W_i^T D^-1 W_i, the full route 2 nnz(L) k (loads spread over the whole
-        body favour it).
+        forward route pays nnz(L_RR) k_R for the solve of each set of k_R columns that share
+        rows, on the rows R they reach (:func:`_plan`), and |R| sum(k_i^2) / DENSE_SPEEDUP
+        for the products W_i^T D^-1 W_i, the full route 2 nnz(L) k (loads spread over the
+        whole body favour it).
 
         Parameters
         ----------
         loads : sparse (n, k)
         blocks : sequence of column counts summing to k, or None
+        coupling : sparse (k, k) or None
+            Nonzero where two loads act on coupled unknowns, e.g. |B|^T |K| |B| (nodal
+            loads on neighbouring nodes share no row but reach nearly the same rows): the
+            forward route solves the columns linked by it, or by shared rows, together.
 
         Returns
         -------
@@ -207,11 +212,14 @@ class Factor:
         inv = np.empty(n, int)
         inv[tri.order] = np.arange(n)
         pb = csc_matrix((loads.data, inv[loads.indices], loads.indptr), shape=(n, k))
-        rows, cols = _reach(tri, np.unique(pb.indices))
-        forward = cols.nnz * k + rows.size * sum(c * c for c in counts) / DENSE_SPEEDUP
+        plan = _plan(tri, pb, counts, coupling)
+        nnz = np.diff(tri.lower.indptr)
+        forward = sum(sum(int(np.sum(nnz[p.rows])) * p.columns.size for p in g.parts)
+                      + _union(g).size * sum(c * c for c in g.counts) / DENSE_SPEEDUP
+                      for g in plan)
         with one_blas_thread():
             if forward < 2 * tri.lower.nnz * k:
-                out = _forward(tri, pb, rows, cols, counts)
+                out = _forward(tri, pb, plan)
             else:
                 out = self._by_solves(loads, counts)
         return out[0] if blocks is None else out
@@ -228,49 +236,147 @@ class Factor:
         return out
 
 
-def _forward(tri: Triangle, pb, rows, cols, counts):
-    """The diagonal blocks of V^T diag(weights) V, V = T_RR^-1 (P B)_R, a group of whole blocks
-    of at most FORWARD_CHUNK columns at a time (bounds V to |R| x chunk doubles)."""
-    from scipy.linalg.blas import dsyrk
-    from scipy.sparse.linalg import spsolve_triangular
+@dataclass(frozen=True)
+class _Part:
+    """Columns of the loads that share nonzero rows (indices into the loads' columns), and
+    the rows of T^-1 P B they reach by the elimination tree (sorted)."""
+    columns: np.ndarray
+    rows: np.ndarray
 
-    sub = cols[rows].tocsc()          # a fresh matrix: the solve may overwrite it
-    pb = pb[rows].tocsc()
-    scale = np.sqrt(tri.weights[rows, None])     # V^T diag(weights) V = (V s)^T (V s)
+
+@dataclass(frozen=True)
+class _Group:
+    """Whole blocks of at most FORWARD_CHUNK columns from ``start``, split into parts."""
+    start: int
+    counts: list
+    parts: list
+
+
+def _plan(tri: Triangle, pb, counts, coupling=None) -> list:
+    """The groups of whole blocks (:func:`_groups`) and, in each, the parts of its columns
+    linked by shared rows or by ``coupling`` (:func:`_linked_columns`) with their reach:
+    loads far apart on a body (one pin's contact window each) reach only their own branches
+    of the elimination tree and the top separators, a sixth of the rows all of them reach
+    together on a cycloid disc, so each part is solved on its own rows."""
+    from scipy.sparse import csr_matrix
+
+    parent = tri.parent.tolist()        # list items: a fast walk in Python
+    coupling = None if coupling is None else csr_matrix(coupling)
     out, start = [], 0
     for group in _groups(counts, FORWARD_CHUNK):
         width = sum(group)
-        v = spsolve_triangular(sub, pb[:, start:start + width].toarray(), lower=True,
-                               unit_diagonal=tri.unit, overwrite_A=True, overwrite_b=True)
-        v *= scale
-        at = 0
-        for c in group:
-            # V^T V by the symmetric rank-k update (half the flops of the product);
-            # V^T of the C-ordered V is Fortran-ordered, as BLAS wants it
-            upper = dsyrk(1.0, np.ascontiguousarray(v[:, at:at + c]).T, trans=0)
-            out.append(np.triu(upper) + np.triu(upper, 1).T)
-            at += c
+        block = pb[:, start:start + width]
+        links = None if coupling is None else \
+            coupling[start:start + width][:, start:start + width]
+        parts = [_Part(start + cols, _reach(parent, np.unique(block[:, cols].indices)))
+                 for cols in _linked_columns(block, links)]
+        out.append(_Group(start, group, parts))
         start += width
     return out
 
 
-def _reach(tri: Triangle, start):
-    """Rows of L^-1 b reached from the rows ``start`` of b: their ancestors in the
-    elimination tree (Davis 2006, Thm 4.1), checked closed under L's columns (a
-    factor that stores padding zeros gives a superset, which is still exact); returns
-    them with L's columns there."""
-    lower = tri.lower
-    mark = np.zeros(lower.shape[0], bool)
-    parent = tri.parent.tolist()
+def _union(group: _Group) -> np.ndarray:
+    """The rows its parts reach together."""
+    return np.unique(np.concatenate([p.rows for p in group.parts] + [np.empty(0, int)]))
+
+
+def _linked_columns(b, links=None) -> list:
+    """Column index sets of ``b`` (n, k) connected through shared nonzero rows or the
+    nonzeros of ``links`` (k, k)."""
+    from scipy.sparse.csgraph import connected_components
+
+    pattern = (b != 0).astype(np.int8)
+    graph = pattern.T @ pattern
+    if links is not None:
+        graph = graph + (links != 0).astype(np.int8)
+    count, labels = connected_components(graph, directed=False)
+    return [np.flatnonzero(labels == i) for i in range(count)]
+
+
+def _forward(tri: Triangle, pb, plan):
+    """The diagonal blocks of V^T diag(weights) V, V = T^-1 P B, group by group of the
+    ``plan`` (:func:`_plan`): each part's columns solved on the sub-triangle of its rows
+    (:func:`_gram` then forms the blocks)."""
+    from scipy.sparse.linalg import spsolve_triangular
+
+    scale = np.sqrt(tri.weights)        # V^T diag(weights) V = (V s)^T (V s)
+    out = []
+    for group in plan:
+        solved = []
+        for part in group.parts:
+            if part.rows.size == 0:     # an empty load: V is zero there
+                continue
+            rows, sub = _sub_triangle(tri, part.rows)
+            v = spsolve_triangular(sub, pb[:, part.columns][rows].toarray(), lower=True,
+                                   unit_diagonal=tri.unit, overwrite_A=True,
+                                   overwrite_b=True)
+            solved.append((rows, part.columns - group.start, v * scale[rows, None]))
+        out += _gram(solved, group.counts, tri.lower.shape[0])
+    return out
+
+
+def _gram(solved, counts, n):
+    """The diagonal blocks (sizes ``counts``) of V^T V for V (n, sum(counts)) given by parts
+    ``solved`` = [(rows, columns, values (rows, columns))], each part's columns zero off its
+    rows. The rows one part alone reaches add that part's own V_p^T V_p; the rows several
+    parts reach (the top separators) are gathered into one dense V_S whose V_S^T V_S
+    couples the parts: on a detailed cycloid disc (860 loads at 20 pins) V_S has a tenth
+    of the rows of V (bounds V_S to |S| x FORWARD_CHUNK doubles on the cycle route)."""
+    from scipy.linalg.blas import dsyrk
+
+    def syrk(v):    # V^T V by the symmetric rank-k update (half the flops of the product)
+        upper = dsyrk(1.0, np.asfortranarray(v.T), trans=0)
+        return np.triu(upper) + np.triu(upper, 1).T
+
+    width = sum(counts)
+    reached = np.bincount(np.concatenate([r for r, _, _ in solved] + [np.empty(0, int)]),
+                          minlength=n)
+    shared = np.flatnonzero(reached > 1)
+    at_shared = np.full(n, -1)
+    at_shared[shared] = np.arange(shared.size)
+    v_s = np.zeros((shared.size, width))
+    edges = np.cumsum([0] + list(counts))
+    block_of = np.searchsorted(edges, np.arange(width), side="right") - 1
+    out = [None] * len(counts)
+    own = []
+    for rows, cols, v in solved:
+        here = at_shared[rows]
+        v_s[np.ix_(here[here >= 0], cols)] = v[here >= 0]
+        own.append((cols, syrk(v[here < 0])))
+    for b, (lo, hi) in enumerate(zip(edges[:-1], edges[1:])):
+        out[b] = syrk(v_s[:, lo:hi])
+    for cols, g in own:
+        for b in np.unique(block_of[cols]):
+            sel = np.flatnonzero(block_of[cols] == b)
+            out[b][np.ix_(cols[sel] - edges[b], cols[sel] - edges[b])] += g[np.ix_(sel, sel)]
+    return out
+
+
+def _reach(parent: list, start) -> np.ndarray:
+    """Rows of T^-1 b reached from the rows ``start`` of b: their ancestors in the
+    elimination tree ``parent`` (Davis 2006, Thm 4.1), sorted."""
+    mark = np.zeros(len(parent), bool)
     for s in start.tolist():
         while s >= 0 and not mark[s]:
             mark[s] = True
             s = parent[s]
-    rows = np.flatnonzero(mark)
-    cols = lower[:, rows]
-    if not np.all(mark[cols.indices]):       # not closed: use every row (exact)
-        return np.arange(lower.shape[0]), lower
-    return rows, cols
+    return np.flatnonzero(mark)
+
+
+def _sub_triangle(tri: Triangle, rows):
+    """(rows, T[rows][:, rows] in CSC): the rows as given when T's columns there have no
+    entry outside them (a factor that stores padding zeros may break that closure), else
+    every row (still exact)."""
+    from scipy.sparse import csc_matrix
+
+    n = tri.lower.shape[0]
+    cols = tri.lower[:, rows]
+    at_row = np.full(n, -1)
+    at_row[rows] = np.arange(rows.size)
+    index = at_row[cols.indices]
+    if np.any(index < 0):
+        return np.arange(n), tri.lower.copy()
+    return rows, csc_matrix((cols.data, index, cols.indptr), shape=(rows.size, rows.size))
 
 
 def _groups(counts, limit):
@@ -300,6 +406,7 @@ def _etree_parent(lower) -> np.ndarray:
 
 
 def _superlu_factor(matrix) -> Factor:
+    from scipy.sparse import csc_matrix
     from scipy.sparse.linalg import splu
 
     # minimum degree on K^T + K in symmetric mode: half the fill of COLAMD on these FE
@@ -309,10 +416,16 @@ def _superlu_factor(matrix) -> Factor:
     if not np.array_equal(lu.perm_r, lu.perm_c):
         raise ToothfemError("SuperLU pivoted off the diagonal: the stiffness is not "
                             "positive definite (is the body held?)")
-    # L unit lower, U = D L^T (SuperLU keeps both once handed out: the Body's memory
-    # grows by a copy of the factor after its first flexibility)
-    return Factor("superlu", matrix.shape[0], lu.solve,
-                  lambda: (lu.L, 1 / lu.U.diagonal(), np.argsort(lu.perm_r), True))
+    # U = D L^T: L = U^T D^-1 from U alone (its transpose comes sorted; SuperLU's L would
+    # need a sort, and U its diagonal all the same). SuperLU keeps U once handed out: the
+    # Body's memory grows by half the factor after its first flexibility.
+    def triangle():
+        upper = lu.U
+        d = upper.diagonal()
+        scaled = csc_matrix((upper.data / d[upper.indices], upper.indices, upper.indptr),
+                            shape=upper.shape)     # D^-1 U = L^T (a new array: U is kept)
+        return scaled.T.tocsc(), 1 / d, np.argsort(lu.perm_r), True
+    return Factor("superlu", matrix.shape[0], lu.solve, triangle)
 
 
 def _cholmod_factor(matrix) -> Factor:

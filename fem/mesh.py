@@ -69,6 +69,36 @@ def refine_ring(ring: np.ndarray, centres, spacing: float, radius: float, curve=
     return pts
 
 
+#: A ring segment shorter than this fraction of the smallest element size the size field
+#: allows on it is a single edge (below 1: gmsh's own rule, a curve whose length in local
+#: element sizes is under one, is then met with room for its integration's round-off).
+SINGLE_EDGE_REL = 0.99
+
+
+def _single_edges(ring, size_max, refinements, keep_below):
+    """(N,) bool: the segments of ``ring`` (2, N) that are single element edges: shorter
+    than ``keep_below``, or shorter than the smallest element size that the size field of
+    :func:`mesh_rings` takes anywhere on them (gmsh makes those single edges too; saying so
+    spares it their 1D meshing, and the mesh is the same). The size field is gmsh's
+    Threshold of each refinement, min'd with ``size_max``: its smallest value on a segment
+    is at a distance from the refinement points of at least the midpoint's less half the
+    length."""
+    from scipy.spatial import cKDTree
+
+    ring = np.asarray(ring, float)
+    step = np.roll(ring, -1, axis=1) - ring
+    length = np.hypot(*step)
+    mid = ring + 0.5 * step
+    size = np.full(length.size, float(size_max))
+    for ref in refinements:
+        d, _ = cKDTree(np.asarray(ref.points, float).reshape(2, -1).T).query(mid.T)
+        r = np.clip((np.maximum(d - 0.5 * length, 0.0) - ref.dist_min)
+                    / (ref.dist_max - ref.dist_min), 0.0, 1.0)
+        size = np.minimum(size, ref.size_min + r * (size_max - ref.size_min))
+    single = length < SINGLE_EDGE_REL * size
+    return single | (length < keep_below) if keep_below is not None else single
+
+
 def mesh_rings(rings, size_max: float, refinements=(), names=None,
                keep_below: float | None = None) -> BodyMesh:
     """Mesh the region bounded by ``rings`` [(2, N) exterior, then holes] with gmsh.
@@ -98,11 +128,10 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
             ring = np.asarray(ring, float)
             pts = [geo.addPoint(x, y, 0.0) for x, y in ring.T]
             lines = [geo.addLine(pts[k], pts[(k + 1) % len(pts)]) for k in range(len(pts))]
-            if keep_below is not None:   # short segments stay single element edges
-                seg = np.hypot(*(np.roll(ring, -1, axis=1) - ring))
-                for ln, length in zip(lines, seg):
-                    if length < keep_below:
-                        geo.mesh.setTransfiniteCurve(ln, 2)
+            for ln, single in zip(lines, _single_edges(ring, size_max, refinements,
+                                                       keep_below)):
+                if single:
+                    geo.mesh.setTransfiniteCurve(ln, 2)
             loops.append(geo.addCurveLoop(lines))
             ring_lines.append(lines)
         geo.addPlaneSurface(loops)
@@ -110,6 +139,8 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
         fields = []
         fm = gmsh.model.mesh.field
         for ref in refinements:
+            # added and synchronised after the surface: one synchronisation for all was
+            # measured to change the integral housing's mesh
             pts = np.asarray(ref.points, float).reshape(2, -1)
             tags = [geo.addPoint(x, y, 0.0) for x, y in pts.T]
             geo.synchronize()

@@ -234,3 +234,37 @@ def test_fe_loads_do_not_depend_on_the_other_points(pinhousing):
     beside = m.evaluate(case, 1815.0, [20.0, 2000.0], loads="fem")
     assert beside.efficiency[0] == pytest.approx(alone, rel=1e-12)
     assert any("outside the FE load table" in note for note in beside.notes)   # 2000 > 5 x 167
+
+
+def test_fe_load_table_counts_its_positions_on_a_progress_bar():
+    """With a progress bar set (the command line sets tqdm), the FE load table counts every
+    position of every tabulated torque once; without one it reports nothing."""
+    from toothfem.efficiency import mesh_table as mt
+
+    class Solver:                      # positions 0..2 per torque, as a cycle solver does
+        def solve(self, torque, progress=None):
+            for _ in (range(3) if progress is None else progress(range(3))):
+                pass
+            return torque
+
+    shown = []
+
+    class Bar:
+        def __init__(self, total, desc, unit):
+            self.total, self.count = total, 0
+            shown.append(self)
+
+        def __enter__(self):
+            return self
+
+        def __exit__(self, *exc):
+            return False
+
+        def update(self, n=1):
+            self.count += n
+
+    assert mt._fe_records(Solver(), [1.0, 2.0], 3) == [1.0, 2.0] and not shown
+    with mt.fe_progress(Bar):
+        assert mt._fe_records(Solver(), [1.0, 2.0], 3) == [1.0, 2.0]
+    assert [(b.total, b.count) for b in shown] == [(6, 6)]
+    assert mt.FE_PROGRESS.get() is None            # the setting ends with its context

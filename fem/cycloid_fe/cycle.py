@@ -36,7 +36,7 @@ MODIFIED_GAP_FAR = 1e-3
 SIDES = ((1,), (1, -1), (0,))
 #: Bump when the discretisation behind the influence tables changes (mesh sizes, patches,
 #: pin table angles): it is part of :meth:`CycleSolver.cache_key`, so old files go unused.
-TABLES_VERSION = 1
+TABLES_VERSION = 2
 
 
 @dataclass(eq=False)

@@ -24,6 +24,12 @@ from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing
 #: Slave zone half-width per estimated Hertz half-width (the contact must end inside it),
 #: and the safety factor on the seed's force when estimating that half-width.
 DETAILED_ZONE_REL, DETAILED_FORCE_MARGIN = 1.6, 1.6
+#: A conventional pin's mesh: elements of h to b_zone from its contact point, graded to
+#: rz/4 at 20 b_zone. Against 2 b_zone and 40 b_zone (the integral housing's, which stays:
+#: its wide body moves the forces by 3 % with this grading) the pin forces move by under
+#: 4e-4 of the largest, the transmission error by 3.5e-4 and the FE peak pressure by 3e-4
+#: at three crank angles of the pin-housing drive, with a third fewer dofs.
+PIN_REFINED_REL, PIN_GRADED_REL = 1.0, 20.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -133,6 +139,8 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     # slave bodies: one per pin (conventional) or the housing with every pin (integral)
     kps = centres - radii * q.normal
     refine_pins = [Refinement(kps, h, 2 * b_zone, 40 * b_zone)]
+    if model.pin_structure == "conventional":    # separate pins: graded sooner (constants)
+        refine_pins = [Refinement(kps, h, PIN_REFINED_REL * b_zone, PIN_GRADED_REL * b_zone)]
     groups = []                     # (body, [facets of each candidate pin])
     if model.pin_structure == "integral":
         c_t, s_t = math.cos(-theta_d), math.sin(-theta_d)

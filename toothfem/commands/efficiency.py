@@ -8,7 +8,7 @@ from ..case_checks import SPEED_RPM, TORQUE_NM
 from ..durability import thermal_summary
 from ..efficiency import operating_point
 from ..efficiency.evaluation import METHODS
-from ..efficiency.mesh_table import LOADS
+from ..efficiency.mesh_table import LOADS, fe_progress
 from ..errors import CaseError, check_range
 from ..pipeline import efficiency_summary
 from ..report import summary as report_summary
@@ -69,6 +69,13 @@ def run(args) -> int:
     CaseError
         If a value is outside its range or the options exclude each other.
     """
+    from tqdm import tqdm
+
+    with fe_progress(tqdm):          # the FE load table's solves on a bar (stderr)
+        return _run(args)
+
+
+def _run(args) -> int:
 
     for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
                                   ("--torque-Nm", args.torque, TORQUE_NM)):

@@ -1,6 +1,8 @@
 """`toothfem run CASE --out DIR`: the whole pipeline (geometry, contact, efficiency) and a
 Markdown report with its pictures, CSV tables and VTU fields."""
 from __future__ import annotations
+
+from ..efficiency.mesh_table import fe_progress
 from ..pipeline import run_case
 from ..pipeline_files import contact_labels
 from ..report import summary as report_summary
@@ -50,8 +52,9 @@ def run(args) -> int:
 
 
     progress = lambda it: tqdm(it, desc="cycle mode", unit="position")  # noqa: E731
-    res = run_case(args.case, args.out, positions=args.positions, field=args.field,
-                   fem=not args.no_fem, progress=progress)
+    with fe_progress(tqdm):          # the efficiency's FE load table on a bar too
+        res = run_case(args.case, args.out, positions=args.positions, field=args.field,
+                       fem=not args.no_fem, progress=progress)
     report = res.report.resolve()
     if args.json:
         contact = None if res.contact is None else res.contact.summary
