@@ -179,8 +179,18 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
 
 @contextlib.contextmanager
 def fe_progress(bar):
-    """Within this context, FE load tables report their positions to ``bar`` (a progress-bar
-    factory such as tqdm, :data:`FE_PROGRESS`)."""
+    """Within this context, FE load tables report their positions to ``bar``.
+
+    Parameters
+    ----------
+    bar : callable
+        A progress-bar factory such as tqdm (:data:`FE_PROGRESS`).
+
+    Yields
+    ------
+    None
+        Control, with ``bar`` set until the context exits.
+    """
     token = FE_PROGRESS.set(bar)
     try:
         yield

@@ -55,12 +55,34 @@ def solve_contact(h, g0, c, q, *, max_iter: int = MAX_ITERATIONS,
                   active=None) -> ContactSolution:
     """Solve g = g0 + H l + r c >= 0, l >= 0, l.g = 0, c.l = -q for (l, r).
 
-    ``h`` (n, n) SPD, ``g0`` (n,), ``c`` (n,), ``q`` scalar. Raises ContactError when no
-    candidate can balance ``q`` (all c_i of the wrong sign) or the active set cycles.
-    ``active`` (n,) bool: the set to start from (a nearby problem's solution), else the
-    candidates that touch first under the rigid motion.
-
     The dense systems run on one BLAS thread (:func:`fem.linsolve.one_blas_thread`).
+
+    Parameters
+    ----------
+    h : array_like
+        (n, n) SPD flexibility [m per (N/m)].
+    g0 : array_like
+        (n,) initial gaps [m].
+    c : array_like
+        (n,) gap change per unit rigid unknown [m per rad, or m per m].
+    q : float
+        External generalised force on the rigid unknown [N m/m or N/m], nonzero.
+    max_iter : int
+        Active-set iterations allowed.
+    active : array_like of bool or None
+        (n,) the set to start from (a nearby problem's solution), else the candidates that
+        touch first under the rigid motion.
+
+    Returns
+    -------
+    ContactSolution
+        Forces, gaps, rigid unknown, active set and iteration count.
+
+    Raises
+    ------
+    ContactError
+        When ``q`` is zero, no candidate can balance ``q`` (all c_i of the wrong sign), the
+        system is singular or the active set cycles.
     """
     with one_blas_thread():
         if active is not None:
@@ -132,6 +154,16 @@ class SlaveSurface:
         between vertex and midside nodes by 2-4 % under collocated P2 node-to-surface
         contact (measured on the Hertz cases, docs/fem.md); the patch average removes the
         alternation and biases a resolved Hertz peak by O((h/b)^2).
+
+        Parameters
+        ----------
+        force : array_like
+            (M,) nodal contact forces [N/m].
+
+        Returns
+        -------
+        numpy.ndarray
+            (M,) contact pressure [Pa].
         """
         force = np.asarray(force, float)
         return ((force + 0.5 * (self.adjacency @ force))
@@ -142,7 +174,21 @@ def slave_surface(body, facets) -> SlaveSurface:
     """Slave points of ``facets`` with their boundary weights: a P2 shape function
     integrates to h/6 over a facet of length h at each end and 2h/3 at its midpoint.
     Dividing a nodal contact force by this weight gives the pressure (DESIGN: the
-    consistent boundary mass would overshoot the peak)."""
+    consistent boundary mass would overshoot the peak).
+
+    Parameters
+    ----------
+    body : Body
+        The slave body (fem.elastic).
+    facets : array_like
+        Boundary facet indices of the candidate zone.
+
+    Returns
+    -------
+    SlaveSurface
+        The zone's P2 nodes (vertices, then edge midpoints) with dofs, weights [m] and
+        adjacency.
+    """
     mesh, basis = body.mesh, body.basis
     facets = np.asarray(facets)
     ends = mesh.facets[:, facets]
@@ -184,7 +230,22 @@ def nearest_on_boundary(body_mesh, ring: str, points) -> np.ndarray:
 
     Only the facets that can hold it are tried: the nearest facet midpoint bounds the
     distance, and a facet lies within half its length of its midpoint (a k-d tree finds
-    those within the bound plus the longest half-length); ties go to the lowest facet."""
+    those within the bound plus the longest half-length); ties go to the lowest facet.
+
+    Parameters
+    ----------
+    body_mesh : BodyMesh
+        The mesh with its named rings (fem.mesh).
+    ring : str
+        The boundary ring's name.
+    points : array_like
+        (2, M) points [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        (2, M) nearest boundary points [m].
+    """
     from scipy.spatial import cKDTree
 
     mesh = body_mesh.mesh
@@ -208,8 +269,23 @@ def nearest_on_boundary(body_mesh, ring: str, points) -> np.ndarray:
 
 
 def nodal_load_matrix(n_dofs: int, dofs, normals):
-    """(n_dofs, M) sparse: unit nodal forces along ``normals`` (2, M) at the x/y ``dofs``
-    (2, M) of M nodes; its transpose reads a displacement along the same normals."""
+    """Unit nodal forces along normals at M nodes; the transpose reads a displacement along
+    the same normals.
+
+    Parameters
+    ----------
+    n_dofs : int
+        Dofs of the body's basis.
+    dofs : array_like
+        (2, M) x and y dof indices of the nodes.
+    normals : array_like
+        (2, M) unit force directions.
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix
+        (n_dofs, M) load vectors, per unit force [-].
+    """
     from scipy.sparse import coo_matrix
 
     dofs = np.asarray(dofs)
@@ -220,16 +296,43 @@ def nodal_load_matrix(n_dofs: int, dofs, normals):
 
 
 def flexibility(body, loads):
-    """loads (N_dofs, M) sparse -> loads^T K^-1 loads (M, M) (:meth:`Body.flexibility`)."""
+    """loads^T K^-1 loads (:meth:`Body.flexibility`).
+
+    Parameters
+    ----------
+    body : Body
+        The elastic body (fem.elastic).
+    loads : sparse (N_dofs, M)
+        Unit loads.
+
+    Returns
+    -------
+    numpy.ndarray
+        (M, M) flexibility [m per (N/m)].
+    """
     return body.flexibility(loads)
 
 
 def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, rigid_b=None):
     """Condense body A (slave points) against body B (master surface) onto the slave points.
 
-    ``project_b(points) -> (projections (2, M), outward normals (2, M))`` on B's true
-    surface. ``rigid_a``/``rigid_b``: functions x (2, M) -> displacement (2, M) of the body
-    per unit rigid unknown (None: the body does not take part in it).
+    Parameters
+    ----------
+    body_a, body_b : Body
+        The slave and master bodies (fem.elastic).
+    slave : SlaveSurface
+        A's candidate points (:func:`slave_surface`).
+    project_b : callable
+        points (2, M) [m] -> (projections (2, M) [m], outward normals (2, M)) on B's true
+        surface.
+    rigid_a, rigid_b : callable or None
+        x (2, M) [m] -> displacement (2, M) of the body per unit rigid unknown [m per rad,
+        or m per m] (None: the body does not take part in it).
+
+    Returns
+    -------
+    CondensedPair
+        Initial gaps, flexibility H_A + H_B and rigid-unknown column at the slave points.
     """
     proj, n = project_b(slave.points)
     g0 = np.sum((slave.points - proj) * n, axis=0)

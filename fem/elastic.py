@@ -20,7 +20,27 @@ from ..errors import ToothfemError, check_range
 
 
 def lame_parameters(youngs_modulus, poisson_ratio, plane: str = "strain"):
-    """(lambda, mu); in plane stress lambda* = 2 lambda mu / (lambda + 2 mu)."""
+    """Lame parameters; in plane stress lambda* = 2 lambda mu / (lambda + 2 mu).
+
+    Parameters
+    ----------
+    youngs_modulus : float
+        E [Pa].
+    poisson_ratio : float
+        nu [-].
+    plane : {"strain", "stress"}
+        The 2D idealisation.
+
+    Returns
+    -------
+    lam, mu : float
+        lambda (lambda* in plane stress) and mu [Pa].
+
+    Raises
+    ------
+    ToothfemError
+        For another ``plane``.
+    """
     e, nu = float(youngs_modulus), float(poisson_ratio)
     lam = e * nu / ((1 + nu) * (1 - 2 * nu))
     mu = e / (2 * (1 + nu))
@@ -32,7 +52,20 @@ def lame_parameters(youngs_modulus, poisson_ratio, plane: str = "strain"):
 
 
 def plane_modulus(youngs_modulus, poisson_ratio, plane: str = "strain") -> float:
-    """E/(1 - nu^2) in plane strain, E in plane stress: the modulus of 2D contact formulas."""
+    """E/(1 - nu^2) in plane strain, E in plane stress: the modulus of 2D contact formulas.
+
+    Parameters
+    ----------
+    youngs_modulus, poisson_ratio : float
+        E [Pa] and nu [-].
+    plane : {"strain", "stress"}
+        Anything but "strain" is taken as stress.
+
+    Returns
+    -------
+    float
+        The plane modulus [Pa].
+    """
     e, nu = float(youngs_modulus), float(poisson_ratio)
     return e / (1 - nu**2) if plane == "strain" else e
 
@@ -47,11 +80,23 @@ MIDPOINT_RULE = np.array([[0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]])
 
 
 def p2_gradients(mesh):
-    """Gradients of the six P2 shape functions at the edge midpoints of every triangle:
-    (n_elements, 3 points, 6 functions, 2) and the triangle areas (n_elements,).
+    """Gradients of the six P2 shape functions at the edge midpoints of every triangle.
 
     Vertex functions l_k (2 l_k - 1), edge functions 4 l_a l_b in barycentric coordinates
-    l_k, whose gradients are constant on an affine triangle."""
+    l_k, whose gradients are constant on an affine triangle.
+
+    Parameters
+    ----------
+    mesh : skfem.MeshTri
+        Linear triangles, vertices ``p`` (2, N) [m].
+
+    Returns
+    -------
+    grads : numpy.ndarray
+        (n_elements, 3 points, 6 functions, 2) [1/m].
+    areas : numpy.ndarray
+        (n_elements,) triangle areas [m^2].
+    """
     x = mesh.p[:, mesh.t]                                   # (2, 3, E)
     e1, e2 = x[:, 1] - x[:, 0], x[:, 2] - x[:, 0]
     det = e1[0] * e2[1] - e1[1] * e2[0]
@@ -73,7 +118,20 @@ def stiffness_matrix(basis, lam, mu):
 
     K[(i,c),(j,d)] = int lam d_c phi_i d_d phi_j + mu (d_d phi_i d_c phi_j
     + delta_cd grad phi_i . grad phi_j), from sigma(u) : eps(v) with
-    sigma = lam tr(eps) I + 2 mu eps."""
+    sigma = lam tr(eps) I + 2 mu eps.
+
+    Parameters
+    ----------
+    basis : skfem.Basis
+        ElementVector(ElementTriP2()) on a MeshTri [m].
+    lam, mu : float
+        Lame parameters [Pa] (:func:`lame_parameters`).
+
+    Returns
+    -------
+    scipy.sparse.csc_matrix
+        (N_dofs, N_dofs) [Pa]: forces per unit thickness [N/m] per displacement [m].
+    """
     from scipy.sparse import coo_matrix
 
     grad, area = p2_gradients(basis.mesh)
@@ -164,7 +222,18 @@ class Body:
         return linsolve.factorize(self.stiffness[free][:, free], self.solver)
 
     def solve(self, loads):
-        """Displacements (N_dofs, k) for load vectors (N_dofs, k) with the supports held."""
+        """Displacements for load vectors with the supports held.
+
+        Parameters
+        ----------
+        loads : array_like
+            (N_dofs,) or (N_dofs, k) nodal forces [N/m] (per unit thickness).
+
+        Returns
+        -------
+        numpy.ndarray
+            Displacements [m], the shape of ``loads``.
+        """
         loads = np.asarray(loads, float)
         one = loads.ndim == 1
         loads = loads.reshape(loads.shape[0], -1)
@@ -175,8 +244,25 @@ class Body:
 
     def flexibility(self, loads, blocks=None):
         """loads^T K^-1 loads for sparse unit loads (N_dofs, k) with the supports held (the
-        loads on held dofs do no work): (k, k), or with ``blocks`` (column counts) the list
-        of the diagonal blocks only (:meth:`fem.linsolve.Factor.flexibility`)."""
+        loads on held dofs do no work) (:meth:`fem.linsolve.Factor.flexibility`).
+
+        Parameters
+        ----------
+        loads : sparse (N_dofs, k)
+            Unit loads.
+        blocks : sequence of int or None
+            Column counts summing to k.
+
+        Returns
+        -------
+        numpy.ndarray or list of numpy.ndarray
+            (k, k) [m per (N/m)], or with ``blocks`` the list of the diagonal blocks only.
+
+        Raises
+        ------
+        ToothfemError
+            When ``blocks`` do not sum to k.
+        """
         from scipy.sparse import csr_matrix
 
         free, _ = self._dofs
@@ -188,10 +274,22 @@ class Body:
         return self.factor.flexibility(loads[free], blocks, coupling)
 
     def point_load_matrix(self, points, directions):
-        """Load vectors (N_dofs, K) of unit forces at ``points`` (2, K) along ``directions``
-        (2, K), distributed to the dofs by the P2 shape functions at each point; the same
-        matrix transposed maps a displacement field to its components along ``directions``
-        at ``points``."""
+        """Load vectors of unit forces at points, distributed to the dofs by the P2 shape
+        functions at each point; the same matrix transposed maps a displacement field to its
+        components along ``directions`` at ``points``.
+
+        Parameters
+        ----------
+        points : array_like
+            (2, K) positions [m].
+        directions : array_like
+            (2, K) force directions (unit vectors).
+
+        Returns
+        -------
+        scipy.sparse.csc_matrix
+            (N_dofs, K) load vectors, per unit force [-].
+        """
         points = np.asarray(points, float).reshape(2, -1)
         d = np.asarray(directions, float).reshape(2, -1)
         k = points.shape[1]

@@ -77,7 +77,13 @@ def one_blas_thread():
     a second thread gains little there, and on a busy machine (or beside other workers)
     its waiting costs up to 20x (measured on 2 cores at load 7: a 400 x 400 dense solve
     took 8 ms on one thread, 163 ms on two). Re-entrant: inside another such context it
-    costs nothing (a limit set per contact solve took a tenth of a sampled cycle)."""
+    costs nothing (a limit set per contact solve took a tenth of a sampled cycle).
+
+    Yields
+    ------
+    None
+        Control, with BLAS limited to one thread until the context exits.
+    """
     if getattr(_LIMITED, "depth", 0):
         _LIMITED.depth += 1
         try:
@@ -94,14 +100,34 @@ def one_blas_thread():
 
 
 def available_backends() -> tuple[str, ...]:
-    """The backends that import here, fastest first."""
+    """The backends that import here.
+
+    Returns
+    -------
+    tuple of str
+        Names from :data:`BACKENDS`, fastest first ("superlu" always).
+    """
     return tuple(b for b in BACKENDS if b == "superlu" or _cholmod() is not None)
 
 
 def choose_backend(backend: str | None = None) -> str:
     """``backend`` if given, else ``$TOOTHFEM_SOLVER`` if set, else the fastest available.
 
-    Raises ToothfemError for an unknown name or a backend that is not installed."""
+    Parameters
+    ----------
+    backend : str or None
+        One of :data:`BACKENDS`, or None.
+
+    Returns
+    -------
+    str
+        The backend's name.
+
+    Raises
+    ------
+    ToothfemError
+        For an unknown name or a backend that is not installed.
+    """
     name = backend or os.environ.get(BACKEND_ENV, "") or available_backends()[0]
     if name not in BACKENDS:
         raise ToothfemError(f"solver backend = {name!r} is not one of {list(BACKENDS)}")
@@ -112,7 +138,25 @@ def choose_backend(backend: str | None = None) -> str:
 
 
 def factorize(matrix, backend: str | None = None) -> "Factor":
-    """Factorise the SPD sparse ``matrix`` (n, n) with the chosen backend."""
+    """Factorise an SPD sparse matrix with the chosen backend.
+
+    Parameters
+    ----------
+    matrix : sparse (n, n)
+        Symmetric positive definite (a held body's stiffness).
+    backend : str or None
+        As for :func:`choose_backend`.
+
+    Returns
+    -------
+    Factor
+        The factorisation.
+
+    Raises
+    ------
+    ToothfemError
+        For an unknown or missing backend, or when SuperLU pivots off the diagonal.
+    """
     from scipy.sparse import csc_matrix
 
     matrix = csc_matrix(matrix)
@@ -150,7 +194,19 @@ class Factor:
 
     ``solve(rhs)`` is the backend's full solve; ``triangle()`` the factor as a
     :class:`Triangle`, extracted from the backend at each call and not kept (it would
-    double the factor's memory, e.g. for the 22 bodies of a detailed solve)."""
+    double the factor's memory, e.g. for the 22 bodies of a detailed solve).
+
+    Parameters
+    ----------
+    backend : str
+        The backend's name (:data:`BACKENDS`).
+    n : int
+        Order of the matrix.
+    solve : callable
+        Dense (n, k) right-hand sides -> K^-1 rhs (n, k).
+    triangle : callable
+        () -> (lower, weights, order, unit), the fields of :class:`Triangle` but the tree.
+    """
 
     def __init__(self, backend, n, solve, triangle):
         self.backend = backend
@@ -159,7 +215,18 @@ class Factor:
         self._triangle = triangle
 
     def triangle(self) -> Triangle:
-        """The factor's arrays (:class:`Triangle`), extracted now."""
+        """The factor's arrays, extracted now.
+
+        Returns
+        -------
+        Triangle
+            The lower factor, sorted, with weights, order and elimination tree.
+
+        Raises
+        ------
+        ToothfemError
+            When a pivot is not positive (the matrix is not positive definite).
+        """
         lower, weights, order, unit = self._triangle()
         if not np.all(np.asarray(weights) > 0):
             raise ToothfemError("a pivot of the factorisation is not positive: the stiffness "
@@ -170,7 +237,18 @@ class Factor:
                         _etree_parent(lower))
 
     def solve(self, rhs) -> np.ndarray:
-        """K^-1 rhs for dense ``rhs`` (n,) or (n, k)."""
+        """K^-1 rhs.
+
+        Parameters
+        ----------
+        rhs : array_like
+            Dense (n,) or (n, k).
+
+        Returns
+        -------
+        numpy.ndarray
+            The solution, the shape of ``rhs``.
+        """
         rhs = np.asarray(rhs, float)
         with one_blas_thread():
             if rhs.ndim == 1:
@@ -200,6 +278,11 @@ class Factor:
         -------
         (k, k) array, symmetric; or, with ``blocks``, the list of the diagonal blocks
         (k_i, k_i), the cross terms between blocks being neither computed nor stored.
+
+        Raises
+        ------
+        ToothfemError
+            When ``blocks`` do not sum to k.
         """
         from scipy.sparse import csc_matrix
 

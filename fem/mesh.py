@@ -42,7 +42,18 @@ class BodyMesh:
     rings: dict = field(default_factory=dict)   # name -> (F,) facet indices
 
     def ring_nodes(self, name: str) -> np.ndarray:
-        """Vertex indices on a ring (sorted, unique)."""
+        """Vertex indices on a ring.
+
+        Parameters
+        ----------
+        name : str
+            A key of :attr:`rings`.
+
+        Returns
+        -------
+        numpy.ndarray
+            The ring's vertex indices, sorted and unique.
+        """
         return np.unique(self.mesh.facets[:, self.rings[name]])
 
 
@@ -50,6 +61,24 @@ def refine_ring(ring: np.ndarray, centres, spacing: float, radius: float, curve=
     """Insert vertices so that within ``radius`` of each centre the spacing along the ring is
     at most ``spacing``. With ``curve`` (a function mapping (2, N) points to their exact
     projections on the true boundary) the new vertices are snapped onto it.
+
+    Parameters
+    ----------
+    ring : numpy.ndarray
+        (2, N) closed ring of vertices [m].
+    centres : array_like
+        (2, K) refinement centres [m].
+    spacing : float
+        Largest vertex spacing near a centre [m].
+    radius : float
+        Reach of the refinement around each centre [m].
+    curve : callable or None
+        (2, N) points -> their exact projections on the true boundary [m].
+
+    Returns
+    -------
+    numpy.ndarray
+        (2, N') the refined ring [m].
     """
     ring = np.asarray(ring, float)
     centres = np.asarray(centres, float).reshape(2, -1)
@@ -101,13 +130,33 @@ def _single_edges(ring, size_max, refinements, keep_below):
 
 def mesh_rings(rings, size_max: float, refinements=(), names=None,
                keep_below: float | None = None) -> BodyMesh:
-    """Mesh the region bounded by ``rings`` [(2, N) exterior, then holes] with gmsh.
+    """Mesh the region bounded by ``rings`` with gmsh.
 
-    ``names``: a name per ring (default "outer", "hole0", ...). ``keep_below``: ring
-    segments shorter than this stay single element edges (their end vertices are the only
-    boundary nodes there: conforming contact zones); longer ones gmsh divides to the size
-    field. Returns a :class:`BodyMesh` with linear triangles (quadratic fields use
-    ElementTriP2 on it).
+    Parameters
+    ----------
+    rings : sequence of array_like
+        (2, N) closed rings [m], the exterior then the holes.
+    size_max : float
+        Largest element size [m], > 0.
+    refinements : sequence of Refinement
+        Finer sizes near points (the contact zones).
+    names : sequence of str or None
+        A name per ring (default "outer", "hole0", ...).
+    keep_below : float or None
+        Ring segments shorter than this [m] stay single element edges (their end vertices
+        are the only boundary nodes there: conforming contact zones); longer ones gmsh
+        divides to the size field.
+
+    Returns
+    -------
+    BodyMesh
+        Linear triangles (quadratic fields use ElementTriP2 on it), boundary facets by ring
+        name.
+
+    Raises
+    ------
+    MeshError
+        For ``size_max`` <= 0, or when gmsh fails or produces no triangles.
     """
     import gmsh
     from skfem import MeshTri
