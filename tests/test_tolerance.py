@@ -207,6 +207,12 @@ def test_ensemble_is_seeded_and_physical(pinhousing):
 def test_ensemble_refuses_bad_input(pinhousing):
     with pytest.raises(CaseError, match="samples = 0 is outside the valid range"):
         tolerance_analysis(pinhousing, samples=0)
+    with pytest.raises(CaseError, match="samples = 'many' must be an integer"):
+        tolerance_analysis(pinhousing, samples="many")
+    with pytest.raises(CaseError, match="tolerances.pin_zone_mm is not a known key"):
+        tolerance_analysis(pinhousing, overrides={"pin_zone_mm": 0.01})
+    with pytest.raises(CaseError, match="tolerances.pin_position_mm = -1"):
+        tolerance_analysis(pinhousing, overrides={"pin_position_mm": -1.0})
     zero = {f: 0.0 for f in ("pin_position_mm", "pin_diameter_lower_mm",
                              "pin_diameter_upper_mm", "pin_circle_radius_mm",
                              "disc_profile_mm", "eccentricity_mm", "crank_hole_position_mm")}

@@ -144,10 +144,14 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     """
     for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
                                 ("workers", workers, 1, 256), ("positions", positions, 2, 3600)):
-        if isinstance(value, bool) or int(value) != value:
+        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
             raise CaseError(f"{name} = {value!r} must be an integer")
         check_range(name, value, lo, hi, error=CaseError)
     if overrides:
+        known = {f.name for f in dataclasses.fields(case.tolerances)}
+        for key in overrides:
+            if key not in known:
+                raise CaseError(f"tolerances.{key} is not a known key; known: {sorted(known)}")
         case = dataclasses.replace(case, tolerances=dataclasses.replace(case.tolerances,
                                                                         **overrides))
     si = case.to_si()
