@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .case import Case
-from .errors import CaseError
+from .errors import CaseError, check_range
 from .fem.datasheet.sheet import datasheet
 from .fem.datasheet.twist import ARCMIN, TwistModel
 from .fem.drives import drive_for
@@ -129,6 +129,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     if case.cycloid is None:
         raise CaseError(f"drive = {case.drive!r}: toothfem design searches the cycloid "
                         "disc's modifications; this case has no [cycloid] section")
+    check_range("positions", positions, 2, 3600, error=CaseError)
     target = case.design
     drive = drive_for(case)
     si = case.to_si()
@@ -150,6 +151,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     hi = np.array([bounds[k][1] for k in names])
     base = drive.geometry
     state = drive.meshing(solver.positions_rad)
+    # a built reducer's positions spread over its pairing period (toothfem.tolerance)
+    pitches = (np.arange(positions) * drive.pairing_period_pitches) // positions
     evaluated = []
     bar = tqdm(total=DOE_POINTS + REFINE_EVALUATIONS, desc="design", unit="candidate",
                disable=not progress)
@@ -160,7 +163,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
                                             for k, v in mod.items()})
         backlash, ph, contacts = [], [], []
         for dev in deviations if devs is None else devs:
-            opts = {"deviation": dev, "geometry": geom}
+            opts = {"deviation": dev, "geometry": geom, "pitches": pitches}
             twist = TwistModel(drive, supports, solver, opts, state)
             backlash.append((twist.at(0.0, 1).total.mean() - twist.at(0.0, -1).total.mean())
                             / ARCMIN)
