@@ -32,13 +32,15 @@ def histograms(result, outputs: dict, title: str):
     pct = result.percentiles()
     for ax, k in zip(axes.flat, keys):
         label, unit = outputs[k]
+        fmt = ".3f" if unit == "%" else ".4g"      # efficiencies near 100 %: decimals
         v = result.samples[k]
         ax.hist(v, bins=min(40, max(8, v.size // 10)), color="tab:blue", alpha=0.7,
                 label=f"{v.size} built reducers")
         ax.axvline(result.nominal[k], color="k", lw=1.5,
-                   label=f"nominal {result.nominal[k]:.4g}")
+                   label=f"nominal {result.nominal[k]:{fmt}}")
         for (q, x), colour in zip(pct[k].items(), ("tab:green", "tab:orange", "tab:red")):
-            ax.axvline(x, color=colour, ls="--", lw=1.2, label=f"{q} {x:.4g}")
+            ax.axvline(x, color=colour, ls="--", lw=1.2, label=f"{q} {x:{fmt}}")
+        ax.ticklabel_format(axis="x", useOffset=False)     # values, not offsets from them
         ax.set_xlabel(f"{label} [{unit}]")
         ax.set_ylabel("reducers")
         ax.grid(alpha=0.3)
