@@ -485,3 +485,17 @@ def test_internal_error_is_one_line(monkeypatch, cases_dir, capsys):
     assert cli.main(["check", str(cases_dir / "rv40e.toml")]) == cli.EXIT_INTERNAL
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "internal error: ZeroDivisionError" in err
+
+
+@pytest.mark.parametrize("value", [1e30, 1e300])
+def test_seal_diameter_has_a_plausibility_bound(cases_dir, value):
+    """The adversarial probe's last four failures (issue 14): a seal diameter of 1e300 mm
+    overflowed inside the seal law, 1e30 mm was accepted and then drove the efficiency to
+    zero; both are refused where the case is read, naming the key and its range."""
+    from toothfem.case import case_to_dict
+
+    d = case_to_dict(load_case(cases_dir / "sine_prototype.toml"))
+    d["seals"]["input_diameter_mm"] = value
+    with pytest.raises(CaseError, match=r"seals.input_diameter_mm = .* is outside the valid "
+                                        r"range \[0, 4000\]"):
+        parse_case(d)

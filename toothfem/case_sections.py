@@ -400,9 +400,10 @@ class Seals(_Section):
     """Radial lip seals on the input and the output shaft (ISO/TR 14179-1 seal loss).
     None: the drive's own diameter (efficiency/envelope.py, ASSUMPTION); 0: no seal."""
     _section = "seals"
-    input_diameter_mm: float | None = _f(0.0, None, default=None,
+    # a shaft no larger than the largest reducer the case model takes (RADIUS_MM)
+    input_diameter_mm: float | None = _f(0.0, 2 * RADIUS_MM[1], default=None,
                                          doc="shaft diameter under the input seal")
-    output_diameter_mm: float | None = _f(0.0, None, default=None,
+    output_diameter_mm: float | None = _f(0.0, 2 * RADIUS_MM[1], default=None,
                                           doc="shaft diameter under the output seal")
 
 
