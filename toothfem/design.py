@@ -184,7 +184,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
 
     def objective(x):
         c = evaluate(np.clip(x, lo, hi))
-        return c.max_ph_MPa + PENALTY * sum(_violations(c, target).values())
+        return _score(c, target)
 
     try:
         doe = qmc.scale(qmc.Sobol(len(names), seed=DOE_SEED).random(DOE_POINTS), lo, hi) \
@@ -213,19 +213,26 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
                         case=best_case)
 
 
-def _violations(c: Candidate, target) -> dict:
-    """{target key: relative violation > 0} of a candidate."""
+def _misses(c: Candidate, target) -> dict:
+    """{target: (reached, limit, scale)} of the targets a candidate misses; the shortfall
+    over ``scale`` is its relative violation."""
     out = {}
-    if c.backlash_arcmin > target.max_backlash_arcmin:
-        out["max_backlash_arcmin"] = (c.backlash_arcmin - target.max_backlash_arcmin) \
-            / target.max_backlash_arcmin
+    backlash = target.max_backlash_arcmin
+    if c.backlash_arcmin > backlash:
+        out["design.max_backlash_arcmin"] = (c.backlash_arcmin, backlash, backlash)
     if c.backlash_arcmin < 0:          # interference: the stage cannot be assembled freely
-        out["backlash >= 0"] = -c.backlash_arcmin / target.max_backlash_arcmin
+        out["a backlash >= 0 (no interference)"] = (c.backlash_arcmin, 0.0, backlash)
     if c.contacts_min < target.min_contacts:
-        out["min_contacts"] = (target.min_contacts - c.contacts_min) / target.min_contacts
+        out["design.min_contacts"] = (c.contacts_min, target.min_contacts,
+                                      target.min_contacts)
     if target.max_ph_MPa is not None and c.max_ph_MPa > target.max_ph_MPa:
-        out["max_ph_MPa"] = (c.max_ph_MPa - target.max_ph_MPa) / target.max_ph_MPa
+        out["design.max_ph_MPa"] = (c.max_ph_MPa, target.max_ph_MPa, target.max_ph_MPa)
     return out
+
+
+def _violations(c: Candidate, target) -> dict:
+    """{target: relative violation > 0} of a candidate."""
+    return {k: abs(r - lim) / scale for k, (r, lim, scale) in _misses(c, target).items()}
 
 
 def _score(c: Candidate, target) -> float:
@@ -234,19 +241,8 @@ def _score(c: Candidate, target) -> float:
 
 def _infeasible(c: Candidate, target) -> str:
     """One line: the targets the closest candidate misses, and by how much."""
-    parts = []
-    if c.backlash_arcmin > target.max_backlash_arcmin:
-        parts.append(f"design.max_backlash_arcmin = {target.max_backlash_arcmin:g} (reached "
-                     f"{c.backlash_arcmin:.3g}, {c.backlash_arcmin - target.max_backlash_arcmin:.3g}"
-                     " above)")
-    if c.backlash_arcmin < 0:
-        parts.append(f"a backlash >= 0 (reached {c.backlash_arcmin:.3g} arcmin: interference)")
-    if c.contacts_min < target.min_contacts:
-        parts.append(f"design.min_contacts = {target.min_contacts} (reached "
-                     f"{c.contacts_min:g}, {target.min_contacts - c.contacts_min:g} short)")
-    if target.max_ph_MPa is not None and c.max_ph_MPa > target.max_ph_MPa:
-        parts.append(f"design.max_ph_MPa = {target.max_ph_MPa:g} (reached "
-                     f"{c.max_ph_MPa:.4g}, {c.max_ph_MPa - target.max_ph_MPa:.4g} above)")
+    parts = [f"{k} = {lim:g} (reached {r:.4g}, off by {abs(r - lim):.3g})"
+             for k, (r, lim, _) in _misses(c, target).items()]
     mod = ", ".join(f"{k} = {v:.4g}" for k, v in c.modification.items())
     return ("no modification within the [design] bounds meets the targets: the closest ("
             + mod + ") misses " + "; ".join(parts))
