@@ -175,13 +175,10 @@ def only(tolerances, name: str):
     ToothfemError
         For a name that matches no tolerance.
     """
-    zero = {}
-    for f in fields(tolerances):
-        if f.name in ("distribution", name) or f.name.startswith(name):
-            continue
-        value = getattr(tolerances, f.name)
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            zero[f.name] = 0.0
-    if len(zero) == len([f for f in fields(tolerances) if f.name != "distribution"]):
+    zones = [f.name for f in fields(tolerances)
+             if isinstance(getattr(tolerances, f.name), (int, float))
+             and not isinstance(getattr(tolerances, f.name), bool)]
+    if not any(z.startswith(name) for z in zones):
         raise ToothfemError(f"no tolerance named {name!r}")
+    zero = {z: 0.0 for z in zones if not z.startswith(name)}
     return replace(tolerances, **zero)

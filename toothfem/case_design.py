@@ -19,6 +19,11 @@ def _zone(doc: str):
     return _f(0.0, TOLERANCE_MAX_MM, default=0.0, doc=doc)
 
 
+def _own_distribution():
+    return _f(choices=DISTRIBUTIONS, default=None,
+              doc="this tolerance's distribution instead of the section's")
+
+
 @dataclass(frozen=True)
 class Tolerances(_Section):
     """Manufacturing tolerances of the meshing parts (0: made exactly). Zones as drawings
@@ -39,6 +44,14 @@ class Tolerances(_Section):
                                           "hole(s) against its profile")
     tooth_profile_mm: float = _zone("+- limit of each sine tooth flank's normal deviation "
                                     "(planet and ring)")
+    # each tolerance's own distribution, instead of ``distribution`` (none: that one)
+    pin_position_distribution: str | None = _own_distribution()
+    pin_diameter_distribution: str | None = _own_distribution()
+    pin_circle_radius_distribution: str | None = _own_distribution()
+    disc_profile_distribution: str | None = _own_distribution()
+    eccentricity_distribution: str | None = _own_distribution()
+    crank_hole_position_distribution: str | None = _own_distribution()
+    tooth_profile_distribution: str | None = _own_distribution()
 
     def _check(self):
         if self.pin_diameter_lower_mm > self.pin_diameter_upper_mm:

@@ -199,6 +199,23 @@ class TolerancesSI:
     eccentricity_m: float = 0.0
     crank_hole_position_m: float = 0.0
     tooth_profile_m: float = 0.0
+    #: (tolerance, distribution) of those with a distribution of their own
+    distributions: tuple = ()
+
+    def distribution_of(self, name: str) -> str:
+        """The distribution of tolerance ``name`` (e.g. ``pin_position``).
+
+        Parameters
+        ----------
+        name : str
+            The tolerance's name without its unit.
+
+        Returns
+        -------
+        str
+            Its own distribution, else the section's ``distribution``.
+        """
+        return dict(self.distributions).get(name, self.distribution)
 
     def active(self) -> list:
         """Names of the tolerances with a nonzero zone (the pin diameter's two limits as
@@ -211,7 +228,7 @@ class TolerancesSI:
         """
         out = []
         for f in dataclasses.fields(self):
-            if f.name == "distribution" or not getattr(self, f.name):
+            if not f.name.endswith("_m") or not getattr(self, f.name):
                 continue
             name = f.name[:-2]
             if name.startswith("pin_diameter"):
@@ -393,10 +410,15 @@ def from_case(case) -> CaseSI:
 
 
 def _tolerances_si(tol) -> TolerancesSI:
-    """Every ``*_mm`` key of [tolerances] in m."""
-    return TolerancesSI(distribution=tol.distribution, **{
-        f.name[:-3] + "_m": getattr(tol, f.name) * _MM
-        for f in dataclasses.fields(tol) if f.name.endswith("_mm")})
+    """Every ``*_mm`` key of [tolerances] in m, and the tolerances' own distributions."""
+    own = "_distribution"
+    return TolerancesSI(
+        distribution=tol.distribution,
+        distributions=tuple((f.name[:-len(own)], getattr(tol, f.name))
+                            for f in dataclasses.fields(tol)
+                            if f.name.endswith(own) and getattr(tol, f.name) is not None),
+        **{f.name[:-3] + "_m": getattr(tol, f.name) * _MM
+           for f in dataclasses.fields(tol) if f.name.endswith("_mm")})
 
 
 def _mm_or_none(value):

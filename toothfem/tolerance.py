@@ -188,6 +188,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                 "pairing_period_pitches": int(drive.pairing_period_pitches),
                 "share_samples": n_share if len(active) > 1 else 0,
                 "distribution": tol.distribution,
+                "distributions": dict(tol.distributions),
                 "tolerances_mm": {k: v for k, v in dataclasses.asdict(case.tolerances).items()
                                   if k.endswith("_mm") and v},
                 "operating_speed_rpm": setup.speed_rpm,

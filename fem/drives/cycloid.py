@@ -371,20 +371,21 @@ class CycloidDrive(Drive):
         -------
         toothfem.fem.deviations.CycloidDeviation
         """
-        t, dist = tolerances, tolerances.distribution
+        t, dist = tolerances, tolerances.distribution_of
         zb, za = self.geometry.pin_count, self.stage.lobe_count
         radial = cym.pin_centres(self.geometry) / self.geometry.pin_circle_radius_m
-        offset = dv.in_zone(rng, t.pin_position_m, zb, dist) \
-            + radial * dv.symmetric(rng, t.pin_circle_radius_m, 1, dist)
+        offset = dv.in_zone(rng, t.pin_position_m, zb, dist("pin_position")) \
+            + radial * dv.symmetric(rng, t.pin_circle_radius_m, 1, dist("pin_circle_radius"))
         holes = dv.in_zone(rng, t.crank_hole_position_m, self.stage.holes.crank_hole_count,
-                           dist)
+                           dist("crank_hole_position"))
         return dv.CycloidDeviation(
             pin_offset=offset,
             pin_radius=0.5 * dv.between(rng, t.pin_diameter_lower_m, t.pin_diameter_upper_m,
-                                        zb, dist),
-            profile=dv.symmetric(rng, t.disc_profile_m, (za, 2), dist),
+                                        zb, dist("pin_diameter")),
+            profile=dv.symmetric(rng, t.disc_profile_m, (za, 2), dist("disc_profile")),
             member_offset=-np.mean(holes, axis=1),
-            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1, dist)[0]))
+            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
+                                            dist("eccentricity"))[0]))
 
     @property
     def pairing_period_pitches(self) -> int:

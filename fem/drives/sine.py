@@ -244,11 +244,13 @@ class SineDrive(Drive):
         -------
         toothfem.fem.deviations.SineDeviation
         """
-        t, dist, pair = tolerances, tolerances.distribution, self.pair
+        t, pair = tolerances, self.pair
+        flank = tolerances.distribution_of("tooth_profile")
         return dv.SineDeviation(
-            planet_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.planet_teeth, 2), dist),
-            ring_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.ring_teeth, 2), dist),
-            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1, dist)[0]))
+            planet_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.planet_teeth, 2), flank),
+            ring_profile=dv.symmetric(rng, t.tooth_profile_m, (pair.ring_teeth, 2), flank),
+            eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
+                                            tolerances.distribution_of("eccentricity"))[0]))
 
     @property
     def pairing_period_pitches(self) -> int:
