@@ -207,6 +207,8 @@ def test_ensemble_is_seeded_and_physical(pinhousing):
 def test_ensemble_refuses_bad_input(pinhousing):
     with pytest.raises(CaseError, match="samples = 0 is outside the valid range"):
         tolerance_analysis(pinhousing, samples=0)
+    with pytest.raises(CaseError, match=r"seed = -1 is outside the valid range \[0, "):
+        tolerance_analysis(pinhousing, seed=-1)
     with pytest.raises(CaseError, match="samples = 'many' must be an integer"):
         tolerance_analysis(pinhousing, samples="many")
     with pytest.raises(CaseError, match="tolerances.pin_zone_mm is not a known key"):

@@ -143,7 +143,8 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
         nonzero zone.
     """
     for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
-                                ("workers", workers, 1, 256), ("positions", positions, 2, 3600)):
+                                ("workers", workers, 1, 256), ("positions", positions, 2, 3600),
+                                ("seed", seed, 0, 2**63 - 1)):      # numpy's seeds: >= 0
         if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
             raise CaseError(f"{name} = {value!r} must be an integer")
         check_range(name, value, lo, hi, error=CaseError)
