@@ -255,6 +255,17 @@ def test_workers_give_the_same_ensemble(pinhousing):
     two = tolerance_analysis(pinhousing, workers=2, **kw)
     for k in one.samples:
         np.testing.assert_array_equal(one.samples[k], two.samples[k])
+    assert one.shares == {}                 # share_samples=0: no one-tolerance runs
+
+
+def test_a_scheduler_that_is_not_there_is_one_line():
+    from toothfem.cluster import dask_client
+    from toothfem.errors import ToothfemError
+
+    with pytest.raises(ToothfemError, match="scheduler = 'not an address': no Dask "
+                                            "scheduler there"):
+        with dask_client("not an address", None):
+            pass
 
 
 # -- modification design -------------------------------------------------------------------

@@ -4,6 +4,8 @@ from __future__ import annotations
 import contextlib
 import os
 
+from .errors import ToothfemError
+
 
 def dask_client(scheduler, n_workers):
     """A context manager giving a ``distributed.Client``.
@@ -32,6 +34,12 @@ def dask_client(scheduler, n_workers):
         elif isinstance(scheduler, Client):
             yield scheduler
         else:
-            with Client(scheduler) as client:
+            try:
+                client = Client(scheduler)
+            except (OSError, ValueError, TimeoutError) as exc:
+                raise ToothfemError(f"scheduler = {scheduler!r}: no Dask scheduler there "
+                                    f"({exc}); valid: an address such as "
+                                    "tcp://host:8786") from None
+            with client:
                 yield client
     return owned()

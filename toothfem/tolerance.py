@@ -184,7 +184,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     labels = np.array([label for label, _ in plan])
     table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
     ensemble = {k: v[labels == "all"] for k, v in table.items()}
-    shares = _shares(table, labels, active)
+    shares = _shares(table, labels, active) if n_share else {}
     settings = {"samples": int(samples), "seed": int(seed), "positions": n,
                 "pairing_period_pitches": int(drive.pairing_period_pitches),
                 "share_samples": n_share if len(active) > 1 else 0,
