@@ -9,6 +9,7 @@ key, the value and the valid range.
 from __future__ import annotations
 
 import math
+import numbers
 from typing import Mapping
 
 from .errors import CaseError
@@ -108,10 +109,10 @@ def check_type(key: str, value, expected: str):
     """
     if expected == "string":
         ok = isinstance(value, str)
-    elif expected == "integer":
-        ok = isinstance(value, int) and not isinstance(value, bool)
+    elif expected == "integer":          # numpy's integers too (callers from Python)
+        ok = isinstance(value, numbers.Integral) and not isinstance(value, bool)
     elif expected == "number":
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool)
+        ok = isinstance(value, numbers.Real) and not isinstance(value, bool)
     else:
         return
     if ok:

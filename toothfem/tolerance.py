@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .case import Case
+from .case_checks import check_type
 from .cluster import dask_client
 from .efficiency import evaluate, operating_point
 from .efficiency.mesh_table import table_from_records
@@ -145,8 +146,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
                                 ("workers", workers, 1, 256), ("positions", positions, 2, 3600),
                                 ("seed", seed, 0, 2**63 - 1)):      # numpy's seeds: >= 0
-        if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-            raise CaseError(f"{name} = {value!r} must be an integer")
+        check_type(name, value, "integer")
         check_range(name, value, lo, hi, error=CaseError)
     if overrides:
         known = {f.name for f in dataclasses.fields(case.tolerances)}
@@ -180,7 +180,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     plan = [(label, drive.sample_deviation(t, rng)) for label, t, count in runs
             for _ in range(count)]
     rows = _run_all(setup, [d for _, d in plan], int(workers), scheduler, progress)
-    nominal = _outputs(setup, _solver(setup), None)
+    nominal = _run_chunk(setup, [None])[0]
     labels = np.array([label for label, _ in plan])
     table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
     ensemble = {k: v[labels == "all"] for k, v in table.items()}
@@ -259,11 +259,17 @@ def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
             "total_efficiency_pct": 100 * float(eff.efficiency[0])}
 
 
-def _run_chunk(setup: _Setup, deviations: list) -> list:
-    """Worker task: the outputs of each deviation, in order."""
+def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
+    """The outputs of each deviation, in order (a Dask task, or the whole run in one
+    process); ``done()`` after each, if given."""
     solver = _solver(setup)
     state = drive_for(setup.case).meshing(solver.positions_rad)
-    return [_outputs(setup, solver, d, state) for d in deviations]
+    out = []
+    for d in deviations:
+        out.append(_outputs(setup, solver, d, state))
+        if done is not None:
+            done()
+    return out
 
 
 def _run_all(setup, deviations, workers, scheduler, progress) -> list:
@@ -273,13 +279,7 @@ def _run_all(setup, deviations, workers, scheduler, progress) -> list:
     bar = tqdm(total=len(deviations), desc="tolerance", unit="ring", disable=not progress)
     try:
         if workers == 1 and scheduler is None:
-            solver = _solver(setup)
-            state = drive_for(setup.case).meshing(solver.positions_rad)
-            out = []
-            for d in deviations:
-                out.append(_outputs(setup, solver, d, state))
-                bar.update()
-            return out
+            return _run_chunk(setup, deviations, bar.update)
         from distributed import as_completed
 
         chunks = [deviations[i:i + CHUNK] for i in range(0, len(deviations), CHUNK)]
