@@ -31,7 +31,7 @@ from ..errors import CaseError
 from ..fem.drives import drive_for
 from . import spur as sp
 from .contact_friction import contact_mu, sliding_loss
-from .mesh_table import fe_reference, mesh_table
+from .mesh_table import fe_member_split, fe_reference, mesh_table
 from .no_load import no_load_losses
 
 
@@ -68,6 +68,31 @@ def _table(si, drive, points, member_torque, notes):
         ref = fe_reference(None if declared is None else
                            drive.member_torque(declared, peak=False), member_torque, notes)
     return mesh_table(drive, points.loads, points.n_positions, ref)
+
+
+def _members(si, drive, points, table, member_torque, notes):
+    """Each member's loads as [(table, torque (M,) [N m], members alike)]: the even share
+    for one table of them all, unless the loads are the FE's and the FE split between the
+    members is not even (fem/datasheet/transmission.py, at the case's declared output
+    torque, held as fractions at every point). Then member j carries its mean share of the
+    output torque, its table scaled at each position by its share there over that mean
+    (first order in the ripple of the share over the pitch)."""
+    m = drive.members
+    if points.loads != "fem" or points.table is not None or m == 1:
+        return [(table, member_torque, m)]
+    ref = si.declared_output_torque_Nm() or float(np.max(points.output_torque_Nm))
+    split = fe_member_split(drive, drive.supports(si.supports), ref, table.n_positions)
+    if split.even_by_layout:
+        notes.append(f"FE split between the {m} discs: even at every position by the layout's "
+                     "symmetry (each disc at the first's configuration, the crankshafts "
+                     "loading each alike)")
+        return [(table, member_torque, m)]
+    ratio = split.ratio_by_position()                                   # (M, P)
+    shares = split.share.mean(axis=1)
+    notes.append(f"FE split between the {m} discs at {ref:.4g} N m (fractions held at every "
+                 "point): mean shares " + " / ".join(f"{x:.4f}" for x in shares)
+                 + f", largest {float(split.share.max()):.4f} (docs/stiffness.md)")
+    return [(table.scaled(r / r.mean()), member_torque * r.mean(), 1) for r in ratio]
 
 
 def w_mechanism(si, table, force, member_torque, a0_m, rel):
@@ -323,26 +348,35 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     disc_rel = np.abs(w_in * (w["crank"] - w["member"]))     # crank relative to the disc
     p_out = t2 * np.abs(w_in * w["output"])
     notes = []
-    t_disc = drive.member_torque(t2, peak=False)   # even split for losses
+    t_disc = drive.member_torque(t2, peak=False)   # the even share
     table = _table(si, drive, points, t_disc, notes)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
-    pins_disc, f_bearing = disc_contact_losses(si, table, t_disc, crank, eta0, notes)
-    pins = drive.members * pins_disc
+    # every member's loss at its own loads: (table, torque (M,), members alike)
+    members = _members(si, drive, points, table, t_disc, notes)
+    pins, f_bearing = 0.0, []
+    for j, (tab, t_j, count) in enumerate(members):
+        said = []
+        loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said)
+        notes.extend(said if count > 1 else [f"disc {j + 1} of {len(members)}: {n}" for n in said])
+        pins = pins + count * loss
+        f_bearing.append(f_b)
     eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
     mesh_eff = {"cycloid": eta2}
     if not drive.two_stage:
         # K-H-V: the disc's torque leaves through pins in holes; its central eccentric
-        # bearing carries the pin resultant and the pins' load (as the sine planet)
-        force, _ = table.at(t_disc)
-        ecc, out_mech = w_mechanism(si, table, force, t_disc, cyc.geometry.eccentricity_m,
-                                    disc_rel)
-        # the energy balance with the contact loss itself (Chen & Angeles' closed form
-        # agrees to first order)
-        losses = {"pin_contacts": pins, "eccentric_bearing": drive.members * ecc,
-                  "output_mechanism": drive.members * out_mech}
+        # bearing carries the pin resultant and the pins' load (as the sine planet); the
+        # energy balance with the contact loss itself (Chen & Angeles' closed form agrees
+        # to first order)
+        ecc = out_mech = 0.0
+        for tab, t_j, count in members:
+            e, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j, cyc.geometry.eccentricity_m,
+                               disc_rel)
+            ecc, out_mech = ecc + count * e, out_mech + count * o
+        losses = {"pin_contacts": pins, "eccentric_bearing": ecc, "output_mechanism": out_mech}
     else:                      # 2K-V: the closed form of the general power flow
-        losses = {"crank_bearings": drive.members * crank_bearing_loss(
-            si, f_bearing, t_disc, disc_rel)}
+        losses = {"crank_bearings": sum(
+            count * crank_bearing_loss(si, f_b, t_j, disc_rel)
+            for (_, t_j, count), f_b in zip(members, f_bearing))}
         ratio = abs(1 / w["output"])
         eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
         zs, zp = drive.first_teeth
@@ -365,8 +399,8 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
                                  eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor))
-    return DriveLosses(output_power_W=p_out, losses_W=losses, notes=tuple(notes),
-                       mesh_efficiency=mesh_eff)
+    return DriveLosses(output_power_W=p_out, losses_W=losses,
+                       notes=tuple(dict.fromkeys(notes)), mesh_efficiency=mesh_eff)
 
 
 def bearing_component(drive) -> str:

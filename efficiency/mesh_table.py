@@ -11,12 +11,14 @@ from __future__ import annotations
 import contextlib
 import math
 from contextvars import ContextVar
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
 
 from ..errors import CaseError
+from ..fem.datasheet.transmission import (DEFAULT_SAMPLES, even_by_layout, member_split,
+                                          sampled_pitches)
 
 LOADS = ("analytic", "fem")
 
@@ -105,6 +107,22 @@ class MeshTable:
             np.add.at(out[:, :, k], (slice(None), self.position), force * self.normal[:, k])
         return out
 
+    def scaled(self, ratio):
+        """The table with the loads of each position scaled: forces by ``ratio`` there,
+        peak pressures by its square root (Hertz's line contact).
+
+        Parameters
+        ----------
+        ratio : array_like, shape (P,)
+            Factor at each position of the period [-], > 0.
+
+        Returns
+        -------
+        MeshTable
+        """
+        r = np.asarray(ratio, float)[self.position]
+        return replace(self, force=self.force * r, ph=self.ph * np.sqrt(r))
+
 
 def table_from_records(state, records, loads):
     """A :class:`MeshTable` from load-sharing records.
@@ -175,6 +193,39 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
         recs = _fe_records(drive.cycle_solver(n_positions),
                            [f * torque_ref for f in FE_TORQUE_FRACTIONS], n_positions)
     return table_from_records(state, recs, loads)
+
+
+@lru_cache(maxsize=TABLES_KEPT)
+def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
+    """The FE split of the output torque between the members
+    (:func:`toothfem.fem.datasheet.transmission.member_split`), its cycle solvers counted on
+    the :data:`FE_PROGRESS` bar when one is set.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+    output_torque_Nm : float
+        Output torque of the split [N m].
+    n_positions : int
+        Positions per pitch (the FE load table's).
+
+    Returns
+    -------
+    toothfem.fem.datasheet.transmission.MemberSplit or None
+        None for one member.
+    """
+    bar = FE_PROGRESS.get()
+    if bar is None or drive.members == 1 or even_by_layout(drive, supports, n_positions):
+        return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions)
+    total = len(sampled_pitches(drive.full_period_pitches, DEFAULT_SAMPLES))
+    with bar(total=total, desc="FE member split", unit="solver") as shown:
+        def counted(pitches):
+            for m in pitches:
+                yield m
+                shown.update()
+        return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions,
+                            progress=counted)
 
 
 @contextlib.contextmanager

@@ -14,10 +14,14 @@ pitch's own positions).
 
 The split. Each member (disc) is a load path from the output to the housing: its mesh,
 its own bearings, and the crankshafts the members share; all turn the output by the same
-twist. About the even split each path is linearised (its twist and its slope from the FE
-at +-SPLIT_DELTA of the even share); the torques T_j with sum T that give one twist solve
-a small linear system at every position of the full period. Member j sits at its own
-place on the full-period grid (``Drive.member_offsets``).
+twist. Where every member stands at the first member's configuration (``Drive.member_offsets``
+all equal) and the shared crankshafts load each member alike (equal row sums of their
+coupled compliance), the even split is the solution at every position, exactly, and
+nothing is solved. Otherwise each member's own path is tabulated against its torque (the FE
+at SPLIT_LEVELS of the even share, 0 to all of the output torque, twist interpolated
+linearly between them), and at every position of the full period the member torques with
+sum T that give one twist (theta_j = own_j(T_j) + sum_i S_ji T_i) are found by Newton's
+method; a member whose flank does not close at that twist carries nothing (an active set).
 """
 from __future__ import annotations
 
@@ -29,9 +33,18 @@ import numpy as np
 from ...errors import CaseError, check_range
 from .twist import ARCSEC, TwistModel
 
-#: Relative torque step of the members' slopes (secant over +-5 % of the even share: the
-#: Hertzian mesh stiffens by T^(1/3)-ish, so the secant differs from the tangent by ~0.1 %).
-SPLIT_DELTA = 0.05
+#: Member torques, as multiples of the even share T/M, at which each member's own path is
+#: tabulated for the split (those above M, the whole output torque, are dropped). Between
+#: them the twist is interpolated linearly: the mesh's twist is concave in the torque (the
+#: Hertzian and the closing contacts stiffen it), and at these spacings the chord departs
+#: from the curve by at most 0.41 % of the twist from 0.05 T/M up, 0.15 % from 0.2 T/M up
+#: (the pin-housing drive and its three-disc variant, measured; tests/test_split.py checks
+#: the twists the split balances against direct FE solves).
+SPLIT_LEVELS = (0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.35,
+                1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0)
+#: Newton iterations allowed for one position's member torques (piecewise-linear twists:
+#: it ends once each member's torque is on its final segment, in a few steps).
+SPLIT_ITERATIONS = 50
 #: Default cycle solvers over the full period and positions per pitch of each.
 DEFAULT_SAMPLES, DEFAULT_PER_PITCH = 6, 12
 #: Harmonics listed (the largest, sorted by order).
@@ -98,14 +111,34 @@ class LoadedTE:
 
 @dataclass(frozen=True, kw_only=True)
 class MemberSplit:
-    """The output torque's split between the members over the full period."""
+    """The output torque's split between the members over the full period: ``share[j, g]``
+    = T_j / T at grid position g (the first member's crank angle), member j standing at
+    the first member's configuration ``g + offsets[j]``."""
     share: np.ndarray                # (M, N) T_j / T
     crank_angle_rad: np.ndarray      # (N,)
+    output_torque_Nm: float
+    offsets: tuple                   # (M,) ``Drive.member_offsets(per_pitch)``
+    per_pitch: int
+    even_by_layout: bool             # True: even at every position by symmetry, not solved
 
     @property
     def load_factor(self) -> float:
         """Largest member torque over the even share (the seed's disc load factor)."""
         return float(np.max(self.share) * self.share.shape[0])
+
+    def ratio_by_position(self) -> np.ndarray:
+        """Each member's torque over the even share T/M at each position of one pitch, in
+        its own configuration, averaged over the full period's pitches.
+
+        Returns
+        -------
+        numpy.ndarray, shape (M, per_pitch)
+            Member j at the first member's configuration p + (any whole pitch); 1 for the
+            even split.
+        """
+        m, n = self.share.shape
+        own = np.stack([np.roll(self.share[j], self.offsets[j]) for j in range(m)])
+        return m * own.reshape(m, n // self.per_pitch, self.per_pitch).mean(axis=1)
 
     def summary(self) -> dict:
         """The figures of the data sheet's member-split row.
@@ -113,12 +146,14 @@ class MemberSplit:
         Returns
         -------
         dict
-            Largest, smallest and mean share per member [-], and the load factor.
+            Largest, smallest and mean share per member [-], the load factor, and how the
+            split was found.
         """
         return {"member_share_max": float(np.max(self.share)),
                 "member_share_min": float(np.min(self.share)),
                 "member_share_mean": [float(x) for x in self.share.mean(axis=1)],
-                "member_load_factor_fe": self.load_factor}
+                "member_load_factor_fe": self.load_factor,
+                "member_split_even_by_layout": self.even_by_layout}
 
 
 def sampled_pitches(full_period: int, samples: int) -> tuple:
@@ -200,7 +235,7 @@ def harmonic_amplitudes(signal, full_period_output_rad: float):
 
 
 def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAULT_SAMPLES,
-              per_pitch: int = DEFAULT_PER_PITCH, cache=True):
+              per_pitch: int = DEFAULT_PER_PITCH, cache=True, progress=None):
     """Loaded TE over the full period and, for several members, their split.
 
     Parameters
@@ -215,6 +250,8 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
         Positions per pitch of each.
     cache
         The disk cache (as ``Drive.cycle_solver``).
+    progress : callable, optional
+        Wraps the iterator over the sampled pitches (one cycle solver each), e.g. a bar.
 
     Returns
     -------
@@ -235,8 +272,11 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     pitches = sampled_pitches(k, samples)
     t = float(output_torque_Nm)
     opts = drive.both_sides_options if t < 0 else {}
-    own, slope, shared, mesh = [], [], [], []
-    for m in pitches:
+    several = drive.members > 1
+    even = several and even_by_layout(drive, supports, per_pitch)
+    levels = split_levels(drive.members) if several and not even else ()
+    own, shared, mesh, curves = [], [], [], []
+    for m in (pitches if progress is None else progress(pitches)):
         model = TwistModel(drive, supports, drive.cycle_solver(
             per_pitch, cache=cache, solver_options=opts, pitch=m))
         p = model.at(t)
@@ -244,10 +284,10 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
         own.append(sum(p.paths[n] for n in names))
         shared.append(p.total - own[-1])
         mesh.append(p.paths["mesh"])
-        if drive.members > 1:
-            hi, lo = model.at(t * (1 + SPLIT_DELTA)), model.at(t * (1 - SPLIT_DELTA))
-            d_own = sum(hi.paths[n] - lo.paths[n] for n in names)
-            slope.append(d_own / (2 * SPLIT_DELTA * model.member_torque(t)))
+        # member torque r T/M: the model's output torque r T (it splits evenly)
+        curves.append([sum(q.paths[n] for n in names) for q in
+                       (model.at(r * t) if r else model.at(0.0, side=int(math.copysign(1, t)))
+                        for r in levels)])
     fill = lambda v: fourier_fill(pitches, np.array(v), k).ravel()  # noqa: E731
     own_full, shared_full, mesh_full = fill(own), fill(shared), fill(mesh)
     n_all = own_full.size
@@ -256,9 +296,14 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     out_per_crank = abs(speeds["output"] / speeds["crank"])
     split = None
     te = own_full + shared_full
-    if drive.members > 1:
-        split, te = _split(drive, supports, t, own_full, fill(slope), shared_full, per_pitch)
-        split = MemberSplit(share=split, crank_angle_rad=crank)
+    if several:
+        share = np.full((drive.members, n_all), 1.0 / drive.members)
+        if not even:
+            table = np.stack([fill(np.asarray(curves)[:, i]) for i in range(len(levels))])
+            share, te = _split(drive, supports, t, levels, table, shared_full, per_pitch)
+        split = MemberSplit(share=share, crank_angle_rad=crank, output_torque_Nm=t,
+                            offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
+                            even_by_layout=bool(even))
     orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
     return LoadedTE(output_torque_Nm=t, crank_angle_rad=crank,
                     output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
@@ -266,31 +311,184 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
                     orders_per_output_rev=orders, amplitude_arcsec=amp / ARCSEC), split
 
 
-def _split(drive, supports, t, own, slope, shared, per_pitch):
-    """(shares (M, N), output twist (N,)): member j, at grid index g + offset_j, carries
-    T/M + dT_j; its twist own_j + c_j dT_j + sum_i S_ji (T/M + dT_i) is the common theta
-    and sum dT_j = 0 (own_j, c_j its own path's twist and slope at the even share, S the
-    shared crankshafts); the parts every path runs through are added to theta."""
+def split_levels(members: int) -> tuple:
+    """The SPLIT_LEVELS a member of ``members`` can reach (T_j <= T, i.e. <= M T/M).
+
+    Parameters
+    ----------
+    members : int
+        M.
+
+    Returns
+    -------
+    tuple of float
+        Multiples of the even share, rising from 0.
+    """
+    return tuple(r for r in SPLIT_LEVELS if r <= members)
+
+
+def coupled_matrix(drive, supports) -> np.ndarray:
+    """The shared parts' compliance between the members, every part summed.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, M)
+        [rad/(N m)]: member j turns by ``S[j] @ T`` under the member torques T.
+    """
     m = drive.members
-    n_all = own.size
+    return sum(drive.coupled_compliance(supports).values(), np.zeros((m, m)))
+
+
+def even_by_layout(drive, supports, per_pitch: int) -> bool:
+    """Whether the even split holds at every position by the drive's symmetry: every member
+    at the first member's configuration and the shared parts loading each alike.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+    per_pitch : int
+        Positions per pitch of the grid the offsets are counted on.
+
+    Returns
+    -------
+    bool
+        True when T_j = T/M solves the split at every position (it is then the solution:
+        each member's twist rises with its torque).
+    """
+    rows = coupled_matrix(drive, supports).sum(axis=1)
+    return (len(set(drive.member_offsets(per_pitch))) == 1
+            and bool(np.allclose(rows, rows[0], rtol=1e-12, atol=0.0)))
+
+
+def member_split(drive, supports, output_torque_Nm: float, *, per_pitch: int,
+                 samples: int = DEFAULT_SAMPLES, cache=True, progress=None):
+    """The split between the members alone (what the efficiency model takes with FE loads).
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+    output_torque_Nm : float
+        Output torque [N m], nonzero.
+    per_pitch : int
+        Positions per pitch (the efficiency table's positions).
+    samples : int
+        Cycle solvers over the full period, where the split must be solved.
+    cache
+        The disk cache (as ``Drive.cycle_solver``).
+    progress : callable, optional
+        As :func:`loaded_te`'s, where the split is solved.
+
+    Returns
+    -------
+    MemberSplit or None
+        None for one member; the even split without a solve where :func:`even_by_layout`.
+    """
+    if drive.members == 1:
+        return None
+    if even_by_layout(drive, supports, per_pitch):
+        n = drive.full_period_pitches * int(per_pitch)
+        return MemberSplit(share=np.full((drive.members, n), 1.0 / drive.members),
+                           crank_angle_rad=np.arange(n) * (drive.period_rad / per_pitch),
+                           output_torque_Nm=float(output_torque_Nm),
+                           offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
+                           even_by_layout=True)
+    return loaded_te(drive, supports, output_torque_Nm, samples=samples, per_pitch=per_pitch,
+                     cache=cache, progress=progress)[1]
+
+
+def _split(drive, supports, t, levels, table, shared, per_pitch):
+    """(shares (M, N), output twist (N,)). ``table[l, g]``: the first member's own path
+    twist at grid position g under the member torque ``levels[l]`` T/M. Member j, at grid
+    index g + offset_j, carries T_j: its twist own(T_j) + sum_i S_ji T_i is the common
+    theta, and sum T_j = T. The shared parts' even-split twist is in ``shared`` (the
+    TwistModel's even split), so only the rest of it (the output side) is added to theta."""
+    m = drive.members
+    n_all = shared.size
     offsets = drive.member_offsets(per_pitch)
     idx = (np.arange(n_all)[None, :] + np.asarray(offsets)[:, None]) % n_all   # (M, N)
-    s = sum(drive.coupled_compliance(supports).values(), np.zeros((m, m)))
-    tm = math.copysign(drive.member_torque(abs(t), peak=False), t)
+    s = coupled_matrix(drive, supports)
+    sign, total = math.copysign(1.0, t), abs(t)
+    torques = np.asarray(levels) * (total / m)
+    signed = sign * table                      # rising with the torque's magnitude
     shares = np.empty((m, n_all))
-    common = np.empty(n_all)
-    # the even-split twist of the shared parts (crank bending) is in ``shared`` already
-    shared_even = s @ np.full(m, tm)
+    theta = np.empty(n_all)
+    x = np.full(m, total / m)
     for g in range(n_all):
-        a = np.zeros((m + 1, m + 1))
-        a[:m, :m] = np.diag(slope[idx[:, g]]) + s
-        a[:m, m] = -1.0
-        a[m, :m] = 1.0
-        rhs = np.concatenate([-(own[idx[:, g]] + shared_even), [0.0]])
-        x = np.linalg.solve(a, rhs)
-        shares[:, g] = (tm + x[:m]) / t
-        common[g] = x[m]
-    # twist = own_j + c_j dT_j + S (T/M + dT) = x[m]; plus the parts every path runs through
-    other = shared - shared_even[0]
-    return shares, common + other
+        x, th = member_torques(torques, signed[:, idx[:, g]].T, s, total, x)
+        shares[:, g] = x / total
+        theta[g] = sign * th
+    other = shared - s[0] @ np.full(m, t / m)
+    return shares, theta + other
 
+
+def member_torques(torques, twists, coupling, total: float, start=None):
+    """Member torques T_j >= 0 with sum ``total`` that turn every loaded member alike:
+    f_j(T_j) + (S T)_j = theta where T_j > 0, and f_j(0) + (S T)_j >= theta where T_j = 0
+    (that member's flank stays open). Newton's method on the piecewise-linear f_j.
+
+    Parameters
+    ----------
+    torques : numpy.ndarray, shape (L,)
+        Member torques of the table, rising from 0 [N m].
+    twists : numpy.ndarray, shape (M, L)
+        f_j at them [rad], rising (hold beyond the last at the last segment's slope).
+    coupling : numpy.ndarray, shape (M, M)
+        S [rad/(N m)].
+    total : float
+        T [N m], > 0.
+    start : numpy.ndarray, shape (M,), optional
+        First guess (the previous position's), default T/M each.
+
+    Returns
+    -------
+    x : numpy.ndarray, shape (M,)
+        T_j [N m].
+    theta : float
+        The common twist [rad].
+
+    Raises
+    ------
+    RuntimeError
+        If Newton's method has not settled in SPLIT_ITERATIONS steps.
+    """
+    m = twists.shape[0]
+    x = np.full(m, total / m) if start is None else np.clip(start, 0.0, total)
+    free = np.ones(m, bool)
+    rows = np.arange(m)
+    for _ in range(SPLIT_ITERATIONS):
+        seg = np.clip(np.searchsorted(torques, x, side="right") - 1, 0, torques.size - 2)
+        slope = ((twists[rows, seg + 1] - twists[rows, seg])
+                 / (torques[seg + 1] - torques[seg]))
+        f = twists[rows, seg] + slope * (x - torques[seg])
+        idx = np.flatnonzero(free)
+        n = idx.size
+        a = np.zeros((n + 1, n + 1))
+        a[:n, :n] = coupling[np.ix_(idx, idx)] + np.diag(slope[idx])
+        a[:n, n] = -1.0
+        a[n, :n] = 1.0
+        sol = np.linalg.solve(a, np.concatenate([slope[idx] * x[idx] - f[idx], [total]]))
+        new = np.zeros(m)
+        new[idx] = sol[:n]
+        theta = sol[n]
+        if np.any(new < 0):                     # the most unloaded member's flank opens
+            free[idx[np.argmin(sol[:n])]] = False
+            x = np.clip(new, 0.0, total)
+            continue
+        # an open member whose unloaded twist is below theta picks load up again
+        opened = ~free & (twists[:, 0] + coupling @ new < theta)
+        if np.any(opened):
+            free |= opened
+            x = new
+            continue
+        if np.max(np.abs(new - x)) <= 1e-12 * total:
+            return new, theta
+        x = new
+    raise RuntimeError(f"the member split did not settle in {SPLIT_ITERATIONS} Newton steps "
+                       f"(torques {x.tolist()} N m)")
