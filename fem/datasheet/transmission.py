@@ -31,20 +31,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import CaseError, check_range
+from .split import coupled_matrix, even_coupling, member_torques, split_levels, table_paths
 from .twist import ARCSEC, TwistModel
 
-#: Member torques, as multiples of the even share T/M, at which each member's own path is
-#: tabulated for the split (those above M, the whole output torque, are dropped). Between
-#: them the twist is interpolated linearly: the mesh's twist is concave in the torque (the
-#: Hertzian and the closing contacts stiffen it), and at these spacings the chord departs
-#: from the curve by at most 0.41 % of the twist from 0.05 T/M up, 0.15 % from 0.2 T/M up
-#: (the pin-housing drive and its three-disc variant, measured; tests/test_split.py checks
-#: the twists the split balances against direct FE solves).
-SPLIT_LEVELS = (0.0, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.1, 1.2, 1.35,
-                1.5, 1.75, 2.0, 2.5, 3.0, 3.5, 4.0)
-#: Newton iterations allowed for one position's member torques (piecewise-linear twists:
-#: it ends once each member's torque is on its final segment, in a few steps).
-SPLIT_ITERATIONS = 50
 #: Default cycle solvers over the full period and positions per pitch of each.
 DEFAULT_SAMPLES, DEFAULT_PER_PITCH = 6, 12
 #: Harmonics listed (the largest, sorted by order).
@@ -275,32 +264,33 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     several = drive.members > 1
     even = several and even_by_layout(drive, supports, per_pitch)
     levels = split_levels(drive.members) if several and not even else ()
-    own, shared, mesh, curves = [], [], [], []
+    tm = t / drive.members                       # the even share, signed
+    flank = int(math.copysign(1, t))
+    own, mesh, curves = [], [], []
     for m in (pitches if progress is None else progress(pitches)):
         model = TwistModel(drive, supports, drive.cycle_solver(
             per_pitch, cache=cache, solver_options=opts, pitch=m))
-        p = model.at(t)
-        names = model.member_path_names
-        own.append(sum(p.paths[n] for n in names))
-        shared.append(p.total - own[-1])
-        mesh.append(p.paths["mesh"])
-        # member torque r T/M: the model's output torque r T (it splits evenly)
-        curves.append([sum(q.paths[n] for n in names) for q in
-                       (model.at(r * t) if r else model.at(0.0, side=int(math.copysign(1, t)))
-                        for r in levels)])
+        paths = model.own(tm)
+        own.append(sum(paths.values()))
+        mesh.append(paths["mesh"])
+        curves.append([sum(model.own(r * tm, flank).values()) for r in levels])
+    # the parts every member runs through, and the crankshafts under the even split
+    through = sum((v[0] for v in model.through(t).values()), 0.0)
+    coupled_even = float(coupled_matrix(drive, supports)[0] @ np.full(drive.members, tm))
     fill = lambda v: fourier_fill(pitches, np.array(v), k).ravel()  # noqa: E731
-    own_full, shared_full, mesh_full = fill(own), fill(shared), fill(mesh)
+    own_full, mesh_full = fill(own), fill(mesh)
     n_all = own_full.size
     crank = np.arange(n_all) * (drive.period_rad / per_pitch)
     speeds = drive.speeds()
     out_per_crank = abs(speeds["output"] / speeds["crank"])
     split = None
-    te = own_full + shared_full
+    te = own_full + coupled_even + through
     if several:
         share = np.full((drive.members, n_all), 1.0 / drive.members)
         if not even:
             table = np.stack([fill(np.asarray(curves)[:, i]) for i in range(len(levels))])
-            share, te = _split(drive, supports, t, levels, table, shared_full, per_pitch)
+            share, theta = _split(drive, supports, t, levels, table, per_pitch)
+            te = theta + through
         split = MemberSplit(share=share, crank_angle_rad=crank, output_torque_Nm=t,
                             offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
                             even_by_layout=bool(even))
@@ -309,39 +299,6 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
                     output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
                     sampled_pitches=pitches, per_pitch=int(per_pitch), full_period_pitches=k,
                     orders_per_output_rev=orders, amplitude_arcsec=amp / ARCSEC), split
-
-
-def split_levels(members: int) -> tuple:
-    """The SPLIT_LEVELS a member of ``members`` can reach (T_j <= T, i.e. <= M T/M).
-
-    Parameters
-    ----------
-    members : int
-        M.
-
-    Returns
-    -------
-    tuple of float
-        Multiples of the even share, rising from 0.
-    """
-    return tuple(r for r in SPLIT_LEVELS if r <= members)
-
-
-def coupled_matrix(drive, supports) -> np.ndarray:
-    """The shared parts' compliance between the members, every part summed.
-
-    Parameters
-    ----------
-    drive : toothfem.fem.drives.Drive
-    supports : toothfem.fem.datasheet.supports.Supports
-
-    Returns
-    -------
-    numpy.ndarray, shape (M, M)
-        [rad/(N m)]: member j turns by ``S[j] @ T`` under the member torques T.
-    """
-    m = drive.members
-    return sum(drive.coupled_compliance(supports).values(), np.zeros((m, m)))
 
 
 def even_by_layout(drive, supports, per_pitch: int) -> bool:
@@ -361,9 +318,8 @@ def even_by_layout(drive, supports, per_pitch: int) -> bool:
         True when T_j = T/M solves the split at every position (it is then the solution:
         each member's twist rises with its torque).
     """
-    rows = coupled_matrix(drive, supports).sum(axis=1)
     return (len(set(drive.member_offsets(per_pitch))) == 1
-            and bool(np.allclose(rows, rows[0], rtol=1e-12, atol=0.0)))
+            and even_coupling(coupled_matrix(drive, supports)))
 
 
 def member_split(drive, supports, output_torque_Nm: float, *, per_pitch: int,
@@ -403,14 +359,13 @@ def member_split(drive, supports, output_torque_Nm: float, *, per_pitch: int,
                      cache=cache, progress=progress)[1]
 
 
-def _split(drive, supports, t, levels, table, shared, per_pitch):
-    """(shares (M, N), output twist (N,)). ``table[l, g]``: the first member's own path
-    twist at grid position g under the member torque ``levels[l]`` T/M. Member j, at grid
-    index g + offset_j, carries T_j: its twist own(T_j) + sum_i S_ji T_i is the common
-    theta, and sum T_j = T. The shared parts' even-split twist is in ``shared`` (the
-    TwistModel's even split), so only the rest of it (the output side) is added to theta."""
+def _split(drive, supports, t, levels, table, per_pitch):
+    """(shares (M, N), common twist theta (N,)). ``table[l, g]``: the first member's own
+    path twist at grid position g under the member torque ``levels[l]`` T/M. Member j, at
+    grid index g + offset_j, carries T_j: its twist own(T_j) + sum_i S_ji T_i is the common
+    theta, and sum T_j = T (:func:`toothfem.fem.datasheet.split.member_torques`)."""
     m = drive.members
-    n_all = shared.size
+    n_all = table.shape[1]
     offsets = drive.member_offsets(per_pitch)
     idx = (np.arange(n_all)[None, :] + np.asarray(offsets)[:, None]) % n_all   # (M, N)
     s = coupled_matrix(drive, supports)
@@ -421,74 +376,8 @@ def _split(drive, supports, t, levels, table, shared, per_pitch):
     theta = np.empty(n_all)
     x = np.full(m, total / m)
     for g in range(n_all):
-        x, th = member_torques(torques, signed[:, idx[:, g]].T, s, total, x)
+        twists = signed[:, idx[:, g]].T
+        x, th = member_torques(table_paths(torques, twists), s, total, twists[:, 0], start=x)
         shares[:, g] = x / total
         theta[g] = sign * th
-    other = shared - s[0] @ np.full(m, t / m)
-    return shares, theta + other
-
-
-def member_torques(torques, twists, coupling, total: float, start=None):
-    """Member torques T_j >= 0 with sum ``total`` that turn every loaded member alike:
-    f_j(T_j) + (S T)_j = theta where T_j > 0, and f_j(0) + (S T)_j >= theta where T_j = 0
-    (that member's flank stays open). Newton's method on the piecewise-linear f_j.
-
-    Parameters
-    ----------
-    torques : numpy.ndarray, shape (L,)
-        Member torques of the table, rising from 0 [N m].
-    twists : numpy.ndarray, shape (M, L)
-        f_j at them [rad], rising (hold beyond the last at the last segment's slope).
-    coupling : numpy.ndarray, shape (M, M)
-        S [rad/(N m)].
-    total : float
-        T [N m], > 0.
-    start : numpy.ndarray, shape (M,), optional
-        First guess (the previous position's), default T/M each.
-
-    Returns
-    -------
-    x : numpy.ndarray, shape (M,)
-        T_j [N m].
-    theta : float
-        The common twist [rad].
-
-    Raises
-    ------
-    RuntimeError
-        If Newton's method has not settled in SPLIT_ITERATIONS steps.
-    """
-    m = twists.shape[0]
-    x = np.full(m, total / m) if start is None else np.clip(start, 0.0, total)
-    free = np.ones(m, bool)
-    rows = np.arange(m)
-    for _ in range(SPLIT_ITERATIONS):
-        seg = np.clip(np.searchsorted(torques, x, side="right") - 1, 0, torques.size - 2)
-        slope = ((twists[rows, seg + 1] - twists[rows, seg])
-                 / (torques[seg + 1] - torques[seg]))
-        f = twists[rows, seg] + slope * (x - torques[seg])
-        idx = np.flatnonzero(free)
-        n = idx.size
-        a = np.zeros((n + 1, n + 1))
-        a[:n, :n] = coupling[np.ix_(idx, idx)] + np.diag(slope[idx])
-        a[:n, n] = -1.0
-        a[n, :n] = 1.0
-        sol = np.linalg.solve(a, np.concatenate([slope[idx] * x[idx] - f[idx], [total]]))
-        new = np.zeros(m)
-        new[idx] = sol[:n]
-        theta = sol[n]
-        if np.any(new < 0):                     # the most unloaded member's flank opens
-            free[idx[np.argmin(sol[:n])]] = False
-            x = np.clip(new, 0.0, total)
-            continue
-        # an open member whose unloaded twist is below theta picks load up again
-        opened = ~free & (twists[:, 0] + coupling @ new < theta)
-        if np.any(opened):
-            free |= opened
-            x = new
-            continue
-        if np.max(np.abs(new - x)) <= 1e-12 * total:
-            return new, theta
-        x = new
-    raise RuntimeError(f"the member split did not settle in {SPLIT_ITERATIONS} Newton steps "
-                       f"(torques {x.tolist()} N m)")
+    return shares, theta

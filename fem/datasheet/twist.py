@@ -7,8 +7,12 @@ closed and elastic approach included), the member's own supports (crank or eccen
 bearings, output pins: ``Drive.member_support_twists``), the parts the members share
 (crankshaft bending, ``Drive.coupled_compliance``), the parts every path runs through
 (crankshaft torsion, ``Drive.output_compliance``) and the carrier (the case's stiffness, or
-rigid). The members share the output torque evenly here (``Drive.member_torque(peak=
-False)``); :mod:`toothfem.fem.datasheet.transmission` computes their split.
+rigid). Every member stands at the first member's configuration here (one pitch's
+positions; :mod:`toothfem.fem.datasheet.transmission` takes their different configurations
+over the full period): they share the output torque evenly
+(``Drive.member_torque(peak=False)``) unless the crankshafts load them unalike (three discs:
+the middle one at mid-span), and then the member torques that turn every member alike on
+the position-mean twist are found from the FE (:mod:`toothfem.fem.datasheet.split`).
 """
 from __future__ import annotations
 
@@ -18,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import CaseError
+from .split import coupled_matrix, even_coupling, member_torques
 
 #: One arc minute and one arc second [rad].
 ARCMIN = math.pi / (180 * 60)
@@ -30,6 +35,10 @@ CLOSED_GAP_REL = 1e-9
 #: while the rigid closing rotation of the clearances is all there (the sine pair's flanks
 #: close where their gap has no minimum of its own, so no gap table gives that rotation).
 ZERO_TORQUE_NM = 1e-4
+#: The loop's split where the crankshafts load the members unalike: the first slope's step
+#: (a fraction of the even share) and the settling tolerance (a fraction of the torque; a
+#: twist error of the same order, far below the 4 digits reported).
+SPLIT_STEP, SPLIT_TOL = 0.02, 1e-7
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -41,6 +50,7 @@ class TwistPoint:
     paths: dict
     contacts: np.ndarray
     load_sharing: object = None     # the mesh's LoadSharing (None at zero torque)
+    member_torques_Nm: tuple = ()   # (M,) the members' torques [N m], signed
 
 
 def closing_rotation(state, side: int) -> np.ndarray:
@@ -118,13 +128,14 @@ class TwistModel:
         self.solve_options = dict(solve_options or {})
         self.positions_rad = np.asarray(solver.positions_rad, float)
         self.state = drive.meshing(self.positions_rad) if state is None else state
-        coupled = drive.coupled_compliance(supports)
-        # even split: member 0 sees every member's torque T/M through the shared parts
-        self._coupled = {k: float(np.sum(v[0])) for k, v in coupled.items()}
+        self._coupled = {k: np.asarray(v, float)
+                         for k, v in drive.coupled_compliance(supports).items()}
+        self._even = drive.members == 1 or even_coupling(coupled_matrix(drive, supports))
         self._output = dict(drive.output_compliance(supports))
         if supports.carrier_stiffness_Nm_per_rad:
             self._output["carrier"] = 1.0 / supports.carrier_stiffness_Nm_per_rad
-        self._memo = {}
+        self._memo, self._own_memo = {}, {}
+        self._last_split = None          # (shares (M,), slopes (M,)): Newton's next start
 
     @property
     def path_names(self) -> list:
@@ -170,37 +181,113 @@ class TwistModel:
         Returns
         -------
         TwistPoint
+            The first member's paths at its torque, the shared parts under every member's.
         """
         t = float(output_torque_Nm)
         key = (t, side if t == 0 else 0)
         if key not in self._memo:
-            self._memo[key] = self._zero(side) if t == 0 else self._loaded(t)
+            m = self.drive.members
+            if t == 0:
+                x = np.zeros(m)
+            elif self._even:
+                x = np.full(m, self.member_torque(t))
+            else:
+                x = self._split(t)
+            flank = side if t == 0 else int(math.copysign(1, t))
+            own, ls, contacts = self._own(float(x[0]), flank if x[0] == 0 else 0)
+            paths = dict(own)
+            n = self.positions_rad.size
+            paths.update({name: np.full(n, s[0] @ x) for name, s in self._coupled.items()})
+            paths.update(self.through(t))
+            self._memo[key] = TwistPoint(
+                output_torque_Nm=t, total=np.sum(np.stack(list(paths.values())), axis=0),
+                paths=paths, contacts=contacts, load_sharing=ls,
+                member_torques_Nm=tuple(float(v) for v in x))
         return self._memo[key]
 
-    def _zero(self, side: int) -> TwistPoint:
-        """The mesh rotation at ZERO_TORQUE_NM of the flank's sign, every support at rest."""
-        near = self._loaded(side * ZERO_TORQUE_NM)
-        n = self.positions_rad.size
-        paths = {name: np.zeros(n) for name in near.paths}
-        paths["mesh"] = near.paths["mesh"]
-        return TwistPoint(output_torque_Nm=0.0, total=paths["mesh"].copy(), paths=paths,
-                          contacts=near.contacts)
+    def own(self, member_torque_Nm: float, side: int = 1) -> dict:
+        """One member's own paths, its mesh and its own supports, at its torque.
 
-    def _supports(self, t: float, tm: float, force) -> dict:
-        """{path: (P,) rad} of every support at output torque t, member torque tm and the
-        member's contact resultant ``force`` (P, 2)."""
-        n = self.positions_rad.size
-        out = dict(self.drive.member_support_twists(self.supports, np.full(n, tm), force,
-                                                    self.positions_rad))
-        out.update({name: np.full(n, c * tm) for name, c in self._coupled.items()})
-        out.update({name: np.full(n, c * t) for name, c in self._output.items()})
-        return out
+        Parameters
+        ----------
+        member_torque_Nm : float
+            [N m], either sign.
+        side : {1, -1}
+            At zero torque, the flank the limit comes from (the mesh's closing rotation,
+            the supports at rest); ignored otherwise.
 
-    def _loaded(self, t: float) -> TwistPoint:
-        tm = self.member_torque(t)
-        ls = self.solver.solve(tm, **self.solve_options)
-        paths = {"mesh": np.asarray(ls.transmission_error, float)}
-        paths.update(self._supports(t, tm, resultant(ls, self.state)))
-        total = np.sum(np.stack(list(paths.values())), axis=0)
-        return TwistPoint(output_torque_Nm=t, total=total, paths=paths,
-                          contacts=ls.contacts_per_position, load_sharing=ls)
+        Returns
+        -------
+        dict
+            {path: (P,) rad}, the mesh first.
+        """
+        tm = float(member_torque_Nm)
+        return self._own(tm, side if tm == 0 else 0)[0]
+
+    def through(self, output_torque_Nm: float) -> dict:
+        """The parts every member's path runs through (crank torsion, the carrier).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], either sign.
+
+        Returns
+        -------
+        dict
+            {path: (P,) rad}.
+        """
+        n = self.positions_rad.size
+        return {name: np.full(n, c * float(output_torque_Nm))
+                for name, c in self._output.items()}
+
+    def _own(self, tm: float, side: int):
+        """(paths, LoadSharing or None, contacts (P,)) of one member at torque tm, kept."""
+        key = (tm, side)
+        if key not in self._own_memo:
+            if tm == 0:      # the mesh at ZERO_TORQUE_NM of output torque, supports at rest
+                near, _, contacts = self._own(self.member_torque(side * ZERO_TORQUE_NM), 0)
+                paths = {name: np.zeros_like(v) for name, v in near.items()}
+                paths["mesh"] = near["mesh"]
+                self._own_memo[key] = (paths, None, contacts)
+            else:
+                n = self.positions_rad.size
+                ls = self.solver.solve(tm, **self.solve_options)
+                paths = {"mesh": np.asarray(ls.transmission_error, float)}
+                paths.update(self.drive.member_support_twists(
+                    self.supports, np.full(n, tm), resultant(ls, self.state),
+                    self.positions_rad))
+                self._own_memo[key] = (paths, ls, ls.contacts_per_position)
+        return self._own_memo[key]
+
+    def _split(self, t: float) -> np.ndarray:
+        """Member torques (M,) at output torque t where the crankshafts load the members
+        unalike: Newton's method on each member's position-mean twist from the FE, slopes
+        by secants (a 2 % step first), starting from the last split found."""
+        m = self.drive.members
+        sign, total = math.copysign(1.0, t), abs(t)
+        side = int(sign)
+        coupling = sum(self._coupled.values(), np.zeros((m, m)))
+
+        def mean(x):
+            return sign * float(sum(v.mean() for v in self.own(sign * x, side).values()))
+
+        shares, slope = self._last_split or (np.full(m, 1.0 / m), np.full(m, np.nan))
+        slope = slope.copy()
+        last = {}                         # member -> (torque, twist) of the last step
+
+        def paths(x):
+            f = np.array([mean(v) for v in x])
+            for j, (v, fj) in enumerate(zip(x, f)):
+                if j in last and abs(last[j][0] - v) > 1e-9 * total:
+                    slope[j] = (fj - last[j][1]) / (v - last[j][0])
+                elif not np.isfinite(slope[j]):
+                    h = SPLIT_STEP * total / m
+                    slope[j] = (mean(v + h) - fj) / h
+                last[j] = (v, fj)
+            return f, slope.copy()
+
+        x, _ = member_torques(paths, coupling, total, np.full(m, mean(0.0)),
+                              start=shares * total, tol=SPLIT_TOL)
+        self._last_split = (x / total, slope)
+        return sign * x
