@@ -92,7 +92,9 @@ def _members(si, drive, points, table, member_torque, notes):
     notes.append(f"FE split between the {m} discs at {ref:.4g} N m (fractions held at every "
                  "point): mean shares " + " / ".join(f"{x:.4f}" for x in shares)
                  + f", largest {float(split.share.max()):.4f} (docs/stiffness.md)")
-    return [(table.scaled(r / r.mean()), member_torque * r.mean(), 1) for r in ratio]
+    # a disc the split leaves unloaded over the whole period carries (and loses) nothing
+    return [(table.scaled(r / r.mean()), member_torque * r.mean(), 1)
+            for r in ratio if r.mean() > 0]
 
 
 def w_mechanism(si, table, force, member_torque, a0_m, rel):
@@ -357,7 +359,8 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     for j, (tab, t_j, count) in enumerate(members):
         said = []
         loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said)
-        notes.extend(said if count > 1 else [f"disc {j + 1} of {len(members)}: {n}" for n in said])
+        notes.extend(said if count > 1 else
+                     [f"disc {j + 1} of {len(members)}: {n}" for n in said])
         pins = pins + count * loss
         f_bearing.append(f_b)
     eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame

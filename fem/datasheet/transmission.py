@@ -47,7 +47,7 @@ class LoadedTE:
     crank_angle_rad: np.ndarray      # (N,)
     output_angle_rad: np.ndarray     # (N,)
     te_rad: np.ndarray               # (N,) output twist (the lag of the output), total
-    mesh_rad: np.ndarray             # (N,) the first member's mesh rotation
+    mesh_rad: np.ndarray             # (N,) the first member's mesh rotation at the even share
     sampled_pitches: tuple
     per_pitch: int
     full_period_pitches: int

@@ -28,7 +28,8 @@ def add_parser(sub):
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--loads", choices=LOADS, default="analytic",
                    help="load sharing: analytic (the seeds' split, default) or fem (cycle-mode "
-                        "FE contact, tabulated over torque; takes seconds to a minute)")
+                        "FE contact, tabulated over torque, each disc at its FE share of the "
+                        "torque; takes seconds to a minute)")
     p.add_argument("--method", choices=METHODS, default="power_flow",
                    help="power_flow: losses from the friction models through Chen & Angeles' "
                         "virtual power (default); rv_split_power: the RV paper's method with "
