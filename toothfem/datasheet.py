@@ -93,7 +93,8 @@ HYSTERESIS_COLUMNS = ("torque_Nm", "twist_arcmin", "twist_min_arcmin", "twist_ma
 
 
 def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
-    """hysteresis.csv/png, te.csv/png, split.csv (several members) and summary.json into
+    """hysteresis.csv/png, te.csv/png, split.csv (several members), split.png (a split the
+    layout does not make even) and summary.json into
     ``folder``.
 
     Parameters
@@ -136,6 +137,11 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
             for g, phi in enumerate(np.degrees(result.split.crank_angle_rad)):
                 w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in share[:, g]])
         files.append("split.csv")
+        if not result.split.even_by_layout:
+            fig = report_stiffness.member_split(result.split, sheet.member_name,
+                                                result.case_name)
+            fig.savefig(folder / "split.png", dpi=120)
+            files.append("split.png")
     title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
              + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
              + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")

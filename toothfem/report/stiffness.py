@@ -109,3 +109,43 @@ def transmission_error(te, title: str = ""):
     a2.grid(alpha=0.3, which="both")
     fig.tight_layout()
     return fig
+
+
+def member_split(split, member_name: str = "disc", case_name: str = ""):
+    """The figure of a :class:`~toothfem.fem.datasheet.transmission.MemberSplit`: each
+    member's share of the output torque over the full period, the even share dashed.
+
+    Parameters
+    ----------
+    split : toothfem.fem.datasheet.transmission.MemberSplit
+        The split.
+    member_name : str
+        What a member is called ("disc").
+    case_name : str
+        The case, first line of the title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel, shares in percent against crank angle.
+    """
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(9, 4.5))
+    crank = np.degrees(split.crank_angle_rad)
+    m = split.share.shape[0]
+    styles = [("-", 2.4), ("--", 1.6), (":", 2.0), ("-.", 1.4)]   # overlapping shares show
+    for j in range(m):
+        ls, lw = styles[j % len(styles)]
+        ax.plot(crank, 100 * split.share[j], ls=ls, lw=lw,
+                label=f"{member_name} {j + 1} (mean {100 * split.share[j].mean():.2f} %)")
+    ax.axhline(100 / m, color="k", ls=(0, (6, 3)), lw=0.8, label=f"even share {100 / m:.2f} %")
+    ax.set_xlabel("crank angle [deg]")
+    ax.set_ylabel("share of the output torque [%]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="best")
+    head = f"{case_name}\n" if case_name else ""
+    ax.set_title(f"{head}torque split between the {member_name}s at "
+                 f"{split.output_torque_Nm:.4g} N m (FE): load factor {split.load_factor:.3f}",
+                 fontsize=10)
+    fig.tight_layout()
+    return fig
