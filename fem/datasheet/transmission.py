@@ -291,9 +291,7 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
             table = np.stack([fill(np.asarray(curves)[:, i]) for i in range(len(levels))])
             share, theta = _split(drive, supports, t, levels, table, per_pitch)
             te = theta + through
-        split = MemberSplit(share=share, crank_angle_rad=crank, output_torque_Nm=t,
-                            offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
-                            even_by_layout=bool(even))
+        split = _member_split(drive, share, t, per_pitch, even)
     orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
     return LoadedTE(output_torque_Nm=t, crank_angle_rad=crank,
                     output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
@@ -350,13 +348,18 @@ def member_split(drive, supports, output_torque_Nm: float, *, per_pitch: int,
         return None
     if even_by_layout(drive, supports, per_pitch):
         n = drive.full_period_pitches * int(per_pitch)
-        return MemberSplit(share=np.full((drive.members, n), 1.0 / drive.members),
-                           crank_angle_rad=np.arange(n) * (drive.period_rad / per_pitch),
-                           output_torque_Nm=float(output_torque_Nm),
-                           offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
-                           even_by_layout=True)
+        return _member_split(drive, np.full((drive.members, n), 1.0 / drive.members),
+                             output_torque_Nm, per_pitch, True)
     return loaded_te(drive, supports, output_torque_Nm, samples=samples, per_pitch=per_pitch,
                      cache=cache, progress=progress)[1]
+
+
+def _member_split(drive, share, t, per_pitch, even) -> MemberSplit:
+    """The MemberSplit of ``share`` (M, N) on the full-period grid of ``per_pitch``."""
+    n = share.shape[1]
+    return MemberSplit(share=share, crank_angle_rad=np.arange(n) * (drive.period_rad / per_pitch),
+                       output_torque_Nm=float(t), offsets=drive.member_offsets(per_pitch),
+                       per_pitch=int(per_pitch), even_by_layout=bool(even))
 
 
 def _split(drive, supports, t, levels, table, per_pitch):
