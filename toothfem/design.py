@@ -24,8 +24,8 @@ import numpy as np
 
 from .case import Case
 from .errors import CaseError, check_range
-from .fem.datasheet.sheet import datasheet
-from .fem.datasheet.twist import ARCMIN, TwistModel
+from .fem.datasheet.sheet import backlash_arcmin, datasheet
+from .fem.datasheet.twist import TwistModel
 from .fem.drives import drive_for
 
 #: Points of the design of experiments (a power of two: Sobol balance), the seed of its
@@ -165,8 +165,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
         for dev in deviations if devs is None else devs:
             opts = {"deviation": dev, "geometry": geom, "pitches": pitches}
             twist = TwistModel(drive, supports, solver, opts, state)
-            backlash.append((twist.at(0.0, 1).total.mean() - twist.at(0.0, -1).total.mean())
-                            / ARCMIN)
+            backlash.append(backlash_arcmin(twist))
             ls = solver.solve(torque, **opts)
             ph.append(float(np.max(ls.ph)) * 1e-6)
             contacts.append(float(np.min(ls.contacts_per_position)))

@@ -223,7 +223,7 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
     for a, b in zip(SEGMENT_FRACTIONS[:-1], SEGMENT_FRACTIONS[1:]):
         seg.append(0.5 * ARCMIN * sum(_slope(model, a * rated, b * rated, s) for s in (1, -1)))
     lost = lost_motion_arcmin(model, rated)
-    backlash = deg(model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean())
+    backlash = backlash_arcmin(model)
     compliance = {}
     for name in model.at(hi, 1).paths:
         per_side = [side * (model.at(side * hi, side).paths[name].mean()
@@ -261,13 +261,29 @@ def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
                  / ARCMIN)
 
 
+def backlash_arcmin(model: TwistModel) -> float:
+    """Backlash: the mean twist at zero torque coming from + less that coming from -, the
+    two flanks' closing rotations.
+
+    Parameters
+    ----------
+    model : TwistModel
+
+    Returns
+    -------
+    float
+        [arcmin].
+    """
+    return float((model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean()) / ARCMIN)
+
+
 def _check_closed(model: TwistModel, t_max: float) -> None:
     """The loop's largest torque must close the modification's clearance to at least
     MIN_CONTACTS_AT_MAX contacts at every position (else the curve shows only backlash)."""
     for side in (1, -1):
         n = int(np.min(model.at(side * t_max, side).contacts))
         if n < MIN_CONTACTS_AT_MAX:
-            back = (model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean()) / ARCMIN
+            back = backlash_arcmin(model)
             raise CaseError(
                 f"torque_max_Nm = {t_max:g} is outside the valid range for this design: it "
                 f"leaves {n} {model.drive.contact_name} in contact at some position (at "
