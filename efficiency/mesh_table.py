@@ -17,8 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import CaseError
-from ..fem.datasheet.transmission import (DEFAULT_SAMPLES, even_by_layout, member_split,
-                                          sampled_pitches)
+from ..fem.datasheet.transmission import member_split
 
 LOADS = ("analytic", "fem")
 
@@ -216,16 +215,16 @@ def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
         None for one member.
     """
     bar = FE_PROGRESS.get()
-    if bar is None or drive.members == 1 or even_by_layout(drive, supports, n_positions):
+    if bar is None:
         return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions)
-    total = len(sampled_pitches(drive.full_period_pitches, DEFAULT_SAMPLES))
-    with bar(total=total, desc="FE member split", unit="solver") as shown:
-        def counted(pitches):
+
+    def counted(pitches):           # the bar appears only if the split is solved
+        with bar(total=len(pitches), desc="FE member split", unit="solver") as shown:
             for m in pitches:
                 yield m
                 shown.update()
-        return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions,
-                            progress=counted)
+    return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions,
+                        progress=counted)
 
 
 @contextlib.contextmanager

@@ -276,7 +276,8 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
         curves.append([sum(model.own(r * tm, flank).values()) for r in levels])
     # the parts every member runs through, and the crankshafts under the even split
     through = sum((v[0] for v in model.through(t).values()), 0.0)
-    coupled_even = float(coupled_matrix(drive, supports)[0] @ np.full(drive.members, tm))
+    s = coupled_matrix(drive, supports)
+    coupled_even = float(s[0] @ np.full(drive.members, tm))
     fill = lambda v: fourier_fill(pitches, np.array(v), k).ravel()  # noqa: E731
     own_full, mesh_full = fill(own), fill(mesh)
     n_all = own_full.size
@@ -289,7 +290,7 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
         share = np.full((drive.members, n_all), 1.0 / drive.members)
         if not even:
             table = np.stack([fill(np.asarray(curves)[:, i]) for i in range(len(levels))])
-            share, theta = _split(drive, supports, t, levels, table, per_pitch)
+            share, theta = _split(drive, s, t, levels, table, per_pitch)
             te = theta + through
         split = _member_split(drive, share, t, per_pitch, even)
     orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
@@ -362,16 +363,16 @@ def _member_split(drive, share, t, per_pitch, even) -> MemberSplit:
                        per_pitch=int(per_pitch), even_by_layout=bool(even))
 
 
-def _split(drive, supports, t, levels, table, per_pitch):
+def _split(drive, s, t, levels, table, per_pitch):
     """(shares (M, N), common twist theta (N,)). ``table[l, g]``: the first member's own
     path twist at grid position g under the member torque ``levels[l]`` T/M. Member j, at
     grid index g + offset_j, carries T_j: its twist own(T_j) + sum_i S_ji T_i is the common
-    theta, and sum T_j = T (:func:`toothfem.fem.datasheet.split.member_torques`)."""
+    theta, with S = ``s`` the shared parts' compliance, and sum T_j = T
+    (:func:`toothfem.fem.datasheet.split.member_torques`)."""
     m = drive.members
     n_all = table.shape[1]
     offsets = drive.member_offsets(per_pitch)
     idx = (np.arange(n_all)[None, :] + np.asarray(offsets)[:, None]) % n_all   # (M, N)
-    s = coupled_matrix(drive, supports)
     sign, total = math.copysign(1.0, t), abs(t)
     torques = np.asarray(levels) * (total / m)
     signed = sign * table                      # rising with the torque's magnitude

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import CaseError
-from .split import coupled_matrix, even_coupling, member_torques
+from .split import even_coupling, member_torques
 
 #: One arc minute and one arc second [rad].
 ARCMIN = math.pi / (180 * 60)
@@ -130,7 +130,9 @@ class TwistModel:
         self.state = drive.meshing(self.positions_rad) if state is None else state
         self._coupled = {k: np.asarray(v, float)
                          for k, v in drive.coupled_compliance(supports).items()}
-        self._even = drive.members == 1 or even_coupling(coupled_matrix(drive, supports))
+        m = drive.members
+        self._coupling = sum(self._coupled.values(), np.zeros((m, m)))    # S, every part
+        self._even = m == 1 or even_coupling(self._coupling)
         self._output = dict(drive.output_compliance(supports))
         if supports.carrier_stiffness_Nm_per_rad:
             self._output["carrier"] = 1.0 / supports.carrier_stiffness_Nm_per_rad
@@ -267,7 +269,6 @@ class TwistModel:
         m = self.drive.members
         sign, total = math.copysign(1.0, t), abs(t)
         side = int(sign)
-        coupling = sum(self._coupled.values(), np.zeros((m, m)))
 
         def mean(x):
             return sign * float(sum(v.mean() for v in self.own(sign * x, side).values()))
@@ -287,7 +288,7 @@ class TwistModel:
                 last[j] = (v, fj)
             return f, slope.copy()
 
-        x, _ = member_torques(paths, coupling, total, np.full(m, mean(0.0)),
+        x, _ = member_torques(paths, self._coupling, total, np.full(m, mean(0.0)),
                               start=shares * total, tol=SPLIT_TOL)
         self._last_split = (x / total, slope)
         return sign * x
