@@ -1,7 +1,8 @@
 """The elastic supports in series with the mesh: roller bearings, shafts, the carrier.
 
 Small closed forms, each with its source; the drives (:mod:`toothfem.fem.drives`) put them
-together along their own load paths (``Drive.support_twists``). Units SI: N, m, rad.
+together along their own load paths (``Drive.member_support_twists``, ``coupled_compliance``,
+``output_compliance``). Units SI: N, m, rad.
 """
 from __future__ import annotations
 
