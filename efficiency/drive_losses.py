@@ -71,30 +71,31 @@ def _table(si, drive, points, member_torque, notes):
 
 
 def _members(si, drive, points, table, member_torque, notes):
-    """Each member's loads as [(table, torque (M,) [N m], members alike)]: the even share
-    for one table of them all, unless the loads are the FE's and the FE split between the
-    members is not even (fem/datasheet/transmission.py, at the case's declared output
-    torque, held as fractions at every point). Then member j carries its mean share of the
-    output torque, its table scaled at each position by its share there over that mean
-    (first order in the ripple of the share over the pitch)."""
+    """Each member's loads as [(label, table, torque (M,) [N m], members alike)]: the even
+    share for one table of them all (label ""), unless the loads are the FE's and the FE
+    split between the members is not even (fem/datasheet/transmission.py, at the case's
+    declared output torque, held as fractions at every point). Then member j carries its
+    mean share of the output torque, its table scaled at each position by its share there
+    over that mean (first order in the ripple of the share over the pitch), labelled "disc
+    j of M" for its notes."""
     m = drive.members
     if points.loads != "fem" or points.table is not None or m == 1:
-        return [(table, member_torque, m)]
+        return [("", table, member_torque, m)]
     ref = si.declared_output_torque_Nm() or float(np.max(points.output_torque_Nm))
     split = fe_member_split(drive, drive.supports(si.supports), ref, table.n_positions)
     if split.even_by_layout:
         notes.append(f"FE split between the {m} discs: even at every position by the layout's "
                      "symmetry (each disc at the first's configuration, the crankshafts "
                      "loading each alike)")
-        return [(table, member_torque, m)]
+        return [("", table, member_torque, m)]
     ratio = split.ratio_by_position()                                   # (M, P)
     shares = split.share.mean(axis=1)
     notes.append(f"FE split between the {m} discs at {ref:.4g} N m (fractions held at every "
                  "point): mean shares " + " / ".join(f"{x:.4f}" for x in shares)
                  + f", largest {float(split.share.max()):.4f} (docs/stiffness.md)")
     # a disc the split leaves unloaded over the whole period carries (and loses) nothing
-    return [(table.scaled(r / r.mean()), member_torque * r.mean(), 1)
-            for r in ratio if r.mean() > 0]
+    return [(f"disc {j + 1} of {m}", table.scaled(r / r.mean()), member_torque * r.mean(), 1)
+            for j, r in enumerate(ratio) if r.mean() > 0]
 
 
 def w_mechanism(si, table, force, member_torque, a0_m, rel):
@@ -353,14 +354,13 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     t_disc = drive.member_torque(t2, peak=False)   # the even share
     table = _table(si, drive, points, t_disc, notes)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
-    # every member's loss at its own loads: (table, torque (M,), members alike)
+    # every member's loss at its own loads: (label, table, torque (M,), members alike)
     members = _members(si, drive, points, table, t_disc, notes)
     pins, f_bearing = 0.0, []
-    for j, (tab, t_j, count) in enumerate(members):
+    for label, tab, t_j, count in members:
         said = []
         loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said)
-        notes.extend(said if count > 1 else
-                     [f"disc {j + 1} of {len(members)}: {n}" for n in said])
+        notes.extend(f"{label}: {n}" if label else n for n in said)
         pins = pins + count * loss
         f_bearing.append(f_b)
     eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
@@ -371,7 +371,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         # energy balance with the contact loss itself (Chen & Angeles' closed form agrees
         # to first order)
         ecc = out_mech = 0.0
-        for tab, t_j, count in members:
+        for _, tab, t_j, count in members:
             e, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j, cyc.geometry.eccentricity_m,
                                disc_rel)
             ecc, out_mech = ecc + count * e, out_mech + count * o
@@ -379,7 +379,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     else:                      # 2K-V: the closed form of the general power flow
         losses = {"crank_bearings": sum(
             count * crank_bearing_loss(si, f_b, t_j, disc_rel)
-            for (_, t_j, count), f_b in zip(members, f_bearing))}
+            for (_, _, t_j, count), f_b in zip(members, f_bearing))}
         ratio = abs(1 / w["output"])
         eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
         zs, zp = drive.first_teeth
@@ -403,7 +403,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                                  eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor))
     return DriveLosses(output_power_W=p_out, losses_W=losses,
-                       notes=tuple(dict.fromkeys(notes)), mesh_efficiency=mesh_eff)
+                       notes=tuple(notes), mesh_efficiency=mesh_eff)
 
 
 def bearing_component(drive) -> str:

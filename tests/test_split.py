@@ -203,6 +203,16 @@ def test_losses_are_each_members_at_its_own_torque(pinhousing, monkeypatch, khv)
     assert pins != 2 * even
 
 
+def test_notes_name_a_disc_only_where_the_discs_differ(pinhousing):
+    """One disc, or discs alike: the contact notes are the drive's, without a disc label."""
+    one = dataclasses.replace(pinhousing, cycloid=dataclasses.replace(pinhousing.cycloid,
+                                                                      disc_count=1))
+    for case in (one, pinhousing):
+        notes = ev.evaluate(case, 1000.0, TORQUE).notes
+        assert any(n.startswith("film ratio") for n in notes)
+        assert not any(n.startswith("disc ") for n in notes)
+
+
 # -- three discs: the crankshafts unload the middle one (slow: FE over the full period) -----
 
 @pytest.fixture(scope="module")
@@ -299,7 +309,7 @@ def test_efficiency_takes_the_fe_split(three):
     assert any(n.startswith("disc 2 of 3: film ratio") for n in e.notes)
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(dl, "_members", lambda si, drive, points, table, t, notes:
-                   [(table, t, drive.members)])
+                   [("", table, t, drive.members)])
         even = ev.evaluate(case, 1500.0, TORQUE, loads="fem", positions=12)
     a, b = float(e.losses_W["pin_contacts"][0]), float(even.losses_W["pin_contacts"][0])
     assert a != b and abs(a / b - 1) < 1e-3
