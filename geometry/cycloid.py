@@ -265,26 +265,12 @@ def curvature_radius(g, psi):
     return _rho_of_theta(g, theta)
 
 
-def _s_den(g, theta):
-    """S and the curvature numerator 1 + Zb K1^2 - K1 (Zb + 1) cos(theta) (docs C2)."""
-    k1 = g.k1
-    return (1 + k1**2 - 2 * k1 * np.cos(theta),
-            1 + g.zb * k1**2 - k1 * (g.zb + 1) * np.cos(theta))
-
-
 def _rho_of_theta(g, theta):
-    s, den = _s_den(g, theta)
+    k1 = g.k1
+    s = 1 + k1**2 - 2 * k1 * np.cos(theta)
+    den = 1 + g.zb * k1**2 - k1 * (g.zb + 1) * np.cos(theta)
     with np.errstate(divide="ignore"):
         return g.rz_circle * s**1.5 / den
-
-
-def _pin_equivalent_radius(g, theta, r_pin):
-    """Equivalent radius of a pin of radius r on the working profile, R = r (1 - r k0),
-    with k0 = 1/rho the curvature of the theoretical profile: 1/R = 1/(rho - r) + 1/r
-    written without rho, which is infinite at an inflection point (K1 = 1/Zb puts one at
-    the tooth tip), where the two-radius form gives inf/inf = NaN (issue 14)."""
-    s, den = _s_den(g, theta)
-    return r_pin * (1 - r_pin * den / (g.rz_circle * s**1.5))
 
 
 def min_convex_curvature_radius(g) -> float:

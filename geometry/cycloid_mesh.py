@@ -22,9 +22,9 @@ import numpy as np
 from ..errors import GeometryError, check_range
 # fem/cycloid_fe reaches CycloidGeometry, inward_normal and working_profile through this
 # module too (one import for the pose and the profile)
-from .cycloid import (CycloidGeometry, _Generating, _pin_equivalent_radius, _rho_of_theta,
+from .cycloid import (CycloidGeometry, _Generating, _rho_of_theta,
                       inward_normal, theoretical_profile, working_profile)
-from .kinematics import MeshingState, slide_to_roll
+from .kinematics import MeshingState, equivalent_radius, slide_to_roll
 from .vectors import cross, perp, rotate, unit
 
 #: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
@@ -194,7 +194,7 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
         sliding_velocity=sliding, entrainment_velocity=entrain,
         slide_to_roll=slide_to_roll(sliding, entrain),
         radius_moving=r_disc, radius_fixed=r_pin,
-        equivalent_radius=_pin_equivalent_radius(g, theta_b, geom.pin_radius_m),
+        equivalent_radius=equivalent_radius(r_disc, r_pin),
         crank_speed_rad_s=omega)
 
 

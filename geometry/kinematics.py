@@ -54,19 +54,21 @@ class MeshingState:
 def equivalent_radius(r1, r2):
     """1/R = 1/r1 + 1/r2 for signed curvature radii (positive convex). Hertz line contact.
 
+    Written with the curvatures, so that a flat body (r = inf, an inflection point of a
+    profile) gives R = the other radius, not inf/inf = NaN (issue 14).
+
     Parameters
     ----------
     r1, r2 : array_like
-        Signed curvature radii of the two bodies [m].
+        Signed curvature radii of the two bodies [m] (inf: flat).
 
     Returns
     -------
     numpy.ndarray
         Equivalent radius R [m], the broadcast shape.
     """
-    r1 = np.asarray(r1, float)
-    r2 = np.asarray(r2, float)
-    return r1 * r2 / (r1 + r2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return 1.0 / (1.0 / np.asarray(r1, float) + 1.0 / np.asarray(r2, float))
 
 
 def slide_to_roll(sliding, entrainment):

@@ -11,6 +11,7 @@ import numpy as np
 
 from ...errors import ToothfemError, check_range
 from ...geometry import sine
+from ...geometry.kinematics import equivalent_radius
 from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key
@@ -406,8 +407,7 @@ def _record(method, model: SineFEModel, state, results, torque, toothed) -> Load
         r_p[loaded] = 1 / sine.planet_curve(pair, phi1).curvature
         f2, _, _ = ring_foot(pair, point[loaded].T)
         r_r[loaded] = 1 / sine.ring_curve(pair, f2).curvature
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r_eq = 1 / (1 / r_p + 1 / r_r)
+    r_eq = equivalent_radius(r_p, r_r)
     b, ph, invalid = hertz_fields(force, width, r_eq, model.e_star, (r_p, r_r))
     if np.any(loaded & ~invalid):
         sel = loaded & ~invalid
