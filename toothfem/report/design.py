@@ -39,13 +39,14 @@ def tradeoff(result):
     if t.get("max_ph_MPa"):
         ax.axhline(t["max_ph_MPa"], color="k", ls=":", lw=1,
                    label=f"max P_h {t['max_ph_MPa']:g} MPa")
-    ax.set_xlabel("backlash [arcmin]" + (f" (P{t['percentile']:g} of the tolerance "
-                                         "ensemble)" if t.get("percentile") else ""))
-    ax.set_ylabel("maximum Hertz pressure [MPa]")
+    at = (f" (P{t['percentile']:g} of {t['samples']} built reducers)"
+          if t.get("percentile") else "")
+    ax.set_xlabel(f"backlash [arcmin]{at}")
+    ax.set_ylabel(f"maximum Hertz pressure [MPa]{at}")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
-    ax.set_title(wrap(f"{result.case_name}: modification search, backlash against "
-                      "contact pressure", 90), fontsize=10)
+    ax.set_title(wrap(result.case_name, 70) + "\nmodification search: backlash against "
+                 "contact pressure", fontsize=10)
     return fig
 
 
