@@ -295,24 +295,6 @@ def nodal_load_matrix(n_dofs: int, dofs, normals):
                       shape=(n_dofs, m)).tocsc()
 
 
-def flexibility(body, loads):
-    """loads^T K^-1 loads (:meth:`Body.flexibility`).
-
-    Parameters
-    ----------
-    body : Body
-        The elastic body (fem.elastic).
-    loads : sparse (N_dofs, M)
-        Unit loads.
-
-    Returns
-    -------
-    numpy.ndarray
-        (M, M) flexibility [m per (N/m)].
-    """
-    return body.flexibility(loads)
-
-
 def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, rigid_b=None):
     """Condense body A (slave points) against body B (master surface) onto the slave points.
 
@@ -338,7 +320,7 @@ def condense_pair(body_a, slave: SlaveSurface, body_b, project_b, rigid_a=None, 
     g0 = np.sum((slave.points - proj) * n, axis=0)
     m = g0.size
     loads_a = nodal_load_matrix(body_a.basis.N, slave.dofs, n)
-    h = flexibility(body_a, loads_a) + flexibility(body_b, body_b.point_load_matrix(proj, n))
+    h = body_a.flexibility(loads_a) + body_b.flexibility(body_b.point_load_matrix(proj, n))
     c = np.zeros(m)
     if rigid_a is not None:
         c += np.sum(n * rigid_a(slave.points), axis=0)

@@ -120,6 +120,53 @@ def hertz_fields(force, face_width, equivalent_radius, e_star, radii=None):
     return b, ph, invalid
 
 
+def check_member_torque(torque, member: str) -> None:
+    """A member torque of either sign; zero leaves the member's rotation undetermined.
+
+    Parameters
+    ----------
+    torque : float
+        [N m].
+    member : str
+        What the member is called in the message ("disc", "planet").
+
+    Raises
+    ------
+    ToothfemError
+        For a torque that is zero or not finite.
+    """
+    check_range("torque", torque)
+    if torque == 0:
+        raise ToothfemError("torque = 0 is outside the valid range: nonzero (the rotation "
+                            f"of an unloaded {member} is not determined)")
+
+
+def position_pitches(pitches, n_positions: int) -> np.ndarray:
+    """The meshing period each position of a cycle solve stands in (a built reducer's
+    positions over its pairing period).
+
+    Parameters
+    ----------
+    pitches : array_like of int, shape (n_positions,), or None
+        None: every position in period 0.
+    n_positions : int
+        The solver's positions.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (n_positions,)
+
+    Raises
+    ------
+    ToothfemError
+        For another shape.
+    """
+    out = np.zeros(n_positions, int) if pitches is None else np.asarray(pitches, int)
+    if out.shape != (n_positions,):
+        raise ToothfemError(f"pitches has shape {out.shape}, expected ({n_positions},)")
+    return out
+
+
 #: The seeds' two rules for the force on each load-carrying contact (see analytic_split).
 SPLIT_WEIGHTS = ("moment_arm", "cos_pressure_angle")
 

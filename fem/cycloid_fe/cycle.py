@@ -10,14 +10,14 @@ from functools import cached_property
 import numpy as np
 
 from ..hertz import line_half_width
-from ...errors import ToothfemError, check_range
+from ...errors import ToothfemError
 from ...geometry import cycloid_mesh as cy
 from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key
 from ..elastic import Body
 from ..linsolve import one_blas_thread
-from ..load_sharing import LoadSharing, hertz_fields
+from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
 from ..mesh import Refinement, mesh_rings
 from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_rings,
                     _held_nodes, _Position, _positions, _window, housing_body, patch_loads,
@@ -353,10 +353,7 @@ class CycleSolver:
         toothfem.fem.contact.ContactError
             If the Hertz local approach does not settle.
         """
-        check_range("torque", torque)
-        if torque == 0:
-            raise ToothfemError("torque = 0 is outside the valid range: nonzero (the "
-                                "rotation of an unloaded disc is not determined)")
+        check_member_torque(torque, "disc")
         side = 1 if torque > 0 else -1
         pos = self._candidates(side)
         if self.cache is not None and self.equal_springs is None:
@@ -366,9 +363,7 @@ class CycleSolver:
         q_load = torque / m.face_width
         zb = m.geometry.pin_count
         n_pos = len(pos)
-        pitches = np.zeros(n_pos, int) if pitches is None else np.asarray(pitches, int)
-        if pitches.shape != (n_pos,):
-            raise ToothfemError(f"pitches has shape {pitches.shape}, expected ({n_pos},)")
+        pitches = position_pitches(pitches, n_pos)
         force = np.zeros((n_pos, zb))
         gap = np.where(np.isfinite(state.gap), state.gap, np.inf).copy()
         beta = np.zeros(n_pos)

@@ -8,12 +8,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..hertz import hertz_line
-from ...errors import ToothfemError, check_range
+from ...errors import ToothfemError
 from ...geometry import cycloid_mesh as cy  # with the profile names it imports
 from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body
-from ..load_sharing import LoadSharing, hertz_fields
+from ..load_sharing import LoadSharing, check_member_torque
 from ..mesh import Refinement, mesh_rings
 from .cycle import _record, _seed_guess, pin_moves
 from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing_body
@@ -92,9 +92,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     toothfem.fem.contact.ContactError
         If the contact reaches the edge of a refined zone (raise ``force_margin``).
     """
-    check_range("torque", torque)
-    if torque == 0:
-        raise ToothfemError("torque = 0 is outside the valid range: nonzero")
+    check_member_torque(torque, "disc")
     if model.pin_structure == "rigid":
         raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
     g = model.geometry
@@ -138,9 +136,10 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
     # slave bodies: one per pin (conventional) or the housing with every pin (integral)
     kps = centres - radii * q.normal
-    refine_pins = [Refinement(kps, h, 2 * b_zone, 40 * b_zone)]
-    if model.pin_structure == "conventional":    # separate pins: graded sooner (constants)
-        refine_pins = [Refinement(kps, h, PIN_REFINED_REL * b_zone, PIN_GRADED_REL * b_zone)]
+    # separate (conventional) pins are graded sooner (the constants)
+    refined, graded = ((PIN_REFINED_REL, PIN_GRADED_REL)
+                       if model.pin_structure == "conventional" else (2, 40))
+    refine_pins = [Refinement(kps, h, refined * b_zone, graded * b_zone)]
     groups = []                     # (body, [facets of each candidate pin])
     if model.pin_structure == "integral":
         c_t, s_t = math.cos(-theta_d), math.sin(-theta_d)
@@ -188,7 +187,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
             k += 1
         loads = contact.nodal_load_matrix(body.basis.N, np.concatenate(group_dofs, axis=1),
                                           np.concatenate(group_normals, axis=1))
-        h_blocks.append(contact.flexibility(body, loads))
+        h_blocks.append(body.flexibility(loads))
         dofs += body.basis.N
     proj = np.concatenate(master_pts, axis=1)
     nrm = np.concatenate(normals, axis=1)
@@ -197,11 +196,12 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
 
     # evaluate the disc at the polygon point, a hair inside (the element finder needs it)
     on_mesh = contact.nearest_on_boundary(disc_mesh, "profile", proj) - 1e-6 * h * nrm
-    hmat = block_diag(*h_blocks) + contact.flexibility(disc, disc.point_load_matrix(on_mesh, nrm))
+    load_d = disc.point_load_matrix(on_mesh, nrm)
+    hmat = block_diag(*h_blocks) + disc.flexibility(load_d)
     g0 = np.sum((pts - proj) * nrm, axis=0)
     c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
     sol = contact.solve_contact(hmat, g0, c_rot, q_load)
-    u_disc = disc.solve(-(disc.point_load_matrix(on_mesh, nrm) @ sol.force))
+    u_disc = disc.solve(-(load_d @ sol.force))
     # per pin
     zb = g.pin_count
     force = np.zeros((1, zb))
@@ -224,8 +224,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     rec = _record("detailed", model, state, force, gap, np.array([sol.rigid]), torque)
     # P_h: Hertz's on the FE force where its assumptions hold, the FE peak where they fail
     # (b not small against the radii); the FE profiles stay in DetailedResult.pressure.
-    _, _, invalid = hertz_fields(force, model.face_width, state.equivalent_radius,
-                                 model.e_star, (state.radius_moving, state.radius_fixed))
+    invalid = rec.hertz_invalid
     ph = rec.ph.copy()
     for k, pr in enumerate(pressures):
         if invalid[0, q.pins[k]]:

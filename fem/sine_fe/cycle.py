@@ -15,7 +15,7 @@ from ...geometry.kinematics import equivalent_radius
 from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key
-from ..load_sharing import LoadSharing, hertz_fields
+from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
 from .grid import _circle, _grid_body, _GridBody, _planet_toothed, ring_foot, _ring_toothed
 from .model import SineFEModel
 
@@ -185,7 +185,7 @@ class CycleSolver:
             If no hat lies within the selection gap, or the contact reaches hats beyond
             SELECT_GAP_MAX (the load is too high for the candidate teeth).
         """
-        _check_torque(torque)
+        check_member_torque(torque, "planet")
         check_range("chi", chi)
         sel_gap = self.select_gap
         while True:
@@ -284,11 +284,9 @@ class CycleSolver:
             If a position does not solve (:meth:`solve_position`) or the outermost
             candidate teeth carry load.
         """
-        _check_torque(torque)
+        check_member_torque(torque, "planet")
         n_pos = self.positions_rad.size
-        pitches = np.zeros(n_pos, int) if pitches is None else np.asarray(pitches, int)
-        if pitches.shape != (n_pos,):
-            raise ToothfemError(f"pitches has shape {pitches.shape}, expected ({n_pos},)")
+        pitches = position_pitches(pitches, n_pos)
         it = range(n_pos)
         if progress is not None:
             it = progress(it)
@@ -335,14 +333,6 @@ def deviation_gaps(pair, planet, ring, hats, f2, deviation) -> np.ndarray:
     r_tooth, r_cell = np.divmod(u, ring.n_hats)
     return closing + deviation.ring_profile[np.mod(r_tooth, pair.ring_teeth),
                                             (r_cell >= ring.n_hats / 2).astype(int)]
-
-
-def _check_torque(torque):
-    """A member torque of either sign; zero leaves the rotation undetermined."""
-    check_range("torque", torque)
-    if torque == 0:
-        raise ToothfemError("torque = 0 is outside the valid range: nonzero (the rotation "
-                            "of an unloaded planet is not determined)")
 
 
 def _flank_columns(j0, k, tooth, upper):

@@ -12,9 +12,9 @@ from ...geometry import sine
 from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body
-from ..load_sharing import LoadSharing
+from ..load_sharing import LoadSharing, check_member_torque
 from ..mesh import Refinement, mesh_rings
-from .cycle import (_check_torque, _flank_columns, PositionResult, _record, SELECT_GAP_MAX,
+from .cycle import (_flank_columns, PositionResult, _record, SELECT_GAP_MAX,
                     SELECT_MARGIN)
 from .grid import (COARSE_STEP_REL, SIZE_MAX_REL, _boundary_chain, _circle, _outline,
                    _planet_toothed, _ring_toothed, ring_foot)
@@ -93,7 +93,7 @@ def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,
         If the contact does not stay inside zones of initial gap up to SELECT_GAP_MAX.
     """
     check_range("crank_angle_rad", crank_angle_rad)
-    _check_torque(torque)
+    check_member_torque(torque, "planet")
     m = model.pair.module_m
     check_range("element_size", element_size, 0.002 * m, 0.1 * m,
                 why="element size along the contact zones: 1/500 to 1/10 of the module")
@@ -174,7 +174,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     load_p = contact.nodal_load_matrix(planet.basis.N, slave.dofs, rotate(nrm, -th))
     on_ring = contact.nearest_on_boundary(rm, "profile", foot) - 1e-6 * h * nrm
     load_r = ring.point_load_matrix(on_ring, nrm)
-    hmat = contact.flexibility(planet, load_p) + contact.flexibility(ring, load_r)
+    hmat = planet.flexibility(load_p) + ring.flexibility(load_r)
     sol = contact.solve_contact(hmat, g0, arm, torque / model.face_width)
     u_p = planet.solve(load_p @ sol.force)
     u_r = ring.solve(-(load_r @ sol.force))

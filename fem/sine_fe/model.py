@@ -62,9 +62,9 @@ class SineFEModel(SameMaterial):
 
 
 
-#: Ring rim per module outside the ring's pitch circle when the case gives none (the
-#: default outline of geometry.sine.ring_polygon); ASSUMPTION, the paper gives no housing.
-RING_RIM_MODULES = 5.0
+#: Ring rim per module outside the ring's pitch circle when the case gives none: the
+#: default outline of geometry.sine.ring_polygon (ASSUMPTION, the paper gives no housing).
+RING_RIM_MODULES = sine.RING_RIM_MODULES
 
 
 def model_from_pair(pair, material, output_mechanism=None, *,
