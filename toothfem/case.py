@@ -116,8 +116,7 @@ class Case:
                             "stage)")
         if two_stage:
             h = self.cycloid.disc_holes
-            if h.crank_hole_count < 1 or h.crank_hole_radius_mm <= 0 \
-                    or h.crank_hole_circle_radius_mm <= 0:
+            if h.crank_hole_count < 1:     # (their radii: DiscHoles checks them with a count)
                 raise CaseError(f"cycloid.disc_holes.crank_hole_count = {h.crank_hole_count} "
                                 "is outside the valid range [1, 12]: a two-stage (RV-type) "
                                 "drive carries its discs on crankshafts in crank holes "

@@ -14,8 +14,9 @@ from .case import Case
 from .errors import CaseError, check_range
 from .fem.datasheet.sheet import datasheet, plural
 from .fem.datasheet.transmission import loaded_te
-from .fem.datasheet.twist import TwistModel
+from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
+from .report import save
 from .report import stiffness as report_stiffness
 
 #: Full-period sampling of the loaded TE by default: cycle solvers over the period and
@@ -120,7 +121,7 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
         w.writerow(HYSTERESIS_COLUMNS + (contacts,))
         for row in sheet.loop.rows():
             w.writerow([f"{v:.9g}" for v in row])
-    arcsec = np.degrees(1.0) * 3600
+    arcsec = 1 / ARCSEC
     with open(folder / "te.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["crank_angle_deg", "output_angle_deg", "te_arcsec", "mesh_arcsec"])
@@ -138,15 +139,14 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
                 w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in share[:, g]])
         files.append("split.csv")
         if not result.split.even_by_layout:
-            fig = report_stiffness.member_split(result.split, sheet.member_name,
-                                                result.case_name)
-            fig.savefig(folder / "split.png", dpi=120)
+            save(report_stiffness.member_split(result.split, sheet.member_name,
+                                               result.case_name), folder / "split.png", dpi=120)
             files.append("split.png")
     title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
              + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
              + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
-    report_stiffness.hysteresis(sheet, title=title).savefig(folder / "hysteresis.png", dpi=120)
-    report_stiffness.transmission_error(te).savefig(folder / "te.png", dpi=120)
+    save(report_stiffness.hysteresis(sheet, title=title), folder / "hysteresis.png", dpi=120)
+    save(report_stiffness.transmission_error(te), folder / "te.png", dpi=120)
     summary = {**result.summary, "files": files}
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary

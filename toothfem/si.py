@@ -421,25 +421,19 @@ def _tolerances_si(tol) -> TolerancesSI:
            for f in dataclasses.fields(tol) if f.name.endswith("_mm")})
 
 
-def _mm_or_none(value):
-    return _si_or_none(value, _MM)
-
-
 def _seals_si(seals) -> SealsSI:
-    return SealsSI(input_diameter_m=_mm_or_none(seals.input_diameter_mm),
-                      output_diameter_m=_mm_or_none(seals.output_diameter_mm))
+    return SealsSI(input_diameter_m=_si_or_none(seals.input_diameter_mm, _MM),
+                      output_diameter_m=_si_or_none(seals.output_diameter_mm, _MM))
 
 
 def _bearings_si(b) -> BearingsSI:
     return BearingsSI(
         eccentric_type=b.eccentric_type,
-        eccentric_pitch_diameter_m=_mm_or_none(b.eccentric_pitch_diameter_mm),
-        eccentric_dynamic_rating_N=(None if b.eccentric_dynamic_rating_kN is None
-                                    else b.eccentric_dynamic_rating_kN * 1e3),
-        main_type=b.main_type, main_pitch_diameter_m=_mm_or_none(b.main_pitch_diameter_mm),
-        main_dynamic_rating_N=(None if b.main_dynamic_rating_kN is None
-                               else b.main_dynamic_rating_kN * 1e3),
-        main_span_m=_mm_or_none(b.main_span_mm),
+        eccentric_pitch_diameter_m=_si_or_none(b.eccentric_pitch_diameter_mm, _MM),
+        eccentric_dynamic_rating_N=_si_or_none(b.eccentric_dynamic_rating_kN, 1e3),
+        main_type=b.main_type, main_pitch_diameter_m=_si_or_none(b.main_pitch_diameter_mm, _MM),
+        main_dynamic_rating_N=_si_or_none(b.main_dynamic_rating_kN, 1e3),
+        main_span_m=_si_or_none(b.main_span_mm, _MM),
         external_radial_load_N=b.external_radial_load_N,
         external_axial_load_N=b.external_axial_load_N,
         external_moment_Nm=b.external_moment_Nm)

@@ -10,7 +10,7 @@ from ..efficiency import loop as lp
 from ..efficiency.loop import effects as fx, measured as ms
 from ..errors import ToothfemError
 from ..output import atomic_dir
-from ..report import loop as rl
+from ..report import loop as rl, save
 
 
 def add_parser(sub):
@@ -86,8 +86,7 @@ def run(args) -> int:
             f: _field(final, f) for e in report.effects for f in e.case_fields}
         (tmp / "report.json").write_text(json.dumps(out, indent=2, default=_json) + "\n")
         for stage in ("before", "after"):
-            fig = rl.plot_residuals(report, stage)
-            fig.savefig(tmp / f"residuals_{stage}.png", dpi=110)
+            save(rl.plot_residuals(report, stage), tmp / f"residuals_{stage}.png", dpi=110)
         (tmp / "report.md").write_text(rl.markdown(report, effects=effects))
     b, f = report.baseline, report.final
     error = (f"held-out RMSE {100 * b.rmse:.3f} -> {100 * f.rmse:.3f} points"

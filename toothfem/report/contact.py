@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..fem.datasheet.twist import ARCSEC
 from . import pyplot, save, wrap
 
 #: Colour map of the per-contact series (many lines: a continuous map keyed by contact
@@ -25,8 +26,6 @@ MAX_CONTACT_TICKS = 20
 MAX_LEGEND_SERIES = 8
 #: Characters per title line of a field picture (8.5 in wide at 9 pt).
 FIELD_TITLE_CHARS = 105
-#: Arcseconds per radian (transmission error in arcsec, as catalogues quote it).
-ARCSEC_PER_RAD = 180.0 / math.pi * 3600.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -241,7 +240,7 @@ def transmission_error(ls, labels: ContactLabels):
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(9, 4.8), layout="constrained")
     deg = np.degrees(ls.position_rad)
-    te = ls.transmission_error * ARCSEC_PER_RAD
+    te = ls.transmission_error / ARCSEC
     ax.plot(deg, te, "o-", ms=3, lw=1.4, color="#08519c", label="transmission error")
     ax.axhline(float(te.mean()), color="k", ls="--", lw=1, label=f"mean {te.mean():.3g} arcsec")
     ax.set_xlabel("crank angle [deg]")

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..fem.datasheet.twist import ARCSEC
 from . import pyplot
 
 
@@ -81,7 +82,7 @@ def transmission_error(te, title: str = ""):
     """
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(9, 7.5))
-    arcsec = np.degrees(1.0) * 3600
+    arcsec = 1 / ARCSEC
     crank = np.degrees(te.crank_angle_rad)
     a1.plot(crank, te.te_rad * arcsec, lw=1.2, color="tab:blue", label="output twist (TE)")
     a1.set_xlabel("crank angle [deg]")
