@@ -90,6 +90,10 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
                         "rest at the Xu (2007) friction" if f.boundary_coefficient > 0 else
                         "; friction.boundary_coefficient = 0: the Xu (2007) law alone, "
                         "extrapolated"))
+    # friction.boundary_coefficient = 0 switches the blend off: the EHL law alone (a test
+    # oracle's reading, and the model before issue 13), not frictionless asperities
+    if f.boundary_coefficient <= 0:
+        return mu, lam
     return mixed_friction(mu, share, f.boundary_coefficient), lam
 
 

@@ -220,9 +220,7 @@ def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
 
     def counted(pitches):           # the bar appears only if the split is solved
         with bar(total=len(pitches), desc="FE member split", unit="solver") as shown:
-            for m in pitches:
-                yield m
-                shown.update()
+            yield from _counted(shown, pitches)
     return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions,
                         progress=counted)
 
@@ -256,11 +254,15 @@ def _fe_records(solver, torques, n_positions):
     if bar is None:
         return [solver.solve(t) for t in torques]
     with bar(total=len(torques) * n_positions, desc="FE load table", unit="position") as shown:
-        def counted(positions):
-            for p in positions:
-                yield p
-                shown.update()
-        return [solver.solve(t, progress=counted) for t in torques]
+        return [solver.solve(t, progress=lambda items: _counted(shown, items))
+                for t in torques]
+
+
+def _counted(shown, items):
+    """``items``, one at a time, each counted on the bar ``shown`` once it is done."""
+    for item in items:
+        yield item
+        shown.update()
 
 
 def fe_reference(declared_member_torque, member_torque, notes) -> float:

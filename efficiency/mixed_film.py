@@ -149,15 +149,12 @@ def mixed_friction(mu_ehl, share, boundary):
     share : array_like
         f, the asperities' share of the load (:func:`asperity_load_share`).
     boundary : float
-        mu_b, the boundary friction of the asperity contacts; 0 turns the blend off (the
-        EHL law alone, not frictionless asperities).
+        mu_b, the boundary friction of the asperity contacts.
 
     Returns
     -------
     numpy.ndarray
         The friction coefficient.
     """
-    if boundary <= 0:                  # the blend off: the EHL law alone (a test oracle's
-        return np.asarray(mu_ehl, float)   # reading, and the model before issue 13)
     share = np.asarray(share, float)
     return (1.0 - share) * np.asarray(mu_ehl, float) + share * boundary

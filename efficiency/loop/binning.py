@@ -36,7 +36,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .measured import MeasuredData
+from .measured import MeasuredData, grid_axes
 
 #: The run label of a cell whose rows come from several runs.
 MIXED_RUNS = "mixed"
@@ -90,26 +90,6 @@ class Binning:
                 "sigma": self.sigma, "mixed_runs": self.mixed_runs}
 
 
-def grid_axes(data: MeasuredData) -> dict:
-    """The covariates the grid is cut on (the operating point).
-
-    Parameters
-    ----------
-    data : MeasuredData
-        M rows.
-
-    Returns
-    -------
-    dict of str to numpy.ndarray
-        input_speed_rpm [rpm], output_torque_Nm [N m] and, when the data carry it,
-        oil_temp_C [deg C]; each (M,).
-    """
-    axes = {"input_speed_rpm": data.speed_rpm, "output_torque_Nm": data.torque_Nm}
-    if data.oil_temp_C is not None:
-        axes["oil_temp_C"] = data.oil_temp_C
-    return {k: np.asarray(v, float) for k, v in axes.items()}
-
-
 def _combine(code, index, size):
     """Compact codes of the pairs (code, index), index < size: equal pairs, equal codes."""
     return np.unique(code * size + index, return_inverse=True)[1].reshape(-1)
@@ -136,7 +116,7 @@ def cell_codes(axes: dict, cells: int) -> np.ndarray:
         if span > 0:
             index = np.minimum(((x - lo) / span * cells).astype(np.int64), cells - 1)
             code = _combine(code, index, cells)
-    return np.unique(code, return_inverse=True)[1].reshape(-1)
+    return code                        # compact already: _combine's, or all one cell
 
 
 def _most_cells(axes, max_points) -> int:
@@ -195,7 +175,7 @@ def bin_rows(data: MeasuredData, max_points: int) -> tuple:
     cells = _most_cells(axes, max_points)
     code = cell_codes(axes, cells)
     counts = np.bincount(code)
-    first = np.argsort(code, kind="stable")[np.concatenate(([0], np.cumsum(counts)[:-1]))]
+    first = np.unique(code, return_index=True)[1]         # each point's first row
 
     def mean(a):
         return None if a is None else np.bincount(code, weights=np.asarray(a, float)) / counts

@@ -274,6 +274,27 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
                         source=source, notes=tuple(notes))
 
 
+def grid_axes(data: MeasuredData) -> dict:
+    """The covariates of the operating point (what the binning grid is cut on, what makes
+    two rows distinct points).
+
+    Parameters
+    ----------
+    data : MeasuredData
+        M rows.
+
+    Returns
+    -------
+    dict of str to numpy.ndarray
+        input_speed_rpm [rpm], output_torque_Nm [N m] and, when the data carry it,
+        oil_temp_C [deg C]; each (M,).
+    """
+    axes = {"input_speed_rpm": data.speed_rpm, "output_torque_Nm": data.torque_Nm}
+    if data.oil_temp_C is not None:
+        axes["oil_temp_C"] = data.oil_temp_C
+    return {k: np.asarray(v, float) for k, v in axes.items()}
+
+
 def distinct_points(data: MeasuredData) -> int:
     """Number of distinct operating points (speed, output torque and, if given, oil
     temperature) among the rows.
@@ -288,8 +309,7 @@ def distinct_points(data: MeasuredData) -> int:
     int
         The count.
     """
-    cols = [data.speed_rpm, data.torque_Nm] + ([data.oil_temp_C]
-                                               if data.oil_temp_C is not None else [])
+    cols = list(grid_axes(data).values())
     return int(np.unique(np.column_stack(cols), axis=0).shape[0]) if len(data) else 0
 
 
