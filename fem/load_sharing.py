@@ -62,6 +62,26 @@ class LoadSharing:
         """
         return np.abs(np.sum(self.force * self.moment_arm, axis=1)) / abs(self.torque) - 1
 
+    def figures(self, contacts_name: str) -> dict:
+        """The headline figures of a result (a contact summary, a sweep row).
+
+        Parameters
+        ----------
+        contacts_name : str
+            What the contacts are called in the key ("pins", "teeth").
+
+        Returns
+        -------
+        dict
+            ``<contacts>_in_contact_max`` [-], ``max_force_N`` [N], ``max_ph_MPa`` [MPa] and
+            ``transmission_error_arcsec`` (the mean over the positions) [arcsec].
+        """
+        return {f"{contacts_name}_in_contact_max": int(self.contacts_per_position.max()),
+                "max_force_N": float(self.force.max()),
+                "max_ph_MPa": float(self.ph.max() / 1e6),
+                "transmission_error_arcsec": float(np.degrees(self.transmission_error.mean())
+                                                   * 3600)}
+
     def rows(self):
         """The rows of load_sharing.csv: every candidate in contact, position by position.
 

@@ -139,11 +139,8 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "case": case.name, "mode": mode, "positions": int(positions),
         "output_torque_Nm": output, f"{drive.member_name}_torque_Nm": torque,
         **model.describe(),
-        f"{many}_in_contact_max": int(ls.contacts_per_position.max()),
+        **ls.figures(many),
         f"{many}_in_contact_min": int(ls.contacts_per_position.min()),
-        "max_force_N": float(ls.force.max()),
-        "max_ph_MPa": float(ls.ph.max() / 1e6),
-        "transmission_error_arcsec": float(np.degrees(ls.transmission_error.mean()) * 3600),
         "transmission_error_ripple_arcsec": float(np.degrees(np.ptp(ls.transmission_error))
                                                   * 3600),
         "torque_equilibrium_max_rel_error": float(np.max(np.abs(ls.torque_residual()))),

@@ -489,10 +489,10 @@ def _prepare(case: Case, pins, positions: int, cache_dir, loads: str):
 
 def _summary(drive, ls, transmission=True) -> dict:
     """The result columns of a LoadSharing; the analytic split has no transmission error."""
-    te = float(np.degrees(ls.transmission_error.mean()) * 3600) if transmission else math.nan
-    return {"max_force_N": float(ls.force.max()),
-            f"{drive.contacts_name}_in_contact_max": int(ls.contacts_per_position.max()),
-            "max_ph_MPa": float(ls.ph.max() / 1e6), "transmission_error_arcsec": te}
+    out = ls.figures(drive.contacts_name)
+    if not transmission:
+        out["transmission_error_arcsec"] = math.nan
+    return out
 
 
 # ---------------------------------------------------------------------------------------
