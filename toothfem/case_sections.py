@@ -168,6 +168,9 @@ class CycloidStage(_Section):
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
+        if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
+            object.__setattr__(self, "housing_outer_radius_mm",
+                               self.pin_circle_radius_mm + 5 * self.pin_radius_mm)
         inner = self.pin_circle_radius_mm + self.pin_radius_mm
         wall = max(HOUSING_WALL_MAX * self.pin_circle_radius_mm, 4 * self.pin_radius_mm)
         check_range("cycloid.housing_outer_radius_mm", self.housing_outer_radius_mm, inner,
@@ -185,12 +188,6 @@ class CycloidStage(_Section):
                 disc_polygon(geometry, self.holes_si(), points_per_lobe=16)
         except GeometryError as exc:
             raise _with_hole_keys(_restate(exc, "cycloid", _CYCLOID_KEYS)) from None
-
-    def __post_init__(self):
-        if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
-            object.__setattr__(self, "housing_outer_radius_mm",
-                               self.pin_circle_radius_mm + 5 * self.pin_radius_mm)
-        super().__post_init__()
 
     def geometry(self):
         """The SI geometry record :class:`toothfem.geometry.cycloid.CycloidGeometry`.
