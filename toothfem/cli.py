@@ -75,10 +75,7 @@ def main(argv=None) -> int:
             return args.func(args)
     except BrokenPipeError:
         return _quiet_broken_pipe()
-    except ToothfemError as exc:
-        _say(f"{name}: error: {exc}")
-        return EXIT_REFUSED
-    except OSError as exc:
+    except (ToothfemError, OSError) as exc:
         _say(f"{name}: error: {exc}")
         return EXIT_REFUSED
     except KeyboardInterrupt:
