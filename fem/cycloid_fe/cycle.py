@@ -412,24 +412,59 @@ class CycleSolver:
         gap[p, q.pins] = sol.gap
         beta[p] = sol.rigid
 
-    def _solve_position(self, p, q, q_load, pin, side, g0):
-        """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
+    def compliance(self, p: int, q: _Position, lam, q_load: float, side: int = 1):
+        """Contact flexibility of one position's candidates at given forces: the disc's
+        (and integral housing's) influence table plus each contact's local Hertz approach
+        at its half-width b(F) and, for conventional pins, the pin's own compliance.
+
+        Parameters
+        ----------
+        p : int
+            Index into ``positions_rad``.
+        q : _Position
+            That position's candidates (:meth:`candidates`).
+        lam : array_like, shape (C,)
+            Contact forces per length [N/m] the half-widths are taken at (an unloaded
+            candidate: the width of the mean load).
+        q_load : float
+            The member torque per length [N m/m] (its sign picks the carrying flank).
+        side : {1, -1}
+            The flank of the tables.
+
+        Returns
+        -------
+        numpy.ndarray, shape (C, C)
+            [m per N/m].
+        """
         m = self.model
         e_p = m.e_plane
-        c_disc = self.influence(p, side)
         # the tables measure each body's pressure-weighted mean approach; the gap closes at
         # the contact's centre, F/(2 pi E') further per elastic body (docs/derivations.md 6)
         centre = CENTRE_APPROACH * (1 if m.pin_structure == "rigid" else 2) / e_p
+        b = _half_width(np.asarray(lam, float), q.r_eq, m.e_star, q_load, q.arm)
+        local = centre + strip_width_correction(b, self.b_ref, e_p)
+        if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
+            local = local + strip_width_correction(b, self.b_ref / 2, e_p)
+        elif m.pin_structure == "conventional":
+            local = local + self._pin.compliance(q.gamma, b)
+        return self.influence(p, side) + np.diag(local)
+
+    def candidates(self, side: int = 1) -> list:
+        """The candidate contacts of every position for a torque of sign ``side``.
+
+        Returns
+        -------
+        list of _Position
+            Disc frame; one per entry of ``positions_rad``.
+        """
+        return self._candidates(1 if self.sides == (0,) else side)
+
+    def _solve_position(self, p, q, q_load, pin, side, g0):
+        """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
         lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
-            b = _half_width(lam, q.r_eq, m.e_star, q_load, q.arm)
-            local = centre + strip_width_correction(b, self.b_ref, e_p)
-            if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
-                local = local + strip_width_correction(b, self.b_ref / 2, e_p)
-            elif m.pin_structure == "conventional":
-                local = local + pin.compliance(q.gamma, b)
-            sol = contact.solve_contact(c_disc + np.diag(local), g0, q.arm, q_load,
-                                        active=active)
+            sol = contact.solve_contact(self.compliance(p, q, lam, q_load, side), g0, q.arm,
+                                        q_load, active=active)
             done = np.max(np.abs(sol.force - lam)) <= LOCAL_RTOL * np.max(sol.force)
             lam, active = sol.force, sol.active
             if done:

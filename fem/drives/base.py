@@ -389,7 +389,8 @@ class Drive(abc.ABC):
                               self.analytic_in_mesh_gap_m, weight=self.analytic_weight)
 
     def cycle_solver(self, n_positions: int = DEFAULT_POSITIONS, *, cache=True,
-                     solver_options: dict | None = None, pitch: int = 0, **overrides):
+                     solver_options: dict | None = None, pitch: int = 0, offset: int = 0,
+                     **overrides):
         """The FE cycle-mode solver over :meth:`positions`, built once per design and
         options in this process.
 
@@ -405,6 +406,9 @@ class Drive(abc.ABC):
         pitch : int
             m puts the positions m meshing periods on (the same contacts m lobes on
             against the disc holes).
+        offset : int
+            Puts the positions that many grid steps (period / n_positions) further on (a
+            member whose configuration falls between the pitches: the system model).
         **overrides
             Go to :meth:`fe_model` (e.g. ``pin_structure``).
 
@@ -425,10 +429,11 @@ class Drive(abc.ABC):
         options = dict(solver_options or {})
         key = (self, int(n_positions), tuple(sorted(overrides.items())),
                tuple(sorted(options.items())), None if cache is None else str(cache.directory),
-               int(pitch))
+               int(pitch), int(offset))
         solver = _SOLVERS.get(key)
         if solver is None:
-            phis = self.positions(n_positions) + int(pitch) * self.period_rad
+            phis = self.positions(n_positions) + (int(pitch) + int(offset) / int(n_positions)) \
+                * self.period_rad
             solver = self._new_cycle_solver(self.fe_model(**overrides), phis, cache,
                                             **options)
             if len(_SOLVERS) >= SOLVERS_KEPT:

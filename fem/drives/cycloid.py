@@ -25,6 +25,7 @@ class CycloidDrive(Drive):
     stage: object                   # toothfem.si.CycloidStageSI
     material_si: object             # toothfem.si.MaterialSI
     first_teeth: tuple[int, int] | None = None
+    first_stage: object = None      # toothfem.si.SpurStageSI of a 2K-V drive, if the case has it
 
     kind = "cycloid"
     member_name = "disc"
@@ -65,7 +66,8 @@ class CycloidDrive(Drive):
             first = (si.first_stage.sun_teeth, si.first_stage.planet_teeth)
         else:
             first = None
-        return cls(stage=si.cycloid, material_si=si.material, first_teeth=first)
+        return cls(stage=si.cycloid, material_si=si.material, first_teeth=first,
+                   first_stage=si.first_stage)
 
     @property
     def geometry(self) -> cy.CycloidGeometry:

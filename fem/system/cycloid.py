@@ -1,0 +1,363 @@
+"""The system model of a 2K-V (RV) cycloid reducer: every disc a rigid body on its pins
+(the FE contact) and its crank bearings, the crankshafts on their support bearings in the
+carrier, bending and twisting, and the spur first stage (docs/stiffness.md, "The system
+model").
+
+Coordinates (small displacements, housing frame, at one crank angle):
+
+- ``out``: the output flange's rotation, where the torque acts; ``carrier``: the carrier's
+  rotation at the cranks (one coordinate with ``out`` unless the case declares a carrier
+  stiffness);
+- per disc j: its translation (x, y) and rotation theta about its centre;
+- per crank k: the shaft's move against the carrier at its two support bearings (s1, s2),
+  its rotation against the carrier at the eccentrics (psi_e) and at its gear (psi_g), and
+  the bending deflection w_kj at each disc's plane against the line through its supports.
+
+Kinematics. Crank k's axis sits at A_k (radius R_c) and moves with the carrier; disc j's
+eccentric on it is E_j = e u(phi_j) and turns with the crank's absolute rotation
+carrier + psi_e. The journal of crank k at disc j therefore moves by
+
+    carrier x A_k + (1 - z_j) s1_k + z_j s2_k + w_kj + (carrier + psi_e,k) x E_j
+
+(x: e_z cross; z_j = a_j / L the disc's axial place on the span), and the hole of disc j
+on it by d_j + theta_j x (A_k) (the hole sits A_k from the disc's centre). The spur mesh
+of crank k's planet with the sun, sun held (the catalogue's input held), deforms by
+r_b,planet (psi_g,k - (z_sun / z_planet) carrier): with nothing deformed every crank turns
+(1 + z_sun/z_planet) times the output angle.
+
+Elements: the crank bearings (needle rollers, roller by roller with play), the support
+bearings (tapered rollers, assumed from the crank's diameter unless declared), the cranks'
+bending (Euler-Bernoulli + Timoshenko shear between simple supports) and torsion (over
+half the span), the spur mesh (ISO 6336-1's mean mesh stiffness), the carrier (the case's
+stiffness, else rigid). Contacts: each disc's pins, through the FE influence tables of the
+cycle mode at the disc's true configuration (its pitch and phase:
+``Drive.member_offsets``), gap change -n . d_j + l theta_j per pin.
+
+Limits (this version): the carrier's translation is held (rigid main bearings); the planet
+gear's force loads the crank's torsion and its support bearings' radial play is not
+loaded by it; friction is not in the solve.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...errors import CaseError
+from ...geometry.vectors import rotate
+from ..datasheet import supports as sp
+from . import elements as el
+from .solve import ContactSet, Element, solve
+
+#: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
+#: ~ 20 N/(mm um) per mm of face width [N/m per m].
+SPUR_MESH_STIFFNESS_N_PER_M2 = 20e9
+#: ASSUMPTION: each crank's two support bearings are tapered roller bearings sized on the
+#: crank: 14 rollers of 0.55 d long at 15 deg (a 302-series bearing on a 17 mm bore:
+#: 14-15 rollers, effective length about 9.5 mm, e = 0.35, i.e. alpha ~ 14 deg).
+SUPPORT_ROLLERS, SUPPORT_LENGTH_REL, SUPPORT_ANGLE_DEG = 14, 0.55, 15.0
+
+
+def perp(v) -> np.ndarray:
+    """e_z x v for (2,) or (2, N)."""
+    v = np.asarray(v, float)
+    return np.stack([-v[1], v[0]])
+
+
+class Coordinates:
+    """Named slices of the coordinate vector."""
+
+    def __init__(self):
+        self.n = 0
+        self.index = {}
+
+    def add(self, name: str, size: int = 1) -> slice:
+        sl = slice(self.n, self.n + size)
+        self.index[name] = sl
+        self.n += size
+        return sl
+
+    def row(self, terms) -> np.ndarray:
+        """One deformation row from {name: coefficient (scalar or array of the slice's
+        size)}."""
+        r = np.zeros(self.n)
+        for name, c in terms.items():
+            r[self.index[name]] += c
+        return r
+
+
+@dataclass(frozen=True)
+class DiscSlot:
+    """Disc j in the system: its phase, axial place, the grid offset of its configuration
+    (``Drive.member_offsets``), the turn beta_j about the housing centre from that
+    configuration of the first disc to where it stands, and its cycle solver."""
+    index: int
+    phase_rad: float
+    axial_m: float
+    offset: int
+    beta_rad: float
+    solver: object
+
+
+@dataclass(frozen=True)
+class SystemState:
+    """The system at one crank angle and output torque."""
+    output_torque_Nm: float
+    position_rad: float
+    twist_rad: float                 # the output flange's rotation
+    pin_force_N: np.ndarray          # (discs, Zb) by the pins' own numbers
+    disc_torque_Nm: np.ndarray       # (discs,) moment of each disc's pin forces about it
+    contacts: np.ndarray             # (discs,) pins that carry
+    bearing_force_N: dict            # name -> (2,) force on the inner ring, housing frame
+    paths_rad: dict                  # group -> its part of the twist (sum: twist)
+    equilibrium: object = field(repr=False, default=None)
+
+
+class CycloidSystem:
+    """The system model of a 2K-V cycloid drive over the positions of one pin pitch.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.cycloid.CycloidDrive
+        A 2K-V drive (``first_teeth`` set).
+    supports : toothfem.fem.datasheet.supports.Supports
+    n_positions : int
+        Positions per pin pitch.
+    cache : bool or DiskCache or None
+        The FE tables' disk cache (``Drive.cycle_solver``).
+    pin_spring_m_per_N : float, optional
+        Rigid bodies on equal contact springs instead of the FE (the hand models' limit):
+        the compliance of every pin contact [m/N].
+    rigid : tuple of str
+        Element groups made rigid (``crank bearings``, ``support bearings``,
+        ``crankshaft bending``, ``crankshaft torsion``, ``spur mesh``): a limit case or a
+        sensitivity check.
+    crank_bearing_play_m : float
+        Diametral play of the crank bearings [m] (< 0: preload).
+    crank_bearing_stiffness_N_per_m : float, optional
+        Linear isotropic crank bearings instead of the roller law (the hand models' limit).
+    """
+
+    def __init__(self, drive, supports, n_positions: int = 36, *, cache=True,
+                 pin_spring_m_per_N: float | None = None, rigid: tuple = (),
+                 crank_bearing_play_m: float = 0.0,
+                 crank_bearing_stiffness_N_per_m: float | None = None):
+        if not drive.two_stage:
+            raise CaseError("the system model of this version takes 2K-V (RV) drives; a "
+                            "K-H-V drive needs its output mechanism")
+        self.drive, self.supports = drive, supports
+        self.n_positions = int(n_positions)
+        self.rigid = tuple(rigid)
+        self.pin_spring = pin_spring_m_per_N
+        g = drive.geometry
+        h = drive.stage.holes
+        self.cranks, self.r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        self.zb, self.za = g.pin_count, drive.stage.lobe_count
+        self.sun_over_planet = drive.first_teeth[0] / drive.first_teeth[1]
+        self.discs = drive.members
+        options = {"equal_springs": pin_spring_m_per_N * drive.face_width_m} \
+            if pin_spring_m_per_N is not None else {}
+        offsets = drive.member_offsets(self.n_positions)
+        step = drive.period_rad / self.n_positions
+        axial = drive._disc_axial_positions(supports)
+        slots = []
+        for j in range(self.discs):
+            solver = drive.cycle_solver(self.n_positions, cache=cache, offset=offsets[j],
+                                        solver_options={**drive.both_flanks_options,
+                                                        **options})
+            phase = 2 * math.pi * j / self.discs
+            beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)
+            if abs(beta * self.zb / (2 * math.pi) - round(beta * self.zb / (2 * math.pi))) \
+                    > 1e-6:
+                raise CaseError(f"disc {j + 1}: its configuration is not a whole number of "
+                                "pin pitches from the first disc's")
+            slots.append(DiscSlot(j, phase, float(axial[j]), int(offsets[j]), beta, solver))
+        self.slots = tuple(slots)
+        self.crank_bearing = el.RollerBearing(supports.bearing_roller_count,
+                                              supports.bearing_roller_length_m,
+                                              play_m=crank_bearing_play_m) \
+            if crank_bearing_stiffness_N_per_m is None else \
+            el.linear(crank_bearing_stiffness_N_per_m * np.eye(2))
+        d = supports.crankshaft_diameter_m
+        self.support_bearing = el.RollerBearing(
+            SUPPORT_ROLLERS, SUPPORT_LENGTH_REL * d,
+            contact_angle_rad=math.radians(SUPPORT_ANGLE_DEG))
+        m = drive.material_si
+        span = supports.crankshaft_span_m
+        w = sp.simply_supported_influence(axial[:, None], axial[None, :], span, d,
+                                          m.youngs_modulus_Pa, m.poisson_ratio)
+        self.bending_stiffness = np.kron(np.linalg.inv(w), np.eye(2))
+        self.torsion_stiffness = 1.0 / sp.torsion_compliance(0.5 * span, d,
+                                                             m.youngs_modulus_Pa,
+                                                             m.poisson_ratio)
+        fs = drive.first_stage
+        if fs is None:        # no module: the planets' mesh is taken rigid (and said so)
+            self.rigid = self.rigid + ("spur mesh",)
+            self.planet_base_radius, self.spur_stiffness = 1.0, RIGID_STIFFNESS
+        else:
+            self.planet_base_radius = 0.5 * fs.module_m * fs.planet_teeth * \
+                math.cos(fs.pressure_angle_rad)
+            self.spur_stiffness = SPUR_MESH_STIFFNESS_N_PER_M2 * fs.face_width_m
+        self.carrier_stiffness = supports.carrier_stiffness_Nm_per_rad
+        self._coords = self._coordinates()
+        self._last = {}
+
+    # -- assembly ---------------------------------------------------------------------
+    def _coordinates(self) -> Coordinates:
+        c = Coordinates()
+        c.add("out")
+        if self.carrier_stiffness:
+            c.add("carrier")
+        else:
+            c.index["carrier"] = c.index["out"]
+        for j in range(self.discs):
+            c.add(f"disc{j}", 3)
+        for k in range(self.cranks):
+            c.add(f"s1_{k}", 2)
+            c.add(f"s2_{k}", 2)
+            c.add(f"psi_e{k}")
+            c.add(f"psi_g{k}")
+            c.add(f"w{k}", 2 * self.discs)
+        return c
+
+    def _elements(self, phi: float) -> list:
+        c, out = self._coords, []
+        n = c.n
+        carrier_angle = -phi / self.za          # the discs and the carrier turn together
+        for k in range(self.cranks):
+            a_k = rotate(self.r_c * np.array([1.0, 0.0]), 2 * math.pi * k / self.cranks
+                         + carrier_angle)
+            for s in self.slots:
+                e_j = self.drive.geometry.eccentricity_m * np.array(
+                    [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
+                z = s.axial_m / self.supports.crankshaft_span_m
+                b = np.zeros((2, n))
+                b[:, c.index["carrier"]] += (perp(a_k) + perp(e_j))[:, None]
+                b[:, c.index[f"s1_{k}"]] += (1 - z) * np.eye(2)
+                b[:, c.index[f"s2_{k}"]] += z * np.eye(2)
+                w = c.index[f"w{k}"]
+                b[:, w.start + 2 * s.index: w.start + 2 * s.index + 2] += np.eye(2)
+                b[:, c.index[f"psi_e{k}"]] += perp(e_j)[:, None]
+                dj = c.index[f"disc{s.index}"]
+                b[:, dj.start:dj.start + 2] -= np.eye(2)
+                b[:, dj.start + 2] -= perp(a_k)
+                out.append(Element(f"crank bearing {k + 1} disc {s.index + 1}",
+                                   "crank bearings", b,
+                                   self._maybe_rigid("crank bearings", self.crank_bearing, 2)))
+            for name in ("s1", "s2"):
+                b = np.zeros((2, n))
+                b[:, c.index[f"{name}_{k}"]] = np.eye(2)
+                out.append(Element(f"support bearing {k + 1}{'ab'[name == 's2']}",
+                                   "support bearings", b,
+                                   self._maybe_rigid("support bearings",
+                                                     self.support_bearing, 2)))
+            b = np.zeros((2 * self.discs, n))
+            b[:, c.index[f"w{k}"]] = np.eye(2 * self.discs)
+            out.append(Element(f"crankshaft {k + 1} bending", "crankshaft bending", b,
+                               self._maybe_rigid("crankshaft bending",
+                                                 el.linear(self.bending_stiffness),
+                                                 2 * self.discs)))
+            out.append(Element(f"crankshaft {k + 1} torsion", "crankshaft torsion",
+                               c.row({f"psi_e{k}": 1.0, f"psi_g{k}": -1.0})[None, :],
+                               self._maybe_rigid("crankshaft torsion",
+                                                 el.linear(self.torsion_stiffness), 1)))
+            r_b = self.planet_base_radius
+            out.append(Element(f"spur mesh {k + 1}", "spur mesh",
+                               c.row({f"psi_g{k}": r_b,
+                                      "carrier": -r_b * self.sun_over_planet})[None, :],
+                               self._maybe_rigid("spur mesh", el.linear(self.spur_stiffness),
+                                                 1)))
+        if self.carrier_stiffness:
+            out.append(Element("carrier", "carrier", c.row({"out": 1.0, "carrier": -1.0})[None],
+                               el.linear(self.carrier_stiffness)))
+        return out
+
+    def _maybe_rigid(self, group, law, size: int):
+        """``law``, or a rigid one of ``size`` where ``group`` is made rigid."""
+        return law if group not in self.rigid else el.linear(np.eye(size) * RIGID_STIFFNESS)
+
+    def _pins(self, p: int, side: int, torque: float):
+        """ContactSet of each disc's candidates at position p, with the candidates."""
+        c, out = self._coords, []
+        w = self.drive.face_width_m
+        q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
+        for s in self.slots:
+            q = s.solver.candidates(side)[p]
+            rot = -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+            n_h = rotate(q.normal, rot)
+            gmat = np.zeros((q.pins.size, c.n))
+            dj = c.index[f"disc{s.index}"]
+            gmat[:, dj.start] = -n_h[0]
+            gmat[:, dj.start + 1] = -n_h[1]
+            gmat[:, dj.start + 2] = q.arm
+            g0 = np.where(np.isfinite(q.gap), q.gap, 1.0)
+            if self.pin_spring is not None:
+                def flex(lam, size=q.pins.size):
+                    return np.eye(size) * self.pin_spring
+            else:
+                def flex(lam, s=s, q=q):
+                    return s.solver.compliance(p, q, np.asarray(lam) / w, q_load, side) / w
+            out.append((ContactSet(f"pins disc {s.index + 1}", "mesh", g0, gmat, flex), q))
+        return out
+
+    # -- solving ------------------------------------------------------------------------
+    def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
+              start=None) -> SystemState:
+        """The system at position p under an output torque (input held).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], nonzero; its sign loads the flank.
+        p : int
+            Position index in the pitch.
+        side : {1, -1}, optional
+            The flank; the torque's sign by default.
+        start : SystemState, optional
+            A nearby solution to start from (the previous torque step).
+
+        Returns
+        -------
+        SystemState
+        """
+        t = float(output_torque_Nm)
+        if t == 0 or not math.isfinite(t):
+            raise CaseError(f"output_torque_Nm = {t!r}: nonzero and finite")
+        side = int(math.copysign(1, t)) if side is None else side
+        phi = float(self.slots[0].solver.positions_rad[p])
+        c = self._coords
+        elements = self._elements(phi)
+        pins = self._pins(p, side, t)
+        q = np.zeros(c.n)
+        q[c.index["out"]] = t
+        u0 = active0 = None
+        if start is not None and start.equilibrium is not None:
+            u0 = start.equilibrium.u
+            active0 = {name: f > 0 for name, f in start.equilibrium.forces.items()}
+            if any(a.size != cs.g0.size for a, (cs, _) in zip(active0.values(), pins)):
+                active0 = None
+        eq = solve(c.n, elements, [cs for cs, _ in pins], q, u0=u0, active0=active0)
+        force = np.zeros((self.discs, self.zb))
+        torque = np.zeros(self.discs)
+        contacts = np.zeros(self.discs, int)
+        for s, (cs, qq) in zip(self.slots, pins):
+            lam = eq.forces[cs.name]
+            shift = int(round(s.beta_rad * self.zb / (2 * math.pi)))
+            force[s.index, (qq.pins + shift) % self.zb] = lam
+            torque[s.index] = -float(qq.arm @ lam)
+            contacts[s.index] = int(np.sum(lam > 0))
+        bearings = {e.name: eq.element_force[e.name] for e in elements
+                    if e.group in ("crank bearings", "support bearings")}
+        paths = {k: v / t for k, v in eq.work.items()}
+        return SystemState(output_torque_Nm=t, position_rad=phi,
+                           twist_rad=float(eq.u[c.index["out"]][0]), pin_force_N=force,
+                           disc_torque_Nm=torque, contacts=contacts,
+                           bearing_force_N=bearings, paths_rad=paths, equilibrium=eq)
+
+
+#: The stiffness of a part made rigid for a limit case [N/m or N m/rad]: 1e5 times the
+#: stiffest part of a reducer (a pin contact, ~1e9 N/m): its compliance is 1e-5 of the
+#: others', and the saddle system's round-off stays near 1e-8 of the coordinates.
+RIGID_STIFFNESS = 1e14
+

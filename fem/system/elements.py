@@ -1,0 +1,106 @@
+"""Force laws of the system model's elastic elements: linear springs and the radial
+rolling-element bearing with play, roller by roller (docs/stiffness.md, "The system
+model"). SI units: N, m, rad.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..datasheet.supports import PALMGREN_LINE_MM
+
+#: Every bearing also carries this linear stiffness [N/m] beside its rollers: the rollers'
+#: law has zero slope at zero load and none inside the play, where nothing else would hold
+#: the body. 1e3 N/m moves a body held by its rollers (1e8-1e9 N/m) by 1e-6 of its
+#: deflection, and a body floating in its play by 1 um per mN.
+BEARING_HOLD_N_PER_M = 1e3
+#: Palmgren's exponent of a roller's line contact: delta ~ Q^0.9, Q ~ delta^(10/9).
+LINE_EXPONENT = 1 / 0.9
+
+
+def linear(stiffness):
+    """A linear law f = K delta.
+
+    Parameters
+    ----------
+    stiffness : array_like, shape (d, d) or scalar
+        K [N/m, N m/rad, ...].
+
+    Returns
+    -------
+    callable
+        delta (d,) -> (f (d,), K (d, d)).
+    """
+    k = np.atleast_2d(np.asarray(stiffness, float))
+
+    def law(delta):
+        return k @ delta, k
+    return law
+
+
+def roller_constant(length_m: float) -> float:
+    """K_n [N/m^(10/9)] of one roller between two raceways, Q = K_n delta^(10/9): Palmgren's
+    approach delta = 3.84e-5 Q^0.9 / l^0.8 [mm, N] on each raceway (Harris & Kotzalas,
+    Essential Concepts of Bearing Technology, 5th ed., 2007, Sec. 6.4), two in series.
+
+    Parameters
+    ----------
+    length_m : float
+        Effective roller length l [m].
+
+    Returns
+    -------
+    float
+        [N m^(-10/9)].
+    """
+    # delta_mm = 2 c Q^0.9 / l_mm^0.8  ->  Q = (delta_m 1e3 l_mm^0.8 / (2 c))^(1/0.9)
+    return (1e3 * (length_m * 1e3) ** 0.8 / (2 * PALMGREN_LINE_MM)) ** LINE_EXPONENT
+
+
+@dataclass(frozen=True)
+class RollerBearing:
+    """A radial roller (or needle) bearing: Z rollers of effective length l at contact angle
+    alpha (0 for cylindrical and needle rollers), diametral play c (> 0 clearance, < 0
+    preload), the rollers at angles 2 pi j / Z + ``cage_rad`` in the frame the deformation
+    is given in. The deformation delta (2,) is the inner ring's displacement against the
+    outer ring; roller j is compressed by delta . u_j cos(alpha) - c/2 and pushes back
+    with Q_j = K_n (that)^(10/9) (Harris & Kotzalas 2007, Sec. 7.2: the load of each
+    rolling element from the rings' relative displacement). The force is the sum of
+    Q_j cos(alpha) u_j, the rings' mutual force along delta."""
+    rollers: int
+    length_m: float
+    play_m: float = 0.0
+    contact_angle_rad: float = 0.0
+    cage_rad: float = 0.0
+
+    def __post_init__(self):
+        if int(self.rollers) != self.rollers or self.rollers < 3:
+            raise ValueError(f"rollers = {self.rollers!r}: at least 3 (an integer)")
+        if not (self.length_m > 0 and math.isfinite(self.length_m)):
+            raise ValueError(f"length_m = {self.length_m!r}: > 0 and finite")
+
+    @property
+    def directions(self) -> np.ndarray:
+        """(2, Z) unit vectors toward each roller."""
+        a = 2 * math.pi * np.arange(self.rollers) / self.rollers + self.cage_rad
+        return np.stack([np.cos(a), np.sin(a)])
+
+    def roller_loads(self, delta) -> np.ndarray:
+        """Q_j [N], (Z,), at the deformation ``delta`` (2,) [m]."""
+        ca = math.cos(self.contact_angle_rad)
+        squeeze = np.asarray(delta, float) @ self.directions * ca - 0.5 * self.play_m
+        return roller_constant(self.length_m) * np.maximum(squeeze, 0.0) ** LINE_EXPONENT
+
+    def __call__(self, delta):
+        """(force (2,) [N], tangent (2, 2) [N/m]) at the deformation ``delta`` (2,) [m]."""
+        ca = math.cos(self.contact_angle_rad)
+        u = self.directions
+        squeeze = np.maximum(np.asarray(delta, float) @ u * ca - 0.5 * self.play_m, 0.0)
+        kn = roller_constant(self.length_m)
+        q = kn * squeeze ** LINE_EXPONENT
+        dq = kn * LINE_EXPONENT * squeeze ** (LINE_EXPONENT - 1)
+        force = ca * (u @ q) + BEARING_HOLD_N_PER_M * np.asarray(delta, float)
+        tangent = ca * ca * (u * dq) @ u.T + BEARING_HOLD_N_PER_M * np.eye(2)
+        return force, tangent

@@ -1,0 +1,261 @@
+"""The quasi-static equilibrium of a planar assembly of rigid bodies, elastic elements and
+unilateral contacts (docs/stiffness.md, "The system model").
+
+Generalised coordinates u (n,): the small displacements of the bodies (translations [m],
+rotations [rad]). Elements (bearings, shafts, gear meshes) each see a deformation
+``delta_e = B_e u`` and answer with their conjugate force ``f_e(delta_e)`` and tangent
+``K_e``; their internal force is ``F(u) = sum_e B_e^T f_e``. Contacts (disc on pins, output
+pins in their holes) have gaps
+
+    g = g0 + H(lambda) lambda + G u >= 0,   lambda >= 0,   lambda . g = 0,
+
+H the condensed flexibility of the bodies at the contacts (the FE influence tables with
+each contact's Hertz approach at its own force), G the gap change per coordinate. A contact
+force pushes the bodies apart, so it does the virtual work lambda . G du, and equilibrium
+under the external generalised forces Q reads
+
+    F(u) - G^T lambda - Q = 0.
+
+On an active set A (the contacts that carry) the Newton step solves the symmetric saddle
+system [[K, -G_A^T], [-G_A, -H_AA]]; an inactive contact whose gap closes joins A, an active
+one whose force turns negative leaves it (semismooth Newton, the primal-dual active set of
+Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2003) 865, with the element forces
+linearised at each step). H depends on lambda only through the contacts' half-widths: it is
+held over a Newton solve and updated between solves until the forces settle (as the cycle
+mode does, fem/cycloid_fe/cycle.py).
+
+Work balance. Taking the solution itself as the virtual displacement,
+``Q . u = sum_e f_e . delta_e + lambda . H lambda + lambda . g0`` exactly (the gaps of the
+carrying contacts are zero): the output's twist times its torque is the sum of each
+element's force times its deformation, the contacts' elastic approach and the clearance
+they closed. :attr:`Equilibrium.work` keeps these terms, so the twist splits into parts
+that add up to it at any load, linear or not.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..contact import ContactError
+from ..linsolve import one_blas_thread
+
+#: Newton iterations allowed per flexibility update, and the updates allowed.
+MAX_NEWTON, MAX_UPDATES = 60, 30
+#: Newton's step is converged when, on a settled active set, the coordinates moved by less
+#: than this fraction of their size (the elements' laws are smooth: the step then falls
+#: quadratically); the half-widths' update when the flexibilities changed by less.
+RTOL = 1e-10
+#: A settled active set whose Newton step stops falling (round-off of parts made rigid)
+#: is converged once the step is below this fraction of the coordinates.
+STALL_RTOL = 1e-7
+#: Singular values below this fraction of the largest are a mechanism (a motion that
+#: deforms no element).
+MECHANISM_RTOL = 1e-10
+
+
+@dataclass(frozen=True)
+class Element:
+    """An elastic element: deformation ``B @ u`` (d,), law ``law(delta) -> (f (d,),
+    K (d, d))``, ``group`` the compliance it is reported under."""
+    name: str
+    group: str
+    b: np.ndarray
+    law: object
+
+
+@dataclass(frozen=True)
+class ContactSet:
+    """Unilateral contacts of one kind: initial gaps g0 (c,) [m], the gap change per
+    coordinate G (c, n) and ``flexibility(lam) -> H (c, c)`` [m/N] at contact forces lam
+    [N] (None: rigid contacts)."""
+    name: str
+    group: str
+    g0: np.ndarray
+    g: np.ndarray
+    flexibility: object = None
+
+
+@dataclass(frozen=True)
+class Equilibrium:
+    """A solved state: coordinates ``u`` (n,), each contact set's forces [N] and gaps [m],
+    each element's force and deformation, and the work of each group [J]
+    (``sum(work.values()) == Q . u``)."""
+    u: np.ndarray
+    forces: dict
+    gaps: dict
+    element_force: dict
+    element_deformation: dict
+    work: dict = field(default_factory=dict)
+    iterations: int = 0
+
+
+def _element_terms(elements, u, n):
+    force = np.zeros(n)
+    stiff = np.zeros((n, n))
+    out = {}
+    for e in elements:
+        d = e.b @ u
+        f, k = e.law(d)
+        force += e.b.T @ f
+        stiff += e.b.T @ k @ e.b
+        out[e.name] = (f, d)
+    return force, stiff, out
+
+
+def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibrium:
+    """Equilibrium of the assembly under the generalised forces ``q``.
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    elements : sequence of Element
+    contacts : sequence of ContactSet
+    q : array_like, shape (n,)
+        External generalised forces [N or N m].
+    u0 : array_like, optional
+        Start (a nearby state, e.g. the previous torque step).
+    active0 : dict of str to bool array, optional
+        The contacts to start from per set; else the candidates that touch first along the
+        Newton step from ``u0`` with every contact rigid and active.
+
+    Returns
+    -------
+    Equilibrium
+
+    Raises
+    ------
+    ContactError
+        If the active set cycles, the system is singular (a coordinate nothing holds) or
+        the contact flexibilities do not settle.
+    """
+    q = np.asarray(q, float)
+    g0 = np.concatenate([c.g0 for c in contacts]) if contacts else np.zeros(0)
+    gmat = np.concatenate([c.g for c in contacts], axis=0) if contacts else np.zeros((0, n))
+    sizes = np.cumsum([0] + [c.g0.size for c in contacts])
+    m = g0.size
+    u = np.zeros(n) if u0 is None else np.asarray(u0, float).copy()
+    lam = np.zeros(m)
+    if active0 is not None:
+        active = np.concatenate([np.asarray(active0[c.name], bool) for c in contacts])
+    else:
+        active = None
+    total_it = 0
+    with one_blas_thread():
+        h = _flexibility(contacts, lam, sizes)
+        for _ in range(MAX_UPDATES):
+            if active is None:
+                active = _first_touch(n, elements, gmat, g0, h, u, q)
+            u, lam, active, it = _newton(n, elements, gmat, g0, h, q, u, active)
+            total_it += it
+            h_new = _flexibility(contacts, lam, sizes)
+            if np.max(np.abs(h_new - h), initial=0.0) <= RTOL * max(np.max(np.abs(h)), 1e-300):
+                h = h_new
+                break
+            h = h_new
+        else:
+            raise ContactError("the contact flexibilities (Hertz half-widths) did not settle")
+    f_int, _, per = _element_terms(elements, u, n)
+    gap = g0 + h @ lam + gmat @ u
+    gap = np.where(active, 0.0, gap)
+    work = {}
+    for e in elements:
+        f, d = per[e.name]
+        work[e.group] = work.get(e.group, 0.0) + float(f @ d)
+    for k, c in enumerate(contacts):
+        sl = slice(sizes[k], sizes[k + 1])
+        work[c.group] = work.get(c.group, 0.0) + float(lam[sl] @ (h[sl, sl] @ lam[sl]))
+        closed = float(lam[sl] @ c.g0)
+        if closed:
+            work[c.group + " clearance"] = work.get(c.group + " clearance", 0.0) + closed
+    return Equilibrium(
+        u=u, forces={c.name: lam[sizes[k]:sizes[k + 1]] for k, c in enumerate(contacts)},
+        gaps={c.name: gap[sizes[k]:sizes[k + 1]] for k, c in enumerate(contacts)},
+        element_force={k: v[0] for k, v in per.items()},
+        element_deformation={k: v[1] for k, v in per.items()}, work=work,
+        iterations=total_it)
+
+
+def _flexibility(contacts, lam, sizes) -> np.ndarray:
+    m = int(sizes[-1])
+    h = np.zeros((m, m))
+    for k, c in enumerate(contacts):
+        sl = slice(sizes[k], sizes[k + 1])
+        if c.flexibility is not None:
+            h[sl, sl] = c.flexibility(lam[sl])
+    return h
+
+
+def _first_touch(n, elements, gmat, g0, h, u, q) -> np.ndarray:
+    """The contacts that close first when the load moves the assembly as a mechanism: the
+    motions that deform no element (the null space of every element's B stacked) projected
+    on the load give the direction v; each contact's gap g0 + G u closes at the ratio
+    -g_i / (G v)_i, and the smallest ratio's contacts start the set."""
+    b_all = np.concatenate([e.b for e in elements], axis=0) if elements else np.zeros((0, n))
+    _, s, vt = np.linalg.svd(b_all) if b_all.size else (None, np.zeros(0), np.eye(n))
+    rank = int(np.sum(s > MECHANISM_RTOL * (s[0] if s.size else 1.0)))
+    null = vt[rank:]
+    v = null.T @ (null @ q)
+    if not np.any(v):
+        raise ContactError("the load moves no mechanism: nothing for the contacts to carry")
+    rate = gmat @ v
+    gap = g0 + gmat @ u
+    closing = rate < -MECHANISM_RTOL * np.max(np.abs(rate), initial=0.0)
+    if not np.any(closing):
+        raise ContactError("no contact closes under the load: every candidate opens")
+    ratio = np.where(closing, gap / np.where(closing, -rate, 1.0), np.inf)
+    first = np.min(ratio)
+    return closing & (gap + first * rate <= 1e-9 * np.max(np.abs(g0), initial=0.0) + 1e-15)
+
+
+def _newton(n, elements, gmat, g0, h, q, u, active):
+    """Semismooth Newton on the coordinates and the active contacts' forces."""
+    m = g0.size
+    lam = np.zeros(m)
+    seen = set()
+    last = np.inf
+    for it in range(1, MAX_NEWTON + 1):
+        idx = np.flatnonzero(active)
+        k = idx.size
+        f_int, kt, _ = _element_terms(elements, u, n)
+        ga = gmat[idx]
+        mat = np.zeros((n + k, n + k))
+        mat[:n, :n] = kt
+        mat[:n, n:] = -ga.T
+        mat[n:, :n] = -ga
+        mat[n:, n:] = -h[np.ix_(idx, idx)]
+        # residuals at u with the active forces unknown: solve for the new forces outright
+        rhs = np.concatenate([q - f_int + kt @ u, g0[idx]])
+        # equilibrate: stiffnesses (1e3-1e15 N/m) against flexibilities (1e-10 m/N)
+        d = np.abs(np.diag(mat))
+        d = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
+        try:
+            sol = d * np.linalg.solve(mat * d[:, None] * d[None, :], rhs * d)
+        except np.linalg.LinAlgError:
+            raise ContactError("singular system: a body or coordinate that nothing holds "
+                               f"({k} contacts carry)") from None
+        if not np.all(np.isfinite(sol)):
+            raise ContactError("singular system: a body or coordinate that nothing holds")
+        u_new = sol[:n]
+        lam = np.zeros(m)
+        lam[idx] = sol[n:]
+        gap = g0 + h @ lam + gmat @ u_new
+        new = np.where(active, lam > 0, gap < 0)
+        step = np.max(np.abs(u_new - u))
+        u = u_new
+        if np.array_equal(new, active):
+            size = max(np.max(np.abs(u)), 1e-300)
+            if step <= RTOL * size or (step >= 0.5 * last and step <= STALL_RTOL * size):
+                return u, lam, active, it
+            last = step
+            continue
+        last = np.inf
+        if not np.any(new):
+            new = active & (lam >= np.max(lam))
+        key = new.tobytes()
+        if key in seen and it > 20:
+            raise ContactError("the contact active set cycles")
+        seen.add(key)
+        active = new
+    raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
