@@ -1,5 +1,5 @@
 """The cycloid disc as a polygon with its holes (centre bore, crank-bearing holes, carrier
-pillar holes): the outline of the FE mesh and of the drawings, with the checks that the
+pillar holes, the output pins' holes of a K-H-V drive): the outline of the FE mesh and of the drawings, with the checks that the
 holes stay inside the disc and apart."""
 from __future__ import annotations
 
@@ -20,9 +20,24 @@ class DiscHolesSI:
     pillar_hole_count: int = 0
     pillar_hole_circle_radius_m: float = 0.0
     pillar_hole_radius_m: float = 0.0
+    output_hole_count: int = 0              # K-H-V: the output pins' holes
+    output_hole_circle_radius_m: float = 0.0
+    output_hole_radius_m: float = 0.0
+
+    @property
+    def symmetry(self) -> int:
+        """The hole pattern's rotational symmetry: the gcd of the hole counts (0: none)."""
+        return math.gcd(math.gcd(self.crank_hole_count, self.pillar_hole_count),
+                        self.output_hole_count)
+
+    @property
+    def carrying_count(self) -> int:
+        """The holes through which the disc's torque leaves it: its crank holes (2K-V), else
+        the output pins' holes (K-H-V)."""
+        return self.crank_hole_count or self.output_hole_count
 
     def circles(self):
-        """Every hole as a circle; crank holes start on +x, pillars halfway.
+        """Every hole as a circle; crank and output-pin holes start on +x, pillars halfway.
 
         Returns
         -------
@@ -32,7 +47,7 @@ class DiscHolesSI:
         out = []
         if self.centre_bore_radius_m > 0:
             out.append((0.0, 0.0, self.centre_bore_radius_m, "centre_bore"))
-        for kind, offset in (("crank", 0.0), ("pillar", 0.5)):
+        for kind, offset in (("crank", 0.0), ("pillar", 0.5), ("output", 0.0)):
             n = getattr(self, f"{kind}_hole_count")
             rc = getattr(self, f"{kind}_hole_circle_radius_m")
             rh = getattr(self, f"{kind}_hole_radius_m")

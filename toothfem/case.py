@@ -20,7 +20,8 @@ from typing import Any, Mapping
 
 from . import si
 from .case_checks import STATED_RATIO_MAX, check_type, expected_type
-from .errors import CaseError, check_range, decode_text
+from .errors import CaseError, GeometryError, check_range, decode_text
+from .geometry.disc import disc_polygon
 from .geometry import train
 
 if sys.version_info >= (3, 11):
@@ -114,6 +115,8 @@ class Case:
             raise CaseError(f"drive = {self.drive!r} without a [first_stage] needs "
                             "[output_mechanism] (pins in holes: the output path of a K-H-V "
                             "stage)")
+        if self.khv_output() is not None:
+            self._check_khv_disc()
         if two_stage:
             h = self.cycloid.disc_holes
             if h.crank_hole_count < 1:     # (their radii: DiscHoles checks them with a count)
@@ -122,6 +125,41 @@ class Case:
                                 "drive carries its discs on crankshafts in crank holes "
                                 "(crank_hole_count, crank_hole_radius_mm and "
                                 "crank_hole_circle_radius_mm > 0)")
+
+    def khv_output(self):
+        """The output pins that pass through a K-H-V cycloid drive's discs, or None (a 2K-V
+        drive, or no cycloid).
+
+        Returns
+        -------
+        toothfem.case_sections.OutputMechanism or None
+        """
+        if self.cycloid is None or self.first_stage is not None or self.rv is not None:
+            return None
+        return self.output_mechanism
+
+    def _check_khv_disc(self):
+        """A K-H-V disc sits on its eccentric bearing in the centre bore, and the output
+        pins' holes fit in the disc beside it."""
+        cyc, om = self.cycloid, self.output_mechanism
+        if cyc.disc_holes.centre_bore_radius_mm <= 0:
+            raise CaseError("cycloid.disc_holes.centre_bore_radius_mm = "
+                            f"{cyc.disc_holes.centre_bore_radius_mm!r} must be > 0 for a K-H-V "
+                            "drive: the disc sits on its eccentric bearing in the centre bore")
+        holes = cyc.holes_si(om)
+        gap = holes.output_hole_radius_m - om.contact_radius_mm * 1e-3 \
+            - cyc.eccentricity_mm * 1e-3
+        if gap < 0:
+            raise CaseError(f"output_mechanism.hole_radius_mm = {om.hole_radius_mm!r} is "
+                            "outside the valid range: at least the pin's (or roller's) radius "
+                            f"plus the eccentricity, {om.contact_radius_mm + cyc.eccentricity_mm:g}"
+                            " mm (else the disc cannot orbit on its output pins)")
+        try:
+            disc_polygon(cyc.geometry(), holes, points_per_lobe=16)
+        except GeometryError as exc:
+            raise CaseError(f"{exc} (the output pins' holes: output_mechanism.pin_count, "
+                            "pin_hole_circle_radius_mm, hole_radius_mm; the bore: "
+                            "cycloid.disc_holes.centre_bore_radius_mm)") from None
 
     def ratio(self) -> float:
         """Input/output speed ratio computed from the tooth numbers (signed; see

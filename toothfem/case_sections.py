@@ -212,16 +212,30 @@ class CycloidStage(_Section):
             rotation_rad=math.radians(self.rotation_modification_deg),
         )
 
-    def holes_si(self):
+    def holes_si(self, output=None):
         """The disc's holes in metres.
+
+        Parameters
+        ----------
+        output : OutputMechanism, optional
+            A K-H-V drive's output pins: their holes in the disc (radius ``hole_radius_mm``,
+            else the pin's or roller's radius plus the eccentricity).
 
         Returns
         -------
         toothfem.geometry.disc.DiscHolesSI
-            Counts and radii [m] of the centre bore, crank holes and pillar holes.
+            Counts and radii [m] of the centre bore, crank holes, pillar holes and output
+            pins' holes.
         """
         h = self.disc_holes
+        hole = None if output is None else (
+            output.hole_radius_mm if output.hole_radius_mm is not None
+            else output.contact_radius_mm + self.eccentricity_mm)
         return DiscHolesSI(
+            output_hole_count=0 if output is None else output.pin_count,
+            output_hole_circle_radius_m=0.0 if output is None else
+            output.pin_hole_circle_radius_mm * 1e-3,
+            output_hole_radius_m=0.0 if hole is None else hole * 1e-3,
             centre_bore_radius_m=h.centre_bore_radius_mm * 1e-3,
             crank_hole_count=h.crank_hole_count,
             crank_hole_circle_radius_m=h.crank_hole_circle_radius_mm * 1e-3,
@@ -382,9 +396,25 @@ class Friction(_Section):
 class OutputMechanism(_Section):
     """Pins in holes (W mechanism) and the eccentric bearing of a K-H-V stage."""
     _section = "output_mechanism"
+
+    def _check(self):
+        if self.roller_radius_mm is not None and self.roller_radius_mm <= self.pin_radius_mm:
+            raise CaseError(f"output_mechanism.roller_radius_mm = {self.roller_radius_mm!r} "
+                            f"must exceed pin_radius_mm = {self.pin_radius_mm!r} (a sleeve on "
+                            "the pin)")
+
+    @property
+    def contact_radius_mm(self) -> float:
+        """The radius that touches the hole: the roller's, else the pin's [mm]."""
+        return self.roller_radius_mm if self.roller_radius_mm is not None else self.pin_radius_mm
     pin_count: int = _f(2, 24, integer=True, default=8)
     pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0)
     pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0)
+    roller_radius_mm: float | None = _f(*PIN_RADIUS_MM, default=None,
+                                        doc="a roller sleeve on each pin (None: bare pins)")
+    hole_radius_mm: float | None = _f(*PIN_RADIUS_MM, default=None,
+                                      doc="the member's holes (None: the pin's or roller's "
+                                          "radius plus the eccentricity, zero clearance)")
     eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0)
     plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0)
 

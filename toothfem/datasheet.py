@@ -16,6 +16,7 @@ from .fem.datasheet.sheet import datasheet, plural
 from .fem.datasheet.transmission import loaded_te
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
+from .fem.system.datasheet import SystemTwist, system_te
 from .report import save
 from .report import stiffness as report_stiffness
 
@@ -77,11 +78,18 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     if torque_max_Nm is not None:
         check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
     supports = drive.supports(si.supports)
-    solver = drive.cycle_solver(positions, solver_options=drive.both_sides_options)
-    sheet = datasheet(TwistModel(drive, supports, solver), rated, rated_assumed=assumed,
-                      torque_max_Nm=torque_max_Nm, steps=steps)
-    te, split = loaded_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
-                          per_pitch=te_positions)
+    system = drive.system_model(supports, positions)
+    if system is not None:          # the whole reducer around the contact
+        twist = SystemTwist(system)
+        te, split = system_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
+                              per_pitch=te_positions)
+    else:                           # the load paths chained (the sine pair, for now)
+        twist = TwistModel(drive, supports, drive.cycle_solver(
+            positions, solver_options=drive.both_sides_options))
+        te, split = loaded_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
+                              per_pitch=te_positions)
+    sheet = datasheet(twist, rated, rated_assumed=assumed, torque_max_Nm=torque_max_Nm,
+                      steps=steps)
     summary = {"case": case.name, "drive": drive.kind, **sheet.summary(), **te.summary(),
                **({} if split is None else split.summary())}
     if split is not None:

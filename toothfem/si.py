@@ -129,6 +129,13 @@ class OutputMechanismSI:
     pin_radius_m: float
     eccentric_bearing_inner_radius_m: float
     plain_bearing_friction_torque_Nm: float
+    roller_radius_m: float | None = None    # a roller sleeve on each pin (None: bare pins)
+    hole_radius_m: float | None = None      # None: the contact radius + the eccentricity
+
+    @property
+    def contact_radius_m(self) -> float:
+        """The radius that touches the hole: the roller's, else the pin's [m]."""
+        return self.roller_radius_m if self.roller_radius_m is not None else self.pin_radius_m
 
 
 @dataclass(**_RECORD)
@@ -350,7 +357,7 @@ def from_case(case) -> CaseSI:
             yield_strength_Pa=mat.yield_strength_MPa * _MPA,
             fatigue_limit_Pa=mat.fatigue_limit_MPa * _MPA),
         cycloid=None if cyc is None else CycloidStageSI(
-            geometry=cyc.geometry(), holes=cyc.holes_si(),
+            geometry=cyc.geometry(), holes=cyc.holes_si(case.khv_output()),
             face_width_m=cyc.face_width_mm * _MM, disc_count=cyc.disc_count,
             pin_structure=cyc.pin_structure, disc_load_factor=cyc.disc_load_factor,
             housing_outer_radius_m=cyc.housing_outer_radius_mm * _MM,
@@ -395,7 +402,9 @@ def from_case(case) -> CaseSI:
             pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
             pin_radius_m=om.pin_radius_mm * _MM,
             eccentric_bearing_inner_radius_m=om.eccentric_bearing_inner_radius_mm * _MM,
-            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM),
+            plain_bearing_friction_torque_Nm=om.plain_bearing_friction_torque_Nmm * _MM,
+            roller_radius_m=None if om.roller_radius_mm is None else om.roller_radius_mm * _MM,
+            hole_radius_m=None if om.hole_radius_mm is None else om.hole_radius_mm * _MM),
         seals=_seals_si(case.seals), bearings=_bearings_si(case.bearings),
         thermal=ThermalSI(
             ambient_C=case.thermal.ambient_C, housing_area_m2=case.thermal.housing_area_m2,

@@ -120,7 +120,7 @@ class CycleSolver:
         bm = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25,
                         refinements=[Refinement(centres, h, self.b_ref, 20 * self.b_ref)],
                         names=names)
-        held = _held_nodes(bm, [n for n in names if n.startswith("crank")])
+        held = _held_nodes(bm, self.model.held_rings(names))
         disc = Body(bm, self.model.youngs_modulus, self.model.poisson_ratio, held,
                     self.model.plane)
         if self.model.pin_structure == "integral":
@@ -461,6 +461,11 @@ class CycleSolver:
 
     def _solve_position(self, p, q, q_load, pin, side, g0):
         """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
+        Parameters
+        ----------
+        side : {1, -1}
+            The torque's sign (ignored by a solver of both flanks, ``sides=(0,)``).
+
         lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
             sol = contact.solve_contact(self.compliance(p, q, lam, q_load, side), g0, q.arm,

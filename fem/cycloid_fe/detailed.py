@@ -132,7 +132,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
     disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
                            names=names, keep_below=2 * h)
-    held = _held_nodes(disc_mesh, [nm for nm in names if nm.startswith("crank")])
+    held = _held_nodes(disc_mesh, model.held_rings(names))
     disc = Body(disc_mesh, model.youngs_modulus, model.poisson_ratio, held, model.plane)
     # slave bodies: one per pin (conventional) or the housing with every pin (integral)
     kps = centres - radii * q.normal

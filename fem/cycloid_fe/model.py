@@ -62,8 +62,27 @@ class CycloidFEModel(SameMaterial):
             g = self.geometry
             check_range("housing_outer_radius", self.housing_outer_radius,
                         g.pin_circle_radius_m + g.pin_radius_m, None, lo_open=True)
-        if self.holes.crank_hole_count < 1:
-            raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1) to be held")
+        if self.holes.crank_hole_count < 1 and self.holes.centre_bore_radius_m <= 0:
+            raise ToothfemError("the disc needs crank holes (crank_hole_count >= 1, a 2K-V "
+                                "drive) or a centre bore (centre_bore_radius_mm > 0, a K-H-V "
+                                "drive's eccentric bearing) to be held")
+
+    def held_rings(self, names) -> list:
+        """The hole rings that hold the disc in the FE (a rigid coupling): its crank holes
+        (2K-V: the crank bearings carry it), else its centre bore (K-H-V: the eccentric
+        bearing). The system model moves that coupling as the disc's rigid body.
+
+        Parameters
+        ----------
+        names : sequence of str
+            The mesh's ring names.
+
+        Returns
+        -------
+        list of str
+        """
+        kind = "crank" if self.holes.crank_hole_count >= 1 else "centre_bore"
+        return [n for n in names if n.startswith(kind)]
 
 
 

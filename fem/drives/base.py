@@ -308,6 +308,25 @@ class Drive(abc.ABC):
         """
         return (0,)
 
+    def system_model(self, supports, n_positions: int, **options):
+        """The system model of the whole reducer around the contact (docs/stiffness.md),
+        or None where the drive has none yet (then the datasheet chains its load paths:
+        :class:`toothfem.fem.datasheet.twist.TwistModel`).
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        n_positions : int
+            Positions per meshing period.
+        **options
+            Go to the model (``cache``, ``pitch``, limits).
+
+        Returns
+        -------
+        object or None
+        """
+        return None
+
     # -- shared by every drive ------------------------------------------------------------
     def positions(self, n_positions: int = DEFAULT_POSITIONS) -> np.ndarray:
         """Crank angles evenly over one meshing period (every analysis's position grid).

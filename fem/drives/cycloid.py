@@ -13,6 +13,7 @@ from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
 from .. import deviations as dv
 from ..datasheet import supports as sp
+from ..system.cycloid import CycloidSystem
 from .base import Drive
 from ...geometry.disc import disc_polygon
 
@@ -26,6 +27,7 @@ class CycloidDrive(Drive):
     material_si: object             # toothfem.si.MaterialSI
     first_teeth: tuple[int, int] | None = None
     first_stage: object = None      # toothfem.si.SpurStageSI of a 2K-V drive, if the case has it
+    output: object = None           # toothfem.si.OutputMechanismSI: a K-H-V drive's output pins
 
     kind = "cycloid"
     member_name = "disc"
@@ -67,7 +69,8 @@ class CycloidDrive(Drive):
         else:
             first = None
         return cls(stage=si.cycloid, material_si=si.material, first_teeth=first,
-                   first_stage=si.first_stage)
+                   first_stage=si.first_stage,
+                   output=None if first is not None else si.output_mechanism)
 
     @property
     def geometry(self) -> cy.CycloidGeometry:
@@ -203,15 +206,14 @@ class CycloidDrive(Drive):
         """Pin pitches after which lobes, pins and holes repeat: at pitch m the contacts
         sit m lobes on from those of pitch 0 (docs/stiffness.md), so the model repeats
         after Za / gcd(Za, s) pitches, s the rotational symmetry of the hole pattern."""
-        h = self.stage.holes
-        sym = math.gcd(h.crank_hole_count, h.pillar_hole_count)
+        sym = self.stage.holes.symmetry
         return self.stage.lobe_count // math.gcd(self.stage.lobe_count, sym)
 
     def member_offsets(self, per_pitch: int) -> tuple:
         """Disc j sits on eccentrics turned by 2 pi j / discs (Zb j / discs pitches); it is
         the first disc's part turned by i_j lobes more than the K-H-V pose at its crank
-        angle, the smallest i_j that puts its crank holes on the cranks:
-        (i_j - j/discs) s / Za whole, s the crank holes. Turning the part by i lobes moves
+        angle, the smallest i_j that puts its crank holes on the cranks (K-H-V: its output
+        pins' holes on the pins): (i_j - j/discs) s / Za whole, s those holes. Turning the part by i lobes moves
         its contacts i lobes back against its holes, so on the full-period grid disc j is
         the first disc at pitch Zb j / discs - i_j.
 
@@ -231,7 +233,7 @@ class CycloidDrive(Drive):
             If a disc's crank offset is off the grid, or no i_j exists.
         """
         zb, za, n = self.geometry.pin_count, self.stage.lobe_count, self.members
-        sym = self.stage.holes.crank_hole_count
+        sym = self.stage.holes.carrying_count
         k = self.full_period_pitches
         out = []
         for j in range(n):
@@ -250,8 +252,10 @@ class CycloidDrive(Drive):
 
     def supports(self, declared) -> sp.Supports:
         """Needle rollers in the crank holes (outer raceway the hole) on the cranks' eccentric
-        journals; assumed crankshaft: the journal's diameter less twice the eccentricity,
-        on a span of the discs side by side plus one face width for each carrier bearing.
+        journals (K-H-V: rollers in the centre bore on the input shaft's eccentrics);
+        assumed crankshaft (input shaft): the journal's diameter less twice the
+        eccentricity, on a span of the discs side by side plus one face width for each
+        support bearing.
 
         Parameters
         ----------
@@ -263,10 +267,10 @@ class CycloidDrive(Drive):
         toothfem.fem.datasheet.supports.Supports
         """
         h, g, w = self.stage.holes, self.geometry, self.face_width_m
-        d_roller = declared.bearing_roller_diameter_m or \
-            sp.ROLLER_DIAMETER_REL * h.crank_hole_radius_m
-        journal = 2 * (h.crank_hole_radius_m - d_roller)
-        return sp.resolved(declared, raceway_radius_m=h.crank_hole_radius_m, roller_length_m=w,
+        race = h.crank_hole_radius_m if self.two_stage else h.centre_bore_radius_m
+        d_roller = declared.bearing_roller_diameter_m or sp.ROLLER_DIAMETER_REL * race
+        journal = 2 * (race - d_roller)
+        return sp.resolved(declared, raceway_radius_m=race, roller_length_m=w,
                            crankshaft_diameter_m=journal - 2 * g.eccentricity_m,
                            crankshaft_span_m=(self.members + 2) * w)
 
@@ -356,6 +360,24 @@ class CycloidDrive(Drive):
                                   supports.crankshaft_diameter_m, m.youngs_modulus_Pa,
                                   m.poisson_ratio)
         return {"crankshaft torsion": c / (n * zb ** 2)}
+
+    def system_model(self, supports, n_positions: int, **options):
+        """The cycloid reducer's system model, 2K-V or K-H-V
+        (:class:`toothfem.fem.system.cycloid.CycloidSystem`).
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        n_positions : int
+            Positions per pin pitch.
+        **options
+            Go to the model.
+
+        Returns
+        -------
+        toothfem.fem.system.cycloid.CycloidSystem
+        """
+        return CycloidSystem(self, supports, n_positions, **options)
 
     def sample_deviation(self, tolerances, rng) -> dv.CycloidDeviation:
         """Pins off their true positions and the pin circle off its radius (one value for

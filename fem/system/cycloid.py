@@ -1,41 +1,55 @@
-"""The system model of a 2K-V (RV) cycloid reducer: every disc a rigid body on its pins
-(the FE contact) and its crank bearings, the crankshafts on their support bearings in the
-carrier, bending and twisting, and the spur first stage (docs/stiffness.md, "The system
-model").
+"""The system model of a cycloid reducer: every disc a rigid body on its pins (the FE
+contact) and its bearings, the shafts that carry the eccentrics on their support bearings,
+bending and twisting, and the path to the output (docs/stiffness.md, "The system model").
+Two layouts of one model:
+
+- 2K-V (RV): n crankshafts at radius R_c on the carrier (the output), each through a crank
+  hole of every disc, turned by the spur first stage from the sun (held: the catalogue's
+  input held);
+- K-H-V: one input shaft on the axis with an eccentric per disc in the disc's centre bore
+  (held: input held), the output flange's pins (or rollers) in holes through the discs,
+  contacts with clearance.
 
 Coordinates (small displacements, housing frame, at one crank angle):
 
 - ``out``: the output flange's rotation, where the torque acts; ``carrier``: the carrier's
   rotation at the cranks (one coordinate with ``out`` unless the case declares a carrier
-  stiffness);
+  stiffness; K-H-V: the output flange);
 - per disc j: its translation (x, y) and rotation theta about its centre;
-- per crank k: the shaft's move against the carrier at its two support bearings (s1, s2),
-  its rotation against the carrier at the eccentrics (psi_e) and at its gear (psi_g), and
-  the bending deflection w_kj at each disc's plane against the line through its supports.
+- per shaft k: its move against its frame (the carrier; K-H-V: the housing) at its two
+  support bearings (s1, s2), its rotation against that frame at the eccentrics (psi_e)
+  and, 2K-V, at its gear (psi_g), and the bending deflection w_kj at each disc's plane
+  against the line through its supports.
 
-Kinematics. Crank k's axis sits at A_k (radius R_c) and moves with the carrier; disc j's
-eccentric on it is E_j = e u(phi_j) and turns with the crank's absolute rotation
-carrier + psi_e. The journal of crank k at disc j therefore moves by
+Kinematics. Shaft k's axis sits at A_k (2K-V: radius R_c, moving with the carrier; K-H-V:
+the origin) and disc j's eccentric on it is E_j = e u(phi_j), turning with the shaft's
+absolute rotation. The journal of shaft k at disc j moves by
 
-    carrier x A_k + (1 - z_j) s1_k + z_j s2_k + w_kj + (carrier + psi_e,k) x E_j
+    [carrier x A_k] + (1 - z_j) s1_k + z_j s2_k + w_kj + ([carrier] + psi_e,k) x E_j
 
-(x: e_z cross; z_j = a_j / L the disc's axial place on the span), and the hole of disc j
-on it by d_j + theta_j x (A_k) (the hole sits A_k from the disc's centre). The spur mesh
-of crank k's planet with the sun, sun held (the catalogue's input held), deforms by
-r_b,planet (psi_g,k - (z_sun / z_planet) carrier): with nothing deformed every crank turns
-(1 + z_sun/z_planet) times the output angle.
+(x: e_z cross; z_j = a_j / L the disc's axial place on the span; the bracketed terms 2K-V
+only), and the disc's bearing seat on it by d_j + theta_j x A_k (the seat sits A_k from
+the disc's centre). 2K-V: the spur mesh of crank k's planet with the sun, sun held,
+deforms by r_b,planet (psi_g,k - (z_sun / z_planet) carrier): with nothing deformed every
+crank turns (1 + z_sun/z_planet) times the output angle. K-H-V: the input shaft's torsion
+between its eccentrics and the held input, psi_e. Output pin k of a K-H-V drive (centre
+P_k, radius r) in disc j's hole (centre P_k + E_j, radius r + e + clearance) touches along
+n = -E_j / e; its gap changes by -n . (out x P_k - d_j - theta_j x P_k).
 
-Elements: the crank bearings (needle rollers, roller by roller with play), the support
-bearings (tapered rollers, assumed from the crank's diameter unless declared), the cranks'
-bending (Euler-Bernoulli + Timoshenko shear between simple supports) and torsion (over
-half the span), the spur mesh (ISO 6336-1's mean mesh stiffness), the carrier (the case's
+Elements: the crank (eccentric) bearings (rollers one by one, with play), the support
+bearings (assumed from the shaft's diameter unless declared), the shafts' bending
+(Euler-Bernoulli + Timoshenko shear between simple supports) and torsion (over half the
+span), the spur mesh (ISO 6336-1's mean mesh stiffness), the carrier (the case's
 stiffness, else rigid). Contacts: each disc's pins, through the FE influence tables of the
 cycle mode at the disc's true configuration (its pitch and phase:
-``Drive.member_offsets``), gap change -n . d_j + l theta_j per pin.
+``Drive.member_offsets``; both flanks), gap change -n . d_j + l theta_j per pin; K-H-V:
+the output pins, Palmgren's line contact at the hole (and at the roller's bore) and the
+pins' bending between the output flange and their support ring.
 
-Limits (this version): the carrier's translation is held (rigid main bearings); the planet
-gear's force loads the crank's torsion and its support bearings' radial play is not
-loaded by it; friction is not in the solve.
+Limits (this version): the carrier's (output flange's) translation is held (rigid main
+bearings); the planet gear's force on its crank is not applied to the support bearings;
+the disc body between its bore and its output pins' holes is rigid (the FE tables hold
+the bore); friction is not in the solve.
 """
 from __future__ import annotations
 
@@ -48,6 +62,7 @@ from ...errors import CaseError
 from ...geometry.vectors import rotate
 from ..datasheet import supports as sp
 from . import elements as el
+from ..contact import ContactError
 from .solve import ContactSet, Element, solve
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
@@ -59,8 +74,26 @@ SPUR_MESH_STIFFNESS_N_PER_M2 = 20e9
 SUPPORT_ROLLERS, SUPPORT_LENGTH_REL, SUPPORT_ANGLE_DEG = 14, 0.55, 15.0
 
 
+#: The parts of the model, as the outputs name their share of the twist.
+GROUPS = ("crank bearings", "support bearings", "crankshaft bending", "crankshaft torsion",
+          "spur mesh")
+#: The output pins' secant flexibility is taken at no less than this fraction of a typical
+#: pin load (Palmgren's approach ~ Q^0.9 has an infinite secant compliance at zero load).
+OUTPUT_LOAD_FLOOR = 1e-3
+
+
 def perp(v) -> np.ndarray:
-    """e_z x v for (2,) or (2, N)."""
+    """e_z x v, the plane vector turned by +90 deg.
+
+    Parameters
+    ----------
+    v : array_like, shape (2,) or (2, N)
+
+    Returns
+    -------
+    numpy.ndarray
+        (-v_y, v_x), the shape of ``v``.
+    """
     v = np.asarray(v, float)
     return np.stack([-v[1], v[0]])
 
@@ -73,14 +106,35 @@ class Coordinates:
         self.index = {}
 
     def add(self, name: str, size: int = 1) -> slice:
+        """A new named block of coordinates.
+
+        Parameters
+        ----------
+        name : str
+        size : int
+
+        Returns
+        -------
+        slice
+            Its place in the coordinate vector.
+        """
         sl = slice(self.n, self.n + size)
         self.index[name] = sl
         self.n += size
         return sl
 
     def row(self, terms) -> np.ndarray:
-        """One deformation row from {name: coefficient (scalar or array of the slice's
-        size)}."""
+        """One deformation row.
+
+        Parameters
+        ----------
+        terms : dict of str to float or array_like
+            Coefficient of each named block (a scalar, or an array of the block's size).
+
+        Returns
+        -------
+        numpy.ndarray, shape (n,)
+        """
         r = np.zeros(self.n)
         for name, c in terms.items():
             r[self.index[name]] += c
@@ -110,17 +164,19 @@ class SystemState:
     disc_torque_Nm: np.ndarray       # (discs,) moment of each disc's pin forces about it
     contacts: np.ndarray             # (discs,) pins that carry
     bearing_force_N: dict            # name -> (2,) force on the inner ring, housing frame
+    output_pin_force_N: np.ndarray | None   # K-H-V: (discs, output pins) [N]
     paths_rad: dict                  # group -> its part of the twist (sum: twist)
     equilibrium: object = field(repr=False, default=None)
 
 
 class CycloidSystem:
-    """The system model of a 2K-V cycloid drive over the positions of one pin pitch.
+    """The system model of a cycloid drive (2K-V or K-H-V) over the positions of one pin
+    pitch.
 
     Parameters
     ----------
     drive : toothfem.fem.drives.cycloid.CycloidDrive
-        A 2K-V drive (``first_teeth`` set).
+        A 2K-V drive (``first_teeth`` set) or a K-H-V drive with its ``output`` pins.
     supports : toothfem.fem.datasheet.supports.Supports
     n_positions : int
         Positions per pin pitch.
@@ -130,31 +186,39 @@ class CycloidSystem:
         Rigid bodies on equal contact springs instead of the FE (the hand models' limit):
         the compliance of every pin contact [m/N].
     rigid : tuple of str
-        Element groups made rigid (``crank bearings``, ``support bearings``,
-        ``crankshaft bending``, ``crankshaft torsion``, ``spur mesh``): a limit case or a
-        sensitivity check.
+        Element groups made rigid (any of GROUPS): a limit case or a sensitivity check.
     crank_bearing_play_m : float
-        Diametral play of the crank bearings [m] (< 0: preload).
+        Diametral play of the crank (eccentric) bearings [m] (< 0: preload).
     crank_bearing_stiffness_N_per_m : float, optional
         Linear isotropic crank bearings instead of the roller law (the hand models' limit).
+    pitch : int
+        Puts the positions that many pin pitches on (the discs' FE tables at that pitch).
     """
 
-    def __init__(self, drive, supports, n_positions: int = 36, *, cache=True,
+    def __init__(self, drive, supports, n_positions: int = 36, *, cache=True, pitch: int = 0,
                  pin_spring_m_per_N: float | None = None, rigid: tuple = (),
                  crank_bearing_play_m: float = 0.0,
                  crank_bearing_stiffness_N_per_m: float | None = None):
-        if not drive.two_stage:
-            raise CaseError("the system model of this version takes 2K-V (RV) drives; a "
-                            "K-H-V drive needs its output mechanism")
+        self.khv = not drive.two_stage
+        if self.khv and drive.output is None:
+            raise CaseError("a K-H-V drive needs [output_mechanism]: its output pins are "
+                            "the path of the torque")
+        unknown = set(rigid) - set(GROUPS)
+        if unknown:
+            raise CaseError(f"rigid = {sorted(unknown)!r}: not parts of the model "
+                            f"({list(GROUPS)})")
         self.drive, self.supports = drive, supports
         self.n_positions = int(n_positions)
         self.rigid = tuple(rigid)
         self.pin_spring = pin_spring_m_per_N
         g = drive.geometry
         h = drive.stage.holes
-        self.cranks, self.r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
         self.zb, self.za = g.pin_count, drive.stage.lobe_count
-        self.sun_over_planet = drive.first_teeth[0] / drive.first_teeth[1]
+        if self.khv:
+            self.cranks, self.r_c, self.sun_over_planet = 1, 0.0, 0.0
+        else:
+            self.cranks, self.r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+            self.sun_over_planet = drive.first_teeth[0] / drive.first_teeth[1]
         self.discs = drive.members
         options = {"equal_springs": pin_spring_m_per_N * drive.face_width_m} \
             if pin_spring_m_per_N is not None else {}
@@ -163,11 +227,12 @@ class CycloidSystem:
         axial = drive._disc_axial_positions(supports)
         slots = []
         for j in range(self.discs):
-            solver = drive.cycle_solver(self.n_positions, cache=cache, offset=offsets[j],
+            solver = drive.cycle_solver(self.n_positions, cache=cache,
+                                        offset=offsets[j] + int(pitch) * self.n_positions,
                                         solver_options={**drive.both_flanks_options,
                                                         **options})
             phase = 2 * math.pi * j / self.discs
-            beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)
+            beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)   # pitch: none
             if abs(beta * self.zb / (2 * math.pi) - round(beta * self.zb / (2 * math.pi))) \
                     > 1e-6:
                 raise CaseError(f"disc {j + 1}: its configuration is not a whole number of "
@@ -185,14 +250,14 @@ class CycloidSystem:
             contact_angle_rad=math.radians(SUPPORT_ANGLE_DEG))
         m = drive.material_si
         span = supports.crankshaft_span_m
-        w = sp.simply_supported_influence(axial[:, None], axial[None, :], span, d,
-                                          m.youngs_modulus_Pa, m.poisson_ratio)
-        self.bending_stiffness = np.kron(np.linalg.inv(w), np.eye(2))
+        self.bending_stiffness = np.kron(np.linalg.inv(sp.simply_supported_influence(
+            axial[:, None], axial[None, :], span, d, m.youngs_modulus_Pa, m.poisson_ratio)),
+            np.eye(2))
         self.torsion_stiffness = 1.0 / sp.torsion_compliance(0.5 * span, d,
                                                              m.youngs_modulus_Pa,
                                                              m.poisson_ratio)
         fs = drive.first_stage
-        if fs is None:        # no module: the planets' mesh is taken rigid (and said so)
+        if self.khv or fs is None:   # no spur stage, or no module: the mesh taken rigid
             self.rigid = self.rigid + ("spur mesh",)
             self.planet_base_radius, self.spur_stiffness = 1.0, RIGID_STIFFNESS
         else:
@@ -200,8 +265,12 @@ class CycloidSystem:
                 math.cos(fs.pressure_angle_rad)
             self.spur_stiffness = SPUR_MESH_STIFFNESS_N_PER_M2 * fs.face_width_m
         self.carrier_stiffness = supports.carrier_stiffness_Nm_per_rad
+        if self.khv:
+            om = drive.output
+            self.output_pin_bending = sp.simply_supported_influence(
+                axial[:, None], axial[None, :], span, 2 * om.pin_radius_m,
+                m.youngs_modulus_Pa, m.poisson_ratio)
         self._coords = self._coordinates()
-        self._last = {}
 
     # -- assembly ---------------------------------------------------------------------
     def _coordinates(self) -> Coordinates:
@@ -217,23 +286,29 @@ class CycloidSystem:
             c.add(f"s1_{k}", 2)
             c.add(f"s2_{k}", 2)
             c.add(f"psi_e{k}")
-            c.add(f"psi_g{k}")
+            if not self.khv:
+                c.add(f"psi_g{k}")
             c.add(f"w{k}", 2 * self.discs)
         return c
+
+    def _eccentric(self, phi: float, s: DiscSlot) -> np.ndarray:
+        """E_j (2,) [m], housing frame."""
+        return self.drive.geometry.eccentricity_m * np.array(
+            [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
 
     def _elements(self, phi: float) -> list:
         c, out = self._coords, []
         n = c.n
-        carrier_angle = -phi / self.za          # the discs and the carrier turn together
+        carrier_angle = -phi / self.za          # the discs and the output turn together
         for k in range(self.cranks):
             a_k = rotate(self.r_c * np.array([1.0, 0.0]), 2 * math.pi * k / self.cranks
                          + carrier_angle)
             for s in self.slots:
-                e_j = self.drive.geometry.eccentricity_m * np.array(
-                    [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
+                e_j = self._eccentric(phi, s)
                 z = s.axial_m / self.supports.crankshaft_span_m
                 b = np.zeros((2, n))
-                b[:, c.index["carrier"]] += (perp(a_k) + perp(e_j))[:, None]
+                if not self.khv:
+                    b[:, c.index["carrier"]] += (perp(a_k) + perp(e_j))[:, None]
                 b[:, c.index[f"s1_{k}"]] += (1 - z) * np.eye(2)
                 b[:, c.index[f"s2_{k}"]] += z * np.eye(2)
                 w = c.index[f"w{k}"]
@@ -242,32 +317,35 @@ class CycloidSystem:
                 dj = c.index[f"disc{s.index}"]
                 b[:, dj.start:dj.start + 2] -= np.eye(2)
                 b[:, dj.start + 2] -= perp(a_k)
-                out.append(Element(f"crank bearing {k + 1} disc {s.index + 1}",
-                                   "crank bearings", b,
+                name = (f"eccentric bearing disc {s.index + 1}" if self.khv else
+                        f"crank bearing {k + 1} disc {s.index + 1}")
+                out.append(Element(name, "crank bearings", b,
                                    self._maybe_rigid("crank bearings", self.crank_bearing, 2)))
             for name in ("s1", "s2"):
                 b = np.zeros((2, n))
                 b[:, c.index[f"{name}_{k}"]] = np.eye(2)
-                out.append(Element(f"support bearing {k + 1}{'ab'[name == 's2']}",
-                                   "support bearings", b,
+                label = "input bearing" if self.khv else f"support bearing {k + 1}"
+                out.append(Element(f"{label}{'ab'[name == 's2']}", "support bearings", b,
                                    self._maybe_rigid("support bearings",
                                                      self.support_bearing, 2)))
             b = np.zeros((2 * self.discs, n))
             b[:, c.index[f"w{k}"]] = np.eye(2 * self.discs)
-            out.append(Element(f"crankshaft {k + 1} bending", "crankshaft bending", b,
+            shaft = "input shaft" if self.khv else f"crankshaft {k + 1}"
+            out.append(Element(f"{shaft} bending", "crankshaft bending", b,
                                self._maybe_rigid("crankshaft bending",
                                                  el.linear(self.bending_stiffness),
                                                  2 * self.discs)))
-            out.append(Element(f"crankshaft {k + 1} torsion", "crankshaft torsion",
-                               c.row({f"psi_e{k}": 1.0, f"psi_g{k}": -1.0})[None, :],
+            twist = {f"psi_e{k}": 1.0} if self.khv else {f"psi_e{k}": 1.0, f"psi_g{k}": -1.0}
+            out.append(Element(f"{shaft} torsion", "crankshaft torsion", c.row(twist)[None, :],
                                self._maybe_rigid("crankshaft torsion",
                                                  el.linear(self.torsion_stiffness), 1)))
-            r_b = self.planet_base_radius
-            out.append(Element(f"spur mesh {k + 1}", "spur mesh",
-                               c.row({f"psi_g{k}": r_b,
-                                      "carrier": -r_b * self.sun_over_planet})[None, :],
-                               self._maybe_rigid("spur mesh", el.linear(self.spur_stiffness),
-                                                 1)))
+            if not self.khv:
+                r_b = self.planet_base_radius
+                out.append(Element(f"spur mesh {k + 1}", "spur mesh",
+                                   c.row({f"psi_g{k}": r_b,
+                                          "carrier": -r_b * self.sun_over_planet})[None, :],
+                                   self._maybe_rigid("spur mesh",
+                                                     el.linear(self.spur_stiffness), 1)))
         if self.carrier_stiffness:
             out.append(Element("carrier", "carrier", c.row({"out": 1.0, "carrier": -1.0})[None],
                                el.linear(self.carrier_stiffness)))
@@ -278,7 +356,7 @@ class CycloidSystem:
         return law if group not in self.rigid else el.linear(np.eye(size) * RIGID_STIFFNESS)
 
     def _pins(self, p: int, side: int, torque: float):
-        """ContactSet of each disc's candidates at position p, with the candidates."""
+        """(ContactSet, candidates) of each disc's pins at position p."""
         c, out = self._coords, []
         w = self.drive.face_width_m
         q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
@@ -301,6 +379,47 @@ class CycloidSystem:
             out.append((ContactSet(f"pins disc {s.index + 1}", "mesh", g0, gmat, flex), q))
         return out
 
+    def _output_pins(self, phi: float, torque: float) -> ContactSet:
+        """The K-H-V output pins in every disc's holes: one contact per pin and disc along
+        n = -E_j/e, gap the holes' clearance; flexibility: Palmgren's line contact at the
+        hole (and at the roller's bore) per contact, the pins' bending coupling the discs
+        on one pin."""
+        om, c = self.drive.output, self._coords
+        n_o, r_w = om.pin_count, om.pin_hole_circle_radius_m
+        e = self.drive.geometry.eccentricity_m
+        angle = 2 * math.pi * np.arange(n_o) / n_o - phi / self.za
+        centres = r_w * np.stack([np.cos(angle), np.sin(angle)])           # (2, n_o)
+        rows, g0, normals = [], [], []
+        hole = om.hole_radius_m if om.hole_radius_m is not None else om.contact_radius_m + e
+        clearance = hole - om.contact_radius_m - e
+        clearance = 0.0 if abs(clearance) < 1e-12 else clearance      # mm -> m round-off
+        for s in self.slots:
+            n = -self._eccentric(phi, s) / e
+            dj = c.index[f"disc{s.index}"]
+            for k in range(n_o):
+                r = np.zeros(c.n)
+                r[c.index["out"]] = -n @ perp(centres[:, k])
+                r[dj.start:dj.start + 2] = n
+                r[dj.start + 2] = n @ perp(centres[:, k])
+                rows.append(r)
+                normals.append(n)
+                g0.append(clearance)
+        normals = np.array(normals)                                          # (M n_o, 2)
+        disc = np.repeat(np.arange(self.discs), n_o)
+        pin = np.tile(np.arange(n_o), self.discs)
+        same_pin = pin[:, None] == pin[None, :]
+        bending = np.where(same_pin, self.output_pin_bending[np.ix_(disc, disc)], 0.0) \
+            * (normals @ normals.T)
+        width = self.drive.face_width_m
+        contacts = 1 if om.roller_radius_m is None else 2
+        mean = abs(torque) / (0.5 * n_o * r_w * self.discs)                  # a typical load
+
+        def flex(lam):
+            q = np.maximum(np.abs(np.asarray(lam, float)), OUTPUT_LOAD_FLOOR * mean)
+            secant = contacts * sp.roller_approach(q, width) / q   # Palmgren, per contact
+            return bending + np.diag(secant)
+        return ContactSet("output pins", "output pins", np.array(g0), np.array(rows), flex)
+
     # -- solving ------------------------------------------------------------------------
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
               start=None) -> SystemState:
@@ -309,17 +428,24 @@ class CycloidSystem:
         Parameters
         ----------
         output_torque_Nm : float
-            [N m], nonzero; its sign loads the flank.
+            [N m], nonzero and finite; its sign loads the flank.
         p : int
             Position index in the pitch.
         side : {1, -1}, optional
-            The flank; the torque's sign by default.
+            The flank the contacts' half-widths are taken for; the torque's sign by default.
         start : SystemState, optional
             A nearby solution to start from (the previous torque step).
 
         Returns
         -------
         SystemState
+
+        Raises
+        ------
+        CaseError
+            For a zero or non-finite torque.
+        toothfem.fem.contact.ContactError
+            If the equilibrium is not found (the message names the torque and position).
         """
         t = float(output_torque_Nm)
         if t == 0 or not math.isfinite(t):
@@ -329,15 +455,22 @@ class CycloidSystem:
         c = self._coords
         elements = self._elements(phi)
         pins = self._pins(p, side, t)
+        sets = [cs for cs, _ in pins]
+        if self.khv:
+            sets.append(self._output_pins(phi, t))
         q = np.zeros(c.n)
         q[c.index["out"]] = t
         u0 = active0 = None
         if start is not None and start.equilibrium is not None:
             u0 = start.equilibrium.u
             active0 = {name: f > 0 for name, f in start.equilibrium.forces.items()}
-            if any(a.size != cs.g0.size for a, (cs, _) in zip(active0.values(), pins)):
+            if any(active0.get(cs.name, np.zeros(0)).size != cs.g0.size for cs in sets):
                 active0 = None
-        eq = solve(c.n, elements, [cs for cs, _ in pins], q, u0=u0, active0=active0)
+        try:
+            eq = solve(c.n, elements, sets, q, u0=u0, active0=active0)
+        except ContactError as exc:
+            raise ContactError(f"{exc} (output torque {t:g} N m, crank angle "
+                               f"{math.degrees(phi):.4g} deg)") from None
         force = np.zeros((self.discs, self.zb))
         torque = np.zeros(self.discs)
         contacts = np.zeros(self.discs, int)
@@ -349,11 +482,12 @@ class CycloidSystem:
             contacts[s.index] = int(np.sum(lam > 0))
         bearings = {e.name: eq.element_force[e.name] for e in elements
                     if e.group in ("crank bearings", "support bearings")}
-        paths = {k: v / t for k, v in eq.work.items()}
+        out_pins = eq.forces["output pins"].reshape(self.discs, -1) if self.khv else None
         return SystemState(output_torque_Nm=t, position_rad=phi,
                            twist_rad=float(eq.u[c.index["out"]][0]), pin_force_N=force,
                            disc_torque_Nm=torque, contacts=contacts,
-                           bearing_force_N=bearings, paths_rad=paths, equilibrium=eq)
+                           bearing_force_N=bearings, output_pin_force_N=out_pins,
+                           paths_rad={k: v / t for k, v in eq.work.items()}, equilibrium=eq)
 
 
 #: The stiffness of a part made rigid for a limit case [N/m or N m/rad]: 1e5 times the

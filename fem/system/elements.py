@@ -88,13 +88,37 @@ class RollerBearing:
         return np.stack([np.cos(a), np.sin(a)])
 
     def roller_loads(self, delta) -> np.ndarray:
-        """Q_j [N], (Z,), at the deformation ``delta`` (2,) [m]."""
+        """Each roller's load.
+
+        Parameters
+        ----------
+        delta : array_like, shape (2,)
+            The inner ring's displacement against the outer [m].
+
+        Returns
+        -------
+        numpy.ndarray, shape (Z,)
+            Q_j [N].
+        """
         ca = math.cos(self.contact_angle_rad)
         squeeze = np.asarray(delta, float) @ self.directions * ca - 0.5 * self.play_m
         return roller_constant(self.length_m) * np.maximum(squeeze, 0.0) ** LINE_EXPONENT
 
     def __call__(self, delta):
-        """(force (2,) [N], tangent (2, 2) [N/m]) at the deformation ``delta`` (2,) [m]."""
+        """The rings' mutual force and its tangent.
+
+        Parameters
+        ----------
+        delta : array_like, shape (2,)
+            The inner ring's displacement against the outer [m].
+
+        Returns
+        -------
+        force : numpy.ndarray, shape (2,)
+            [N], along the deformation's conjugate (the element's internal force).
+        tangent : numpy.ndarray, shape (2, 2)
+            [N/m].
+        """
         ca = math.cos(self.contact_angle_rad)
         u = self.directions
         squeeze = np.maximum(np.asarray(delta, float) @ u * ca - 0.5 * self.play_m, 0.0)

@@ -40,8 +40,9 @@ import numpy as np
 from ..contact import ContactError
 from ..linsolve import one_blas_thread
 
-#: Newton iterations allowed per flexibility update, and the updates allowed.
-MAX_NEWTON, MAX_UPDATES = 60, 30
+#: Newton iterations allowed per flexibility update, the updates allowed, and the active
+#: set's iterations per Newton step.
+MAX_NEWTON, MAX_UPDATES, MAX_ACTIVE_SET = 60, 30, 400
 #: Newton's step is converged when, on a settled active set, the coordinates moved by less
 #: than this fraction of their size (the elements' laws are smooth: the step then falls
 #: quadratically); the half-widths' update when the flexibilities changed by less.
@@ -188,45 +189,72 @@ def _flexibility(contacts, lam, sizes) -> np.ndarray:
 
 
 def _first_touch(n, elements, gmat, g0, h, u, q) -> np.ndarray:
-    """The contacts that close first when the load moves the assembly as a mechanism: the
-    motions that deform no element (the null space of every element's B stacked) projected
-    on the load give the direction v; each contact's gap g0 + G u closes at the ratio
-    -g_i / (G v)_i, and the smallest ratio's contacts start the set."""
-    b_all = np.concatenate([e.b for e in elements], axis=0) if elements else np.zeros((0, n))
-    _, s, vt = np.linalg.svd(b_all) if b_all.size else (None, np.zeros(0), np.eye(n))
-    rank = int(np.sum(s > MECHANISM_RTOL * (s[0] if s.size else 1.0)))
-    null = vt[rank:]
-    v = null.T @ (null @ q)
-    if not np.any(v):
-        raise ContactError("the load moves no mechanism: nothing for the contacts to carry")
-    rate = gmat @ v
+    """The contacts that close as the load moves the assembly as a mechanism, one after
+    another: the motions that deform no element and open no contact already closed (the
+    null space of every element's B and the closed contacts' G rows) projected on the load
+    give the direction v; each open contact's gap closes at the ratio -g_i / (G v)_i; the
+    smallest ratio's contacts close, and the motion goes on in what remains free until the
+    load moves nothing (a disc turning its output pins closes its ring pins next)."""
+    rows = np.concatenate([e.b for e in elements], axis=0) if elements else np.zeros((0, n))
     gap = g0 + gmat @ u
-    closing = rate < -MECHANISM_RTOL * np.max(np.abs(rate), initial=0.0)
-    if not np.any(closing):
-        raise ContactError("no contact closes under the load: every candidate opens")
-    ratio = np.where(closing, gap / np.where(closing, -rate, 1.0), np.inf)
-    first = np.min(ratio)
-    return closing & (gap + first * rate <= 1e-9 * np.max(np.abs(g0), initial=0.0) + 1e-15)
+    active = np.zeros(g0.size, bool)
+    scale = np.max(np.abs(g0), initial=0.0)
+    for _ in range(g0.size + 1):
+        a = np.concatenate([rows, gmat[active]], axis=0)
+        a = a / np.maximum(np.linalg.norm(a, axis=1), 1e-300)[:, None]
+        _, sv, vt = np.linalg.svd(a) if a.size else (None, np.zeros(0), np.eye(n))
+        rank = int(np.sum(sv > MECHANISM_RTOL * (sv[0] if sv.size else 1.0)))
+        null = vt[rank:]
+        v = null.T @ (null @ q)
+        if np.linalg.norm(v) <= MECHANISM_RTOL * np.linalg.norm(q) * (1 + np.linalg.norm(v)):
+            break
+        rate = gmat @ v
+        closing = ~active & (rate < -MECHANISM_RTOL * np.max(np.abs(rate), initial=0.0))
+        if not np.any(closing):
+            raise ContactError("no contact closes under the load: a body or the output "
+                               "turns freely")
+        ratio = np.where(closing, np.maximum(gap, 0.0) / np.where(closing, -rate, 1.0),
+                         np.inf)
+        first = np.min(ratio)
+        gap = gap + first * rate
+        active |= closing & (gap <= 1e-9 * scale + 1e-15)
+    if not np.any(active):
+        raise ContactError("the load moves no mechanism: nothing for the contacts to carry")
+    return active
 
 
 def _newton(n, elements, gmat, g0, h, q, u, active):
-    """Semismooth Newton on the coordinates and the active contacts' forces."""
-    m = g0.size
-    lam = np.zeros(m)
-    seen = set()
+    """Newton on the elements' laws, each step a linear complementarity problem (the
+    elements at their tangent) solved by the primal-dual active set from the last set."""
     last = np.inf
     for it in range(1, MAX_NEWTON + 1):
+        f_int, kt, _ = _element_terms(elements, u, n)
+        u_new, lam, active = _linear_step(n, kt, q - f_int + kt @ u, gmat, g0, h, active)
+        step = np.max(np.abs(u_new - u))
+        u = u_new
+        size = max(np.max(np.abs(u)), 1e-300)
+        if step <= RTOL * size or (step >= 0.5 * last and step <= STALL_RTOL * size):
+            return u, lam, active, it
+        last = step
+    raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
+
+
+def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
+    """(u, lambda, active) of K u - G^T lambda = rhs_u, g = g0 + H lambda + G u >= 0,
+    lambda >= 0, lambda g = 0 (one Newton step's complementarity problem), from the
+    active set ``active``."""
+    m = g0.size
+    seen = set()
+    for _ in range(MAX_ACTIVE_SET):
         idx = np.flatnonzero(active)
         k = idx.size
-        f_int, kt, _ = _element_terms(elements, u, n)
         ga = gmat[idx]
         mat = np.zeros((n + k, n + k))
         mat[:n, :n] = kt
         mat[:n, n:] = -ga.T
         mat[n:, :n] = -ga
         mat[n:, n:] = -h[np.ix_(idx, idx)]
-        # residuals at u with the active forces unknown: solve for the new forces outright
-        rhs = np.concatenate([q - f_int + kt @ u, g0[idx]])
+        rhs = np.concatenate([rhs_u, g0[idx]])
         # equilibrate: stiffnesses (1e3-1e15 N/m) against flexibilities (1e-10 m/N)
         d = np.abs(np.diag(mat))
         d = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
@@ -237,25 +265,21 @@ def _newton(n, elements, gmat, g0, h, q, u, active):
                                f"({k} contacts carry)") from None
         if not np.all(np.isfinite(sol)):
             raise ContactError("singular system: a body or coordinate that nothing holds")
-        u_new = sol[:n]
+        u = sol[:n]
         lam = np.zeros(m)
         lam[idx] = sol[n:]
-        gap = g0 + h @ lam + gmat @ u_new
+        gap = g0 + h @ lam + gmat @ u
         new = np.where(active, lam > 0, gap < 0)
-        step = np.max(np.abs(u_new - u))
-        u = u_new
         if np.array_equal(new, active):
-            size = max(np.max(np.abs(u)), 1e-300)
-            if step <= RTOL * size or (step >= 0.5 * last and step <= STALL_RTOL * size):
-                return u, lam, active, it
-            last = step
-            continue
-        last = np.inf
+            return u, lam, active
         if not np.any(new):
             new = active & (lam >= np.max(lam))
         key = new.tobytes()
-        if key in seen and it > 20:
-            raise ContactError("the contact active set cycles")
+        if key in seen:          # cycling: move the worst violator only (Murty's rule)
+            new = active.copy()
+            viol = np.where(active, np.minimum(lam, 0.0), np.minimum(gap, 0.0))
+            worst = int(np.argmin(viol / np.maximum(np.abs(viol).max(), 1e-300)))
+            new[worst] = not active[worst]
         seen.add(key)
         active = new
-    raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
+    raise ContactError("the contact active set cycles")

@@ -1,0 +1,201 @@
+"""The datasheet from the system model: the twist at any output torque (what
+:func:`toothfem.fem.datasheet.sheet.datasheet` reads), and the one transmission error over
+the drive's full period with the split between the discs (docs/stiffness.md).
+
+The transmission error is one quantity everywhere: the output's lag behind its kinematic
+position at a crank angle, input held at that angle, under the output torque: the system
+model's output rotation. Its parts are the work balance's (fem/system/solve.py): the mesh
+(the FE contact's approach and the clearances it closes), each bearing group, the shafts'
+bending and torsion, the spur mesh, the output pins; they add up to it exactly.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ...errors import CaseError, check_range
+from ..datasheet.transmission import (LoadedTE, MemberSplit, fourier_fill,
+                                      harmonic_amplitudes, sampled_pitches)
+from ..datasheet.twist import ARCSEC, ZERO_TORQUE_NM, TwistPoint
+from .cycloid import CycloidSystem
+
+#: Every part of the twist is named after the part; a contact set's closed clearance
+#: ("mesh clearance") is reported with the contacts ("mesh").
+CLEARANCE_SUFFIX = " clearance"
+
+
+def path_name(group: str) -> str:
+    """The datasheet's path of a work-balance group (a clearance with its contacts).
+
+    Parameters
+    ----------
+    group : str
+        E.g. "mesh clearance".
+
+    Returns
+    -------
+    str
+        E.g. "mesh".
+    """
+    return group[:-len(CLEARANCE_SUFFIX)] if group.endswith(CLEARANCE_SUFFIX) else group
+
+
+def _paths(states) -> dict:
+    """{path: (P,) rad} of states at the positions."""
+    names = []
+    for st in states:
+        for g in st.paths_rad:
+            if path_name(g) not in names:
+                names.append(path_name(g))
+    out = {name: np.zeros(len(states)) for name in names}
+    for p, st in enumerate(states):
+        for g, v in st.paths_rad.items():
+            out[path_name(g)][p] += v
+    mesh = out.pop("mesh", None)
+    return {"mesh": mesh, **out} if mesh is not None else out
+
+
+class SystemTwist:
+    """The twist of the reducer at any output torque over the positions of one pitch, from
+    the system model: the twist model :func:`toothfem.fem.datasheet.sheet.datasheet` reads.
+
+    Parameters
+    ----------
+    system : toothfem.fem.system.cycloid.CycloidSystem
+    progress : callable, optional
+        Wraps each torque's iterator over the positions.
+    """
+
+    def __init__(self, system: CycloidSystem, progress=None):
+        self.system = system
+        self.drive = system.drive
+        self.supports = system.supports
+        self.positions_rad = np.asarray(system.slots[0].solver.positions_rad, float)
+        self.progress = progress
+        self._memo = {}
+        self._last = {}          # flank -> the states of the last torque solved (a start)
+
+    def states(self, output_torque_Nm: float, side: int = 1) -> list:
+        """The system's states at every position (kept: each torque is solved once).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], either sign; zero is the limit from ``side`` (ZERO_TORQUE_NM of that
+            sign: the clearances' closing, the elastic parts some 1e-6 of the rated twist).
+        side : {1, -1}
+            The flank at zero torque.
+
+        Returns
+        -------
+        list of SystemState
+        """
+        t = float(output_torque_Nm)
+        flank = side if t == 0 else int(math.copysign(1, t))
+        t = flank * ZERO_TORQUE_NM if t == 0 else t
+        if t not in self._memo:
+            last = self._last.get(flank)
+            it = range(self.positions_rad.size)
+            it = it if self.progress is None else self.progress(it)
+            self._memo[t] = [self.system.solve(t, p, start=None if last is None else last[p])
+                             for p in it]
+            self._last[flank] = self._memo[t]
+        return self._memo[t]
+
+    def at(self, output_torque_Nm: float, side: int = 1) -> TwistPoint:
+        """The twist at a signed output torque.
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], either sign.
+        side : {1, -1}
+            At zero torque, the flank the limit comes from.
+
+        Returns
+        -------
+        toothfem.fem.datasheet.twist.TwistPoint
+            ``paths``: the parts of the work balance; ``contacts``: the first disc's pins
+            in contact; ``member_torques_Nm``: each disc's mean torque.
+        """
+        sts = self.states(output_torque_Nm, side)
+        return TwistPoint(output_torque_Nm=float(output_torque_Nm),
+                          total=np.array([s.twist_rad for s in sts]), paths=_paths(sts),
+                          contacts=np.array([s.contacts[0] for s in sts]),
+                          member_torques_Nm=tuple(float(x) for x in np.mean(
+                              [s.disc_torque_Nm for s in sts], axis=0)))
+
+
+def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pitch: int,
+              cache=True, progress=None, **options):
+    """The transmission error over the full period and the split between the discs, from
+    the system model at ``samples`` pitches spread over the period (each a system over one
+    pitch, its discs' FE tables at their true configurations) filled by a Fourier series in
+    the pitch (:func:`toothfem.fem.datasheet.transmission.fourier_fill`).
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.cycloid.CycloidDrive
+    supports : toothfem.fem.datasheet.supports.Supports
+    output_torque_Nm : float
+        [N m], nonzero.
+    samples, per_pitch : int
+        Sampled pitches, and positions per pitch of each.
+    cache
+        The FE tables' disk cache.
+    progress : callable, optional
+        Wraps the iterator over the sampled pitches.
+    **options
+        Go to :class:`CycloidSystem`.
+
+    Returns
+    -------
+    (LoadedTE, MemberSplit or None)
+        ``mesh_rad``: the mesh's part of the TE (the pin contacts' approach and closed
+        clearances, every disc); the split: each disc's torque over the discs' sum.
+    """
+    check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
+    if output_torque_Nm == 0:
+        raise CaseError("te_torque_Nm = 0 is outside the valid range: nonzero")
+    check_range("te_samples", samples, 1, 400, error=CaseError)
+    check_range("te_positions", per_pitch, 1, 400, error=CaseError)
+    t = float(output_torque_Nm)
+    k = drive.full_period_pitches
+    pitches = sampled_pitches(k, samples)
+    twist, mesh, shares = [], [], []
+    for m in (pitches if progress is None else progress(pitches)):
+        system = CycloidSystem(drive, supports, per_pitch, cache=cache, pitch=m, **options)
+        sts, last = [], None
+        for p in range(per_pitch):
+            last = system.solve(t, p, start=last)
+            sts.append(last)
+        twist.append([s.twist_rad for s in sts])
+        mesh.append(_paths(sts)["mesh"])
+        torque = np.array([s.disc_torque_Nm for s in sts])           # (P, M)
+        shares.append((torque / torque.sum(axis=1, keepdims=True)).T.ravel())
+    fill = lambda v: fourier_fill(pitches, np.array(v), k)  # noqa: E731
+    te, mesh_full = fill(twist).ravel(), fill(mesh).ravel()
+    m = drive.members
+    share = fill(shares).reshape(k, m, per_pitch).transpose(1, 0, 2).reshape(m, -1)
+    n_all = te.size
+    crank = np.arange(n_all) * (drive.period_rad / per_pitch)
+    speeds = drive.speeds()
+    out_per_crank = abs(speeds["output"] / speeds["crank"])
+    orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
+    loaded = LoadedTE(output_torque_Nm=t, crank_angle_rad=crank,
+                      output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
+                      sampled_pitches=pitches, per_pitch=int(per_pitch),
+                      full_period_pitches=k, orders_per_output_rev=orders,
+                      amplitude_arcsec=amp / ARCSEC)
+    if m == 1:
+        return loaded, None
+    even = bool(np.allclose(share, 1.0 / m, rtol=0, atol=EVEN_SHARE_ATOL))
+    return loaded, MemberSplit(share=share, crank_angle_rad=crank, output_torque_Nm=t,
+                               offsets=drive.member_offsets(per_pitch),
+                               per_pitch=int(per_pitch), even_by_layout=even)
+
+
+#: The discs share the torque evenly when no share departs from 1/M by more than this
+#: (the round-off of the solve; a layout that splits unevenly departs by percents).
+EVEN_SHARE_ATOL = 1e-6
