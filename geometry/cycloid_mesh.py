@@ -120,8 +120,10 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     """Kinematics of all Zb pin contacts at each crank angle (vectorised).
 
     Contact points, normals, moment arms and velocities are those of the conjugate
-    (unmodified) profile, whose normals pass through the pitch point; ``gap`` is the exact
-    initial clearance of the modified profile at the nominal pose (zero if unmodified).
+    (unmodified) profile, whose normals pass through the pitch point; ``gap`` is the initial
+    clearance g0 of the modified profile (zero if unmodified): exact at the nominal pose, or
+    with a rotation modification exact where the pin's own flank is turned back
+    (:func:`clearance_exact` with ``side=0``).
     A counter-clockwise crank (crank_speed > 0) turns the disc clockwise; the pins that
     carry the output torque are those with negative moment arm (0 < theta_b < pi).
 
@@ -323,37 +325,258 @@ def distance_to_profile(geom: CycloidGeometry, points, flank: int = 0, psi0=None
     return foot_point(g, pts, psi0)[1]
 
 
-def clearance_exact(geom: CycloidGeometry, crank_angle_rad) -> np.ndarray:
-    """Exact initial normal clearance of every pin at the nominal pose, (P, Zb):
-    distance from the pin centre to the modified working profile minus rz.
+def _turn(points, angle: float) -> np.ndarray:
+    """Points (2, N) turned counter-clockwise by ``angle`` [rad] about the origin."""
+    c, s = math.cos(angle), math.sin(angle)
+    return np.array([[c, -s], [s, c]]) @ np.asarray(points, float)
 
-    With a rotation modification the disc is the intersection of the two turned profiles,
-    so the clearance is the larger of the two distances (exact on the flanks; at the tip
-    corner the true distance differs at second order in Delta delta).
+
+#: A foot point of one turned profile counts as inside the other turned profile's
+#: material when its signed distance from that profile is below this [m] (round-off).
+_INSIDE_TOL = 1e-12
+
+
+def modified_distance(geom: CycloidGeometry, points, rotation_rad: float = 0.0,
+                      psi0=None) -> np.ndarray:
+    """Exact signed distance of points from the modified disc, turned by ``rotation_rad``
+    (counter-clockwise) from its nominal pose; positive outside the disc.
+
+    The points (2, N) are given in the disc frame of the nominal pose. With a rotation
+    modification Delta delta > 0 the disc is the intersection of the working profile turned
+    by +Delta delta and by -Delta delta (each flank turned toward its tooth centre, material
+    removed); with Delta delta < 0 it is their union (each flank turned away from its tooth
+    centre, material added), so that the first-order clearance is Delta delta |l| for
+    either sign (docs/derivations.md C6, 8). For a point outside both turned discs the
+    distance from a union is the smaller of the two distances; the distance from an
+    intersection is the distance from one turned profile where its foot point lies inside
+    the other turned disc, else the distance from their crossing (the corner at a tooth tip
+    or root, on the symmetry line of the lobe).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The disc, as generated.
+    points : array_like, shape (2, N)
+        Points in the disc frame of the nominal pose [m] (pin centres: outside the disc).
+    rotation_rad : float
+        Turn of the disc from its nominal pose [rad], counter-clockwise.
+    psi0 : array_like, shape (N,), optional
+        Starting profile parameters [rad]; by default a global search.
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+        Signed distance [m].
+    """
+    g = geom.generating()
+    pts = _turn(points, -rotation_rad) if rotation_rad else np.asarray(points, float)
+    if psi0 is None:
+        psi0 = _nearest_psi(g, pts)
+    psi0 = np.asarray(psi0, float)
+    delta = geom.rotation_rad
+    if not delta:
+        return foot_point(g, pts, psi0)[1]
+    feet, dist = [], []
+    for a in (delta, -delta):                 # the profile turned by a: the point by -a
+        psi, d = foot_point(g, _turn(pts, -a), psi0)
+        feet.append(psi)
+        dist.append(d)
+    if delta < 0:                             # union: the nearer of the two
+        return np.minimum(dist[0], dist[1])
+    # intersection: a foot point counts where it lies inside the other turned disc
+    out = np.empty_like(dist[0])
+    done = np.zeros(out.shape, bool)
+    for k, a in enumerate((delta, -delta)):
+        # foot on the profile turned by a, seen from the profile turned by -a: turned by 2a
+        inside = foot_point(g, _turn(working_profile(g, feet[k]), 2 * a), feet[k])[1] \
+            <= _INSIDE_TOL
+        take = inside & ~done
+        out[take] = dist[k][take]
+        done |= take
+    if not np.all(done):
+        corner = _corner(g, delta, pts[:, ~done])
+        out[~done] = np.hypot(*(pts[:, ~done] - corner))
+    return out
+
+
+def _corner(g: _Generating, delta: float, points) -> np.ndarray:
+    """Where the profiles turned by +delta and -delta cross on the symmetry line (tooth tip
+    or root) nearest to each point (2, N): the working-curve point at polar angle
+    alpha - delta, turned by +delta (the profile is symmetric about alpha)."""
+    step = math.pi / (g.zb - 1)              # roots at even, tips at odd multiples
+    alpha = step * np.round(np.arctan2(points[1], points[0]) / step)
+    return _turn(working_profile(g, polar_parameter(g, alpha - delta)), delta)
+
+
+def polar_parameter(g: _Generating, target) -> np.ndarray:
+    """Parameters psi where the working curve's polar angle (about the disc centre) is
+    ``target``.
+
+    Newton from psi = target: the working curve's polar angle grows with psi, and equals
+    it on the symmetry lines (tips and roots).
+
+    Parameters
+    ----------
+    g : _Generating
+    target : array_like, shape (N,)
+        Polar angles [rad].
+
+    Returns
+    -------
+    numpy.ndarray, shape (N,)
+        psi [rad].
+    """
+    target = np.asarray(target, float)
+    psi = target.copy()
+    h = 1e-7
+
+    def polar(x):
+        w = working_profile(g, x)
+        return np.arctan2(w[1], w[0])
+
+    for _ in range(_FOOT_MAXITER):
+        f = np.angle(np.exp(1j * (polar(psi) - target)))
+        df = np.angle(np.exp(1j * (polar(psi + h) - polar(psi - h)))) / (2 * h)
+        d = f / df
+        psi -= d
+        if np.max(np.abs(d), initial=0.0) < _FOOT_TOL:
+            break
+    return psi
+
+
+def _moment_arms(geom: CycloidGeometry, phi) -> np.ndarray:
+    """(P, Zb) moment arms of the conjugate contacts (:func:`meshing`'s ``moment_arm``)."""
+    c = pin_centres(geom)[:, None, :]
+    centre = geom.eccentricity_m * unit(phi)
+    d = geom.pin_pitch_radius_m * unit(phi)[:, :, None] - c
+    n = d / np.hypot(d[0], d[1])
+    return cross(c + geom.pin_radius_m * n - centre[:, :, None], n)
+
+
+def clearance_at(geom: CycloidGeometry, crank_angle_rad, rotation_rad=0.0) -> np.ndarray:
+    """Exact clearance of every pin, (P, Zb), with the disc turned by ``rotation_rad`` from
+    its nominal pose: the distance from the pin centre to the modified disc
+    (:func:`modified_distance`) minus rz.
 
     Parameters
     ----------
     geom : CycloidGeometry
     crank_angle_rad : array_like, shape (P,) or scalar
         Crank angles phi [rad] of the nominal poses.
+    rotation_rad : float or array_like, shape (P,)
+        The disc's turn from each nominal pose [rad], counter-clockwise.
 
     Returns
     -------
     numpy.ndarray, shape (P, Zb)
-        Clearance [m].
+        Clearance [m] (< 0: interference).
     """
     phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
-    c = np.broadcast_to(pin_centres(geom)[:, None, :], (2, phi.size, geom.pin_count))
-    local = to_disc_frame(geom, phi, c).reshape(2, -1)
-    # the unmodified contact parameter psi_j = theta_j - theta_d starts Newton
-    psi0 = (2 * math.pi * np.arange(geom.pin_count)[None, :] / geom.pin_count
-            + phi[:, None] / geom.lobe_count).ravel()
-    if geom.rotation_rad:
-        d = np.maximum(distance_to_profile(geom, local, +1, psi0),
-                       distance_to_profile(geom, local, -1, psi0))
-    else:
-        d = distance_to_profile(geom, local, psi0=psi0)
-    return d.reshape(phi.size, geom.pin_count) - geom.pin_radius_m
+    zb = geom.pin_count
+    turn = np.broadcast_to(np.asarray(rotation_rad, float), phi.shape)
+    c = np.broadcast_to(pin_centres(geom)[:, None, :], (2, phi.size, zb))
+    local = to_disc_frame(geom, phi, c)
+    local = rotate(local, -turn[:, None]).reshape(2, -1)
+    # the unmodified contact parameter psi_j = theta_j - theta_d - turn starts the search
+    psi0 = (2 * math.pi * np.arange(zb)[None, :] / zb
+            + phi[:, None] / geom.lobe_count - turn[:, None]).ravel()
+    d = modified_distance(geom, local, 0.0, psi0)
+    return d.reshape(phi.size, zb) - geom.pin_radius_m
+
+
+def clearance_exact(geom: CycloidGeometry, crank_angle_rad, side: int = 0) -> np.ndarray:
+    """Initial clearance of every pin, (P, Zb), as the contact solvers use it: the gap at
+    the nominal pose of a model that is linear in the disc's turn beta,
+    g(beta) = g0 + beta l (l the moment arm, :func:`meshing`'s sign).
+
+    Without a rotation modification g0 is the exact clearance at the nominal pose. A
+    rotation modification Delta delta turns the flank that carries a torque of sign s
+    by -s Delta delta: with the disc turned by beta_s = s Delta delta that flank lies
+    exactly where the unmodified one did. g0 is then the exact clearance at that pose
+    carried back linearly, g0 = g(beta_s) - beta_s l, so that the linear model is exact where
+    the disc stands under load (turned by beta_s and a few arcseconds) and the second-order
+    terms of a turn of Delta delta (micrometres at the tooth root: the corner where the two
+    turned profiles cross) do not enter as false gaps (docs/derivations.md, 8).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+    crank_angle_rad : array_like, shape (P,) or scalar
+        Crank angles phi [rad] of the nominal poses.
+    side : {1, -1, 0}
+        The flank the model is linearised on: the one that carries a torque of that sign,
+        for every pin; 0: each pin on its own flank (l < 0: +1, else -1), the closing
+        rotation of either torque sign exact.
+
+    Returns
+    -------
+    numpy.ndarray, shape (P, Zb)
+        g0 [m] (< 0: interference).
+
+    Raises
+    ------
+    GeometryError
+        If ``side`` is not 1, -1 or 0.
+    """
+    if side not in (1, -1, 0):
+        raise GeometryError(f"side = {side!r} is not one of [1, -1, 0]")
+    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    delta = geom.rotation_rad
+    if not delta:
+        return clearance_at(geom, phi)
+    arm = _moment_arms(geom, phi)
+    out = {}
+    for s in ((1, -1) if side == 0 else (side,)):
+        out[s] = clearance_at(geom, phi, s * delta) - s * delta * arm
+    if side:
+        return out[side]
+    return np.where(arm < 0, out[1], out[-1])
+
+
+def placement(gap, arm):
+    """Where the disc sits before load: the turn that makes its worst pin's clearance the
+    largest, per position.
+
+    With g_i(beta) = g_i + beta l_i (both flanks, linear in the turn beta), the disc can
+    be put on its pins without load where some beta leaves every g_i(beta) >= 0; the
+    largest smallest clearance, max over beta of min_i g_i(beta), is the disc's clearance
+    before load, and where it is negative it is the smallest interference any turn leaves
+    (both flanks closed: the pins are preloaded on assembly).
+
+    Parameters
+    ----------
+    gap : array_like, shape (P, C)
+        g0 of the pins [m] (:func:`clearance_exact`; inf: a pin that cannot touch).
+    arm : array_like, shape (P, C)
+        Their moment arms [m] (:func:`meshing`'s sign).
+
+    Returns
+    -------
+    beta : numpy.ndarray, shape (P,)
+        The turn [rad] (inf where one flank has no reachable pin).
+    clearance : numpy.ndarray, shape (P,)
+        min_i g_i(beta) [m] (< 0: interference).
+    """
+    gap = np.atleast_2d(np.asarray(gap, float))
+    arm = np.atleast_2d(np.asarray(arm, float))
+    beta = np.empty(gap.shape[0])
+    worst = np.empty(gap.shape[0])
+    for p in range(gap.shape[0]):
+        g, a = gap[p], arm[p]
+        ok = np.isfinite(g)
+        g, a = g[ok], a[ok]
+        up, down = a > 0, a < 0              # g grows with beta / shrinks with beta
+        if not (np.any(up) and np.any(down)):
+            beta[p], worst[p] = math.inf, math.inf
+            continue
+        # the optimum lies where a shrinking and a growing gap are equal
+        gi, ai = g[down][:, None], a[down][:, None]
+        gj, aj = g[up][None, :], a[up][None, :]
+        cand = ((gj - gi) / (ai - aj)).ravel()
+        vals = np.min(g[None, :] + cand[:, None] * a[None, :], axis=1)
+        k = int(np.argmax(vals))
+        beta[p], worst[p] = cand[k], vals[k]
+    return beta, worst
 
 
 def clearance_closed_form(geom: CycloidGeometry, theta_b):
@@ -430,3 +653,56 @@ def closing_rotation(geom: CycloidGeometry) -> float:
     res = minimize_scalar(lambda t: float(ratio(t)), bounds=(lo, hi), method="bounded",
                           options={"xatol": 1e-12})
     return float(min(res.fun, ratio(theta[k]))) + geom.rotation_rad
+
+
+def before_load(geom: CycloidGeometry, crank_angle_rad) -> dict:
+    """The disc on its pins before any load, over the given crank angles: how far it can
+    turn (the backlash) and the clearance or interference that remains wherever it is
+    put (:func:`placement` on the exact gaps of both flanks, :func:`clearance_exact`).
+
+    Parameters
+    ----------
+    geom : CycloidGeometry
+        The disc with its modifications.
+    crank_angle_rad : array_like, shape (P,)
+        Crank angles [rad] (e.g. one meshing period).
+
+    Returns
+    -------
+    dict
+        ``backlash_min_arcmin``, ``backlash_max_arcmin``: the sum of both flanks' closing
+        rotations (min over each flank's pins of g0/|l|) over the positions (None where
+        the disc interferes: it has no backlash); ``clearance_before_load_um``: the smallest, over the positions, of the
+        largest smallest clearance any turn of the disc leaves (negative: interference);
+        ``interference_before_load_um`` (0 without interference), and where it is
+        largest ``interference_position_deg``, ``interference_pins`` (pin indices within
+        1 nm of it) and ``interference_flanks`` ("+": the flank that carries a positive
+        disc torque, moment arm < 0; "-": the other).
+    """
+    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    arm = _moment_arms(geom, phi)
+    gap = clearance_exact(geom, phi, 0) if geom.modified else np.zeros_like(arm)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        close_pos = np.min(np.where(arm < 0, gap / np.where(arm < 0, -arm, 1), np.inf), axis=1)
+        close_neg = np.min(np.where(arm > 0, gap / np.where(arm > 0, arm, 1), np.inf), axis=1)
+    backlash = close_pos + close_neg
+    beta, clear = placement(gap, arm)
+    p = int(np.argmin(clear))
+    worst = float(clear[p])
+    at = gap[p] + beta[p] * arm[p]
+    pins = np.flatnonzero(at <= worst + _NAMED_TOL) if worst < 0 else np.array([], int)
+    arcmin = math.degrees(1) * 60
+    free = worst >= 0
+    return {
+        "backlash_min_arcmin": float(np.min(backlash) * arcmin) if free else None,
+        "backlash_max_arcmin": float(np.max(backlash) * arcmin) if free else None,
+        "clearance_before_load_um": worst * 1e6,
+        "interference_before_load_um": max(0.0, -worst * 1e6),
+        "interference_position_deg": math.degrees(float(phi[p])) if worst < 0 else None,
+        "interference_pins": [int(j) for j in pins],
+        "interference_flanks": ["+" if arm[p, j] < 0 else "-" for j in pins],
+    }
+
+
+#: Pins whose interference is within this of the largest are named with it [m].
+_NAMED_TOL = 1e-9

@@ -212,11 +212,15 @@ def test_cycloid_clearance_of_a_strongly_curtate_modified_disc():
     wandered; the nested-grid start gives the minimum distance (checked by brute force)."""
     g = cy.CycloidGeometry(89, 100e-3, 1e-3, 2e-3, 0.01e-3, 0.005e-3, math.radians(0.05))
     phi = np.array([0.0, math.pi / 89])
-    d = cym.clearance_exact(g, phi)
-    assert np.all(np.isfinite(d))
+    assert np.all(np.isfinite(cym.clearance_exact(g, phi)))
     gen = g.generating()
     local = cym.to_disc_frame(g, phi, np.broadcast_to(cym.pin_centres(g)[:, None, :],
                                                      (2, 2, 89))).reshape(2, -1)
+    # each turned profile's distance, Newton from the unmodified contact parameter (the
+    # disc's own distance takes the corner where the two cross: issue 28)
+    psi0 = (2 * math.pi * np.arange(89)[None, :] / 89 + phi[:, None] / 88).ravel()
+    d = np.maximum(*(cym.distance_to_profile(g, local, f, psi0) for f in (1, -1))
+                   ).reshape(2, 89) - g.pin_radius_m
     psi = np.linspace(0, 2 * np.pi, 200_001)
     ref = []
     for flank in (1, -1):

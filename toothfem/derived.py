@@ -38,6 +38,11 @@ def derived(case: Case) -> dict:
     warnings = []
     out.update(_operating(case, warnings))
     out.update(_BY_CASE_DRIVE[case.drive](case))
+    if out.get("interference_before_load_um", 0) > 0:
+        warnings.append(f"the disc interferes with its pins by {out['interference_before_load_um']:.4g}"
+                        f" um before load (pins {out['interference_pins']}, '+': the flank "
+                        "of a positive disc torque) wherever it is turned: both flanks are "
+                        "preloaded on assembly")
     out["warnings"] = warnings
     return out
 
@@ -87,8 +92,8 @@ def _cycloid(case: Case) -> dict:
         "disc_tip_radius_mm": _r(g.tip_radius_m * 1e3),
         "min_convex_curvature_radius_mm": _r(rho * 1e3),
         "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
-        "backlash_arcmin": _r(math.degrees(cym.closing_rotation(g)) * 60) if g.modified else 0.0,
     }
+    d.update(_before_load(g))
     if case.first_stage is not None:
         fs = case.first_stage
         d["first_stage_centre_distance_mm"] = _r(fs.module_mm * (fs.sun_teeth + fs.planet_teeth)
@@ -103,6 +108,30 @@ def _cycloid(case: Case) -> dict:
     d["min_pressure_angle_loaded_deg"] = _r(math.degrees(
         float(np.min(m.pressure_angle[0][m.moment_arm[0] < 0]))))
     return d
+
+
+def _before_load(g) -> dict:
+    """The disc on its pins before load over one meshing period (exact gaps of both flanks,
+    :func:`toothfem.geometry.cycloid_mesh.before_load`), with the first-order backlash of
+    the closed form beside (docs/derivations.md C6: twice the closing rotation beta0)."""
+    phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS, endpoint=False)
+    b = cym.before_load(g, phis)
+    d = {"backlash_arcmin": _r(b["backlash_min_arcmin"])
+         if b["backlash_min_arcmin"] is not None else None,
+         "backlash_max_arcmin": _r(b["backlash_max_arcmin"])
+         if b["backlash_max_arcmin"] is not None else None,
+         "backlash_first_order_arcmin": _r(2 * math.degrees(cym.closing_rotation(g)) * 60),
+         "clearance_before_load_um": _r(b["clearance_before_load_um"], 6),
+         "interference_before_load_um": _r(b["interference_before_load_um"], 6)}
+    if b["interference_pins"]:
+        d["interference_position_deg"] = _r(b["interference_position_deg"])
+        d["interference_pins"] = ", ".join(f"{j} ({f})" for j, f in
+                                           zip(b["interference_pins"], b["interference_flanks"]))
+    return d
+
+
+#: Crank angles over one meshing period at which `check` places the disc on its pins.
+BEFORE_LOAD_POSITIONS = 36
 
 
 def _sine(case: Case) -> dict:

@@ -82,11 +82,21 @@ class CycleSolver:
     def _candidates(self, side: int):
         """Candidate contacts per position for a torque of sign ``side``."""
         if self.sides == (0,):
+            if side < 0 and self.model.geometry.rotation_rad:
+                return self._both_flanks_negative
             return self._geometry[0]
         if side not in self.sides:
             raise ToothfemError("a negative torque loads the other flank: build the solver "
                                 "with sides=(1, -1)")
         return self._geometry[0] if side > 0 else self._other_side
+
+    @cached_property
+    def _both_flanks_negative(self):
+        """Every pin a candidate, the gaps linearised for a negative torque (a rotation
+        modification: about the pose where the negative torque's flank is turned back)."""
+        gaps = cy.clearance_exact(self.model.geometry, self.positions_rad, -1)
+        return [dataclasses.replace(q, gap=gaps[p, q.pins])
+                for p, q in enumerate(self._geometry[0])]
 
     @cached_property
     def _pin(self):
@@ -381,7 +391,6 @@ class CycleSolver:
         """Initial gaps of another modification of the disc at this solver's candidates,
         per position (a pin the other profile cannot reach: MODIFIED_GAP_FAR); the last
         one kept (a design candidate is solved at several torques and deviations)."""
-        side = 1 if self.sides == (0,) else side
         key = (geometry, side)
         kept = self.__dict__.get("_modified")
         if kept is not None and kept[0] == key:
@@ -392,8 +401,8 @@ class CycleSolver:
                                            g.eccentricity_m, g.pin_radius_m):
             raise ToothfemError("geometry differs from the solver's disc in more than its "
                                 "modifications")
-        state = cy.meshing(geometry, self.positions_rad)
-        gaps = np.where(np.isfinite(state.gap), state.gap, MODIFIED_GAP_FAR)
+        gaps = cy.clearance_exact(geometry, self.positions_rad, side)
+        gaps = np.where(np.isfinite(gaps), gaps, MODIFIED_GAP_FAR)
         out = [gaps[p, q.pins] for p, q in enumerate(self._candidates(side))]
         self.__dict__["_modified"] = (key, out)
         return out
@@ -452,6 +461,11 @@ class CycleSolver:
     def candidates(self, side: int = 1) -> list:
         """The candidate contacts of every position for a torque of sign ``side``.
 
+        Parameters
+        ----------
+        side : {1, -1}
+            The torque's sign (ignored by a solver of both flanks, ``sides=(0,)``).
+
         Returns
         -------
         list of _Position
@@ -461,11 +475,6 @@ class CycleSolver:
 
     def _solve_position(self, p, q, q_load, pin, side, g0):
         """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
-        Parameters
-        ----------
-        side : {1, -1}
-            The torque's sign (ignored by a solver of both flanks, ``sides=(0,)``).
-
         lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
             sol = contact.solve_contact(self.compliance(p, q, lam, q_load, side), g0, q.arm,

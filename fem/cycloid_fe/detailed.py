@@ -2,6 +2,7 @@
 refined (fem/cycloid_fe/__init__.py)."""
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -9,14 +10,14 @@ import numpy as np
 
 from ..hertz import hertz_line
 from ...errors import ToothfemError
-from ...geometry import cycloid_mesh as cy  # with the profile names it imports
 from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body
 from ..load_sharing import LoadSharing, check_member_torque
 from ..mesh import Refinement, mesh_rings
 from .cycle import _record, _seed_guess, pin_moves
-from .model import CycloidFEModel, _disc_rings, _held_nodes, _positions, housing_body
+from . import flanks as fl
+from .model import CycloidFEModel, _held_nodes, _positions, _Position, housing_body
 
 # ---------------------------------------------------------------------------------------
 # Detailed mode
@@ -53,13 +54,23 @@ class DetailedResult:
         return self.disc_displacement
 
 
+#: The detailed mode's choices of candidate pins (solve_detailed's ``flanks``).
+FLANKS = ("loaded", "both")
+
+
 def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
                    elements_per_halfwidth: int = 6, deviation=None,
-                   force_margin: float = DETAILED_FORCE_MARGIN) -> DetailedResult:
+                   force_margin: float = DETAILED_FORCE_MARGIN,
+                   flanks: str = "loaded") -> DetailedResult:
     """Two-body FE contact at one crank angle with the contact zones refined and conforming.
 
     The zone sizes come from the seed's force estimate times a margin; after the solve the
     contact must end inside each slave zone (checked).
+
+    The disc is the modified disc of the case: equidistant and move-distance in its
+    generating profile, a rotation modification as the two turned flanks
+    (:mod:`toothfem.fem.cycloid_fe.flanks`: meshed in the pose where the loaded flank lies
+    where the unmodified one did; the transmission error counts from the nominal pose).
 
     Parameters
     ----------
@@ -78,6 +89,12 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     force_margin : float
         The largest pin force over the seed's, for the zone sizes (deviations of a few
         micrometres can load a pin several times the seed's force).
+    flanks : {"loaded", "both"}
+        Candidate pins: those whose moment arm can carry the torque (the cycle mode's
+        default), or every pin, each on the flank it faces (an idle flank that closes, as
+        with interference, takes load: the cycle mode's ``sides=(0,)``). Both flanks
+        mesh the disc with twice the zones, which moves single pin forces by up to 6 %
+        (docs/fem.md, issue 28): the default stays with the loaded flank.
 
     Returns
     -------
@@ -87,18 +104,24 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     Raises
     ------
     ToothfemError
-        For a zero or non-finite torque, rigid pins, or a deviation the mode cannot mesh
-        (profile deviations, integral pins).
+        For a zero or non-finite torque, rigid pins, ``flanks`` not one of
+        :data:`FLANKS`, or a deviation the mode cannot mesh (profile deviations, integral
+        pins).
     toothfem.fem.contact.ContactError
         If the contact reaches the edge of a refined zone (raise ``force_margin``).
     """
     check_member_torque(torque, "disc")
     if model.pin_structure == "rigid":
         raise ToothfemError("the detailed mode models elastic pins (conventional or integral)")
+    if flanks not in FLANKS:
+        raise ToothfemError(f"flanks = {flanks!r} is not one of {list(FLANKS)}")
     g = model.geometry
     gen = g.generating()
     # a negative torque loads the other flank of each lobe
-    (q,), state = _positions(model, [crank_angle_rad], side=1 if torque > 0 else -1)
+    side = 1 if torque > 0 else -1
+    (q,), state = _positions(model, [crank_angle_rad], side=0 if flanks == "both" else side)
+    turns = fl.flank_turn(g, side, q.arm)
+    q = _on_flanks(gen, q, turns)
     centres, radii = q.pin_centre, np.full(q.pins.size, g.pin_radius_m)
     if deviation is not None:
         if model.pin_structure != "conventional" or np.any(deviation.profile != 0):
@@ -125,10 +148,11 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         ring = c[:, None] + rz * np.stack([np.cos(t), np.sin(t)])
         pin_rings.append(ring)
         zone_angles.append(t_zone)
-        psi, _ = cy.foot_point(gen, ring[:, :n_zone + 1], np.full(n_zone + 1, q.psi[k]))
-        disc_psi.append(psi)
+        psi, _, _ = fl.project(gen, ring[:, :n_zone + 1], turns[k],
+                               np.full(n_zone + 1, q.psi[k]))
+        disc_psi.append((psi, turns[k]))
     # disc outline: coarse samples, with each zone replaced by the pins' projections
-    rings, names = _disc_rings(model, disc_psi)
+    rings, names = fl.disc_rings(model, side, disc_psi)
     refine = [Refinement(q.point, h, 2 * b_zone, 60 * b_zone)]
     disc_mesh = mesh_rings(rings, size_max=g.pin_circle_radius_m / 25, refinements=refine,
                            names=names, keep_below=2 * h)
@@ -177,12 +201,12 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         group_dofs, group_normals = [], []
         for f in facet_sets:
             sl = contact.slave_surface(body, f)
-            psi, _ = cy.foot_point(gen, sl.points, np.full(sl.points.shape[1], q.psi[k]))
-            nrm = -cy.inward_normal(gen, psi)
+            _, master, nrm = fl.project(gen, sl.points, turns[k],
+                                        np.full(sl.points.shape[1], q.psi[k]))
             group_dofs.append(sl.dofs)
             group_normals.append(nrm)
             slaves.append(sl)
-            master_pts.append(cy.working_profile(gen, psi))
+            master_pts.append(master)
             normals.append(nrm)
             k += 1
         loads = contact.nodal_load_matrix(body.basis.N, np.concatenate(group_dofs, axis=1),
@@ -221,7 +245,9 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         gap[0, q.pins[k]] = 0.0 if lam.sum() > 0 else np.min(sol.gap[start:start + lam.size])
         pressures.append(sl.pressure(lam))
         start += lam.size
-    rec = _record("detailed", model, state, force, gap, np.array([sol.rigid]), torque)
+    # the solve's rotation counts from the meshed pose, turned side Delta delta
+    rec = _record("detailed", model, state, force, gap,
+                  np.array([sol.rigid + fl.frame_turn(g, side)]), torque)
     # P_h: Hertz's on the FE force where its assumptions hold, the FE peak where they fail
     # (b not small against the radii); the FE profiles stay in DetailedResult.pressure.
     invalid = rec.hertz_invalid
@@ -235,3 +261,16 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     return DetailedResult(load_sharing=rec, slave_points=[s.points for s in slaves],
                           pressure=pressures, pins=q.pins, dofs=dofs, disc=disc,
                           disc_displacement=u_disc)
+
+
+def _on_flanks(gen, q: _Position, turns) -> _Position:
+    """The candidates' contact points, normals and parameters on the profile each one
+    faces (turned by ``turns``, the detailed mode's frame: :func:`flanks.flank_turn`)."""
+    moved = np.flatnonzero(turns)
+    if not moved.size:
+        return q
+    psi, point, normal = q.psi.copy(), q.point.copy(), q.normal.copy()
+    for k in moved:
+        psi[k:k + 1], point[:, k:k + 1], normal[:, k:k + 1] = fl.project(
+            gen, q.pin_centre[:, k:k + 1], turns[k], q.psi[k:k + 1])
+    return dataclasses.replace(q, psi=psi, point=point, normal=normal)

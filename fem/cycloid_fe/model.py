@@ -108,11 +108,22 @@ class _Position:
 def _positions(model: CycloidFEModel, phis, state=None, side: int = 1):
     """Candidate contacts per crank angle for a disc torque of sign ``side``: +1 the pins
     with moment arm below CANDIDATE_ARM_REL r_a (MeshingState sign: carrying a positive
-    torque), -1 those above -CANDIDATE_ARM_REL r_a (the other flank of each lobe)."""
+    torque), -1 those above -CANDIDATE_ARM_REL r_a (the other flank of each lobe), 0 every
+    pin.
+
+    Points, normals and profile parameters are those of the generating profile without
+    the rotation modification: with one, they are the loaded flank's in the pose where the
+    disc has turned by side Delta delta (0: +1) and that flank lies where the unmodified
+    one did; ``gap`` is g0 of :func:`toothfem.geometry.cycloid_mesh.clearance_exact`
+    linearised about that pose (docs/derivations.md 8)."""
     g = model.geometry
     gen = g.generating()
     state = state or cy.meshing(g, phis)
     r_a = g.disc_pitch_radius_m
+    # a rotation modification: every candidate's gap linearised about the pose where the
+    # flank of this torque sign lies where the unmodified one did (docs/derivations.md 8)
+    gaps = cy.clearance_exact(g, state.position_rad, side or 1) if g.rotation_rad \
+        else state.gap
     out = []
     for p, phi in enumerate(state.position_rad):
         pins = np.flatnonzero(side * state.moment_arm[p] < CANDIDATE_ARM_REL * r_a)
@@ -127,7 +138,7 @@ def _positions(model: CycloidFEModel, phis, state=None, side: int = 1):
         d = rotate(-normal, -phi / g.lobe_count)
         gamma = np.arctan2(towards[0] * d[1] - towards[1] * d[0], np.sum(towards * d, axis=0))
         out.append(_Position(float(phi), pins, c_disc, psi, point, normal,
-                             state.moment_arm[p, pins], gamma, state.gap[p, pins],
+                             state.moment_arm[p, pins], gamma, gaps[p, pins],
                              state.equivalent_radius[p, pins], state.radius_moving[p, pins]))
     return out, state
 
