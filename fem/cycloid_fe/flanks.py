@@ -23,7 +23,19 @@ from .model import _disc_rings
 
 
 def frame_turn(geometry, side: int) -> float:
-    """The detailed mode's disc pose: turned by side * Delta delta from the nominal [rad]."""
+    """The detailed mode's disc pose: turned by side * Delta delta from the nominal.
+
+    Parameters
+    ----------
+    geometry : toothfem.geometry.cycloid.CycloidGeometry
+    side : {1, -1}
+        The torque's sign.
+
+    Returns
+    -------
+    float
+        The turn [rad], counter-clockwise.
+    """
     return side * geometry.rotation_rad
 
 

@@ -24,6 +24,10 @@ CANDIDATE_ARM_REL = 0.02
 LOCAL_MAX_ITER, LOCAL_RTOL = 50, 1e-9
 
 
+#: Crank angles over one meshing period at which the model describes the disc before load.
+BEFORE_LOAD_POSITIONS = 36
+
+
 #: conventional: pins in housing grooves (elastic pins held on their outer half);
 #: integral: pins one piece with the housing (clamped at its outer radius);
 #: rigid: rigid fixed pins, only the disc deforms (the CalculiX peer's model; cycle mode).
@@ -43,14 +47,20 @@ class CycloidFEModel(SameMaterial):
     housing_outer_radius: float | None = None   # integral structure: clamped outer edge, m
 
     def describe(self) -> dict:
-        """The model's choices as a report shows them.
+        """The model's choices as a report shows them, and the disc on its pins before load.
 
         Returns
         -------
         dict
-            {"pin_structure": str}.
+            ``pin_structure`` and, over one meshing period (:data:`BEFORE_LOAD_POSITIONS`
+            crank angles), :func:`toothfem.geometry.cycloid_mesh.before_load` of the
+            modified disc: backlash of both flanks, clearance or interference before load
+            (um, which pins, which flank).
         """
-        return {"pin_structure": self.pin_structure}
+        g = self.geometry
+        phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS,
+                           endpoint=False)
+        return {"pin_structure": self.pin_structure, **cy.before_load(g, phis)}
 
     def __post_init__(self):
         check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)

@@ -21,6 +21,10 @@ CONTACT_QUANTITIES = (
     ("hertz_invalid_contacts", "contacts where Hertz fails (b not << R)", ""),
     ("ph_from_fe_contacts", "of them with P_h from the FE", ""),
     ("torque_equilibrium_max_rel_error", "torque equilibrium error", "relative"),
+    ("backlash_min_arcmin", "backlash before load (both flanks), least", "arcmin"),
+    ("clearance_before_load_um", "clearance before load, least (< 0: interference)", "um"),
+    ("interference_before_load_um", "interference before load, largest", "um"),
+    ("interference_pins", "{contacts} interfering (+: flank of a positive torque)", ""),
 )
 
 #: The papers' names of the figures a case may publish, by our summary key: a case's
@@ -73,8 +77,12 @@ def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
              {"ours": labels.member_torque_Nm})]
     for template, what, unit in CONTACT_QUANTITIES:
         key = template.format(**words)
-        if key in summary:
-            cols = {"ours": summary[key]}
+        if key in summary and summary[key] not in (None, []):
+            value = summary[key]
+            if key == "interference_pins":      # with their flanks
+                value = ", ".join(f"{j} ({f})" for j, f in
+                                  zip(value, summary.get("interference_flanks", ())))
+            cols = {"ours": value}
             pub = _published(template, published or {}, words)
             if pub is not None:
                 cols[PUBLISHED] = pub
