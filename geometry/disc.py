@@ -65,8 +65,9 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
                  points_per_lobe: int = 96, hole_points: int = 96):
     """The disc as a shapely Polygon (disc frame) with its holes.
 
-    With a rotation modification the disc is the intersection of the profile turned by
-    +Delta delta and by -Delta delta (each flank turned toward its tooth centre).
+    With a rotation modification the disc is the intersection (Delta delta > 0: each flank
+    turned toward its tooth centre) or the union (< 0: away) of the profile turned by
+    +Delta delta and by -Delta delta (docs/derivations.md 8).
 
     Parameters
     ----------
@@ -92,9 +93,10 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
     import shapely
     from shapely.geometry import Point, Polygon
 
-    if geom.rotation_rad:
-        outer = Polygon(profile_points(geom, points_per_lobe, +1).T).intersection(
-            Polygon(profile_points(geom, points_per_lobe, -1).T))
+    if geom.rotation_rad:       # > 0: flanks turned toward the tooth centre; < 0: away
+        turned = [Polygon(profile_points(geom, points_per_lobe, f).T) for f in (1, -1)]
+        outer = turned[0].intersection(turned[1]) if geom.rotation_rad > 0 \
+            else turned[0].union(turned[1])
     else:
         outer = Polygon(profile_points(geom, points_per_lobe).T)
     if not outer.is_valid or outer.geom_type != "Polygon":
