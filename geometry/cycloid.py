@@ -24,7 +24,8 @@ Modifications (generating parameters of the grinding machine): equidistant Delta
 (the disc is generated with pin radius rz + Delta rz), move-distance Delta Rz (generated
 with pin-circle radius Rz + Delta Rz, same A), rotation Delta delta (each flank turned by
 Delta delta toward its tooth centre: the disc is the intersection of the profile turned
-by +Delta delta and by -Delta delta).
+by +Delta delta and by -Delta delta; a negative Delta delta turns each flank away, the
+disc is their union: docs/derivations.md 8).
 
 The disc in its housing (pose, pin contacts, foot points, clearances, ``meshing``):
 :mod:`toothfem.geometry.cycloid_mesh`.
