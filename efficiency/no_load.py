@@ -187,3 +187,33 @@ def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_ra
                     + seal_loss(env.output_seal_diameter_m, output_rad_s))
     out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)
     return out
+
+
+#: An output speed of a slow twist test [rad/s] (a few degrees per minute): Palmgren's
+#: moment is then on its low-speed branch and the seal's torque does not depend on it.
+CREEP_SPEED_RAD_S = 1e-3
+
+
+def output_friction_torque(si, drive) -> float:
+    """The load-independent friction torque the output meets when it is turned slowly
+    against the housing, input held (the catalogue's twist test): its lip seal (ISO/TR
+    14179-1, a torque independent of the speed) and its main bearings' no-load moment on
+    Palmgren's low-speed branch, 160e-7 f0 d_m^3 N mm.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    float
+        [N m].
+    """
+    env = envelope(si, drive)
+    w = CREEP_SPEED_RAD_S
+    main_type = DEFAULT_MAIN_TYPE if si.bearings is None else si.bearings.main_type
+    main = env.main_count * palmgren_no_load_moment(
+        palmgren_f0(main_type, si.lubricant.lubrication), si.lubricant.kinematic_viscosity_m2_s,
+        w, env.main_pitch_diameter_m)
+    return float(seal_loss(env.output_seal_diameter_m, w) / w + main)

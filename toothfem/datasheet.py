@@ -16,6 +16,8 @@ from .fem.datasheet.sheet import datasheet, plural
 from .fem.datasheet.transmission import loaded_te
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
+from .efficiency.no_load import output_friction_torque
+from .fem.system.cycloid import PathFriction
 from .fem.system.datasheet import SystemTwist, system_te
 from .report import save
 from .report import stiffness as report_stiffness
@@ -36,10 +38,32 @@ class StiffnessResult:
     summary: dict
 
 
+def path_friction(si, drive) -> PathFriction:
+    """The case's friction in the quasi-static path: the pin contacts, output pins and
+    grooves slide at creep speed with no film, so with their boundary coefficients
+    (``friction.boundary_coefficient`` for the pin contacts, ``pin_groove_coefficient``,
+    ``output_pin_coefficient``); the bearings with ``bearing_coefficient``; the output's
+    seal and main bearings (:func:`toothfem.efficiency.no_load.output_friction_torque`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    toothfem.fem.system.cycloid.PathFriction
+    """
+    f = si.friction
+    return PathFriction(pin_disc=f.boundary_coefficient, pin_groove=f.pin_groove_coefficient,
+                        bearing=f.bearing_coefficient, output_pin=f.output_pin_coefficient,
+                        output_torque_Nm=output_friction_torque(si, drive))
+
+
 def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps: int = 8,
                        positions: int = 36, te_torque_Nm: float | None = None,
-                       te_samples: int = TE_SAMPLES, te_positions: int = TE_PER_PITCH
-                       ) -> StiffnessResult:
+                       te_samples: int = TE_SAMPLES, te_positions: int = TE_PER_PITCH,
+                       friction: bool = True) -> StiffnessResult:
     """Torsional stiffness, hysteresis, lost motion, loaded TE and member split of a case
     (docs/stiffness.md).
 
@@ -57,6 +81,9 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
         Output torque of the loaded TE and the split; default the rated torque.
     te_samples, te_positions : int
         Cycle solvers over the full period, and positions per pitch of each.
+    friction : bool
+        Friction in the quasi-static path (:func:`path_friction`): the loop's width and
+        the hysteresis loss; False: the elastic curve.
 
     Returns
     -------
@@ -80,7 +107,7 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     supports = drive.supports(si.supports)
     system = drive.system_model(supports, positions)
     if system is not None:          # the whole reducer around the contact
-        twist = SystemTwist(system)
+        twist = SystemTwist(system, friction=path_friction(si, drive) if friction else None)
         te, split = system_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
                               per_pitch=te_positions)
     else:                           # the load paths chained (the sine pair, for now)
@@ -179,6 +206,7 @@ def datasheet_rows(summary: dict) -> list:
              f"{summary['torsional_rigidity_Nm_per_arcmin']:.4g}"),
             ("lost motion ±3 % [arcmin]", f"{summary['lost_motion_arcmin']:.4g}"),
             ("backlash [arcmin]", f"{summary['backlash_arcmin']:.4g}"),
+            ("hysteresis loss [arcmin]", f"{summary['hysteresis_loss_arcmin']:.4g}"),
             ("loaded TE peak-to-peak [arcsec]", f"{summary['te_peak_to_peak_arcsec']:.4g}")]
     if "member_share_max" in summary:
         rows.append(("largest member share of the torque (FE; case's factor)",

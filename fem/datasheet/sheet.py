@@ -1,20 +1,25 @@
 """The hysteresis loop and the catalogue figures of a reducer (docs/stiffness.md).
 
 The loop runs the output torque from 0 to +T, down to -T and back to +T (the catalogue's
-test, input held). Contact is frictionless, so loading and unloading follow one curve
-except at zero torque, where the output stays at the closing rotation of the flank it
-comes from: the loop's width there is the backlash, and the loop closes elsewhere (the
-friction hysteresis of a real reducer is not modelled).
+test, input held). A twist model with friction in its path (the system model) answers on
+the branch the torque comes along (+1 rising, -1 falling): loading and unloading differ
+and the loop has width; without friction both branches are the elastic curve and the
+loop's only width is the backlash, at zero torque.
 
-Definitions (catalogues of RV and strain-wave reducers):
-- torsional rigidity [N m/arcmin]: (T100 - T50) / (theta(T100) - theta(T50)), the slope
-  between 50 % and 100 % of the rated torque, each direction and their mean;
-- three-segment stiffness: the slopes over 0-25 %, 25-50 %, 50-100 % (from the zero-torque
-  end of each branch, so the backlash is not in the first segment);
-- lost motion [arcmin]: theta(+3 %) - theta(-3 %);
-- backlash [arcmin]: theta(0 from +) - theta(0 from -), the two closing rotations;
-- compliances in series: each path's twist change between 50 % and 100 % per N m, and its
-  share of their sum (the inverse rigidity).
+Definitions (Nabtesco's RV catalogues; strain-wave catalogues alike):
+- torsional rigidity [N m/arcmin]: (T100 - T50) / (theta(T100) - theta(T50)) on the
+  loading branch, the slope b/a between 50 % and 100 % of the rated torque, each direction
+  and their mean;
+- three-segment stiffness: the slopes over 0-25 %, 25-50 %, 50-100 % on the loading branch
+  (from the zero-torque end of each branch, so the backlash is not in the first segment);
+- lost motion [arcmin]: the twist between the midpoints of the loop's width at +3 % and at
+  -3 % of the rated torque;
+- hysteresis loss [arcmin]: the loop's width at zero torque (coming down from +T less
+  coming up from -T);
+- backlash [arcmin]: the elastic curve's theta(0 from +) - theta(0 from -), the two
+  closing rotations of the clearances;
+- compliances in series: each path's twist change between 50 % and 100 % per N m on the
+  elastic curve, and its share of their sum (the inverse rigidity).
 """
 from __future__ import annotations
 
@@ -35,6 +40,8 @@ MIN_STEPS, MAX_STEPS = 4, 400
 #: Fewest contacts that must carry at the largest torque of the loop at every position:
 #: with one the mesh has not closed the modification's clearance (the curve is backlash).
 MIN_CONTACTS_AT_MAX = 2
+#: What the summary says of a loop without friction in its path.
+FRICTIONLESS = "not modelled (frictionless contact): the loop's width is the backlash"
 
 
 def loop_torques(torque_max_Nm: float, steps: int) -> np.ndarray:
@@ -102,12 +109,16 @@ class Datasheet:
     segment_stiffness_Nm_per_arcmin: tuple  # (0-25 %, 25-50 %, 50-100 %), both directions' mean
     lost_motion_arcmin: float
     backlash_arcmin: float
+    hysteresis_loss_arcmin: float
+    window: dict                            # near zero torque: torque_Nm (3,), rising and
+                                            # falling twist_arcmin (3,) at -3 %, 0, +3 %
     compliance_arcmin_per_Nm: dict          # path -> secant compliance 50-100 %
     supports: dict                          # Supports.describe(): values and assumed flags
     positions: int
     member_name: str
     contact_name: str
     extra: dict = field(default_factory=dict)   # TE and split summaries when computed
+    friction: str = FRICTIONLESS
 
     @property
     def compliance_shares(self) -> dict:
@@ -134,14 +145,14 @@ class Datasheet:
             "stiffness_50_100_Nm_per_arcmin": self.segment_stiffness_Nm_per_arcmin[2],
             "lost_motion_arcmin": self.lost_motion_arcmin,
             "backlash_arcmin": self.backlash_arcmin,
+            "hysteresis_loss_arcmin": self.hysteresis_loss_arcmin,
             "compliances_arcmin_per_Nm": dict(self.compliance_arcmin_per_Nm),
             "compliance_shares": self.compliance_shares,
             "supports": self.supports,
             "positions": self.positions,
             f"{plural(self.contact_name)}_in_contact_at_rated_torque": float(
                 self.loop.contacts[int(np.argmax(self.loop.torque_Nm))]),
-            "friction_hysteresis": "not modelled (frictionless contact): the loop's "
-                                   "width is the backlash",
+            "friction_hysteresis": self.friction,
         }
         out.update(self.extra)
         return out
@@ -167,11 +178,29 @@ def plural(name: str) -> str:
 
 
 def _slope(model: TwistModel, t_lo: float, t_hi: float, side: int) -> float:
-    """(t_hi - t_lo) / (theta(t_hi) - theta(t_lo)) [N m/rad] on the branch of ``side``
-    (torques as magnitudes, signed by ``side``)."""
-    a = model.at(side * t_lo, side).total.mean()
-    b = model.at(side * t_hi, side).total.mean()
+    """(t_hi - t_lo) / (theta(t_hi) - theta(t_lo)) [N m/rad] on the loading branch of
+    ``side`` (torques as magnitudes, signed by ``side``; the branch: their magnitude
+    rising)."""
+    a = model.at(side * t_lo, side, branch=side).total.mean()
+    b = model.at(side * t_hi, side, branch=side).total.mean()
     return (t_hi - t_lo) / (side * (b - a))
+
+
+def loop_branches(torques) -> np.ndarray:
+    """The branch of each point of the loop: +1 where the torque rose to it, -1 where it
+    fell (the first point: +1).
+
+    Parameters
+    ----------
+    torques : array_like, shape (N,)
+        [N m], :func:`loop_torques`.
+
+    Returns
+    -------
+    numpy.ndarray of int, shape (N,)
+    """
+    t = np.asarray(torques, float)
+    return np.concatenate([[1], np.where(np.diff(t) >= 0, 1, -1)])
 
 
 def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool = False,
@@ -207,10 +236,10 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
     torques = loop_torques(t_max, steps)
     _check_closed(model, t_max)
     points, side = [], 1
-    for k, t in enumerate(torques):
+    for t, branch in zip(torques, loop_branches(torques)):
         if t != 0:
             side = 1 if t > 0 else -1           # zero: the flank the path comes from
-        points.append(model.at(t, side))
+        points.append(model.at(t, side, branch=int(branch)))
     deg = lambda x: x / ARCMIN  # noqa: E731
     loop = Loop(torque_Nm=torques,
                 twist_arcmin=np.array([deg(p.total.mean()) for p in points]),
@@ -224,6 +253,12 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
         seg.append(0.5 * ARCMIN * sum(_slope(model, a * rated, b * rated, s) for s in (1, -1)))
     lost = lost_motion_arcmin(model, rated)
     backlash = backlash_arcmin(model)
+    t_lm = LOST_MOTION_FRACTION * rated
+    window = {"torque_Nm": np.array([-t_lm, 0.0, t_lm])}
+    for name, branch, zero_side in (("rising_arcmin", 1, -1), ("falling_arcmin", -1, 1)):
+        window[name] = np.array([deg(model.at(t, s, branch=branch).total.mean()) for t, s in
+                                 ((-t_lm, -1), (0.0, zero_side), (t_lm, 1))])
+    loss = float(window["falling_arcmin"][1] - window["rising_arcmin"][1])
     compliance = {}
     for name in model.at(hi, 1).paths:
         per_side = [side * (model.at(side * hi, side).paths[name].mean()
@@ -235,6 +270,8 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
                      loop=loop, rigidity_Nm_per_arcmin=0.5 * sum(rig),
                      rigidity_by_direction=rig, segment_stiffness_Nm_per_arcmin=tuple(seg),
                      lost_motion_arcmin=float(lost), backlash_arcmin=float(backlash),
+                     hysteresis_loss_arcmin=loss, window=window,
+                     friction=getattr(model, "friction_description", FRICTIONLESS),
                      compliance_arcmin_per_Nm=compliance,
                      supports=model.supports.describe(),
                      positions=int(model.positions_rad.size), member_name=d.member_name,
@@ -242,8 +279,9 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
 
 
 def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
-    """Lost motion: the range of the mean twist between -3 % and +3 % of the rated torque
-    (LOST_MOTION_FRACTION), each on its own flank.
+    """Lost motion: the twist between the midpoints of the loop's width at +3 % and at -3 %
+    of the rated torque (LOST_MOTION_FRACTION), each on its own flank; without friction the
+    two branches coincide.
 
     Parameters
     ----------
@@ -257,8 +295,10 @@ def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
         [arcmin].
     """
     t_lm = LOST_MOTION_FRACTION * rated_torque_Nm
-    return float((model.at(t_lm, 1).total.mean() - model.at(-t_lm, -1).total.mean())
-                 / ARCMIN)
+
+    def mid(t, side):
+        return 0.5 * sum(model.at(t, side, branch=b).total.mean() for b in (1, -1))
+    return float((mid(t_lm, 1) - mid(-t_lm, -1)) / ARCMIN)
 
 
 def backlash_arcmin(model: TwistModel) -> float:

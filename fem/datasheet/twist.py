@@ -169,7 +169,7 @@ class TwistModel:
         t = float(output_torque_Nm)
         return math.copysign(self.drive.member_torque(abs(t), peak=False), t)
 
-    def at(self, output_torque_Nm: float, side: int = 1) -> TwistPoint:
+    def at(self, output_torque_Nm: float, side: int = 1, branch: int = 0) -> TwistPoint:
         """The twist at a signed output torque (kept: each torque is solved once).
 
         Parameters
@@ -179,6 +179,9 @@ class TwistModel:
         side : {1, -1}
             At zero torque, the flank the limit comes from (the rigid closing rotation,
             every support unloaded); ignored otherwise.
+        branch : {0, 1, -1}
+            The way the torque came; ignored (no friction in these load paths: both
+            branches are the elastic curve).
 
         Returns
         -------

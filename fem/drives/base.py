@@ -292,7 +292,7 @@ class Drive(abc.ABC):
         """Meshing periods after which the whole model repeats (disc holes included)."""
         return 1
 
-    def member_offsets(self, per_pitch: int) -> tuple:
+    def member_offsets(self, per_pitch: int, turns=None) -> tuple:
         """Where each member's configuration stands on the full-period grid.
 
         Parameters
@@ -300,6 +300,8 @@ class Drive(abc.ABC):
         per_pitch : int
             Positions per meshing period; the grid spans :attr:`full_period_pitches`
             periods.
+        turns : sequence of float, optional
+            Each member's phase in turns (default the drive's own layout).
 
         Returns
         -------

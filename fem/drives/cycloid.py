@@ -209,7 +209,7 @@ class CycloidDrive(Drive):
         sym = self.stage.holes.symmetry
         return self.stage.lobe_count // math.gcd(self.stage.lobe_count, sym)
 
-    def member_offsets(self, per_pitch: int) -> tuple:
+    def member_offsets(self, per_pitch: int, turns=None) -> tuple:
         """Disc j sits on eccentrics turned by 2 pi j / discs (Zb j / discs pitches); it is
         the first disc's part turned by i_j lobes more than the K-H-V pose at its crank
         angle, the smallest i_j that puts its crank holes on the cranks (K-H-V: its output
@@ -221,6 +221,8 @@ class CycloidDrive(Drive):
         ----------
         per_pitch : int
             Positions per pin pitch.
+        turns : sequence of float, optional
+            Each disc's eccentric phase in turns (default j / discs).
 
         Returns
         -------
@@ -236,14 +238,15 @@ class CycloidDrive(Drive):
         sym = self.stage.holes.carrying_count
         k = self.full_period_pitches
         out = []
-        for j in range(n):
-            steps = zb * j * int(per_pitch) / n         # crank offset in grid steps
+        turns = [j / n for j in range(n)] if turns is None else list(turns)
+        for j, f in enumerate(turns):
+            steps = zb * f * int(per_pitch)             # crank offset in grid steps
             if abs(steps - round(steps)) > 1e-9:
-                raise CaseError(f"disc {j}: its crank offset 2 pi {j}/{n} is not on a grid of "
-                                f"{per_pitch} positions per pin pitch; use a multiple of "
+                raise CaseError(f"disc {j}: its crank offset of {f:g} turn is not on a grid "
+                                f"of {per_pitch} positions per pin pitch; use a multiple of "
                                 f"{n // math.gcd(n, zb * int(per_pitch))} positions per pitch")
             # turn psi = -phi_j/Za + i 2 pi/Za of the part must be a multiple of 2 pi/sym
-            lobes = next((i for i in range(za) if _whole((i - j / n) * sym / za)), None)
+            lobes = next((i for i in range(za) if _whole((i - f) * sym / za)), None)
             if lobes is None:
                 raise CaseError(f"disc {j}: no turn of the first disc's part puts its "
                                 f"{sym} crank holes on the cranks and its lobes on the pins")

@@ -74,9 +74,13 @@ SPUR_MESH_STIFFNESS_N_PER_M2 = 20e9
 SUPPORT_ROLLERS, SUPPORT_LENGTH_REL, SUPPORT_ANGLE_DEG = 14, 0.55, 15.0
 
 
-#: The parts of the model, as the outputs name their share of the twist.
+#: The parts of the model (the ``rigid`` option's names), as the outputs of a 2K-V drive
+#: name their share of the twist; a K-H-V drive's names (KHV_NAMES) for the same parts.
 GROUPS = ("crank bearings", "support bearings", "crankshaft bending", "crankshaft torsion",
           "spur mesh")
+KHV_NAMES = {"crank bearings": "eccentric bearings", "support bearings": "input bearings",
+             "crankshaft bending": "input shaft bending",
+             "crankshaft torsion": "input shaft torsion"}
 #: The output pins' secant flexibility is taken at no less than this fraction of a typical
 #: pin load (Palmgren's approach ~ Q^0.9 has an infinite secant compliance at zero load).
 OUTPUT_LOAD_FLOOR = 1e-3
@@ -155,6 +159,31 @@ class DiscSlot:
 
 
 @dataclass(frozen=True)
+class PathFriction:
+    """Coulomb friction in the quasi-static path (docs/stiffness.md, "Friction"): what
+    resists the elastic micro-slips of a slow twist test. At creep speeds no film forms, so
+    sliding contacts take their boundary coefficient.
+
+    ``pin_disc``: the pin contacts' sliding; ``pin_groove``: conventional pins in their
+    grooves (a pin that turns more easily in its groove than the disc slides on it rolls:
+    the smaller coefficient acts); ``bearing``: the rolling bearings' friction moment
+    mu F d / 2 (SKF's simplified model, d the bore); ``output_pin``: the output pins in
+    their holes (with rollers: the roller's sleeve on its pin); ``output_torque_Nm``: a
+    load-independent friction torque on the output (its seal)."""
+    pin_disc: float
+    pin_groove: float
+    bearing: float
+    output_pin: float
+    output_torque_Nm: float = 0.0
+
+    def __post_init__(self):
+        for name in ("pin_disc", "pin_groove", "bearing", "output_pin", "output_torque_Nm"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v >= 0):
+                raise CaseError(f"friction {name} = {v!r}: >= 0 and finite")
+
+
+@dataclass(frozen=True)
 class SystemState:
     """The system at one crank angle and output torque."""
     output_torque_Nm: float
@@ -167,6 +196,12 @@ class SystemState:
     output_pin_force_N: np.ndarray | None   # K-H-V: (discs, output pins) [N]
     paths_rad: dict                  # group -> its part of the twist (sum: twist)
     equilibrium: object = field(repr=False, default=None)
+    friction_Nm: dict = field(default_factory=dict)   # source -> friction torque on the output
+
+    @property
+    def friction_torque_Nm(self) -> float:
+        """The friction torque the output meets as the twist grows here [N m]."""
+        return float(sum(self.friction_Nm.values()))
 
 
 class CycloidSystem:
@@ -193,9 +228,12 @@ class CycloidSystem:
         Linear isotropic crank bearings instead of the roller law (the hand models' limit).
     pitch : int
         Puts the positions that many pin pitches on (the discs' FE tables at that pitch).
+    phases_rad : sequence of float, optional
+        Each disc's eccentric phase (default 2 pi j / discs, the balanced layout).
     """
 
     def __init__(self, drive, supports, n_positions: int = 36, *, cache=True, pitch: int = 0,
+                 phases_rad=None,
                  pin_spring_m_per_N: float | None = None, rigid: tuple = (),
                  crank_bearing_play_m: float = 0.0,
                  crank_bearing_stiffness_N_per_m: float | None = None):
@@ -222,7 +260,11 @@ class CycloidSystem:
         self.discs = drive.members
         options = {"equal_springs": pin_spring_m_per_N * drive.face_width_m} \
             if pin_spring_m_per_N is not None else {}
-        offsets = drive.member_offsets(self.n_positions)
+        phases = [2 * math.pi * j / self.discs for j in range(self.discs)] \
+            if phases_rad is None else [float(x) for x in phases_rad]
+        if len(phases) != self.discs:
+            raise CaseError(f"phases_rad has {len(phases)} values for {self.discs} discs")
+        offsets = drive.member_offsets(self.n_positions, [x / (2 * math.pi) for x in phases])
         step = drive.period_rad / self.n_positions
         axial = drive._disc_axial_positions(supports)
         slots = []
@@ -231,7 +273,7 @@ class CycloidSystem:
                                         offset=offsets[j] + int(pitch) * self.n_positions,
                                         solver_options={**drive.both_flanks_options,
                                                         **options})
-            phase = 2 * math.pi * j / self.discs
+            phase = phases[j]
             beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)   # pitch: none
             if abs(beta * self.zb / (2 * math.pi) - round(beta * self.zb / (2 * math.pi))) \
                     > 1e-6:
@@ -271,6 +313,20 @@ class CycloidSystem:
                 axial[:, None], axial[None, :], span, 2 * om.pin_radius_m,
                 m.youngs_modulus_Pa, m.poisson_ratio)
         self._coords = self._coordinates()
+
+    def group(self, part: str) -> str:
+        """The outputs' name of a part of GROUPS in this layout.
+
+        Parameters
+        ----------
+        part : str
+            One of GROUPS.
+
+        Returns
+        -------
+        str
+        """
+        return KHV_NAMES.get(part, part) if self.khv else part
 
     # -- assembly ---------------------------------------------------------------------
     def _coordinates(self) -> Coordinates:
@@ -317,26 +373,26 @@ class CycloidSystem:
                 dj = c.index[f"disc{s.index}"]
                 b[:, dj.start:dj.start + 2] -= np.eye(2)
                 b[:, dj.start + 2] -= perp(a_k)
-                name = (f"eccentric bearing disc {s.index + 1}" if self.khv else
-                        f"crank bearing {k + 1} disc {s.index + 1}")
-                out.append(Element(name, "crank bearings", b,
+                out.append(Element(self._bearing_name(k, s.index),
+                                   self.group("crank bearings"), b,
                                    self._maybe_rigid("crank bearings", self.crank_bearing, 2)))
             for name in ("s1", "s2"):
                 b = np.zeros((2, n))
                 b[:, c.index[f"{name}_{k}"]] = np.eye(2)
-                label = "input bearing" if self.khv else f"support bearing {k + 1}"
-                out.append(Element(f"{label}{'ab'[name == 's2']}", "support bearings", b,
+                out.append(Element(self._support_name(k, "ab"[name == "s2"]),
+                                   self.group("support bearings"), b,
                                    self._maybe_rigid("support bearings",
                                                      self.support_bearing, 2)))
             b = np.zeros((2 * self.discs, n))
             b[:, c.index[f"w{k}"]] = np.eye(2 * self.discs)
             shaft = "input shaft" if self.khv else f"crankshaft {k + 1}"
-            out.append(Element(f"{shaft} bending", "crankshaft bending", b,
+            out.append(Element(f"{shaft} bending", self.group("crankshaft bending"), b,
                                self._maybe_rigid("crankshaft bending",
                                                  el.linear(self.bending_stiffness),
                                                  2 * self.discs)))
             twist = {f"psi_e{k}": 1.0} if self.khv else {f"psi_e{k}": 1.0, f"psi_g{k}": -1.0}
-            out.append(Element(f"{shaft} torsion", "crankshaft torsion", c.row(twist)[None, :],
+            out.append(Element(f"{shaft} torsion", self.group("crankshaft torsion"),
+                               c.row(twist)[None, :],
                                self._maybe_rigid("crankshaft torsion",
                                                  el.linear(self.torsion_stiffness), 1)))
             if not self.khv:
@@ -387,8 +443,7 @@ class CycloidSystem:
         om, c = self.drive.output, self._coords
         n_o, r_w = om.pin_count, om.pin_hole_circle_radius_m
         e = self.drive.geometry.eccentricity_m
-        angle = 2 * math.pi * np.arange(n_o) / n_o - phi / self.za
-        centres = r_w * np.stack([np.cos(angle), np.sin(angle)])           # (2, n_o)
+        centres = self._output_centres(phi)
         rows, g0, normals = [], [], []
         hole = om.hole_radius_m if om.hole_radius_m is not None else om.contact_radius_m + e
         clearance = hole - om.contact_radius_m - e
@@ -422,7 +477,7 @@ class CycloidSystem:
 
     # -- solving ------------------------------------------------------------------------
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
-              start=None) -> SystemState:
+              start=None, friction: PathFriction | None = None) -> SystemState:
         """The system at position p under an output torque (input held).
 
         Parameters
@@ -435,6 +490,8 @@ class CycloidSystem:
             The flank the contacts' half-widths are taken for; the torque's sign by default.
         start : SystemState, optional
             A nearby solution to start from (the previous torque step).
+        friction : PathFriction, optional
+            Coefficients of the friction torque the state reports (``friction_Nm``).
 
         Returns
         -------
@@ -481,13 +538,78 @@ class CycloidSystem:
             torque[s.index] = -float(qq.arm @ lam)
             contacts[s.index] = int(np.sum(lam > 0))
         bearings = {e.name: eq.element_force[e.name] for e in elements
-                    if e.group in ("crank bearings", "support bearings")}
+                    if e.group in (self.group("crank bearings"), self.group("support bearings"))}
         out_pins = eq.forces["output pins"].reshape(self.discs, -1) if self.khv else None
+        lost = {} if friction is None else self._friction(p, phi, pins, sets, eq, friction)
         return SystemState(output_torque_Nm=t, position_rad=phi,
                            twist_rad=float(eq.u[c.index["out"]][0]), pin_force_N=force,
                            disc_torque_Nm=torque, contacts=contacts,
                            bearing_force_N=bearings, output_pin_force_N=out_pins,
-                           paths_rad={k: v / t for k, v in eq.work.items()}, equilibrium=eq)
+                           paths_rad={k: v / t for k, v in eq.work.items()}, equilibrium=eq,
+                           friction_Nm=lost)
+
+    def _friction(self, p, phi, pins, sets, eq, fr: PathFriction) -> dict:
+        """Friction torque [N m] on the output per source: each friction pair's force (mu
+        times its normal force, or its bearing's moment) times its slip per unit output
+        twist, the slips from the tangent at this state (``Equilibrium.rate``)."""
+        c = self._coords
+        v = eq.rate / eq.rate[c.index["out"]][0]          # per unit output twist
+        out = {}
+        mu_pin = min(fr.pin_disc, fr.pin_groove) \
+            if self.drive.stage.pin_structure == "conventional" else fr.pin_disc
+        total = 0.0
+        for s, (cs, q) in zip(self.slots, pins):
+            rot = -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+            n_h, arm = rotate(q.normal, rot), rotate(q.point, rot)   # about the disc centre
+            dj = v[c.index[f"disc{s.index}"]]
+            vel = dj[:2, None] + dj[2] * perp(arm)         # the disc at each contact point
+            total += mu_pin * float(eq.forces[cs.name] @ np.abs(np.sum(perp(n_h) * vel, 0)))
+        out["pin contacts"] = total
+        h = self.drive.stage.holes
+        journal = (h.centre_bore_radius_m if self.khv else h.crank_hole_radius_m) \
+            - self.supports.bearing_roller_diameter_m
+        bear = supp = 0.0
+        for k in range(self.cranks):
+            psi = v[c.index[f"psi_e{k}"]][0]
+            for s in self.slots:        # the crank turns against the disc
+                rel = psi - v[c.index[f"disc{s.index}"]][2] \
+                    + (0.0 if self.khv else v[c.index["carrier"]][0])
+                force = eq.element_force[self._bearing_name(k, s.index)]
+                bear += fr.bearing * np.hypot(*force) * journal * abs(rel)
+            for end in "ab":            # the crank turns against its frame
+                force = eq.element_force[self._support_name(k, end)]
+                supp += fr.bearing * np.hypot(*force) * 0.5 \
+                    * self.supports.crankshaft_diameter_m * abs(psi)
+        out[self.group("crank bearings")] = float(bear)
+        out[self.group("support bearings")] = float(supp)
+        if self.khv:
+            om = self.drive.output
+            centres = self._output_centres(phi)
+            slip = []
+            for s in self.slots:        # the pin (roller) against its hole, tangentially
+                t = perp(-self._eccentric(phi, s) / self.drive.geometry.eccentricity_m)
+                dj = v[c.index[f"disc{s.index}"]]
+                rel = v[c.index["out"]][0] * perp(centres) - dj[:2, None] \
+                    - dj[2] * perp(centres)
+                slip.append(np.abs(t @ rel))
+            lever = 1.0 if om.roller_radius_m is None else om.pin_radius_m / om.roller_radius_m
+            out["output pins"] = fr.output_pin * lever * float(
+                eq.forces["output pins"] @ np.concatenate(slip))
+        out["output seal"] = fr.output_torque_Nm
+        return out
+
+    def _bearing_name(self, k: int, j: int) -> str:
+        return (f"eccentric bearing disc {j + 1}" if self.khv else
+                f"crank bearing {k + 1} disc {j + 1}")
+
+    def _support_name(self, k: int, end: str) -> str:
+        return f"{'input bearing' if self.khv else f'support bearing {k + 1}'}{end}"
+
+    def _output_centres(self, phi: float) -> np.ndarray:
+        """(2, n_o) the output pins' centres [m] at crank angle phi."""
+        om = self.drive.output
+        angle = 2 * math.pi * np.arange(om.pin_count) / om.pin_count - phi / self.za
+        return om.pin_hole_circle_radius_m * np.stack([np.cos(angle), np.sin(angle)])
 
 
 #: The stiffness of a part made rigid for a limit case [N/m or N m/rad]: 1e5 times the

@@ -60,15 +60,25 @@ class SystemTwist:
     """The twist of the reducer at any output torque over the positions of one pitch, from
     the system model: the twist model :func:`toothfem.fem.datasheet.sheet.datasheet` reads.
 
+    With ``friction`` the twist depends on the way the torque came: on a branch of
+    direction s (+1 the torque rising, -1 falling) the elastic system carries
+    T_e = T - s T_f(T_e), T_f the friction torque the output meets at T_e
+    (:meth:`CycloidSystem.solve`'s ``friction_Nm``, the mean over the positions); at a
+    reversal the contacts stick until the torque has changed by 2 T_f (the play operator
+    of a Coulomb element with rigid stick: docs/stiffness.md, "Friction").
+
     Parameters
     ----------
     system : toothfem.fem.system.cycloid.CycloidSystem
     progress : callable, optional
         Wraps each torque's iterator over the positions.
+    friction : toothfem.fem.system.cycloid.PathFriction, optional
+        None: frictionless (the elastic curve).
     """
 
-    def __init__(self, system: CycloidSystem, progress=None):
+    def __init__(self, system: CycloidSystem, progress=None, friction=None):
         self.system = system
+        self.friction = friction
         self.drive = system.drive
         self.supports = system.supports
         self.positions_rad = np.asarray(system.slots[0].solver.positions_rad, float)
@@ -98,12 +108,54 @@ class SystemTwist:
             last = self._last.get(flank)
             it = range(self.positions_rad.size)
             it = it if self.progress is None else self.progress(it)
-            self._memo[t] = [self.system.solve(t, p, start=None if last is None else last[p])
-                             for p in it]
+            self._memo[t] = [self.system.solve(t, p, start=None if last is None else last[p],
+                                               friction=self.friction) for p in it]
             self._last[flank] = self._memo[t]
         return self._memo[t]
 
-    def at(self, output_torque_Nm: float, side: int = 1) -> TwistPoint:
+    @property
+    def friction_description(self) -> str:
+        """What the summary says of the friction in the path."""
+        f = self.friction
+        if f is None:
+            return "off: frictionless contact, the loop's width is the backlash"
+        return (f"Coulomb in the quasi-static path, rigid stick at reversals: pin contacts "
+                f"mu {f.pin_disc:g} (grooves {f.pin_groove:g}), bearings mu {f.bearing:g}, "
+                f"output pins mu {f.output_pin:g}, {f.output_torque_Nm:.3g} N m on the "
+                "output (seal, main bearings)")
+
+    def carried(self, output_torque_Nm: float, branch: int) -> float:
+        """T_e, the torque the elastic system carries at the output torque T on a branch:
+        T_e = T - branch T_f(T_e), by fixed-point iteration (T_f is a few per cent of T:
+        each step shrinks the error by that factor).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            T [N m].
+        branch : {1, -1, 0}
+            The torque rising (+1) or falling (-1); 0 or no friction: T itself.
+
+        Returns
+        -------
+        float
+            [N m].
+        """
+        t = float(output_torque_Nm)
+        if not branch or self.friction is None:
+            return t
+        te = t
+        for _ in range(FRICTION_ITERATIONS):
+            side = int(math.copysign(1, te)) if te else -branch
+            tf = float(np.mean([s.friction_torque_Nm for s in self.states(te, side)]))
+            new = t - branch * tf
+            if abs(new - te) <= FRICTION_RTOL * max(tf, 1e-12):
+                return new
+            te = new
+        raise CaseError(f"the friction torque at {t:g} N m did not settle (friction "
+                        "coefficients too large for the drive to turn its output?)")
+
+    def at(self, output_torque_Nm: float, side: int = 1, branch: int = 0) -> TwistPoint:
         """The twist at a signed output torque.
 
         Parameters
@@ -112,6 +164,9 @@ class SystemTwist:
             [N m], either sign.
         side : {1, -1}
             At zero torque, the flank the limit comes from.
+        branch : {0, 1, -1}
+            With friction: the torque rising (+1) or falling (-1) to this value; 0 the
+            elastic curve (no friction).
 
         Returns
         -------
@@ -119,7 +174,10 @@ class SystemTwist:
             ``paths``: the parts of the work balance; ``contacts``: the first disc's pins
             in contact; ``member_torques_Nm``: each disc's mean torque.
         """
-        sts = self.states(output_torque_Nm, side)
+        te = self.carried(output_torque_Nm, branch)
+        if te != output_torque_Nm:
+            side = int(math.copysign(1, te)) if te else side
+        sts = self.states(te, side)
         return TwistPoint(output_torque_Nm=float(output_torque_Nm),
                           total=np.array([s.twist_rad for s in sts]), paths=_paths(sts),
                           contacts=np.array([s.contacts[0] for s in sts]),
@@ -196,6 +254,9 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
                                per_pitch=int(per_pitch), even_by_layout=even)
 
 
+#: The friction torque's fixed point: iterations allowed, and the change of T_e (a
+#: fraction of T_f) at which it has settled.
+FRICTION_ITERATIONS, FRICTION_RTOL = 50, 1e-3
 #: The discs share the torque evenly when no share departs from 1/M by more than this
 #: (the round-off of the solve; a layout that splits unevenly departs by percents).
 EVEN_SHARE_ATOL = 1e-6

@@ -81,7 +81,9 @@ class ContactSet:
 class Equilibrium:
     """A solved state: coordinates ``u`` (n,), each contact set's forces [N] and gaps [m],
     each element's force and deformation, and the work of each group [J]
-    (``sum(work.values()) == Q . u``)."""
+    (``sum(work.values()) == Q . u``); ``rate``: du per unit growth of the load's
+    magnitude at this state (the tangent system with the carrying contacts held), what the
+    friction in the quasi-static path slips by."""
     u: np.ndarray
     forces: dict
     gaps: dict
@@ -89,6 +91,7 @@ class Equilibrium:
     element_deformation: dict
     work: dict = field(default_factory=dict)
     iterations: int = 0
+    rate: np.ndarray | None = None
 
 
 def _element_terms(elements, u, n):
@@ -157,7 +160,8 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibriu
             h = h_new
         else:
             raise ContactError("the contact flexibilities (Hertz half-widths) did not settle")
-    f_int, _, per = _element_terms(elements, u, n)
+    f_int, kt, per = _element_terms(elements, u, n)
+    rate = _rate(n, kt, gmat[active], h[np.ix_(active, active)], q / np.linalg.norm(q))
     gap = g0 + h @ lam + gmat @ u
     gap = np.where(active, 0.0, gap)
     work = {}
@@ -175,7 +179,34 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibriu
         gaps={c.name: gap[sizes[k]:sizes[k + 1]] for k, c in enumerate(contacts)},
         element_force={k: v[0] for k, v in per.items()},
         element_deformation={k: v[1] for k, v in per.items()}, work=work,
-        iterations=total_it)
+        iterations=total_it, rate=rate)
+
+
+def _rate(n, kt, ga, haa, dq) -> np.ndarray:
+    """du for the load increment dq with the carrying contacts held (the tangent)."""
+    return _saddle(n, kt, ga, haa, dq, np.zeros(ga.shape[0]))[:n]
+
+
+def _saddle(n, kt, ga, haa, rhs_u, rhs_g) -> np.ndarray:
+    """(u, lambda_A) of [[K, -G_A^T], [-G_A, -H_AA]] (u, lambda_A) = (rhs_u, rhs_g),
+    equilibrated (stiffnesses of 1e3-1e15 N/m against flexibilities of 1e-10 m/N)."""
+    k = ga.shape[0]
+    mat = np.zeros((n + k, n + k))
+    mat[:n, :n] = kt
+    mat[:n, n:] = -ga.T
+    mat[n:, :n] = -ga
+    mat[n:, n:] = -haa
+    d = np.abs(np.diag(mat))
+    d = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
+    try:
+        sol = d * np.linalg.solve(mat * d[:, None] * d[None, :],
+                                  np.concatenate([rhs_u, rhs_g]) * d)
+    except np.linalg.LinAlgError:
+        sol = np.full(n + k, np.nan)
+    if not np.all(np.isfinite(sol)):
+        raise ContactError("singular system: a body or coordinate that nothing holds "
+                           f"({k} contacts carry)")
+    return sol
 
 
 def _flexibility(contacts, lam, sizes) -> np.ndarray:
@@ -247,24 +278,7 @@ def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
     seen = set()
     for _ in range(MAX_ACTIVE_SET):
         idx = np.flatnonzero(active)
-        k = idx.size
-        ga = gmat[idx]
-        mat = np.zeros((n + k, n + k))
-        mat[:n, :n] = kt
-        mat[:n, n:] = -ga.T
-        mat[n:, :n] = -ga
-        mat[n:, n:] = -h[np.ix_(idx, idx)]
-        rhs = np.concatenate([rhs_u, g0[idx]])
-        # equilibrate: stiffnesses (1e3-1e15 N/m) against flexibilities (1e-10 m/N)
-        d = np.abs(np.diag(mat))
-        d = 1.0 / np.sqrt(np.where(d > 0, d, 1.0))
-        try:
-            sol = d * np.linalg.solve(mat * d[:, None] * d[None, :], rhs * d)
-        except np.linalg.LinAlgError:
-            raise ContactError("singular system: a body or coordinate that nothing holds "
-                               f"({k} contacts carry)") from None
-        if not np.all(np.isfinite(sol)):
-            raise ContactError("singular system: a body or coordinate that nothing holds")
+        sol = _saddle(n, kt, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
         u = sol[:n]
         lam = np.zeros(m)
         lam[idx] = sol[n:]

@@ -37,6 +37,9 @@ def add_parser(sub):
                    help="cycle solvers over the drive's full period for the TE (default 6)")
     p.add_argument("--te-positions", type=int, default=12,
                    help="positions per pitch of each TE solver (default 12)")
+    p.add_argument("--no-friction", action="store_false", dest="friction",
+                   help="leave friction out of the quasi-static path: the elastic curve "
+                        "(the loop's only width is then the backlash)")
     p.set_defaults(func=run)
 
 
@@ -47,7 +50,7 @@ def run(args) -> int:
     ----------
     args : argparse.Namespace
         ``case``, ``out``, ``torque_max`` [N m], ``steps``, ``positions``, ``te_torque``
-        [N m], ``te_samples`` and ``te_positions``.
+        [N m], ``te_samples``, ``te_positions`` and ``friction``.
 
     Returns
     -------
@@ -58,12 +61,14 @@ def run(args) -> int:
     case = load_case(args.case)
     result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,
                                 positions=args.positions, te_torque_Nm=args.te_torque,
-                                te_samples=args.te_samples, te_positions=args.te_positions)
+                                te_samples=args.te_samples, te_positions=args.te_positions,
+                                friction=args.friction)
     with atomic_dir(args.out) as tmp:
         summary = write_stiffness(result, tmp)
     keep = ("rated_torque_Nm", "rated_torque_assumed", "torsional_rigidity_Nm_per_arcmin",
-            "lost_motion_arcmin", "backlash_arcmin", "compliance_shares",
-            "te_peak_to_peak_arcsec", "te_rms_arcsec", "member_share_max",
+            "lost_motion_arcmin", "backlash_arcmin", "hysteresis_loss_arcmin",
+            "compliance_shares", "te_mean_arcsec", "te_peak_to_peak_arcsec", "te_rms_arcsec",
+            "te_definition", "member_share_max",
             "member_load_factor_fe")
     print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
     return 0

@@ -9,12 +9,16 @@ from . import pyplot
 
 
 def hysteresis(sheet, title: str = ""):
-    """Output twist against output torque over the loop (0 -> +T -> -T -> +T), the range
-    over the meshing positions shaded, with the rigidity slope and the lost motion marked.
+    """Output twist against output torque over the loop (0 -> +T -> -T -> +T): left the
+    whole loop with the rigidity secants, right the window of +-3 % of the rated torque
+    (both branches at -3 %, 0, +3 %), with the lost-motion points (the midpoints of the
+    width at +-3 %) and the hysteresis loss (the width at zero torque) marked.
 
     Parameters
     ----------
     sheet : toothfem.fem.datasheet.sheet.Datasheet
+    title : str
+        The figure's title (default: the rated torque).
 
     Returns
     -------
@@ -22,43 +26,58 @@ def hysteresis(sheet, title: str = ""):
     """
     plt = pyplot()
     loop = sheet.loop
-    fig, ax = plt.subplots(figsize=(8.5, 6))
+    fig, (ax, zoom) = plt.subplots(1, 2, figsize=(12, 5.6),
+                                   gridspec_kw={"width_ratios": [1.25, 1]})
     t, th = loop.torque_Nm, loop.twist_arcmin
-    order = np.argsort(t, kind="stable")
-    ax.fill_between(t[order], loop.twist_min_arcmin[order], loop.twist_max_arcmin[order],
-                    color="tab:blue", alpha=0.2, lw=0, label="range over the positions")
-    ax.plot(t, th, "o-", color="tab:blue", ms=3, lw=1.2,
-            label="mean over the positions (0 → +T → −T → +T)")
     rated = sheet.rated_torque_Nm
-    # rigidity: the 50-100 % secant of each branch
-    for side, colour in ((1, "tab:red"), (-1, "tab:red")):
-        pts = [(x, y) for x, y in zip(t, th) if side * x > 0]
-        xs = np.array([p[0] for p in pts])
-        ys = np.array([p[1] for p in pts])
+    spread = float(np.max(loop.twist_max_arcmin - loop.twist_min_arcmin))
+    ax.plot(t, th, "o-", color="tab:blue", ms=3, lw=1.2,
+            label=f"mean over the positions (0 → +T → −T → +T); their range ≤ {spread:.2g} "
+                  "arcmin")
+    for a in (ax, zoom):
+        a.axhline(0, color="k", lw=0.5)
+        a.axvline(0, color="k", lw=0.5)
+        a.set_xlabel("output torque [N m]")
+        a.set_ylabel("output twist [arcmin]")
+        a.grid(alpha=0.3)
+    for side in (1, -1):        # rigidity: the 50-100 % secant of each loading branch
+        up = np.array([k for k in range(1, t.size) if side * (t[k] - t[k - 1]) > 0
+                       and side * t[k] > 0])
+        order = np.argsort(t[up])
         k = sheet.rigidity_by_direction[0 if side > 0 else 1]
         x0 = side * 0.5 * rated
-        y0 = np.interp(x0, xs[np.argsort(xs)], ys[np.argsort(xs)])
+        y0 = np.interp(x0, t[up][order], th[up][order])
         xr = np.array([x0, side * rated])
-        ax.plot(xr, y0 + (xr - x0) / k, "--", color=colour, lw=1.5,
+        ax.plot(xr, y0 + (xr - x0) / k, "--", color="tab:red", lw=1.5,
                 label=f"rigidity 50-100 % of rated: {sheet.rigidity_Nm_per_arcmin:.4g} "
-                      "N m/arcmin"
-                if side > 0 else None)
-    lm = sheet.lost_motion_arcmin
+                      "N m/arcmin" if side > 0 else None)
     t_lm = 0.03 * rated
-    ax.axvspan(-t_lm, t_lm, color="tab:orange", alpha=0.25,
-               label=f"±3 % of rated: lost motion {lm:.3g} arcmin")
-    ax.annotate(f"backlash {sheet.backlash_arcmin:.3f} arcmin", xy=(0, 0),
-                xytext=(0.05 * rated, -0.08 * np.ptp(th)), fontsize=9,
-                arrowprops=dict(arrowstyle="->", lw=0.8))
-    ax.axhline(0, color="k", lw=0.5)
-    ax.axvline(0, color="k", lw=0.5)
-    ax.set_xlabel("output torque [N m]")
-    ax.set_ylabel("output twist [arcmin]")
-    assumed = " (rated = operating torque, assumed)" if sheet.rated_torque_assumed else ""
-    ax.set_title(title or f"torsional stiffness: rated torque {rated:.4g} N m{assumed}",
-                 fontsize=10)
-    ax.grid(alpha=0.3)
+    ax.axvspan(-t_lm, t_lm, color="tab:orange", alpha=0.2, label="±3 % of rated (right)")
     ax.legend(fontsize=8, loc="upper left")
+    ax.set_title("the loop", fontsize=10)
+    w = sheet.window
+    zoom.axvspan(-t_lm, t_lm, color="tab:orange", alpha=0.2, label="±3 % of rated")
+    zoom.plot(w["torque_Nm"], w["rising_arcmin"], "^-", color="tab:green", ms=6,
+              label="torque rising")
+    zoom.plot(w["torque_Nm"], w["falling_arcmin"], "v-", color="tab:red", ms=6,
+              label="torque falling")
+    mid = 0.5 * (w["rising_arcmin"] + w["falling_arcmin"])
+    zoom.plot(w["torque_Nm"][[0, 2]], mid[[0, 2]], "ks", ms=6,
+              label=f"lost motion (midpoints at ±3 %): {sheet.lost_motion_arcmin:.3g} arcmin")
+    zoom.plot([0, 0], [w["rising_arcmin"][1], w["falling_arcmin"][1]], color="tab:purple",
+              lw=4, alpha=0.7, label=f"hysteresis loss (width at 0): "
+                                     f"{sheet.hysteresis_loss_arcmin:.3g} arcmin")
+    zoom.plot([], [], " ", label=f"backlash (clearances): {sheet.backlash_arcmin:.3g} arcmin")
+    lo = min(np.min(w["rising_arcmin"]), np.min(w["falling_arcmin"]))
+    hi = max(np.max(w["rising_arcmin"]), np.max(w["falling_arcmin"]))
+    pad = 0.2 * max(hi - lo, 1e-6)
+    zoom.set_xlim(-1.6 * t_lm, 1.6 * t_lm)
+    zoom.set_ylim(lo - pad, hi + 2.5 * pad)
+    zoom.legend(fontsize=8, loc="upper left")
+    zoom.set_title("near zero torque (±3 % of rated)", fontsize=10)
+    assumed = " (rated = operating torque, assumed)" if sheet.rated_torque_assumed else ""
+    fig.suptitle(title or f"torsional stiffness: rated torque {rated:.4g} N m{assumed}",
+                 fontsize=10)
     fig.tight_layout()
     return fig
 
