@@ -21,6 +21,7 @@ from .datasheet import datasheet_rows, stiffness_analysis, write_stiffness
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
+from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
 from .report import durability as report_durability, plots, save, summary as report_summary
@@ -148,6 +149,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
+    summary.update(reducer_te(drive, case, output, phis.size))
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {
@@ -160,6 +162,38 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
                          member_point=point, member_name=drive.member_name, summary=summary,
                          contact_name=drive.contact_name, contacts_name=many,
                          members=drive.members, outlines=outlines)
+
+
+def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
+    """The transmission error of the whole reducer at an output torque over one pitch,
+    and the pin contacts' part of it, from the system model (the one TE every command
+    names, docs/stiffness.md); {} for a drive without one.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    case : toothfem.case.Case
+    output_torque_Nm : float
+        [N m].
+    positions : int
+        Positions over the pitch.
+
+    Returns
+    -------
+    dict
+        ``transmission_error_reducer_arcsec`` (mean), its ``..._ripple_arcsec`` (peak to
+        peak) and ``transmission_error_reducer_mesh_arcsec`` (the mesh's part, mean).
+    """
+    supports = drive.supports(case.to_si().supports)
+    system = drive.system_model(supports, positions)
+    if system is None:
+        return {}
+    point = SystemTwist(system).at(output_torque_Nm)
+    arcsec = 180 * 3600 / np.pi
+    return {"transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
+            "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
+            "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
+                                                            * arcsec)}
 
 
 def stack_records(records):

@@ -31,14 +31,16 @@ from .fem.datasheet.sheet import lost_motion_arcmin
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.deviations import only
 from .fem.drives import drive_for
+from .fem.system.datasheet import SystemTwist, disc_record
 
 #: The outputs of a sample: column -> (label, unit) for tables and pictures.
 OUTPUTS = {
     "max_force_N": ("maximum contact force", "N"),
     "max_ph_MPa": ("maximum Hertz pressure", "MPa"),
     "contacts_min": ("fewest contacts at a position", "-"),
-    "lost_motion_arcmin": ("lost motion", "arcmin"),
-    "te_pp_arcsec": ("loaded transmission error, peak to peak", "arcsec"),
+    "lost_motion_arcmin": ("lost motion, elastic curve (no friction)", "arcmin"),
+    "te_mean_arcsec": ("transmission error of the reducer, mean", "arcsec"),
+    "te_pp_arcsec": ("transmission error of the reducer, peak to peak", "arcsec"),
     "mesh_efficiency_pct": ("mesh efficiency", "%"),
     "total_efficiency_pct": ("total efficiency", "%"),
 }
@@ -237,9 +239,16 @@ def _solver(setup: _Setup):
 
 def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
     """The outputs of one built reducer (``deviation`` None: the nominal design);
-    ``state``: the drive's meshing at the solver's positions, if known."""
+    ``state``: the drive's meshing at the solver's positions, if known. Through the system
+    model where the drive has one (:func:`_system_outputs`), else along the chained load
+    paths of its member at the case's peak member torque."""
     case, si = setup.case, setup.case.to_si()
     drive = drive_for(case)
+    system = drive.system_model(drive.supports(si.supports), setup.positions,
+                                cache=False if setup.cache_dir is None
+                                else DiskCache(setup.cache_dir))
+    if system is not None:
+        return _system_outputs(setup, si, drive, system, deviation, state)
     options = {"deviation": deviation, "pitches": setup.pitches}
     twist = TwistModel(drive, drive.supports(si.supports), solver, options, state)
     t = setup.output_torque_Nm
@@ -254,7 +263,35 @@ def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
             "max_ph_MPa": float(np.max(peak.ph)) * 1e-6,
             "contacts_min": float(np.min(peak.contacts_per_position)),
             "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
+            "te_mean_arcsec": float(np.mean(total) / ARCSEC),
             "te_pp_arcsec": float((np.max(total) - np.min(total)) / ARCSEC),
+            "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
+            "total_efficiency_pct": 100 * float(eff.efficiency[0])}
+
+
+def _system_outputs(setup: _Setup, si, drive, system, deviation, state) -> dict:
+    """One built reducer through the system model at the operating torque: every disc on
+    its pins and bearings, the deviation's gaps at each position's pitch; the largest
+    force, Hertz pressure and fewest contacts over every disc (the split between them
+    solved, so no load factor), the elastic lost motion, the reducer's TE, and the
+    efficiency with the first disc's loads."""
+    twist = SystemTwist(system, deviation=deviation, pitches=setup.pitches)
+    t = setup.output_torque_Nm
+    sts = twist.states(t)
+    state = drive.meshing(system.slots[0].solver.positions_rad) if state is None else state
+    model = system.slots[0].solver.model
+    records = [disc_record(model, state, np.array([s.pin_force_N[j] for s in sts]),
+                           np.array([s.twist_rad for s in sts]),
+                           float(np.mean([s.disc_torque_Nm[j] for s in sts])))
+               for j in range(system.discs)]
+    eff = evaluate(si, setup.speed_rpm, t, table=table_from_records(state, records[:1], "fem"))
+    total = np.array([s.twist_rad for s in sts])
+    return {"max_force_N": float(max(np.max(r.force) for r in records)),
+            "max_ph_MPa": float(max(np.max(r.ph) for r in records)) * 1e-6,
+            "contacts_min": float(min(np.min(s.contacts) for s in sts)),
+            "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
+            "te_mean_arcsec": float(np.mean(total) / ARCSEC),
+            "te_pp_arcsec": float(np.ptp(total) / ARCSEC),
             "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
             "total_efficiency_pct": 100 * float(eff.efficiency[0])}
 

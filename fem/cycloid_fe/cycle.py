@@ -385,7 +385,7 @@ class CycleSolver:
             for p in it:
                 self._solve_one(p, pos[p], q_load, pin, side, deviation, pitches[p], force,
                                 gap, beta)
-        return _record("cycle", m, state, force, gap, beta, torque)
+        return record("cycle", m, state, force, gap, beta, torque)
 
     def _modified_gaps(self, geometry, side: int) -> list:
         """Initial gaps of another modification of the disc at this solver's candidates,
@@ -584,7 +584,28 @@ def _half_width(lam, r_eq, e_star, q_load, arm):
     return line_half_width(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)
 
 
-def _record(method, model, state, force, gap, beta, torque) -> LoadSharing:
+def record(method, model, state, force, gap, beta, torque) -> LoadSharing:
+    """The load sharing record of a disc from its pin forces: Hertz half-widths and
+    pressures from the forces (:func:`toothfem.fem.load_sharing.hertz_fields`).
+
+    Parameters
+    ----------
+    method : str
+        "cycle", "detailed" or "system".
+    model : CycloidFEModel
+    state : toothfem.geometry.kinematics.MeshingState
+        The meshing at the positions.
+    force, gap : numpy.ndarray, shape (P, Zb)
+        Pin forces [N] and remaining gaps [m].
+    beta : numpy.ndarray, shape (P,)
+        The transmission error of the record [rad].
+    torque : float
+        The disc's torque [N m].
+
+    Returns
+    -------
+    LoadSharing
+    """
     b, ph, invalid = hertz_fields(force, model.face_width, state.equivalent_radius, model.e_star,
                                   (state.radius_moving, state.radius_fixed))
     return LoadSharing(

@@ -15,7 +15,7 @@ from .. import contact
 from ..elastic import Body
 from ..load_sharing import LoadSharing, check_member_torque
 from ..mesh import Refinement, mesh_rings
-from .cycle import _record, _seed_guess, pin_moves
+from .cycle import _seed_guess, pin_moves, record
 from . import flanks as fl
 from .model import CycloidFEModel, _held_nodes, _positions, _Position, housing_body
 
@@ -246,7 +246,7 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
         pressures.append(sl.pressure(lam))
         start += lam.size
     # the solve's rotation counts from the meshed pose, turned side Delta delta
-    rec = _record("detailed", model, state, force, gap,
+    rec = record("detailed", model, state, force, gap,
                   np.array([sol.rigid + fl.frame_turn(g, side)]), torque)
     # P_h: Hertz's on the FE force where its assumptions hold, the FE peak where they fail
     # (b not small against the radii); the FE profiles stay in DetailedResult.pressure.

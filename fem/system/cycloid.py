@@ -63,7 +63,8 @@ from ...geometry.vectors import rotate
 from ..datasheet import supports as sp
 from . import elements as el
 from ..contact import ContactError
-from .solve import ContactSet, Element, solve
+from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps
+from .solve import ContactSet, Element, Linear, solve
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
 #: ~ 20 N/(mm um) per mm of face width [N/m per m].
@@ -301,7 +302,7 @@ class CycloidSystem:
         fs = drive.first_stage
         if self.khv or fs is None:   # no spur stage, or no module: the mesh taken rigid
             self.rigid = self.rigid + ("spur mesh",)
-            self.planet_base_radius, self.spur_stiffness = 1.0, RIGID_STIFFNESS
+            self.planet_base_radius, self.spur_stiffness = 1.0, RIGID_STIFFNESS / RIGID_FACTOR
         else:
             self.planet_base_radius = 0.5 * fs.module_m * fs.planet_teeth * \
                 math.cos(fs.pressure_angle_rad)
@@ -408,11 +409,18 @@ class CycloidSystem:
         return out
 
     def _maybe_rigid(self, group, law, size: int):
-        """``law``, or a rigid one of ``size`` where ``group`` is made rigid."""
-        return law if group not in self.rigid else el.linear(np.eye(size) * RIGID_STIFFNESS)
+        """``law``, or a rigid one of ``size`` where ``group`` is made rigid: a linear law
+        RIGID_FACTOR times stiffer, a bearing RIGID_STIFFNESS."""
+        if group not in self.rigid:
+            return law
+        if isinstance(law, Linear):
+            return el.linear(law.k * RIGID_FACTOR)
+        return el.linear(np.eye(size) * RIGID_STIFFNESS)
 
-    def _pins(self, p: int, side: int, torque: float):
-        """(ContactSet, candidates) of each disc's pins at position p."""
+    def _pins(self, p: int, side: int, torque: float, deviation=None, pitch: int = 0):
+        """(ContactSet, candidates) of each disc's pins at position p; a built stage's
+        ``deviation`` shifts the initial gaps (:func:`toothfem.fem.cycloid_fe.cycle.
+        deviation_gaps`, every disc ground alike), ``pitch`` pin pitches on."""
         c, out = self._coords, []
         w = self.drive.face_width_m
         q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
@@ -425,7 +433,10 @@ class CycloidSystem:
             gmat[:, dj.start] = -n_h[0]
             gmat[:, dj.start + 1] = -n_h[1]
             gmat[:, dj.start + 2] = q.arm
-            g0 = np.where(np.isfinite(q.gap), q.gap, 1.0)
+            g0 = np.where(np.isfinite(q.gap), q.gap, MODIFIED_GAP_FAR)
+            if deviation is not None:
+                g0 = g0 + deviation_gaps(s.solver.model, q, deviation,
+                                         int(pitch) + self._shift(s))
             if self.pin_spring is not None:
                 def flex(lam, size=q.pins.size):
                     return np.eye(size) * self.pin_spring
@@ -477,7 +488,8 @@ class CycloidSystem:
 
     # -- solving ------------------------------------------------------------------------
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
-              start=None, friction: PathFriction | None = None) -> SystemState:
+              start=None, friction: PathFriction | None = None, deviation=None,
+              pitch: int = 0) -> SystemState:
         """The system at position p under an output torque (input held).
 
         Parameters
@@ -492,6 +504,12 @@ class CycloidSystem:
             A nearby solution to start from (the previous torque step).
         friction : PathFriction, optional
             Coefficients of the friction torque the state reports (``friction_Nm``).
+        deviation : toothfem.fem.deviations.CycloidDeviation, optional
+            A built stage: its pins, discs and eccentricity off their drawing (the initial
+            gaps shifted; the tables the nominal disc's).
+        pitch : int
+            The built stage's pin pitches on from the position (a deviation's pins and
+            lobes meet there).
 
         Returns
         -------
@@ -511,20 +529,21 @@ class CycloidSystem:
         phi = float(self.slots[0].solver.positions_rad[p])
         c = self._coords
         elements = self._elements(phi)
-        pins = self._pins(p, side, t)
+        pins = self._pins(p, side, t, deviation, pitch)
         sets = [cs for cs, _ in pins]
         if self.khv:
             sets.append(self._output_pins(phi, t))
         q = np.zeros(c.n)
         q[c.index["out"]] = t
-        u0 = active0 = None
+        u0 = active0 = lam0 = None
         if start is not None and start.equilibrium is not None:
-            u0 = start.equilibrium.u
-            active0 = {name: f > 0 for name, f in start.equilibrium.forces.items()}
-            if any(active0.get(cs.name, np.zeros(0)).size != cs.g0.size for cs in sets):
-                active0 = None
+            u0, lam0 = start.equilibrium.u, start.equilibrium.forces
+            if any(lam0.get(cs.name, np.zeros(0)).size != cs.g0.size for cs in sets):
+                lam0 = None
+            else:
+                active0 = {name: f > 0 for name, f in lam0.items()}
         try:
-            eq = solve(c.n, elements, sets, q, u0=u0, active0=active0)
+            eq = solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
         except ContactError as exc:
             raise ContactError(f"{exc} (output torque {t:g} N m, crank angle "
                                f"{math.degrees(phi):.4g} deg)") from None
@@ -533,8 +552,7 @@ class CycloidSystem:
         contacts = np.zeros(self.discs, int)
         for s, (cs, qq) in zip(self.slots, pins):
             lam = eq.forces[cs.name]
-            shift = int(round(s.beta_rad * self.zb / (2 * math.pi)))
-            force[s.index, (qq.pins + shift) % self.zb] = lam
+            force[s.index, (qq.pins + self._shift(s)) % self.zb] = lam
             torque[s.index] = -float(qq.arm @ lam)
             contacts[s.index] = int(np.sum(lam > 0))
         bearings = {e.name: eq.element_force[e.name] for e in elements
@@ -598,6 +616,10 @@ class CycloidSystem:
         out["output seal"] = fr.output_torque_Nm
         return out
 
+    def _shift(self, s: DiscSlot) -> int:
+        """Pins from the first disc's labels to disc ``s``'s own (its turn beta)."""
+        return int(round(s.beta_rad * self.zb / (2 * math.pi)))
+
     def _bearing_name(self, k: int, j: int) -> str:
         return (f"eccentric bearing disc {j + 1}" if self.khv else
                 f"crank bearing {k + 1} disc {j + 1}")
@@ -616,4 +638,7 @@ class CycloidSystem:
 #: stiffest part of a reducer (a pin contact, ~1e9 N/m): its compliance is 1e-5 of the
 #: others', and the saddle system's round-off stays near 1e-8 of the coordinates.
 RIGID_STIFFNESS = 1e14
+#: A linear part made rigid is this many times stiffer than it is (its share of the
+#: compliance falls to 1e-5 of its own; a rotation's stiffness is not in N/m).
+RIGID_FACTOR = 1e5
 

@@ -18,6 +18,7 @@ from ...errors import CaseError, check_range
 from ..datasheet.transmission import (LoadedTE, MemberSplit, fourier_fill,
                                       harmonic_amplitudes, sampled_pitches)
 from ..datasheet.twist import ARCSEC, ZERO_TORQUE_NM, TwistPoint
+from ..cycloid_fe.cycle import record
 from .cycloid import CycloidSystem
 
 #: Every part of the twist is named after the part; a contact set's closed clearance
@@ -39,6 +40,31 @@ def path_name(group: str) -> str:
         E.g. "mesh".
     """
     return group[:-len(CLEARANCE_SUFFIX)] if group.endswith(CLEARANCE_SUFFIX) else group
+
+
+def disc_record(model, state, force, twist, torque):
+    """One disc's loads from the system model as the cycle mode's record.
+
+    Parameters
+    ----------
+    model : toothfem.fem.cycloid_fe.CycloidFEModel
+    state : toothfem.geometry.kinematics.MeshingState
+        The first disc's meshing at the positions (the pins' radii and points).
+    force : array_like, shape (P, Zb)
+        The disc's pin forces [N] by the pins' own numbers.
+    twist : array_like, shape (P,)
+        The reducer's TE at each position [rad].
+    torque : float
+        The disc's torque [N m].
+
+    Returns
+    -------
+    toothfem.fem.load_sharing.LoadSharing
+        Method "system"; Hertz half-widths and pressures from the forces.
+    """
+    force = np.asarray(force, float)
+    return record("system", model, state, force, np.full(force.shape, np.inf),
+                   np.asarray(twist, float), torque)
 
 
 def _paths(states) -> dict:
@@ -74,11 +100,18 @@ class SystemTwist:
         Wraps each torque's iterator over the positions.
     friction : toothfem.fem.system.cycloid.PathFriction, optional
         None: frictionless (the elastic curve).
+    deviation : toothfem.fem.deviations.CycloidDeviation, optional
+        A built stage (:meth:`CycloidSystem.solve`).
+    pitches : array_like of int, optional
+        The built stage's pin pitch at each position.
     """
 
-    def __init__(self, system: CycloidSystem, progress=None, friction=None):
+    def __init__(self, system: CycloidSystem, progress=None, friction=None, deviation=None,
+                 pitches=None):
         self.system = system
         self.friction = friction
+        self.deviation = deviation
+        self.pitches = None if pitches is None else np.asarray(pitches, int)
         self.drive = system.drive
         self.supports = system.supports
         self.positions_rad = np.asarray(system.slots[0].solver.positions_rad, float)
@@ -108,8 +141,10 @@ class SystemTwist:
             last = self._last.get(flank)
             it = range(self.positions_rad.size)
             it = it if self.progress is None else self.progress(it)
-            self._memo[t] = [self.system.solve(t, p, start=None if last is None else last[p],
-                                               friction=self.friction) for p in it]
+            self._memo[t] = [self.system.solve(
+                t, p, start=None if last is None else last[p], friction=self.friction,
+                deviation=self.deviation,
+                pitch=0 if self.pitches is None else int(self.pitches[p])) for p in it]
             self._last[flank] = self._memo[t]
         return self._memo[t]
 

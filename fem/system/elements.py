@@ -6,10 +6,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
 from ..datasheet.supports import PALMGREN_LINE_MM
+from .solve import Linear
 
 #: Every bearing also carries this linear stiffness [N/m] beside its rollers: the rollers'
 #: law has zero slope at zero load and none inside the play, where nothing else would hold
@@ -30,14 +32,10 @@ def linear(stiffness):
 
     Returns
     -------
-    callable
-        delta (d,) -> (f (d,), K (d, d)).
+    toothfem.fem.system.solve.Linear
+        delta (d,) -> (f (d,), K (d, d)); the solver assembles it once per solve.
     """
-    k = np.atleast_2d(np.asarray(stiffness, float))
-
-    def law(delta):
-        return k @ delta, k
-    return law
+    return Linear(stiffness)
 
 
 def roller_constant(length_m: float) -> float:
@@ -81,7 +79,7 @@ class RollerBearing:
         if not (self.length_m > 0 and math.isfinite(self.length_m)):
             raise ValueError(f"length_m = {self.length_m!r}: > 0 and finite")
 
-    @property
+    @cached_property
     def directions(self) -> np.ndarray:
         """(2, Z) unit vectors toward each roller."""
         a = 2 * math.pi * np.arange(self.rollers) / self.rollers + self.cage_rad

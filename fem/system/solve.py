@@ -40,12 +40,13 @@ import numpy as np
 from ..contact import ContactError
 from ..linsolve import one_blas_thread
 
-#: Newton iterations allowed per flexibility update, the updates allowed, and the active
+#: Newton iterations allowed (the contacts' flexibilities updated at each), and the active
 #: set's iterations per Newton step.
-MAX_NEWTON, MAX_UPDATES, MAX_ACTIVE_SET = 60, 30, 400
-#: Newton's step is converged when, on a settled active set, the coordinates moved by less
-#: than this fraction of their size (the elements' laws are smooth: the step then falls
-#: quadratically); the half-widths' update when the flexibilities changed by less.
+MAX_NEWTON, MAX_ACTIVE_SET = 100, 400
+#: Newton's step is converged when the coordinates moved by less than this fraction of
+#: their size and the contact forces by less than this fraction of the largest (the
+#: elements' laws are smooth: the step then falls quadratically; the Hertz half-widths
+#: move the flexibilities at first order in the force).
 RTOL = 1e-10
 #: A settled active set whose Newton step stops falling (round-off of parts made rigid)
 #: is converged once the step is below this fraction of the coordinates.
@@ -107,7 +108,8 @@ def _element_terms(elements, u, n):
     return force, stiff, out
 
 
-def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibrium:
+def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
+          lam0=None) -> Equilibrium:
     """Equilibrium of the assembly under the generalised forces ``q``.
 
     Parameters
@@ -121,8 +123,10 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibriu
     u0 : array_like, optional
         Start (a nearby state, e.g. the previous torque step).
     active0 : dict of str to bool array, optional
-        The contacts to start from per set; else the candidates that touch first along the
-        Newton step from ``u0`` with every contact rigid and active.
+        The contacts to start from per set; else the candidates that touch first as the
+        load moves the assembly (:func:`_first_touch`).
+    lam0 : dict of str to array, optional
+        Contact forces to take the first flexibilities at (a nearby state's).
 
     Returns
     -------
@@ -140,26 +144,33 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None) -> Equilibriu
     sizes = np.cumsum([0] + [c.g0.size for c in contacts])
     m = g0.size
     u = np.zeros(n) if u0 is None else np.asarray(u0, float).copy()
-    lam = np.zeros(m)
-    if active0 is not None:
-        active = np.concatenate([np.asarray(active0[c.name], bool) for c in contacts])
-    else:
-        active = None
-    total_it = 0
+    lam = np.zeros(m) if lam0 is None else np.concatenate(
+        [np.asarray(lam0[c.name], float) for c in contacts])
+    active = None if active0 is None else np.concatenate(
+        [np.asarray(active0[c.name], bool) for c in contacts])
+    linear, nonlinear = _split_linear(elements, n)
+    last = np.inf
     with one_blas_thread():
         h = _flexibility(contacts, lam, sizes)
-        for _ in range(MAX_UPDATES):
-            if active is None:
-                active = _first_touch(n, elements, gmat, g0, h, u, q)
-            u, lam, active, it = _newton(n, elements, gmat, g0, h, q, u, active)
-            total_it += it
-            h_new = _flexibility(contacts, lam, sizes)
-            if np.max(np.abs(h_new - h), initial=0.0) <= RTOL * max(np.max(np.abs(h)), 1e-300):
-                h = h_new
+        if active is None:
+            active = _first_touch(n, elements, gmat, g0, h, u, q)
+        for it in range(1, MAX_NEWTON + 1):
+            f_int, kt = _internal(linear, nonlinear, u, n)
+            u_new, lam_new, active = _linear_step(n, kt, q - f_int + kt @ u, gmat, g0, h,
+                                                  active)
+            step = np.max(np.abs(u_new - u))
+            change = np.max(np.abs(lam_new - lam), initial=0.0)
+            u, lam = u_new, lam_new
+            size = max(np.max(np.abs(u)), 1e-300)
+            settled = change <= RTOL * max(np.max(lam, initial=0.0), 1e-300)
+            if settled and (step <= RTOL * size
+                            or (step >= 0.5 * last and step <= STALL_RTOL * size)):
                 break
-            h = h_new
+            last = step
+            h = _flexibility(contacts, lam, sizes)
         else:
-            raise ContactError("the contact flexibilities (Hertz half-widths) did not settle")
+            raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
+    total_it = it
     f_int, kt, per = _element_terms(elements, u, n)
     rate = _rate(n, kt, gmat[active], h[np.ix_(active, active)], q / np.linalg.norm(q))
     gap = g0 + h @ lam + gmat @ u
@@ -254,20 +265,54 @@ def _first_touch(n, elements, gmat, g0, h, u, q) -> np.ndarray:
     return active
 
 
-def _newton(n, elements, gmat, g0, h, q, u, active):
-    """Newton on the elements' laws, each step a linear complementarity problem (the
-    elements at their tangent) solved by the primal-dual active set from the last set."""
-    last = np.inf
-    for it in range(1, MAX_NEWTON + 1):
-        f_int, kt, _ = _element_terms(elements, u, n)
-        u_new, lam, active = _linear_step(n, kt, q - f_int + kt @ u, gmat, g0, h, active)
-        step = np.max(np.abs(u_new - u))
-        u = u_new
-        size = max(np.max(np.abs(u)), 1e-300)
-        if step <= RTOL * size or (step >= 0.5 * last and step <= STALL_RTOL * size):
-            return u, lam, active, it
-        last = step
-    raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
+def _split_linear(elements, n):
+    """(K of the linear elements summed (n, n), the other elements)."""
+    k = np.zeros((n, n))
+    rest = []
+    for e in elements:
+        if isinstance(e.law, Linear):
+            k += e.b.T @ e.law.k @ e.b
+        else:
+            rest.append(e)
+    return k, rest
+
+
+def _internal(k_linear, nonlinear, u, n):
+    """(F(u), K(u)) of every element: the linear ones' sum, and the others one by one."""
+    force = k_linear @ u
+    stiff = k_linear.copy()
+    for e in nonlinear:
+        f, k = e.law(e.b @ u)
+        force += e.b.T @ f
+        stiff += e.b.T @ k @ e.b
+    return force, stiff
+
+
+class Linear:
+    """A linear law f = K delta; the solver assembles it once per solve.
+
+    Parameters
+    ----------
+    stiffness : array_like, shape (d, d) or scalar
+        K [N/m, N m/rad, ...].
+    """
+
+    def __init__(self, stiffness):
+        self.k = np.atleast_2d(np.asarray(stiffness, float))
+
+    def __call__(self, delta):
+        """(f, K) at the deformation.
+
+        Parameters
+        ----------
+        delta : array_like, shape (d,)
+
+        Returns
+        -------
+        f : numpy.ndarray, shape (d,)
+        k : numpy.ndarray, shape (d, d)
+        """
+        return self.k @ delta, self.k
 
 
 def _linear_step(n, kt, rhs_u, gmat, g0, h, active):

@@ -15,8 +15,15 @@ CONTACT_QUANTITIES = (
     ("{contacts}_in_contact_min", "{contacts} in contact, fewest", ""),
     ("max_force_N", "largest {contact} force", "N"),
     ("max_ph_MPa", "largest Hertz pressure P_h", "MPa"),
-    ("transmission_error_arcsec", "transmission error, mean", "arcsec"),
-    ("transmission_error_ripple_arcsec", "transmission error, peak to peak", "arcsec"),
+    ("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
+     "model), mean", "arcsec"),
+    ("transmission_error_reducer_ripple_arcsec", "  its peak to peak over the pitch",
+     "arcsec"),
+    ("transmission_error_reducer_mesh_arcsec", "  of it the mesh ({contact} contacts), mean",
+     "arcsec"),
+    ("transmission_error_arcsec", "mesh rotation of one {member} held at its bearing seats, "
+     "mean", "arcsec"),
+    ("transmission_error_ripple_arcsec", "  its peak to peak", "arcsec"),
     ("worst_position_deg", "worst position (largest force)", "deg crank"),
     ("hertz_invalid_contacts", "contacts where Hertz fails (b not << R)", ""),
     ("ph_from_fe_contacts", "of them with P_h from the FE", ""),
@@ -71,7 +78,7 @@ def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
     -------
     list of (quantity, unit, {column: value})
     """
-    words = {"contact": labels.contact, "contacts": labels.contacts}
+    words = {"contact": labels.contact, "contacts": labels.contacts, "member": labels.member}
     rows = [("output torque", "N m", {"ours": labels.output_torque_Nm}),
             (f"torque on {'the' if labels.members == 1 else 'each'} {labels.member}", "N m",
              {"ours": labels.member_torque_Nm})]
