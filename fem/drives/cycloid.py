@@ -410,7 +410,8 @@ class CycloidDrive(Drive):
             pin_radius=0.5 * dv.between(rng, t.pin_diameter_lower_m, t.pin_diameter_upper_m,
                                         zb, dist("pin_diameter")),
             profile=dv.symmetric(rng, t.disc_profile_m, (za, 2), dist("disc_profile")),
-            member_offset=-np.mean(holes, axis=1),
+            # a K-H-V disc has no crank holes: its bore locates it (no tolerance key)
+            member_offset=-np.mean(holes, axis=1) if holes.size else np.zeros(2),
             eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
                                             dist("eccentricity"))[0]))
 

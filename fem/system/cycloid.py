@@ -543,7 +543,14 @@ class CycloidSystem:
             else:
                 active0 = {name: f > 0 for name, f in lam0.items()}
         try:
-            eq = solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
+            try:
+                eq = solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
+            except ContactError:
+                if u0 is None:
+                    raise
+                # a start far from here (another torque's contacts) can lead the active
+                # set astray: from rest
+                eq = solve(c.n, elements, sets, q)
         except ContactError as exc:
             raise ContactError(f"{exc} (output torque {t:g} N m, crank angle "
                                f"{math.degrees(phi):.4g} deg)") from None

@@ -48,6 +48,13 @@ MAX_NEWTON, MAX_ACTIVE_SET = 100, 400
 #: elements' laws are smooth: the step then falls quadratically; the Hertz half-widths
 #: move the flexibilities at first order in the force).
 RTOL = 1e-10
+#: A contact's force or gap within this fraction of the largest of them is zero (a
+#: degenerate pair: touching without force).
+DEGENERATE_RTOL = 1e-10
+#: A set of contacts that leaves a body free is passed through with this vanishing stiffness
+#: on every coordinate, a fraction of the largest stiffness (the free body moves until it
+#: meets contacts; a set it settles on holds every body, so no solution carries it).
+HOLD_REL = 1e-9
 #: A settled active set whose Newton step stops falling (round-off of parts made rigid)
 #: is converged once the step is below this fraction of the coordinates.
 STALL_RTOL = 1e-7
@@ -321,16 +328,36 @@ def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
     active set ``active``."""
     m = g0.size
     seen = set()
+    hold = HOLD_REL * np.max(np.abs(np.diag(kt)), initial=1.0) * np.eye(n)
     for _ in range(MAX_ACTIVE_SET):
         idx = np.flatnonzero(active)
-        sol = _saddle(n, kt, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
+        try:
+            sol = _saddle(n, kt, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
+        except ContactError:
+            # a set that leaves a body free (the active set passes through one as contacts
+            # change): a vanishing stiffness on every coordinate moves the free body until
+            # the contacts it meets join the set; a settled set never needs it
+            sol = _saddle(n, kt + hold, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
+            u = sol[:n]
+            lam = np.zeros(m)
+            lam[idx] = sol[n:]
+            gap = g0 + h @ lam + gmat @ u
+            new = np.where(active, lam > 0, gap < 0)
+            if np.array_equal(new, active):
+                raise
+            active = new
+            continue
         u = sol[:n]
         lam = np.zeros(m)
         lam[idx] = sol[n:]
         gap = g0 + h @ lam + gmat @ u
-        new = np.where(active, lam > 0, gap < 0)
+        # a contact that touches without force (lambda = gap = 0, a degenerate pair) stays
+        # as it is: round-off must not toss it in and out
+        tol_lam = DEGENERATE_RTOL * np.max(np.abs(lam), initial=0.0)
+        tol_gap = DEGENERATE_RTOL * np.max(np.abs(gap), initial=0.0)
+        new = np.where(active, lam > -tol_lam, gap < -tol_gap)
         if np.array_equal(new, active):
-            return u, lam, active
+            return u, np.maximum(lam, 0.0), active
         if not np.any(new):
             new = active & (lam >= np.max(lam))
         key = new.tobytes()
