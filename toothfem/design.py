@@ -24,9 +24,10 @@ import numpy as np
 
 from .case import Case
 from .errors import CaseError, check_range
-from .fem.datasheet.sheet import backlash_arcmin, datasheet
-from .fem.datasheet.twist import TwistModel
+from .datasheet import path_friction
+from .fem.datasheet.sheet import datasheet
 from .fem.drives import drive_for
+from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 
 #: Points of the design of experiments (a power of two: Sobol balance), the seed of its
 #: scrambling, and the evaluations the refinement may add.
@@ -136,6 +137,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     solver = drive.cycle_solver(positions, solver_options=drive.both_flanks_options)
     solver.prepare()
     supports = drive.supports(si.supports)
+    system = drive.system_model(supports, positions)   # on the search's tables
     torque = drive.member_torque(si.declared_output_torque_Nm())
     deviations = [None]
     if target.percentile is not None:
@@ -150,7 +152,6 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     lo = np.array([bounds[k][0] for k in names])
     hi = np.array([bounds[k][1] for k in names])
     base = drive.geometry
-    state = drive.meshing(solver.positions_rad)
     # a built reducer's positions spread over its pairing period (toothfem.tolerance)
     pitches = (np.arange(positions) * drive.pairing_period_pitches) // positions
     evaluated = []
@@ -164,8 +165,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
         backlash, ph, contacts = [], [], []
         for dev in deviations if devs is None else devs:
             opts = {"deviation": dev, "geometry": geom, "pitches": pitches}
-            twist = TwistModel(drive, supports, solver, opts, state)
-            backlash.append(backlash_arcmin(twist))
+            backlash.append(system_backlash_arcmin(system, deviation=dev, geometry=geom,
+                                                   pitches=pitches))
             ls = solver.solve(torque, **opts)
             ph.append(float(np.max(ls.ph)) * 1e-6)
             contacts.append(float(np.min(ls.contacts_per_position)))
@@ -259,7 +260,9 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
     si = case.to_si()
     rated, assumed = si.rated_output_torque_Nm()
     solver = drive.cycle_solver(positions, solver_options=drive.both_flanks_options)
-    sheet = datasheet(TwistModel(drive, drive.supports(si.supports), solver), rated,
+    supports = drive.supports(si.supports)
+    sheet = datasheet(SystemTwist(drive.system_model(supports, positions),
+                                  friction=path_friction(si, drive)), rated,
                       rated_assumed=assumed)
     ls = solver.solve(torque)
     check = {"max_ph_MPa": float(np.max(ls.ph)) * 1e-6,

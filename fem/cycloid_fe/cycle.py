@@ -379,7 +379,7 @@ class CycleSolver:
         beta = np.zeros(n_pos)
         if geometry is not None:
             pos = [dataclasses.replace(q, gap=g) for q, g in
-                   zip(pos, self._modified_gaps(geometry, side))]
+                   zip(pos, self.modified_gaps(geometry, side))]
         it = range(n_pos) if progress is None else progress(range(n_pos))
         with one_blas_thread():
             for p in it:
@@ -387,10 +387,28 @@ class CycleSolver:
                                 gap, beta)
         return record("cycle", m, state, force, gap, beta, torque)
 
-    def _modified_gaps(self, geometry, side: int) -> list:
+    def modified_gaps(self, geometry, side: int) -> list:
         """Initial gaps of another modification of the disc at this solver's candidates,
         per position (a pin the other profile cannot reach: MODIFIED_GAP_FAR); the last
-        one kept (a design candidate is solved at several torques and deviations)."""
+        one kept (a design candidate is solved at several torques and deviations).
+
+        Parameters
+        ----------
+        geometry : toothfem.geometry.cycloid.CycloidGeometry
+            This disc with other modifications.
+        side : {1, -1}
+            The torque's sign.
+
+        Returns
+        -------
+        list of numpy.ndarray
+            (C_p,) gaps [m] of each position's candidates.
+
+        Raises
+        ------
+        ToothfemError
+            For a geometry that differs in more than its modifications.
+        """
         key = (geometry, side)
         kept = self.__dict__.get("_modified")
         if kept is not None and kept[0] == key:

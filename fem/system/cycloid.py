@@ -64,7 +64,7 @@ from ..datasheet import supports as sp
 from . import elements as el
 from ..contact import ContactError
 from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps
-from .solve import ContactSet, Element, Linear, solve
+from .solve import ContactSet, Element, Linear, closing_motion, solve
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
 #: ~ 20 N/(mm um) per mm of face width [N/m per m].
@@ -417,10 +417,12 @@ class CycloidSystem:
             return el.linear(law.k * RIGID_FACTOR)
         return el.linear(np.eye(size) * RIGID_STIFFNESS)
 
-    def _pins(self, p: int, side: int, torque: float, deviation=None, pitch: int = 0):
+    def _pins(self, p: int, side: int, torque: float, deviation=None, pitch: int = 0,
+              geometry=None):
         """(ContactSet, candidates) of each disc's pins at position p; a built stage's
         ``deviation`` shifts the initial gaps (:func:`toothfem.fem.cycloid_fe.cycle.
-        deviation_gaps`, every disc ground alike), ``pitch`` pin pitches on."""
+        deviation_gaps`, every disc ground alike), ``pitch`` pin pitches on; ``geometry``:
+        the disc with other modifications, on these tables (the design search)."""
         c, out = self._coords, []
         w = self.drive.face_width_m
         q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
@@ -433,7 +435,8 @@ class CycloidSystem:
             gmat[:, dj.start] = -n_h[0]
             gmat[:, dj.start + 1] = -n_h[1]
             gmat[:, dj.start + 2] = q.arm
-            g0 = np.where(np.isfinite(q.gap), q.gap, MODIFIED_GAP_FAR)
+            g0 = q.gap if geometry is None else s.solver.modified_gaps(geometry, side)[p]
+            g0 = np.where(np.isfinite(g0), g0, MODIFIED_GAP_FAR)
             if deviation is not None:
                 g0 = g0 + deviation_gaps(s.solver.model, q, deviation,
                                          int(pitch) + self._shift(s))
@@ -487,6 +490,41 @@ class CycloidSystem:
         return ContactSet("output pins", "output pins", np.array(g0), np.array(rows), flex)
 
     # -- solving ------------------------------------------------------------------------
+    def closing_rotation(self, p: int, side: int, *, deviation=None, pitch: int = 0,
+                         geometry=None) -> float:
+        """The output's rotation that closes the clearances on one flank, every part rigid:
+        the mechanism's motion under a torque of sign ``side`` until it is blocked
+        (:func:`toothfem.fem.system.solve.closing_motion`); the backlash is the two
+        flanks' difference. Input held: a 2K-V drive's cranks turn (1 + z_s/z_p) times the
+        output angle, so a clearance d closes at d / (e (Za + 1 + z_s/z_p)).
+
+        Parameters
+        ----------
+        p : int
+            Position index.
+        side : {1, -1}
+            The flank.
+        deviation, pitch, geometry
+            A built stage and another modification (as :meth:`solve`).
+
+        Returns
+        -------
+        float
+            [rad], signed by ``side``.
+        """
+        phi = float(self.slots[0].solver.positions_rad[p])
+        c = self._coords
+        sets = [cs for cs, _ in self._pins(p, side, side, deviation, pitch, geometry)]
+        if self.khv:
+            sets.append(self._output_pins(phi, side))
+        q = np.zeros(c.n)
+        q[c.index["out"]] = side
+        _, motion = closing_motion(c.n, self._elements(phi),
+                                   np.concatenate([cs.g for cs in sets]),
+                                   np.concatenate([cs.g0 for cs in sets]), q)
+        return float(motion[c.index["out"]][0])
+
+
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
               start=None, friction: PathFriction | None = None, deviation=None,
               pitch: int = 0) -> SystemState:

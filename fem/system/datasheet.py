@@ -17,7 +17,7 @@ import numpy as np
 from ...errors import CaseError, check_range
 from ..datasheet.transmission import (LoadedTE, MemberSplit, fourier_fill,
                                       harmonic_amplitudes, sampled_pitches)
-from ..datasheet.twist import ARCSEC, ZERO_TORQUE_NM, TwistPoint
+from ..datasheet.twist import ARCMIN, ARCSEC, ZERO_TORQUE_NM, TwistPoint
 from ..cycloid_fe.cycle import record
 from .cycloid import CycloidSystem
 
@@ -40,6 +40,36 @@ def path_name(group: str) -> str:
         E.g. "mesh".
     """
     return group[:-len(CLEARANCE_SUFFIX)] if group.endswith(CLEARANCE_SUFFIX) else group
+
+
+def system_backlash_arcmin(system: CycloidSystem, *, deviation=None, geometry=None,
+                           pitches=None) -> float:
+    """The backlash, the two flanks' closing rotations of the clearances with every part
+    rigid (:meth:`CycloidSystem.closing_rotation`), averaged over the positions.
+
+    Parameters
+    ----------
+    system : CycloidSystem
+    deviation : toothfem.fem.deviations.CycloidDeviation, optional
+        A built stage.
+    geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+        Another modification of the disc, on the system's tables.
+    pitches : array_like of int, optional
+        The built stage's pin pitch at each position.
+
+    Returns
+    -------
+    float
+        [arcmin] (< 0: the flanks interfere).
+    """
+    n = len(system.slots[0].solver.positions_rad)
+    out = []
+    for p in range(n):
+        opts = {"deviation": deviation, "geometry": geometry,
+                "pitch": 0 if pitches is None else int(pitches[p])}
+        out.append(system.closing_rotation(p, 1, **opts)
+                   - system.closing_rotation(p, -1, **opts))
+    return float(np.mean(out) / ARCMIN)
 
 
 def disc_record(model, state, force, twist, torque):

@@ -131,7 +131,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         Start (a nearby state, e.g. the previous torque step).
     active0 : dict of str to bool array, optional
         The contacts to start from per set; else the candidates that touch first as the
-        load moves the assembly (:func:`_first_touch`).
+        load moves the assembly (:func:`closing_motion`).
     lam0 : dict of str to array, optional
         Contact forces to take the first flexibilities at (a nearby state's).
 
@@ -160,7 +160,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
     with one_blas_thread():
         h = _flexibility(contacts, lam, sizes)
         if active is None:
-            active = _first_touch(n, elements, gmat, g0, h, u, q)
+            active = closing_motion(n, elements, gmat, g0, q, u)[0]
         for it in range(1, MAX_NEWTON + 1):
             f_int, kt = _internal(linear, nonlinear, u, n)
             u_new, lam_new, active = _linear_step(n, kt, q - f_int + kt @ u, gmat, g0, h,
@@ -237,16 +237,46 @@ def _flexibility(contacts, lam, sizes) -> np.ndarray:
     return h
 
 
-def _first_touch(n, elements, gmat, g0, h, u, q) -> np.ndarray:
+def closing_motion(n, elements, gmat, g0, q, u=None):
     """The contacts that close as the load moves the assembly as a mechanism, one after
-    another: the motions that deform no element and open no contact already closed (the
-    null space of every element's B and the closed contacts' G rows) projected on the load
-    give the direction v; each open contact's gap closes at the ratio -g_i / (G v)_i; the
-    smallest ratio's contacts close, and the motion goes on in what remains free until the
-    load moves nothing (a disc turning its output pins closes its ring pins next)."""
+    another, and the motion that closes them: the motions that deform no element and open
+    no contact already closed (the null space of every element's B and the closed
+    contacts' G rows) projected on the load give the direction v; each open contact's gap
+    closes at the ratio -g_i / (G v)_i; the smallest ratio's contacts close, and the motion
+    goes on in what remains free until the load moves nothing (a disc turning its output
+    pins closes its ring pins next). The rigid limit of the solution at a vanishing load:
+    its output coordinate is the closing rotation of the clearances (the backlash's half).
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    elements : sequence of Element
+    gmat : numpy.ndarray, shape (m, n)
+        The contacts' gap change per coordinate.
+    g0 : numpy.ndarray, shape (m,)
+        Initial gaps [m].
+    q : numpy.ndarray, shape (n,)
+        The load's direction.
+    u : numpy.ndarray, optional
+        Where to start (default at rest).
+
+    Returns
+    -------
+    active : numpy.ndarray of bool, shape (m,)
+        The contacts closed.
+    motion : numpy.ndarray, shape (n,)
+        The mechanism's motion until the last of them closed.
+
+    Raises
+    ------
+    ContactError
+        If a body turns freely (no contact closes) or the load moves nothing.
+    """
     rows = np.concatenate([e.b for e in elements], axis=0) if elements else np.zeros((0, n))
-    gap = g0 + gmat @ u
+    gap = g0 + (0.0 if u is None else gmat @ u)
     active = np.zeros(g0.size, bool)
+    motion = np.zeros(n)
     scale = np.max(np.abs(g0), initial=0.0)
     for _ in range(g0.size + 1):
         a = np.concatenate([rows, gmat[active]], axis=0)
@@ -266,10 +296,11 @@ def _first_touch(n, elements, gmat, g0, h, u, q) -> np.ndarray:
                          np.inf)
         first = np.min(ratio)
         gap = gap + first * rate
+        motion = motion + first * v
         active |= closing & (gap <= 1e-9 * scale + 1e-15)
     if not np.any(active):
         raise ContactError("the load moves no mechanism: nothing for the contacts to carry")
-    return active
+    return active, motion
 
 
 def _split_linear(elements, n):
