@@ -22,6 +22,10 @@ from .fem.system.datasheet import SystemTwist, system_te
 from .report import save
 from .report import stiffness as report_stiffness
 
+#: The one transmission error every command names (docs/stiffness.md, "One transmission
+#: error").
+TE_DEFINITION = ("the output's lag behind its kinematic position, input held at each crank "
+                 "angle, under the output torque: the system model of the whole reducer")
 #: Full-period sampling of the loaded TE by default: cycle solvers over the period and
 #: positions per pitch of each (fem/datasheet/transmission.py; one factorisation each).
 TE_SAMPLES, TE_PER_PITCH = 6, 12
@@ -30,12 +34,14 @@ TE_SAMPLES, TE_PER_PITCH = 6, 12
 @dataclass(frozen=True, kw_only=True)
 class StiffnessResult:
     """The datasheet of a case (hysteresis loop and catalogue figures), its loaded TE over
-    the full period and the split between the members (None for one member)."""
+    the full period, the split between the members (None for one member) and every
+    bearing's load over the period (None without a system model)."""
     case_name: str
     sheet: object                   # toothfem.fem.datasheet.sheet.Datasheet
     te: object                      # toothfem.fem.datasheet.transmission.LoadedTE
     split: object                   # MemberSplit or None
     summary: dict
+    bearings: object = None         # toothfem.fem.system.datasheet.BearingLoads or None
 
 
 def path_friction(si, drive) -> PathFriction:
@@ -108,21 +114,25 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     system = drive.system_model(supports, positions)
     if system is not None:          # the whole reducer around the contact
         twist = SystemTwist(system, friction=path_friction(si, drive) if friction else None)
-        te, split = system_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
-                              per_pitch=te_positions)
+        te, split, bearings = system_te(drive, supports, te_torque_Nm or rated,
+                                        samples=te_samples, per_pitch=te_positions)
     else:                           # the load paths chained (the sine pair, for now)
         twist = TwistModel(drive, supports, drive.cycle_solver(
             positions, solver_options=drive.both_sides_options))
         te, split = loaded_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
                               per_pitch=te_positions)
+        bearings = None
     sheet = datasheet(twist, rated, rated_assumed=assumed, torque_max_Nm=torque_max_Nm,
                       steps=steps)
     summary = {"case": case.name, "drive": drive.kind, **sheet.summary(), **te.summary(),
-               **({} if split is None else split.summary())}
+               "te_definition": TE_DEFINITION if system is not None else
+               "the chained load paths' twist of one member (mesh and supports in series)",
+               **({} if split is None else split.summary()),
+               **({} if bearings is None else bearings.summary())}
     if split is not None:
         summary["member_load_factor_case"] = drive.load_factor
     return StiffnessResult(case_name=case.name, sheet=sheet, te=te, split=split,
-                           summary=summary)
+                           summary=summary, bearings=bearings)
 
 
 HYSTERESIS_COLUMNS = ("torque_Nm", "twist_arcmin", "twist_min_arcmin", "twist_max_arcmin")
@@ -164,6 +174,14 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
                        te.te_rad * arcsec, te.mesh_rad * arcsec):
             w.writerow([f"{v:.9g}" for v in row])
     files = ["hysteresis.csv", "hysteresis.png", "te.csv", "te.png", "summary.json"]
+    if result.bearings is not None:
+        b = result.bearings
+        with open(folder / "bearings.csv", "w", newline="") as fh:
+            w = csv.writer(fh)
+            w.writerow(["crank_angle_deg"] + [f"{n.replace(' ', '_')}_N" for n in b.names])
+            for g, phi in enumerate(np.degrees(b.crank_angle_rad)):
+                w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in b.load_N[:, g]])
+        files.append("bearings.csv")
     if result.split is not None:
         with open(folder / "split.csv", "w", newline="") as fh:
             w = csv.writer(fh)

@@ -17,7 +17,7 @@ import numpy as np
 
 from . import durability
 from .case import Case, load_case
-from .datasheet import datasheet_rows, stiffness_analysis, write_stiffness
+from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_stiffness
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
@@ -193,7 +193,8 @@ def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
     return {"transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
             "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
-                                                            * arcsec)}
+                                                            * arcsec),
+            "transmission_error_reducer_definition": TE_DEFINITION}
 
 
 def stack_records(records):

@@ -31,6 +31,7 @@ from .fem.datasheet.sheet import lost_motion_arcmin
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.deviations import only
 from .fem.drives import drive_for
+from .datasheet import TE_DEFINITION
 from .fem.system.datasheet import SystemTwist, disc_record
 
 #: The outputs of a sample: column -> (label, unit) for tables and pictures.
@@ -196,7 +197,10 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                                   if k.endswith("_mm") and v},
                 "operating_speed_rpm": setup.speed_rpm,
                 "operating_output_torque_Nm": setup.output_torque_Nm,
-                "rated_torque_Nm": setup.rated_torque_Nm}
+                "rated_torque_Nm": setup.rated_torque_Nm,
+                "te_definition": TE_DEFINITION if drive.system_model(
+                    drive.supports(si.supports), n, cache=False) is not None else
+                "the chained load paths' twist of one member"}
     return ToleranceResult(case_name=case.name, drive=drive.kind,
                            contact_name=drive.contact_name,
                            contacts_name=drive.contacts_name, samples=ensemble,

@@ -670,7 +670,7 @@ class CycloidSystem:
                 f"crank bearing {k + 1} disc {j + 1}")
 
     def _support_name(self, k: int, end: str) -> str:
-        return f"{'input bearing' if self.khv else f'support bearing {k + 1}'}{end}"
+        return f"input bearing {end}" if self.khv else f"support bearing {k + 1}{end}"
 
     def _output_centres(self, phi: float) -> np.ndarray:
         """(2, n_o) the output pins' centres [m] at crank angle phi."""

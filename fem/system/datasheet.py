@@ -11,6 +11,7 @@ bending and torsion, the spur mesh, the output pins; they add up to it exactly.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -274,9 +275,10 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
 
     Returns
     -------
-    (LoadedTE, MemberSplit or None)
+    (LoadedTE, MemberSplit or None, BearingLoads)
         ``mesh_rad``: the mesh's part of the TE (the pin contacts' approach and closed
-        clearances, every disc); the split: each disc's torque over the discs' sum.
+        clearances, every disc); the split: each disc's torque over the discs' sum; every
+        bearing's load over the full period.
     """
     check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
     if output_torque_Nm == 0:
@@ -286,7 +288,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
     t = float(output_torque_Nm)
     k = drive.full_period_pitches
     pitches = sampled_pitches(k, samples)
-    twist, mesh, shares = [], [], []
+    twist, mesh, shares, bearings = [], [], [], []
     for m in (pitches if progress is None else progress(pitches)):
         system = CycloidSystem(drive, supports, per_pitch, cache=cache, pitch=m, **options)
         sts, last = [], None
@@ -297,6 +299,9 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
         mesh.append(_paths(sts)["mesh"])
         torque = np.array([s.disc_torque_Nm for s in sts])           # (P, M)
         shares.append((torque / torque.sum(axis=1, keepdims=True)).T.ravel())
+        names = list(sts[0].bearing_force_N)
+        bearings.append(np.array([[np.hypot(*s.bearing_force_N[b]) for s in sts]
+                                  for b in names]).ravel())
     fill = lambda v: fourier_fill(pitches, np.array(v), k)  # noqa: E731
     te, mesh_full = fill(twist).ravel(), fill(mesh).ravel()
     m = drive.members
@@ -311,12 +316,37 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
                       sampled_pitches=pitches, per_pitch=int(per_pitch),
                       full_period_pitches=k, orders_per_output_rev=orders,
                       amplitude_arcsec=amp / ARCSEC)
+    load = fill(bearings).reshape(k, len(names), per_pitch).transpose(1, 0, 2)
+    loads = BearingLoads(names=tuple(names), load_N=load.reshape(len(names), -1),
+                         crank_angle_rad=crank, output_torque_Nm=t)
     if m == 1:
-        return loaded, None
+        return loaded, None, loads
     even = bool(np.allclose(share, 1.0 / m, rtol=0, atol=EVEN_SHARE_ATOL))
     return loaded, MemberSplit(share=share, crank_angle_rad=crank, output_torque_Nm=t,
                                offsets=drive.member_offsets(per_pitch),
-                               per_pitch=int(per_pitch), even_by_layout=even)
+                               per_pitch=int(per_pitch), even_by_layout=even), loads
+
+
+@dataclass(frozen=True, kw_only=True)
+class BearingLoads:
+    """Every bearing's radial load over the full period (N = pitches x per_pitch), from
+    the system model at one output torque: what the life and loss models take."""
+    names: tuple                     # (B,)
+    load_N: np.ndarray               # (B, N) [N]
+    crank_angle_rad: np.ndarray      # (N,)
+    output_torque_Nm: float
+
+    def summary(self) -> dict:
+        """Each bearing's largest and mean load.
+
+        Returns
+        -------
+        dict
+            ``bearing_loads_N``: {name: {"max": N, "mean": N}} at ``bearing_loads_torque_Nm``.
+        """
+        return {"bearing_loads_torque_Nm": self.output_torque_Nm,
+                "bearing_loads_N": {n: {"max": float(np.max(v)), "mean": float(np.mean(v))}
+                                    for n, v in zip(self.names, self.load_N)}}
 
 
 #: The friction torque's fixed point: iterations allowed, and the change of T_e (a
