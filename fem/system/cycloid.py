@@ -314,6 +314,7 @@ class CycloidSystem:
                 axial[:, None], axial[None, :], span, 2 * om.pin_radius_m,
                 m.youngs_modulus_Pa, m.poisson_ratio)
         self._coords = self._coordinates()
+        self._kept_elements = {}
 
     def group(self, part: str) -> str:
         """The outputs' name of a part of GROUPS in this layout.
@@ -354,6 +355,13 @@ class CycloidSystem:
             [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
 
     def _elements(self, phi: float) -> list:
+        """The elements at crank angle phi (kept: every torque at a position uses them)."""
+        kept = self._kept_elements.get(phi)
+        if kept is None:
+            kept = self._kept_elements[phi] = self._build_elements(phi)
+        return kept
+
+    def _build_elements(self, phi: float) -> list:
         c, out = self._coords, []
         n = c.n
         carrier_angle = -phi / self.za          # the discs and the output turn together

@@ -192,8 +192,8 @@ class SystemTwist:
 
     def carried(self, output_torque_Nm: float, branch: int) -> float:
         """T_e, the torque the elastic system carries at the output torque T on a branch:
-        T_e = T - branch T_f(T_e), by fixed-point iteration (T_f is a few per cent of T:
-        each step shrinks the error by that factor).
+        T_e = T - branch T_f(T_e): a Newton step from the elastic state at T, then secant
+        steps (T_f is a few per cent of T and smooth in it: one or two solves a point).
 
         Parameters
         ----------
@@ -210,14 +210,24 @@ class SystemTwist:
         t = float(output_torque_Nm)
         if not branch or self.friction is None:
             return t
-        te = t
-        for _ in range(FRICTION_ITERATIONS):
+
+        def residual(te):           # g(T_e) - T_e, g(T_e) = T - branch T_f(T_e)
             side = int(math.copysign(1, te)) if te else -branch
             tf = float(np.mean([s.friction_torque_Nm for s in self.states(te, side)]))
-            new = t - branch * tf
-            if abs(new - te) <= FRICTION_RTOL * max(tf, 1e-12):
-                return new
-            te = new
+            return t - branch * tf - te, tf
+
+        # from the elastic state at T itself (the loop's own torque, shared by both
+        # branches), a Newton step on T_f = c0 + c1 |T_e| (c0 the load-independent part),
+        # then secant steps on the residual
+        x0 = t
+        r0, tf = residual(x0)
+        c1 = (tf - self.friction.output_torque_Nm) / abs(x0) if x0 else 0.0
+        x1 = x0 + r0 / (1.0 + branch * c1 * math.copysign(1.0, x0))
+        for _ in range(FRICTION_ITERATIONS):
+            r1, tf = residual(x1)
+            if abs(r1) <= FRICTION_RTOL * max(tf, 1e-12):
+                return x1
+            x0, r0, x1 = x1, r1, (x1 + r1 if r1 == r0 else x1 - r1 * (x1 - x0) / (r1 - r0))
         raise CaseError(f"the friction torque at {t:g} N m did not settle (friction "
                         "coefficients too large for the drive to turn its output?)")
 

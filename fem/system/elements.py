@@ -107,22 +107,24 @@ class RollerBearing:
 
         Parameters
         ----------
-        delta : array_like, shape (2,)
-            The inner ring's displacement against the outer [m].
+        delta : array_like, shape (2,) or (B, 2)
+            The inner ring's displacement against the outer [m] (B bearings alike at once).
 
         Returns
         -------
-        force : numpy.ndarray, shape (2,)
+        force : numpy.ndarray, shape (2,) or (B, 2)
             [N], along the deformation's conjugate (the element's internal force).
-        tangent : numpy.ndarray, shape (2, 2)
+        tangent : numpy.ndarray, shape (2, 2) or (B, 2, 2)
             [N/m].
         """
         ca = math.cos(self.contact_angle_rad)
         u = self.directions
-        squeeze = np.maximum(np.asarray(delta, float) @ u * ca - 0.5 * self.play_m, 0.0)
+        delta = np.asarray(delta, float)
+        squeeze = np.maximum(delta @ u * ca - 0.5 * self.play_m, 0.0)       # (..., Z)
         kn = roller_constant(self.length_m)
         q = kn * squeeze ** LINE_EXPONENT
         dq = kn * LINE_EXPONENT * squeeze ** (LINE_EXPONENT - 1)
-        force = ca * (u @ q) + BEARING_HOLD_N_PER_M * np.asarray(delta, float)
-        tangent = ca * ca * (u * dq) @ u.T + BEARING_HOLD_N_PER_M * np.eye(2)
+        force = ca * (q @ u.T) + BEARING_HOLD_N_PER_M * delta
+        tangent = ca * ca * np.einsum("...z,iz,jz->...ij", dq, u, u) \
+            + BEARING_HOLD_N_PER_M * np.eye(2)
         return force, tangent

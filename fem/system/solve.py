@@ -47,7 +47,7 @@ MAX_NEWTON, MAX_ACTIVE_SET = 100, 400
 #: their size and the contact forces by less than this fraction of the largest (the
 #: elements' laws are smooth: the step then falls quadratically; the Hertz half-widths
 #: move the flexibilities at first order in the force).
-RTOL = 1e-10
+RTOL = 1e-8
 #: A contact's force or gap within this fraction of the largest of them is zero (a
 #: degenerate pair: touching without force).
 DEGENERATE_RTOL = 1e-10
@@ -304,25 +304,27 @@ def closing_motion(n, elements, gmat, g0, q, u=None):
 
 
 def _split_linear(elements, n):
-    """(K of the linear elements summed (n, n), the other elements)."""
+    """(K of the linear elements summed (n, n), the other elements grouped by their law:
+    [(law, B stacked (G, d, n))], evaluated together)."""
     k = np.zeros((n, n))
-    rest = []
+    groups = {}
     for e in elements:
         if isinstance(e.law, Linear):
             k += e.b.T @ e.law.k @ e.b
         else:
-            rest.append(e)
-    return k, rest
+            groups.setdefault(id(e.law), (e.law, []))[1].append(e.b)
+    return k, [(law, np.stack(bs)) for law, bs in groups.values()]
 
 
 def _internal(k_linear, nonlinear, u, n):
-    """(F(u), K(u)) of every element: the linear ones' sum, and the others one by one."""
+    """(F(u), K(u)) of every element: the linear ones' sum, the others by law, batched."""
     force = k_linear @ u
     stiff = k_linear.copy()
-    for e in nonlinear:
-        f, k = e.law(e.b @ u)
-        force += e.b.T @ f
-        stiff += e.b.T @ k @ e.b
+    for law, b in nonlinear:
+        f, k = law(b @ u)                               # (G, d), (G, d, d)
+        flat = b.reshape(-1, n)
+        force += flat.T @ f.ravel()
+        stiff += flat.T @ (k @ b).reshape(-1, n)
     return force, stiff
 
 

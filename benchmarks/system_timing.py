@@ -1,0 +1,106 @@
+"""Speed of the system model (issue 21, item 7), on this machine, against the chained load
+paths it replaces measured in the same run:
+
+- the hysteresis loop (both flanks, friction on, ``--steps`` torque steps: 5 steps + 1
+  points, 36 positions) cold (a fresh process with an empty FE cache: meshes,
+  factorisations, the loop) and warm (the tables on disk);
+- a tolerance ensemble through the system on 2 workers, per ring, and the time 1000 rings
+  would take at that rate.
+
+Run: .venv/bin/python benchmarks/system_timing.py [--case cases/...toml] [--steps 8]
+     [--rings 40] [--workers 2]
+Targets (issue 21): the loop under 15 s cold and 3 s warm; 1000 rings under 90 s on 2
+workers.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+LOOP = r"""
+import sys, time, json
+t0 = time.perf_counter()
+from toothfem import load_case
+from toothfem.datasheet import path_friction
+from toothfem.fem.datasheet.sheet import datasheet
+from toothfem.fem.datasheet.twist import TwistModel
+from toothfem.fem.drives import drive_for
+from toothfem.fem.system.datasheet import SystemTwist
+case = load_case(sys.argv[1]); steps = int(sys.argv[2]); which = sys.argv[3]
+drive = drive_for(case); si = case.to_si()
+rated, _ = si.rated_output_torque_Nm(); supports = drive.supports(si.supports)
+t1 = time.perf_counter()
+if which == "system":
+    system = drive.system_model(supports, 36)
+    for s in system.slots:
+        s.solver.prepare()
+    t2 = time.perf_counter()
+    sheet = datasheet(SystemTwist(system, friction=path_friction(si, drive)), rated, steps=steps)
+else:
+    solver = drive.cycle_solver(36, solver_options=drive.both_sides_options)
+    solver.prepare()
+    t2 = time.perf_counter()
+    sheet = datasheet(TwistModel(drive, supports, solver), rated, steps=steps)
+t3 = time.perf_counter()
+print(json.dumps({"import_s": t1 - t0, "tables_s": t2 - t1, "loop_s": t3 - t2,
+                  "total_s": t3 - t0, "rigidity": sheet.rigidity_Nm_per_arcmin}))
+"""
+
+
+def loop(case, steps, which, cache):
+    env = dict(os.environ, TOOTHFEM_CACHE=str(cache))
+    out = subprocess.run([sys.executable, "-c", LOOP, str(case), str(steps), which],
+                         capture_output=True, text=True, env=env, check=True)
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def ensemble(case, rings, workers):
+    from toothfem import load_case
+    from toothfem.tolerance import tolerance_analysis
+
+    c = load_case(case)
+    tolerance_analysis(c, samples=2, share_samples=0, workers=1, progress=False)  # tables
+    t0 = time.perf_counter()
+    tolerance_analysis(c, samples=rings, share_samples=0, workers=workers, progress=False)
+    return (time.perf_counter() - t0) / rings
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--case", default=str(ROOT / "cases" / "cycloid_pinhousing.toml"))
+    ap.add_argument("--steps", type=int, default=8)
+    ap.add_argument("--rings", type=int, default=40)
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args(argv)
+    out = {}
+    with tempfile.TemporaryDirectory() as cold:
+        for which in ("system", "chained"):
+            out[f"{which}_cold"] = loop(args.case, args.steps, which, Path(cold) / which)
+            out[f"{which}_warm"] = loop(args.case, args.steps, which, Path(cold) / which)
+    per_ring = ensemble(args.case, args.rings, args.workers)
+    out["ring_s"] = per_ring
+    points = 5 * args.steps + 1
+    print(f"case {Path(args.case).name}, loop of {points} points x 36 positions, friction on")
+    print(f"{'':28s}{'system':>10s}{'chained':>10s}{'ratio':>8s}{'target':>9s}")
+    for kind, target in (("cold", 15.0), ("warm", 3.0)):
+        s, c = out[f"system_{kind}"]["total_s"], out[f"chained_{kind}"]["total_s"]
+        print(f"{'loop, ' + kind + ', total [s]':28s}{s:10.2f}{c:10.2f}{s / c:8.2f}"
+              f"{target:9.1f}")
+    s, c = out["system_warm"]["loop_s"], out["chained_warm"]["loop_s"]
+    print(f"{'loop alone, warm [s]':28s}{s:10.2f}{c:10.2f}{s / c:8.2f}")
+    print(f"{'ensemble, per ring [s]':28s}{per_ring:10.3f}")
+    print(f"{'1000 rings on %d workers [s]' % args.workers:28s}{1000 * per_ring:10.1f}"
+          f"{'':18s}{90.0:9.1f}")
+    res = ROOT / "benchmarks" / "results" / "system_timing.json"
+    res.write_text(json.dumps(out, indent=2))
+
+
+if __name__ == "__main__":
+    main()
