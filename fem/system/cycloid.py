@@ -190,7 +190,8 @@ class SystemState:
     output_torque_Nm: float
     position_rad: float
     twist_rad: float                 # the output flange's rotation
-    pin_force_N: np.ndarray          # (discs, Zb) by the pins' own numbers
+    pin_force_N: np.ndarray          # (discs, Zb) by pin number (a built stage solved at
+                                     # pitch=m: pin j stands for pin j + m)
     disc_torque_Nm: np.ndarray       # (discs,) moment of each disc's pin forces about it
     contacts: np.ndarray             # (discs,) pins that carry
     bearing_force_N: dict            # name -> (2,) force on the inner ring, housing frame
