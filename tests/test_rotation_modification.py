@@ -156,8 +156,11 @@ def test_check_reports_the_clearance_before_load(cases_dir):
     c = dataclasses.replace(case, cycloid=dataclasses.replace(
         case.cycloid, rotation_modification_deg=0.05))
     d = derived(c)
-    assert d["backlash_arcmin"] == pytest.approx(6.0, rel=1e-6)
-    assert d["backlash_first_order_arcmin"] == pytest.approx(6.0, rel=1e-9)
+    assert d["disc_backlash_arcmin"] == pytest.approx(6.0, rel=1e-6)
+    # the reducer's, input held: the cranks turn (1 + 9/27) times the output angle
+    assert d["backlash_arcmin"] == pytest.approx(6.0 * 39 / (40 + 1 / 3), rel=1e-6)
+    assert d["backlash_first_order_arcmin"] == pytest.approx(6.0 * 39 / (40 + 1 / 3),
+                                                             rel=1e-9)
     assert d["interference_before_load_um"] == 0
     bad = dataclasses.replace(case, cycloid=dataclasses.replace(
         case.cycloid, equidistant_modification_mm=0.005, rotation_modification_deg=-0.02))
@@ -266,3 +269,34 @@ def test_both_flanks_with_idle_flank_interference(base, drive):
     assert np.all(c.force[0][[28, 31]] > 0) and np.all(arm[[28, 31]] > 0)
     assert np.array_equal(c.force[0] > 0, d.force[0] > 0)
     assert d.force.max() == pytest.approx(c.force.max(), rel=MODES_RTOL)
+
+
+@pytest.mark.slow
+def test_contact_names_the_preload_and_refuses_what_cannot_be_assembled(cases_dir):
+    """Issue 28 item 3: an interfering disc's preload before any load (the system model at
+    a vanishing torque, every pin of both flanks a candidate) is in the contact summary; a
+    P_h above the contact-fatigue limit (ISO 281, 1500 MPa) is a warning, above the static
+    limit (ISO 76, 4000 MPa) a refusal naming the limit and its key. Pin-housing drive,
+    rotation modification -0.01 deg (6.8 um of interference): 1322 N, 1698 MPa;
+    -0.05 deg: P_h above 4000 MPa."""
+    import warnings as w
+
+    from toothfem.errors import CaseError
+    from toothfem.pipeline import contact_analysis
+
+    case = load_case(cases_dir / "cycloid_pinhousing.toml")
+
+    def rotated(deg):
+        return dataclasses.replace(case, cycloid=dataclasses.replace(
+            case.cycloid, rotation_modification_deg=deg))
+    with w.catch_warnings(record=True) as caught:
+        w.simplefilter("always")
+        res = contact_analysis(rotated(-0.01), positions=12, field="none")
+    s = res.summary
+    assert s["interference_before_load_um"] == pytest.approx(6.806, abs=0.01)
+    assert 1000 < s["preload_force_max_N"] < 2000
+    assert 1500 < s["preload_ph_max_MPa"] < 4000
+    assert any("contact-fatigue limit 1500 MPa (ISO 281" in str(c.message) for c in caught)
+    with pytest.raises(CaseError, match=r"static limit 4000 MPa \(ISO 76:2006, "
+                                        r"material.static_contact_stress_MPa\)"):
+        contact_analysis(rotated(-0.05), positions=12, field="none")

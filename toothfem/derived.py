@@ -93,7 +93,7 @@ def _cycloid(case: Case) -> dict:
         "min_convex_curvature_radius_mm": _r(rho * 1e3),
         "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
     }
-    d.update(_before_load(g))
+    d.update(_before_load(g, _reducer_per_disc_turn(case)))
     if case.first_stage is not None:
         fs = case.first_stage
         d["first_stage_centre_distance_mm"] = _r(fs.module_mm * (fs.sun_teeth + fs.planet_teeth)
@@ -110,17 +110,31 @@ def _cycloid(case: Case) -> dict:
     return d
 
 
-def _before_load(g) -> dict:
+def _reducer_per_disc_turn(case: Case) -> float:
+    """The output's turn per turn of the disc about its centre that closes the same pin
+    clearance, input held (docs/stiffness.md): the pins' normals pass through the pitch
+    point, e Za from the disc's centre; a K-H-V disc turns with its output about its held
+    eccentric (1), a 2K-V drive's disc also moves with its cranks, which turn
+    (1 + z_s/z_p) times the output angle: Za / (Za + 1 + z_s/z_p)."""
+    fs = case.first_stage
+    za = case.cycloid.lobe_count
+    return 1.0 if fs is None else za / (za + 1 + fs.sun_teeth / fs.planet_teeth)
+
+
+def _before_load(g, per_disc_turn: float = 1.0) -> dict:
     """The disc on its pins before load over one meshing period (exact gaps of both flanks,
     :func:`toothfem.geometry.cycloid_mesh.before_load`), with the first-order backlash of
-    the closed form beside (docs/derivations.md C6: twice the closing rotation beta0)."""
+    the closed form beside (docs/derivations.md C6: twice the closing rotation beta0). The
+    backlash is the reducer's, input held (the disc's own closing rotation about its centre
+    times ``per_disc_turn``, :func:`_reducer_per_disc_turn`), the disc's own beside."""
     phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS, endpoint=False)
     b = cym.before_load(g, phis)
-    d = {"backlash_arcmin": _r(b["backlash_min_arcmin"])
-         if b["backlash_min_arcmin"] is not None else None,
-         "backlash_max_arcmin": _r(b["backlash_max_arcmin"])
-         if b["backlash_max_arcmin"] is not None else None,
-         "backlash_first_order_arcmin": _r(2 * math.degrees(cym.closing_rotation(g)) * 60),
+    lo, hi = b["backlash_min_arcmin"], b["backlash_max_arcmin"]
+    d = {"backlash_arcmin": None if lo is None else _r(lo * per_disc_turn),
+         "backlash_max_arcmin": None if hi is None else _r(hi * per_disc_turn),
+         "disc_backlash_arcmin": None if lo is None else _r(lo),
+         "backlash_first_order_arcmin": _r(2 * math.degrees(cym.closing_rotation(g)) * 60
+                                           * per_disc_turn),
          "clearance_before_load_um": _r(b["clearance_before_load_um"], 6),
          "interference_before_load_um": _r(b["interference_before_load_um"], 6)}
     if b["interference_pins"]:

@@ -21,7 +21,7 @@ from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
-from .fem.system.datasheet import SystemTwist
+from .fem.system.datasheet import SystemTwist, disc_record
 from .output import atomic_dir
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
 from .report import durability as report_durability, plots, save, summary as report_summary
@@ -150,6 +150,8 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
     summary.update(reducer_te(drive, case, output, phis.size))
+    if summary.get("interference_before_load_um", 0) > 0:
+        summary.update(assembly_preload(drive, case, phis.size))
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {
@@ -195,6 +197,62 @@ def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
                                                             * arcsec),
             "transmission_error_reducer_definition": TE_DEFINITION}
+
+
+def assembly_preload(drive, case, positions: int) -> dict:
+    """The pin forces an interfering disc carries before any load, from the system model
+    at a vanishing output torque (every pin of both flanks a candidate), with their Hertz
+    pressure; a warning where that pressure passes the material's contact-fatigue limit
+    (the disc is preloaded into fatigue before it carries anything), a refusal where it
+    passes the static limit (it cannot be put on its pins without denting them).
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    case : toothfem.case.Case
+    positions : int
+        Positions over the pitch.
+
+    Returns
+    -------
+    dict
+        ``preload_force_max_N``, ``preload_ph_max_MPa`` (over the positions and discs);
+        {} for a drive without a system model.
+
+    Raises
+    ------
+    CaseError
+        Where the preload's Hertz pressure passes ``material.static_contact_stress_MPa``
+        (ISO 76:2006).
+    """
+    import warnings
+
+    si = case.to_si()
+    system = drive.system_model(drive.supports(si.supports), positions)
+    if system is None:
+        return {}
+    states = SystemTwist(system).states(0.0, 1)
+    model = system.slots[0].solver.model
+    mesh = drive.meshing(system.slots[0].solver.positions_rad)
+    force, ph = 0.0, 0.0
+    for j in range(system.discs):
+        rec = disc_record(model, mesh, np.array([s.pin_force_N[j] for s in states]),
+                          np.array([s.twist_rad for s in states]), 0.0)
+        force, ph = max(force, float(np.max(rec.force))), max(ph, float(np.max(rec.ph)))
+    mat = si.material
+    what = (f"the disc's interference with its pins before load presses them with up to "
+            f"{force:.4g} N, P_h {ph * 1e-6:.4g} MPa, before any load (`toothfem check` "
+            "names the pins)")
+    if ph > mat.static_contact_stress_Pa:
+        raise CaseError(f"{what}: beyond the static limit "
+                        f"{mat.static_contact_stress_Pa * 1e-6:g} MPa (ISO 76:2006, "
+                        "material.static_contact_stress_MPa): the disc cannot be put on its "
+                        "pins without denting them")
+    if ph > mat.allowable_contact_stress_Pa:
+        warnings.warn(f"{what}: beyond the contact-fatigue limit "
+                      f"{mat.allowable_contact_stress_Pa * 1e-6:g} MPa (ISO 281:2007, "
+                      "material.allowable_contact_stress_MPa)", stacklevel=2)
+    return {"preload_force_max_N": force, "preload_ph_max_MPa": ph * 1e-6}
 
 
 def stack_records(records):

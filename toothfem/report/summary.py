@@ -32,6 +32,8 @@ CONTACT_QUANTITIES = (
     ("clearance_before_load_um", "clearance before load, least (< 0: interference)", "um"),
     ("interference_before_load_um", "interference before load, largest", "um"),
     ("interference_pins", "{contacts} interfering (+: flank of a positive torque)", ""),
+    ("preload_force_max_N", "  largest {contact} force before load (preload)", "N"),
+    ("preload_ph_max_MPa", "  its Hertz pressure P_h", "MPa"),
 )
 
 #: The papers' names of the figures a case may publish, by our summary key: a case's
