@@ -27,12 +27,12 @@ from .efficiency import evaluate, operating_point
 from .efficiency.mesh_table import table_from_records
 from .errors import CaseError, check_range
 from .fem.cache import DiskCache
-from .fem.datasheet.sheet import lost_motion_arcmin
+from .fem.datasheet.sheet import backlash_arcmin, lost_motion_arcmin
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.deviations import only
 from .fem.drives import drive_for
 from .datasheet import TE_DEFINITION
-from .fem.system.datasheet import SystemTwist, disc_record
+from .fem.system.datasheet import SystemTwist, disc_record, system_backlash_arcmin
 
 #: The outputs of a sample: column -> (label, unit) for tables and pictures.
 OUTPUTS = {
@@ -40,6 +40,7 @@ OUTPUTS = {
     "max_ph_MPa": ("maximum Hertz pressure", "MPa"),
     "contacts_min": ("fewest contacts at a position", "-"),
     "lost_motion_arcmin": ("lost motion, elastic curve (no friction)", "arcmin"),
+    "backlash_arcmin": ("backlash (< 0: the flanks interfere, preloaded)", "arcmin"),
     "te_mean_arcsec": ("transmission error of the reducer, mean", "arcsec"),
     "te_pp_arcsec": ("transmission error of the reducer, peak to peak", "arcsec"),
     "mesh_efficiency_pct": ("mesh efficiency", "%"),
@@ -267,6 +268,7 @@ def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
             "max_ph_MPa": float(np.max(peak.ph)) * 1e-6,
             "contacts_min": float(np.min(peak.contacts_per_position)),
             "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
+            "backlash_arcmin": backlash_arcmin(twist),
             "te_mean_arcsec": float(np.mean(total) / ARCSEC),
             "te_pp_arcsec": float((np.max(total) - np.min(total)) / ARCSEC),
             "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
@@ -294,6 +296,8 @@ def _system_outputs(setup: _Setup, si, drive, system, deviation, state) -> dict:
             "max_ph_MPa": float(max(np.max(r.ph) for r in records)) * 1e-6,
             "contacts_min": float(min(np.min(s.contacts) for s in sts)),
             "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
+            "backlash_arcmin": system_backlash_arcmin(system, deviation=deviation,
+                                                      pitches=setup.pitches),
             "te_mean_arcsec": float(np.mean(total) / ARCSEC),
             "te_pp_arcsec": float(np.ptp(total) / ARCSEC),
             "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),

@@ -519,7 +519,8 @@ class CycloidSystem:
         Returns
         -------
         float
-            [rad], signed by ``side``.
+            [rad], signed by ``side``; of the other sign where the flank already overlaps
+            (an interference: the backlash comes out negative).
         """
         phi = float(self.slots[0].solver.positions_rad[p])
         c = self._coords
@@ -530,7 +531,7 @@ class CycloidSystem:
         q[c.index["out"]] = side
         _, motion = closing_motion(c.n, self._elements(phi),
                                    np.concatenate([cs.g for cs in sets]),
-                                   np.concatenate([cs.g0 for cs in sets]), q)
+                                   np.concatenate([cs.g0 for cs in sets]), q, signed=True)
         return float(motion[c.index["out"]][0])
 
 

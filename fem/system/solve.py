@@ -237,7 +237,7 @@ def _flexibility(contacts, lam, sizes) -> np.ndarray:
     return h
 
 
-def closing_motion(n, elements, gmat, g0, q, u=None):
+def closing_motion(n, elements, gmat, g0, q, u=None, signed=False):
     """The contacts that close as the load moves the assembly as a mechanism, one after
     another, and the motion that closes them: the motions that deform no element and open
     no contact already closed (the null space of every element's B and the closed
@@ -260,6 +260,10 @@ def closing_motion(n, elements, gmat, g0, q, u=None):
         The load's direction.
     u : numpy.ndarray, optional
         Where to start (default at rest).
+    signed : bool
+        Let the first contacts close at a negative ratio where they overlap already (an
+        interference: the motion is then how far the load's flank is already closed, < 0);
+        else an overlapping contact closes at once.
 
     Returns
     -------
@@ -292,8 +296,8 @@ def closing_motion(n, elements, gmat, g0, q, u=None):
         if not np.any(closing):
             raise ContactError("no contact closes under the load: a body or the output "
                                "turns freely")
-        ratio = np.where(closing, np.maximum(gap, 0.0) / np.where(closing, -rate, 1.0),
-                         np.inf)
+        reach = gap if signed and not np.any(active) else np.maximum(gap, 0.0)
+        ratio = np.where(closing, reach / np.where(closing, -rate, 1.0), np.inf)
         first = np.min(ratio)
         gap = gap + first * rate
         motion = motion + first * v
