@@ -49,6 +49,11 @@ OUTPUTS = {
 PERCENTILES = (50, 90, 99)
 #: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
 MAX_SAMPLES = 100_000
+#: Sampled pitches of the system model's tables over the full period (each position of a
+#: ring is solved with the tables of its own pitch, filled from these: within 0.7 % of
+#: the exact tables on the largest pin force at 13 samples of the pin-housing drive's 39
+#: pitches, 3.6 % at 6; docs/stiffness.md).
+PITCH_SAMPLES = 13
 #: Samples per Dask task: large enough that the task's setup (reading the tables from the
 #: disk cache) is a few per cent of it.
 CHUNK = 50
@@ -176,6 +181,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                    rated_torque_Nm=float(rated or t_out),
                    cache_dir=None if cache_obj is None else str(cache_obj.directory))
     _solver(setup).prepare()                      # tables once, here (and on disk)
+    _system(setup, prepare=True)
     rng = np.random.default_rng(seed)
     runs = [("all", tol, int(samples))]
     n_share = max(20, int(samples) // 4) if share_samples is None else int(share_samples)
@@ -242,16 +248,13 @@ def _solver(setup: _Setup):
                               solver_options=drive.both_flanks_options)
 
 
-def _outputs(setup: _Setup, solver, deviation, state=None) -> dict:
+def _outputs(setup: _Setup, solver, deviation, state=None, system=None) -> dict:
     """The outputs of one built reducer (``deviation`` None: the nominal design);
-    ``state``: the drive's meshing at the solver's positions, if known. Through the system
-    model where the drive has one (:func:`_system_outputs`), else along the chained load
-    paths of its member at the case's peak member torque."""
+    ``state``: the drive's meshing at the solver's positions, if known. Through the
+    drive's system model ``system`` where it has one (:func:`_system_outputs`), else along
+    the chained load paths of its member at the case's peak member torque."""
     case, si = setup.case, setup.case.to_si()
     drive = drive_for(case)
-    system = drive.system_model(drive.supports(si.supports), setup.positions,
-                                cache=False if setup.cache_dir is None
-                                else DiskCache(setup.cache_dir))
     if system is not None:
         return _system_outputs(setup, si, drive, system, deviation, state)
     options = {"deviation": deviation, "pitches": setup.pitches}
@@ -304,14 +307,32 @@ def _system_outputs(setup: _Setup, si, drive, system, deviation, state) -> dict:
             "total_efficiency_pct": 100 * float(eff.efficiency[0])}
 
 
+def _system(setup: _Setup, prepare: bool = False):
+    """The drive's system model with its tables at every pitch (PITCH_SAMPLES sampled),
+    from the disk cache; ``prepare``: build every table now. None for a drive without
+    one."""
+    drive = drive_for(setup.case)
+    system = drive.system_model(
+        drive.supports(setup.case.to_si().supports), setup.positions,
+        cache=False if setup.cache_dir is None else DiskCache(setup.cache_dir),
+        pitch_samples=PITCH_SAMPLES)
+    if prepare and system is not None:
+        for tables in {id(t): t for t in system.pitch_tables}.values():
+            for solver in tables.solvers:
+                solver.prepare()
+    return system
+
+
 def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
     """The outputs of each deviation, in order (a Dask task, or the whole run in one
     process); ``done()`` after each, if given."""
     solver = _solver(setup)
-    state = drive_for(setup.case).meshing(solver.positions_rad)
+    drive = drive_for(setup.case)
+    state = drive.meshing(solver.positions_rad)
+    system = _system(setup)
     out = []
     for d in deviations:
-        out.append(_outputs(setup, solver, d, state))
+        out.append(_outputs(setup, solver, d, state, system))
         if done is not None:
             done()
     return out

@@ -439,7 +439,8 @@ class CycleSolver:
         gap[p, q.pins] = sol.gap
         beta[p] = sol.rigid
 
-    def compliance(self, p: int, q: _Position, lam, q_load: float, side: int = 1):
+    def compliance(self, p: int, q: _Position, lam, q_load: float, side: int = 1,
+                   table=None):
         """Contact flexibility of one position's candidates at given forces: the disc's
         (and integral housing's) influence table plus each contact's local Hertz approach
         at its half-width b(F) and, for conventional pins, the pin's own compliance.
@@ -457,6 +458,9 @@ class CycleSolver:
             The member torque per length [N m/m] (its sign picks the carrying flank).
         side : {1, -1}
             The flank of the tables.
+        table : numpy.ndarray, shape (C, C), optional
+            Another influence table of these candidates (the disc at another pitch: the
+            system model's filled tables) instead of this solver's.
 
         Returns
         -------
@@ -474,7 +478,7 @@ class CycleSolver:
             local = local + strip_width_correction(b, self.b_ref / 2, e_p)
         elif m.pin_structure == "conventional":
             local = local + self._pin.compliance(q.gamma, b)
-        return self.influence(p, side) + np.diag(local)
+        return (self.influence(p, side) if table is None else table) + np.diag(local)
 
     def candidates(self, side: int = 1) -> list:
         """The candidate contacts of every position for a torque of sign ``side``.

@@ -64,6 +64,7 @@ from ..datasheet import supports as sp
 from . import elements as el
 from ..contact import ContactError
 from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps
+from ..datasheet.transmission import fourier_fill, sampled_pitches
 from .solve import ContactSet, Element, Linear, closing_motion, solve
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
@@ -159,6 +160,70 @@ class DiscSlot:
     solver: object
 
 
+class PitchTables:
+    """A disc's influence tables at every pin pitch of the full period, filled from the
+    cycle solvers at a few sampled pitches by a least-squares Fourier series in the pitch
+    (:func:`toothfem.fem.datasheet.transmission.fourier_fill`: exact up to the order
+    (Q-1)/2 per full period of the holes' part), as the TE over the full period is filled.
+    At pitch m the contacts are those of pitch 0 moved m lobes on against the disc's holes:
+    every pin a candidate (both flanks), candidate j of pitch 0 is pin j + m there, so the
+    tables line up entry by entry once turned by m pins.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    n_positions, offset : int
+        The disc's grid (positions per pitch) and its grid offset.
+    options : dict
+        Its cycle solvers' options (both flanks).
+    cache
+        The FE tables' disk cache.
+    samples : int
+        Sampled pitches Q.
+    """
+
+    def __init__(self, drive, n_positions: int, offset: int, options: dict, cache,
+                 samples: int):
+        self.full_period = drive.full_period_pitches
+        self.zb = drive.geometry.pin_count
+        self.pitches = sampled_pitches(self.full_period, samples)
+        self.solvers = [drive.cycle_solver(n_positions, cache=cache,
+                                           offset=offset + m * n_positions,
+                                           solver_options=options) for m in self.pitches]
+        self._filled = {}
+
+    def table(self, p: int, pitch: int, side: int) -> np.ndarray:
+        """The influence table of position p's candidates (pitch 0's order) at a pitch.
+
+        Parameters
+        ----------
+        p : int
+            Position index.
+        pitch : int
+            Pin pitches on (any; taken over the full period).
+        side : {1, -1}
+            The flank.
+
+        Returns
+        -------
+        numpy.ndarray, shape (C, C)
+            [m per N/m].
+        """
+        key = (p, side)
+        if key not in self._filled:
+            ref = self.solvers[0].candidates(side)[p].pins
+            mats = []
+            for m, solver in zip(self.pitches, self.solvers):
+                pins = solver.candidates(side)[p].pins
+                where = {int(j): i for i, j in enumerate(pins)}
+                order = [where[(int(j) + m - self.pitches[0]) % self.zb] for j in ref]
+                mats.append(solver.influence(p, side)[np.ix_(order, order)].ravel())
+            self._filled[key] = fourier_fill(self.pitches, np.array(mats),
+                                             self.full_period).reshape(
+                self.full_period, ref.size, ref.size)
+        return self._filled[key][int(pitch) % self.full_period]
+
+
 @dataclass(frozen=True)
 class PathFriction:
     """Coulomb friction in the quasi-static path (docs/stiffness.md, "Friction"): what
@@ -232,10 +297,14 @@ class CycloidSystem:
         Puts the positions that many pin pitches on (the discs' FE tables at that pitch).
     phases_rad : sequence of float, optional
         Each disc's eccentric phase (default 2 pi j / discs, the balanced layout).
+    pitch_samples : int, optional
+        Every disc's influence tables at any pitch (``solve(pitch=)``) filled from this
+        many sampled pitches (:class:`PitchTables`); None: the tables of the positions'
+        own pitch (``pitch`` above) at every pitch.
     """
 
     def __init__(self, drive, supports, n_positions: int = 36, *, cache=True, pitch: int = 0,
-                 phases_rad=None,
+                 phases_rad=None, pitch_samples: int | None = None,
                  pin_spring_m_per_N: float | None = None, rigid: tuple = (),
                  crank_bearing_play_m: float = 0.0,
                  crank_bearing_stiffness_N_per_m: float | None = None):
@@ -283,6 +352,16 @@ class CycloidSystem:
                                 "pin pitches from the first disc's")
             slots.append(DiscSlot(j, phase, float(axial[j]), int(offsets[j]), beta, solver))
         self.slots = tuple(slots)
+        self.pitch_tables = None
+        if pitch_samples is not None and pin_spring_m_per_N is None:
+            if int(pitch):
+                raise CaseError("pitch_samples fills the tables over the full period: give "
+                                "the pitch to solve(), not to the model")
+            filled = {}
+            self.pitch_tables = tuple(
+                filled.setdefault(s.offset, PitchTables(
+                    drive, self.n_positions, s.offset, drive.both_flanks_options, cache,
+                    int(pitch_samples))) for s in slots)
         self.crank_bearing = el.RollerBearing(supports.bearing_roller_count,
                                               supports.bearing_roller_length_m,
                                               play_m=crank_bearing_play_m) \
@@ -453,8 +532,12 @@ class CycloidSystem:
                 def flex(lam, size=q.pins.size):
                     return np.eye(size) * self.pin_spring
             else:
-                def flex(lam, s=s, q=q):
-                    return s.solver.compliance(p, q, np.asarray(lam) / w, q_load, side) / w
+                table = None if self.pitch_tables is None else \
+                    self.pitch_tables[s.index].table(p, int(pitch), side)
+
+                def flex(lam, s=s, q=q, table=table):
+                    return s.solver.compliance(p, q, np.asarray(lam) / w, q_load, side,
+                                               table) / w
             out.append((ContactSet(f"pins disc {s.index + 1}", "mesh", g0, gmat, flex), q))
         return out
 
