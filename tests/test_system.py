@@ -18,6 +18,7 @@ from toothfem.fem.datasheet.twist import ARCMIN
 from toothfem.fem.drives import drive_for
 from toothfem.fem.system import elements as el
 from toothfem.fem.system.cycloid import CycloidSystem
+from tests.test_split import three_discs
 
 ROOT = Path(__file__).resolve().parents[1]
 #: Every part but the pins made rigid: the kinematic limit.
@@ -36,16 +37,6 @@ def hand_model():
 @pytest.fixture(scope="module")
 def pinhousing(cases_dir):
     return load_case(cases_dir / "cycloid_pinhousing.toml")
-
-
-def three_discs(case):
-    """The pin-housing drive with three discs on three cranks (41 pins, 40 lobes)."""
-    cyc = case.cycloid
-    holes = dataclasses.replace(cyc.disc_holes, crank_hole_count=3, pillar_hole_count=3,
-                                pillar_hole_radius_mm=6.0)
-    cyc = dataclasses.replace(cyc, pin_count=41, lobe_count=40, disc_count=3,
-                              disc_holes=holes)
-    return dataclasses.replace(case, cycloid=cyc, stated_ratio=None)
 
 
 def system(case, n_positions=12, supports=None, **options):
