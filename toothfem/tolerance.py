@@ -49,6 +49,12 @@ OUTPUTS = {
 PERCENTILES = (50, 90, 99)
 #: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
 MAX_SAMPLES = 100_000
+#: What a ring's forces and TE are, by the model that solves it (the summary says which).
+LOADS_SYSTEM = {"te_definition": TE_DEFINITION,
+                "loads": "the system model at the operating torque: every disc on its pins "
+                         "and bearings, the split between the discs solved (no load factor)"}
+LOADS_CHAINED = {"te_definition": "the chained load paths' twist of one member",
+                 "loads": "one member at the case's peak member torque (its load factor)"}
 #: Sampled pitches of the system model's tables over the full period (each position of a
 #: ring is solved with the tables of its own pitch, filled from these: within 0.7 % of
 #: the exact tables on the largest pin force at 13 samples of the pin-housing drive's 39
@@ -205,9 +211,9 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                 "operating_speed_rpm": setup.speed_rpm,
                 "operating_output_torque_Nm": setup.output_torque_Nm,
                 "rated_torque_Nm": setup.rated_torque_Nm,
-                "te_definition": TE_DEFINITION if drive.system_model(
+                **(LOADS_SYSTEM if drive.system_model(
                     drive.supports(si.supports), n, cache=False) is not None else
-                "the chained load paths' twist of one member"}
+                   LOADS_CHAINED)}
     return ToleranceResult(case_name=case.name, drive=drive.kind,
                            contact_name=drive.contact_name,
                            contacts_name=drive.contacts_name, samples=ensemble,
