@@ -73,10 +73,12 @@ def test_khv_backlash_is_its_closing_angle(khv):
 
 
 @pytest.mark.slow
-def test_khv_runs_every_command(cases_dir, tmp_path, capsys):
+def test_khv_runs_every_command(cases_dir, tmp_path, capsys, monkeypatch):
     """check, contact, stiffness, tolerance and run on the K-H-V case (issue 21's
     must-show), each writing its folder; the stiffness and tolerance (nominal ring) TE
     agree within 5 % at the rated torque (the rated and operating torques are equal)."""
+    from toothfem import tolerance
+    monkeypatch.setattr(tolerance, "PITCH_SAMPLES", 3)     # as tests/test_tolerance.py
     case = str(cases_dir / "cycloid_khv.toml")
     assert cli.main(["check", case]) == 0
     assert cli.main(["contact", case, "--positions", "6", "--field", "none",

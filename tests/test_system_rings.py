@@ -167,11 +167,3 @@ def test_rings_through_the_system_against_remeshed_pins(setup):
     pins moved at the true crank angle: same pins, the largest force within 2.5 % (the
     module docstring's reasons; the fill adds at most 0.7 %)."""
     _check(_compare(setup, "filled"))
-
-
-@pytest.mark.slow
-def test_rings_through_the_system_with_the_tables_of_their_pitch(setup):
-    """As above with the system's FE tables at the ring's pitch (``CycloidSystem(pitch=)``,
-    the disc's holes where they stand against the contacts): isolates the gap shifts from
-    the pitch-0 tables. Same pins, the largest force within 2.5 %."""
-    _check(_compare(setup, "ring's pitch"))

@@ -21,6 +21,19 @@ from toothfem.geometry.vectors import rotate
 from toothfem.tolerance import ALONE_OVER_ALL, tolerance_analysis
 
 
+#: The ensembles here fill every pitch's tables from 3 sampled pitches (the default 13 is
+#: verified against re-meshed rings in tests/test_system_rings.py): the fill's accuracy is
+#: not what these tests check, and 3 cold factorisations instead of 13 keep the suite's
+#: time (the samples travel with the ensemble's setup to the Dask workers).
+FEW_PITCH_SAMPLES = 3
+
+
+@pytest.fixture(autouse=True)
+def few_pitch_samples(monkeypatch):
+    from toothfem import tolerance
+    monkeypatch.setattr(tolerance, "PITCH_SAMPLES", FEW_PITCH_SAMPLES)
+
+
 @pytest.fixture(scope="module")
 def pinhousing(cases_dir):
     return load_case(cases_dir / "cycloid_pinhousing.toml")

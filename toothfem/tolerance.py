@@ -116,6 +116,7 @@ class _Setup:
     output_torque_Nm: float
     rated_torque_Nm: float
     cache_dir: str | None
+    pitch_samples: int = 0          # the system's sampled pitches (PITCH_SAMPLES when made)
 
 
 def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positions: int = 36,
@@ -185,7 +186,8 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                    pitches=(np.arange(n) * drive.pairing_period_pitches) // n,
                    speed_rpm=float(speed), output_torque_Nm=float(t_out),
                    rated_torque_Nm=float(rated or t_out),
-                   cache_dir=None if cache_obj is None else str(cache_obj.directory))
+                   cache_dir=None if cache_obj is None else str(cache_obj.directory),
+                   pitch_samples=PITCH_SAMPLES)
     _solver(setup).prepare()                      # tables once, here (and on disk)
     _system(setup, prepare=True)
     rng = np.random.default_rng(seed)
@@ -321,7 +323,7 @@ def _system(setup: _Setup, prepare: bool = False):
     system = drive.system_model(
         drive.supports(setup.case.to_si().supports), setup.positions,
         cache=False if setup.cache_dir is None else DiskCache(setup.cache_dir),
-        pitch_samples=PITCH_SAMPLES)
+        pitch_samples=setup.pitch_samples)
     if prepare and system is not None:
         for tables in {id(t): t for t in system.pitch_tables}.values():
             for solver in tables.solvers:

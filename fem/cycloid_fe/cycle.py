@@ -368,7 +368,7 @@ class CycleSolver:
         pos = self._candidates(side)
         if self.cache is not None and self.equal_springs is None:
             self.tables()
-        state, pin = self._geometry[1], self._pin
+        state = self._geometry[1]
         m = self.model
         q_load = torque / m.face_width
         zb = m.geometry.pin_count
@@ -383,7 +383,7 @@ class CycleSolver:
         it = range(n_pos) if progress is None else progress(range(n_pos))
         with one_blas_thread():
             for p in it:
-                self._solve_one(p, pos[p], q_load, pin, side, deviation, pitches[p], force,
+                self._solve_one(p, pos[p], q_load, side, deviation, pitches[p], force,
                                 gap, beta)
         return record("cycle", m, state, force, gap, beta, torque)
 
@@ -425,7 +425,7 @@ class CycleSolver:
         self.__dict__["_modified"] = (key, out)
         return out
 
-    def _solve_one(self, p, q, q_load, pin, side, deviation, pitch, force, gap, beta):
+    def _solve_one(self, p, q, q_load, side, deviation, pitch, force, gap, beta):
         """Position p into the rows of ``force``, ``gap`` and ``beta``."""
         m = self.model
         g0 = q.gap if deviation is None else \
@@ -434,7 +434,7 @@ class CycleSolver:
             sol = contact.solve_contact(np.eye(q.pins.size) * self.equal_springs, g0, q.arm,
                                         q_load)
         else:
-            sol = self._solve_position(p, q, q_load, pin, side, g0)
+            sol = self._solve_position(p, q, q_load, side, g0)
         force[p, q.pins] = sol.force * m.face_width
         gap[p, q.pins] = sol.gap
         beta[p] = sol.rigid
@@ -495,7 +495,7 @@ class CycleSolver:
         """
         return self._candidates(1 if self.sides == (0,) else side)
 
-    def _solve_position(self, p, q, q_load, pin, side, g0):
+    def _solve_position(self, p, q, q_load, side, g0):
         """Complementarity at one position, iterated on the Hertz half-widths b(F)."""
         lam, active = _seed_guess(q, q_load), None
         for _ in range(LOCAL_MAX_ITER):
