@@ -149,9 +149,12 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
-    summary.update(reducer_te(drive, case, output, phis.size))
-    if summary.get("interference_before_load_um", 0) > 0:
-        summary.update(assembly_preload(drive, case, phis.size))
+    si = case.to_si()
+    system = drive.system_model(drive.supports(si.supports), phis.size)
+    if system is not None:             # the whole reducer around this contact
+        summary.update(reducer_te(system, output))
+        if summary.get("interference_before_load_um", 0) > 0:
+            summary.update(assembly_preload(system, si.material))
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {
@@ -166,19 +169,17 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
                          members=drive.members, outlines=outlines)
 
 
-def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
+def reducer_te(system, output_torque_Nm: float) -> dict:
     """The transmission error of the whole reducer at an output torque over one pitch,
     and the pin contacts' part of it, from the system model (the one TE every command
-    names, docs/stiffness.md); {} for a drive without one.
+    names, docs/stiffness.md).
 
     Parameters
     ----------
-    drive : toothfem.fem.drives.Drive
-    case : toothfem.case.Case
+    system : toothfem.fem.system.cycloid.CycloidSystem
+        The drive's system model over the pitch's positions.
     output_torque_Nm : float
         [N m].
-    positions : int
-        Positions over the pitch.
 
     Returns
     -------
@@ -186,10 +187,6 @@ def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
         ``transmission_error_reducer_arcsec`` (mean), its ``..._ripple_arcsec`` (peak to
         peak) and ``transmission_error_reducer_mesh_arcsec`` (the mesh's part, mean).
     """
-    supports = drive.supports(case.to_si().supports)
-    system = drive.system_model(supports, positions)
-    if system is None:
-        return {}
     point = SystemTwist(system).at(output_torque_Nm)
     arcsec = 180 * 3600 / np.pi
     return {"transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
@@ -199,7 +196,7 @@ def reducer_te(drive, case, output_torque_Nm: float, positions: int) -> dict:
             "transmission_error_reducer_definition": TE_DEFINITION}
 
 
-def assembly_preload(drive, case, positions: int) -> dict:
+def assembly_preload(system, material) -> dict:
     """The pin forces an interfering disc carries before any load, from the system model
     at a vanishing output torque (every pin of both flanks a candidate), with their Hertz
     pressure; a warning where that pressure passes the material's contact-fatigue limit
@@ -208,16 +205,15 @@ def assembly_preload(drive, case, positions: int) -> dict:
 
     Parameters
     ----------
-    drive : toothfem.fem.drives.Drive
-    case : toothfem.case.Case
-    positions : int
-        Positions over the pitch.
+    system : toothfem.fem.system.cycloid.CycloidSystem
+        The drive's system model over the pitch's positions.
+    material : toothfem.si.MaterialSI
+        Its contact-stress limits.
 
     Returns
     -------
     dict
-        ``preload_force_max_N``, ``preload_ph_max_MPa`` (over the positions and discs);
-        {} for a drive without a system model.
+        ``preload_force_max_N``, ``preload_ph_max_MPa`` (over the positions and discs).
 
     Raises
     ------
@@ -227,30 +223,25 @@ def assembly_preload(drive, case, positions: int) -> dict:
     """
     import warnings
 
-    si = case.to_si()
-    system = drive.system_model(drive.supports(si.supports), positions)
-    if system is None:
-        return {}
     states = SystemTwist(system).states(0.0, 1)
     model = system.slots[0].solver.model
-    mesh = drive.meshing(system.slots[0].solver.positions_rad)
+    mesh = system.drive.meshing(system.slots[0].solver.positions_rad)
     force, ph = 0.0, 0.0
     for j in range(system.discs):
         rec = disc_record(model, mesh, np.array([s.pin_force_N[j] for s in states]),
                           np.array([s.twist_rad for s in states]), 0.0)
         force, ph = max(force, float(np.max(rec.force))), max(ph, float(np.max(rec.ph)))
-    mat = si.material
     what = (f"the disc's interference with its pins before load presses them with up to "
             f"{force:.4g} N, P_h {ph * 1e-6:.4g} MPa, before any load (`toothfem check` "
             "names the pins)")
-    if ph > mat.static_contact_stress_Pa:
+    if ph > material.static_contact_stress_Pa:
         raise CaseError(f"{what}: beyond the static limit "
-                        f"{mat.static_contact_stress_Pa * 1e-6:g} MPa (ISO 76:2006, "
+                        f"{material.static_contact_stress_Pa * 1e-6:g} MPa (ISO 76:2006, "
                         "material.static_contact_stress_MPa): the disc cannot be put on its "
                         "pins without denting them")
-    if ph > mat.allowable_contact_stress_Pa:
+    if ph > material.allowable_contact_stress_Pa:
         warnings.warn(f"{what}: beyond the contact-fatigue limit "
-                      f"{mat.allowable_contact_stress_Pa * 1e-6:g} MPa (ISO 281:2007, "
+                      f"{material.allowable_contact_stress_Pa * 1e-6:g} MPa (ISO 281:2007, "
                       "material.allowable_contact_stress_MPa)", stacklevel=2)
     return {"preload_force_max_N": force, "preload_ph_max_MPa": ph * 1e-6}
 

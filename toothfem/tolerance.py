@@ -189,7 +189,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                    cache_dir=None if cache_obj is None else str(cache_obj.directory),
                    pitch_samples=PITCH_SAMPLES)
     _solver(setup).prepare()                      # tables once, here (and on disk)
-    _system(setup, prepare=True)
+    by_system = _system(setup, prepare=True) is not None
     rng = np.random.default_rng(seed)
     runs = [("all", tol, int(samples))]
     n_share = max(20, int(samples) // 4) if share_samples is None else int(share_samples)
@@ -213,9 +213,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                 "operating_speed_rpm": setup.speed_rpm,
                 "operating_output_torque_Nm": setup.output_torque_Nm,
                 "rated_torque_Nm": setup.rated_torque_Nm,
-                **(LOADS_SYSTEM if drive.system_model(
-                    drive.supports(si.supports), n, cache=False) is not None else
-                   LOADS_CHAINED)}
+                **(LOADS_SYSTEM if by_system else LOADS_CHAINED)}
     return ToleranceResult(case_name=case.name, drive=drive.kind,
                            contact_name=drive.contact_name,
                            contacts_name=drive.contacts_name, samples=ensemble,

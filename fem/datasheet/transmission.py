@@ -252,11 +252,7 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
         If the torque is zero or not finite, or ``samples`` or ``per_pitch`` is outside
         [1, 400].
     """
-    check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
-    if output_torque_Nm == 0:
-        raise CaseError("te_torque_Nm = 0 is outside the valid range: nonzero")
-    check_range("te_samples", samples, 1, 400, error=CaseError)
-    check_range("te_positions", per_pitch, 1, 400, error=CaseError)
+    check_te_inputs(output_torque_Nm, samples, per_pitch)
     k = drive.full_period_pitches
     pitches = sampled_pitches(k, samples)
     t = float(output_torque_Nm)
@@ -281,9 +277,6 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
     fill = lambda v: fourier_fill(pitches, np.array(v), k).ravel()  # noqa: E731
     own_full, mesh_full = fill(own), fill(mesh)
     n_all = own_full.size
-    crank = np.arange(n_all) * (drive.period_rad / per_pitch)
-    speeds = drive.speeds()
-    out_per_crank = abs(speeds["output"] / speeds["crank"])
     split = None
     te = own_full + coupled_even + through
     if several:
@@ -293,11 +286,60 @@ def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAUL
             share, theta = _split(drive, s, t, levels, table, per_pitch)
             te = theta + through
         split = _member_split(drive, share, t, per_pitch, even)
+    return loaded_record(drive, t, te, mesh_full, pitches, per_pitch), split
+
+
+def check_te_inputs(output_torque_Nm, samples, per_pitch) -> None:
+    """The loaded TE's inputs in range, or the one-line refusal naming the key.
+
+    Parameters
+    ----------
+    output_torque_Nm : float
+        [N m], nonzero and finite.
+    samples, per_pitch : int
+        Sampled pitches and positions per pitch, 1 to 400.
+
+    Raises
+    ------
+    CaseError
+        For a value out of its range.
+    """
+    check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
+    if output_torque_Nm == 0:
+        raise CaseError("te_torque_Nm = 0 is outside the valid range: nonzero")
+    check_range("te_samples", samples, 1, 400, error=CaseError)
+    check_range("te_positions", per_pitch, 1, 400, error=CaseError)
+
+
+def loaded_record(drive, output_torque_Nm: float, te, mesh, pitches, per_pitch: int):
+    """The LoadedTE of a TE filled over the full period: its crank and output angles and its
+    harmonics per output revolution.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    output_torque_Nm : float
+        [N m].
+    te, mesh : numpy.ndarray, shape (N,)
+        The TE and the mesh's part of it over the full period's grid [rad].
+    pitches : tuple of int
+        The sampled pitches.
+    per_pitch : int
+        Positions per pitch.
+
+    Returns
+    -------
+    LoadedTE
+    """
+    k = drive.full_period_pitches
+    crank = np.arange(np.size(te)) * (drive.period_rad / per_pitch)
+    speeds = drive.speeds()
+    out_per_crank = abs(speeds["output"] / speeds["crank"])
     orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
-    return LoadedTE(output_torque_Nm=t, crank_angle_rad=crank,
-                    output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
+    return LoadedTE(output_torque_Nm=float(output_torque_Nm), crank_angle_rad=crank,
+                    output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh,
                     sampled_pitches=pitches, per_pitch=int(per_pitch), full_period_pitches=k,
-                    orders_per_output_rev=orders, amplitude_arcsec=amp / ARCSEC), split
+                    orders_per_output_rev=orders, amplitude_arcsec=amp / ARCSEC)
 
 
 def even_by_layout(drive, supports, per_pitch: int) -> bool:

@@ -434,6 +434,15 @@ class CycloidSystem:
         return self.drive.geometry.eccentricity_m * np.array(
             [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
 
+    def _disc_turn(self, s: DiscSlot, p: int) -> float:
+        """Disc ``s``'s rotation at position p [rad], housing frame: the K-H-V pose of its
+        configuration turned by its beta."""
+        return -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+
+    def _output_normal(self, phi: float, s: DiscSlot) -> np.ndarray:
+        """(2,) the K-H-V output pins' contact normal in disc ``s``'s holes, -E_j/e."""
+        return -self._eccentric(phi, s) / self.drive.geometry.eccentricity_m
+
     def _elements(self, phi: float) -> list:
         """The elements at crank angle phi (kept: every torque at a position uses them)."""
         kept = self._kept_elements.get(phi)
@@ -516,7 +525,7 @@ class CycloidSystem:
         q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
         for s in self.slots:
             q = s.solver.candidates(side)[p]
-            rot = -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+            rot = self._disc_turn(s, p)
             n_h = rotate(q.normal, rot)
             gmat = np.zeros((q.pins.size, c.n))
             dj = c.index[f"disc{s.index}"]
@@ -555,7 +564,7 @@ class CycloidSystem:
         clearance = hole - om.contact_radius_m - e
         clearance = 0.0 if abs(clearance) < 1e-12 else clearance      # mm -> m round-off
         for s in self.slots:
-            n = -self._eccentric(phi, s) / e
+            n = self._output_normal(phi, s)
             dj = c.index[f"disc{s.index}"]
             for k in range(n_o):
                 r = np.zeros(c.n)
@@ -616,7 +625,6 @@ class CycloidSystem:
                                    np.concatenate([cs.g for cs in sets]),
                                    np.concatenate([cs.g0 for cs in sets]), q, signed=True)
         return float(motion[c.index["out"]][0])
-
 
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
               start=None, friction: PathFriction | None = None, deviation=None,
@@ -715,7 +723,7 @@ class CycloidSystem:
             if self.drive.stage.pin_structure == "conventional" else fr.pin_disc
         total = 0.0
         for s, (cs, q) in zip(self.slots, pins):
-            rot = -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+            rot = self._disc_turn(s, p)
             n_h, arm = rotate(q.normal, rot), rotate(q.point, rot)   # about the disc centre
             dj = v[c.index[f"disc{s.index}"]]
             vel = dj[:2, None] + dj[2] * perp(arm)         # the disc at each contact point
@@ -743,7 +751,7 @@ class CycloidSystem:
             centres = self._output_centres(phi)
             slip = []
             for s in self.slots:        # the pin (roller) against its hole, tangentially
-                t = perp(-self._eccentric(phi, s) / self.drive.geometry.eccentricity_m)
+                t = perp(self._output_normal(phi, s))
                 dj = v[c.index[f"disc{s.index}"]]
                 rel = v[c.index["out"]][0] * perp(centres) - dj[:2, None] \
                     - dj[2] * perp(centres)

@@ -15,10 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...errors import CaseError, check_range
-from ..datasheet.transmission import (LoadedTE, MemberSplit, fourier_fill,
-                                      harmonic_amplitudes, sampled_pitches)
-from ..datasheet.twist import ARCMIN, ARCSEC, ZERO_TORQUE_NM, TwistPoint
+from ...errors import CaseError
+from ..datasheet.transmission import (MemberSplit, check_te_inputs, fourier_fill,
+                                      loaded_record, sampled_pitches)
+from ..datasheet.twist import ARCMIN, ZERO_TORQUE_NM, TwistPoint
 from ..cycloid_fe.cycle import record
 from .cycloid import CycloidSystem
 
@@ -290,11 +290,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
         clearances, every disc); the split: each disc's torque over the discs' sum; every
         bearing's load over the full period.
     """
-    check_range("te_torque_Nm", output_torque_Nm, error=CaseError)
-    if output_torque_Nm == 0:
-        raise CaseError("te_torque_Nm = 0 is outside the valid range: nonzero")
-    check_range("te_samples", samples, 1, 400, error=CaseError)
-    check_range("te_positions", per_pitch, 1, 400, error=CaseError)
+    check_te_inputs(output_torque_Nm, samples, per_pitch)
     t = float(output_torque_Nm)
     k = drive.full_period_pitches
     pitches = sampled_pitches(k, samples)
@@ -316,16 +312,8 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
     te, mesh_full = fill(twist).ravel(), fill(mesh).ravel()
     m = drive.members
     share = fill(shares).reshape(k, m, per_pitch).transpose(1, 0, 2).reshape(m, -1)
-    n_all = te.size
-    crank = np.arange(n_all) * (drive.period_rad / per_pitch)
-    speeds = drive.speeds()
-    out_per_crank = abs(speeds["output"] / speeds["crank"])
-    orders, amp = harmonic_amplitudes(te, k * drive.period_rad * out_per_crank)
-    loaded = LoadedTE(output_torque_Nm=t, crank_angle_rad=crank,
-                      output_angle_rad=crank * out_per_crank, te_rad=te, mesh_rad=mesh_full,
-                      sampled_pitches=pitches, per_pitch=int(per_pitch),
-                      full_period_pitches=k, orders_per_output_rev=orders,
-                      amplitude_arcsec=amp / ARCSEC)
+    loaded = loaded_record(drive, t, te, mesh_full, pitches, per_pitch)
+    crank = loaded.crank_angle_rad
     load = fill(bearings).reshape(k, len(names), per_pitch).transpose(1, 0, 2)
     loads = BearingLoads(names=tuple(names), load_N=load.reshape(len(names), -1),
                          crank_angle_rad=crank, output_torque_Nm=t)

@@ -21,8 +21,8 @@ system [[K, -G_A^T], [-G_A, -H_AA]]; an inactive contact whose gap closes joins 
 one whose force turns negative leaves it (semismooth Newton, the primal-dual active set of
 Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2003) 865, with the element forces
 linearised at each step). H depends on lambda only through the contacts' half-widths: it is
-held over a Newton solve and updated between solves until the forces settle (as the cycle
-mode does, fem/cycloid_fe/cycle.py).
+updated from each step's forces until they settle (as the cycle mode iterates them,
+fem/cycloid_fe/cycle.py).
 
 Work balance. Taking the solution itself as the virtual displacement,
 ``Q . u = sum_e f_e . delta_e + lambda . H lambda + lambda . g0`` exactly (the gaps of the
@@ -102,17 +102,13 @@ class Equilibrium:
     rate: np.ndarray | None = None
 
 
-def _element_terms(elements, u, n):
-    force = np.zeros(n)
-    stiff = np.zeros((n, n))
+def _each_element(elements, u) -> dict:
+    """{name: (force, deformation)} of every element at u (what the outputs report)."""
     out = {}
     for e in elements:
         d = e.b @ u
-        f, k = e.law(d)
-        force += e.b.T @ f
-        stiff += e.b.T @ k @ e.b
-        out[e.name] = (f, d)
-    return force, stiff, out
+        out[e.name] = (e.law(d)[0], d)
+    return out
 
 
 def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
@@ -177,9 +173,9 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
             h = _flexibility(contacts, lam, sizes)
         else:
             raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
-    total_it = it
-    f_int, kt, per = _element_terms(elements, u, n)
+    _, kt = _internal(linear, nonlinear, u, n)
     rate = _rate(n, kt, gmat[active], h[np.ix_(active, active)], q / np.linalg.norm(q))
+    per = _each_element(elements, u)
     gap = g0 + h @ lam + gmat @ u
     gap = np.where(active, 0.0, gap)
     work = {}
@@ -197,7 +193,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         gaps={c.name: gap[sizes[k]:sizes[k + 1]] for k, c in enumerate(contacts)},
         element_force={k: v[0] for k, v in per.items()},
         element_deformation={k: v[1] for k, v in per.items()}, work=work,
-        iterations=total_it, rate=rate)
+        iterations=it, rate=rate)
 
 
 def _rate(n, kt, ga, haa, dq) -> np.ndarray:
@@ -368,6 +364,7 @@ def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
     hold = HOLD_REL * np.max(np.abs(np.diag(kt)), initial=1.0) * np.eye(n)
     for _ in range(MAX_ACTIVE_SET):
         idx = np.flatnonzero(active)
+        held = False
         try:
             sol = _saddle(n, kt, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
         except ContactError:
@@ -375,19 +372,18 @@ def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
             # change): a vanishing stiffness on every coordinate moves the free body until
             # the contacts it meets join the set; a settled set never needs it
             sol = _saddle(n, kt + hold, gmat[idx], h[np.ix_(idx, idx)], rhs_u, g0[idx])
-            u = sol[:n]
-            lam = np.zeros(m)
-            lam[idx] = sol[n:]
-            gap = g0 + h @ lam + gmat @ u
-            new = np.where(active, lam > 0, gap < 0)
-            if np.array_equal(new, active):
-                raise
-            active = new
-            continue
+            held = True
         u = sol[:n]
         lam = np.zeros(m)
         lam[idx] = sol[n:]
         gap = g0 + h @ lam + gmat @ u
+        if held:
+            new = np.where(active, lam > 0, gap < 0)
+            if np.array_equal(new, active):
+                raise ContactError("singular system: a body or coordinate that nothing "
+                                   f"holds ({idx.size} contacts carry)")
+            active = new
+            continue
         # a contact that touches without force (lambda = gap = 0, a degenerate pair) stays
         # as it is: round-off must not toss it in and out
         tol_lam = DEGENERATE_RTOL * np.max(np.abs(lam), initial=0.0)
