@@ -326,6 +326,32 @@ def test_atomic_dir_keeps_the_old_result_on_failure(tmp_path):
     assert [p.name for p in tmp_path.iterdir()] == ["res"]
 
 
+def test_out_never_replaces_what_toothfem_did_not_write(tmp_path, cases_dir, capsys):
+    """--out naming a folder with the user's files (a notes folder, the case's own folder)
+    or an existing file is refused in one line before anything is written, and nothing of
+    the user's is touched; an empty folder and an earlier result are written into."""
+    from toothfem import cli
+    notes = tmp_path / "notes"
+    notes.mkdir()
+    (notes / "thesis.txt").write_text("mine")
+    own = tmp_path / "case"
+    own.mkdir()
+    case = own / "c.toml"
+    case.write_text((cases_dir / "cycloid_pinhousing.toml").read_text())
+    afile = tmp_path / "a.txt"
+    afile.write_text("keep")
+    for out in (notes, own, afile):
+        assert cli.main(["geometry", str(case), "--out", str(out)]) == 2
+        assert "--out" in capsys.readouterr().err
+    assert (notes / "thesis.txt").read_text() == "mine" and case.exists()
+    assert afile.read_text() == "keep"
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    for out in (empty, empty):             # empty, then an earlier result
+        assert cli.main(["geometry", str(case), "--out", str(out)]) == 0
+    assert (empty / "profile.csv").exists()
+
+
 def test_cache_that_cannot_be_written_warns_and_returns(tmp_path, monkeypatch):
     blocker = tmp_path / "not_a_folder"
     blocker.write_text("x")

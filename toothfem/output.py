@@ -5,6 +5,10 @@ exception) or is killed never leaves a half-written result under the output name
 happens in a hidden sibling ``.<name>.tmp-<host>-<pid>-<random>``, renamed to ``<name>``
 only when complete. A sibling left by a run that was killed outright (SIGKILL, power loss)
 names its process; the next run into the same folder removes it once that process is gone.
+
+Only a folder toothfem wrote is ever replaced: every result folder holds the marker file
+MARKER, and an ``out`` that is a file, or a folder that is neither empty nor marked (a
+user's folder, the case's own folder), is refused before anything is written.
 """
 from __future__ import annotations
 
@@ -17,6 +21,11 @@ import socket
 import tempfile
 import threading
 from pathlib import Path
+
+from .errors import ToothfemError
+
+#: The file that marks a folder as a toothfem result (what a later run may replace).
+MARKER = ".toothfem-result"
 
 #: The signals that are held back while the finished folder replaces the old one, so that
 #: an interrupt cannot fall between the two renames (and leave neither under the name).
@@ -85,6 +94,31 @@ def _signals_held():
         signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
+def check_replaceable(out) -> None:
+    """Refuse an output path that toothfem did not write: a file, or a folder that is
+    neither empty nor marked as a toothfem result (MARKER).
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder.
+
+    Raises
+    ------
+    ToothfemError
+        Naming the path and why it is not replaced.
+    """
+    out = Path(out)
+    if not out.exists():
+        return
+    if not out.is_dir():
+        raise ToothfemError(f"--out {out} is a file: toothfem writes a folder and does not "
+                            "replace what it did not write (choose a new folder)")
+    if any(out.iterdir()) and not (out / MARKER).is_file():
+        raise ToothfemError(f"--out {out} holds files toothfem did not write: it is not "
+                            "replaced (choose a new or empty folder, or an earlier result)")
+
+
 @contextlib.contextmanager
 def atomic_dir(out):
     """Yield a temporary folder that becomes ``out`` only if the block succeeds.
@@ -105,10 +139,13 @@ def atomic_dir(out):
         The temporary folder to write into.
     """
     out = Path(out)
+    check_replaceable(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     clean_stale(out)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('tmp')}", dir=out.parent))
     try:
+        (tmp / MARKER).write_text("written by toothfem; a later run may replace this "
+                                  "folder\n")
         yield tmp
     except BaseException:
         with _signals_held():          # a second Ctrl-C does not cut the clean-up short
