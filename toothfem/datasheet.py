@@ -199,7 +199,10 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
              + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
              + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
     save(report_stiffness.hysteresis(sheet, title=title), folder / "hysteresis.png", dpi=120)
-    save(report_stiffness.transmission_error(te), folder / "te.png", dpi=120)
+    which = ("the reducer's TE (system model, input held)"
+             if result.bearings is not None else "one member's chained load paths")
+    save(report_stiffness.transmission_error(te, heading=f"{result.case_name}: {which}"),
+         folder / "te.png", dpi=120)
     summary = {**result.summary, "files": files}
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary

@@ -82,7 +82,7 @@ def hysteresis(sheet, title: str = ""):
     return fig
 
 
-def transmission_error(te, title: str = ""):
+def transmission_error(te, title: str = "", heading: str = ""):
     """The figure of a :class:`~toothfem.fem.datasheet.transmission.LoadedTE`: the TE over
     the full period against crank angle (output angle on the top axis), and below the
     amplitudes of its largest harmonics by order per output revolution.
@@ -93,6 +93,8 @@ def transmission_error(te, title: str = ""):
         The loaded TE.
     title : str
         The top panel's title; default: the torque and the period.
+    heading : str
+        A line above the default title (the case and which TE it is).
 
     Returns
     -------
@@ -115,7 +117,8 @@ def transmission_error(te, title: str = ""):
     a1.grid(alpha=0.3)
     a1.legend(fontsize=8, loc="lower right")
     pitches = f"{te.full_period_pitches} pitch" + ("es" if te.full_period_pitches > 1 else "")
-    a1.set_title(title or f"loaded TE at {te.output_torque_Nm:.4g} N m over the full period "
+    a1.set_title(title or (f"{heading}\n" if heading else "")
+                 + f"loaded TE at {te.output_torque_Nm:.4g} N m over the full period "
                  f"({pitches}): peak-to-peak "
                  f"{te.peak_to_peak_arcsec:.3g} arcsec, RMS {te.rms_arcsec:.3g} arcsec",
                  fontsize=10)
