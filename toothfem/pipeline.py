@@ -21,7 +21,7 @@ from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_
 from .efficiency import evaluate, operating_point
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
-from .fem.system.datasheet import SystemTwist, disc_record
+from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
 from .report import durability as report_durability, plots, save, summary as report_summary
@@ -224,12 +224,9 @@ def assembly_preload(system, material) -> dict:
     import warnings
 
     states = SystemTwist(system).states(0.0, 1)
-    model = system.slots[0].solver.model
-    mesh = system.drive.meshing(system.slots[0].solver.positions_rad)
     force, ph = 0.0, 0.0
     for j in range(system.discs):
-        rec = disc_record(model, mesh, np.array([s.pin_force_N[j] for s in states]),
-                          np.array([s.twist_rad for s in states]), 0.0)
+        rec = system.member_record(j, states)
         force, ph = max(force, float(np.max(rec.force))), max(ph, float(np.max(rec.ph)))
     what = (f"the disc's interference with its pins before load presses them with up to "
             f"{force:.4g} N, P_h {ph * 1e-6:.4g} MPa, before any load (`toothfem check` "

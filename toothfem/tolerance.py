@@ -15,7 +15,9 @@ additive, so the one-tolerance variances need not sum to the whole ensemble's).
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import math
+import pickle
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,7 +34,7 @@ from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.deviations import only
 from .fem.drives import drive_for
 from .datasheet import TE_DEFINITION
-from .fem.system.datasheet import SystemTwist, disc_record, system_backlash_arcmin
+from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 
 #: The outputs of a sample: column -> (label, unit) for tables and pictures.
 OUTPUTS = {
@@ -254,15 +256,17 @@ def _solver(setup: _Setup):
                               solver_options=drive.both_flanks_options)
 
 
-def _outputs(setup: _Setup, solver, deviation, state=None, system=None) -> dict:
+def _outputs(setup: _Setup, solver, deviation, state=None, system=None,
+             reference=None) -> dict:
     """The outputs of one built reducer (``deviation`` None: the nominal design);
     ``state``: the drive's meshing at the solver's positions, if known. Through the
-    drive's system model ``system`` where it has one (:func:`_system_outputs`), else along
-    the chained load paths of its member at the case's peak member torque."""
+    drive's system model ``system`` where it has one (:func:`_system_outputs`, from the
+    nominal design's ``reference`` twist), else along the chained load paths of its
+    member at the case's peak member torque."""
     case, si = setup.case, setup.case.to_si()
     drive = drive_for(case)
     if system is not None:
-        return _system_outputs(setup, si, drive, system, deviation, state)
+        return _system_outputs(setup, si, drive, system, deviation, state, reference)
     options = {"deviation": deviation, "pitches": setup.pitches}
     twist = TwistModel(drive, drive.supports(si.supports), solver, options, state)
     t = setup.output_torque_Nm
@@ -284,21 +288,20 @@ def _outputs(setup: _Setup, solver, deviation, state=None, system=None) -> dict:
             "total_efficiency_pct": 100 * float(eff.efficiency[0])}
 
 
-def _system_outputs(setup: _Setup, si, drive, system, deviation, state) -> dict:
+def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
+                    reference=None) -> dict:
     """One built reducer through the system model at the operating torque: every disc on
     its pins and bearings, the deviation's gaps at each position's pitch; the largest
     force, Hertz pressure and fewest contacts over every disc (the split between them
     solved, so no load factor), the elastic lost motion, the reducer's TE, and the
-    efficiency with the first disc's loads."""
-    twist = SystemTwist(system, deviation=deviation, pitches=setup.pitches)
+    efficiency with the first disc's loads; ``reference``: the nominal design's
+    SystemTwist on these positions, each solve's start."""
+    twist = SystemTwist(system, deviation=deviation, pitches=setup.pitches,
+                        reference=reference)
     t = setup.output_torque_Nm
     sts = twist.states(t)
     state = drive.meshing(system.slots[0].solver.positions_rad) if state is None else state
-    model = system.slots[0].solver.model
-    records = [disc_record(model, state, np.array([s.pin_force_N[j] for s in sts]),
-                           np.array([s.twist_rad for s in sts]),
-                           float(np.mean([s.disc_torque_Nm[j] for s in sts])))
-               for j in range(system.discs)]
+    records = [system.member_record(j, sts, state) for j in range(system.discs)]
     eff = evaluate(si, setup.speed_rpm, t, table=table_from_records(state, records[:1], "fem"))
     total = np.array([s.twist_rad for s in sts])
     return {"max_force_N": float(max(np.max(r.force) for r in records)),
@@ -323,22 +326,39 @@ def _system(setup: _Setup, prepare: bool = False):
         cache=False if setup.cache_dir is None else DiskCache(setup.cache_dir),
         pitch_samples=setup.pitch_samples)
     if prepare and system is not None:
-        for tables in {id(t): t for t in system.pitch_tables}.values():
-            for solver in tables.solvers:
-                solver.prepare()
+        for tables in {id(t): t for t in system.pitch_tables or ()}.values():
+            tables.prepare()
+        for s in system.slots:
+            s.solver.prepare()
     return system
+
+
+#: The last setup's models in this process ({key: (solver, state, system, reference)}):
+#: the Dask tasks of one run on a worker read the tables and solve the nominal design once.
+_MODELS = {}
+
+
+def _models(setup: _Setup):
+    """(cycle solver, meshing state, system model or None, the nominal design's
+    SystemTwist or None) of a setup, kept for the process's next task of the same run."""
+    key = hashlib.sha256(pickle.dumps(setup)).hexdigest()
+    if key not in _MODELS:
+        solver = _solver(setup)
+        state = drive_for(setup.case).meshing(solver.positions_rad)
+        system = _system(setup)
+        reference = None if system is None else SystemTwist(system, pitches=setup.pitches)
+        _MODELS.clear()
+        _MODELS[key] = (solver, state, system, reference)
+    return _MODELS[key]
 
 
 def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
     """The outputs of each deviation, in order (a Dask task, or the whole run in one
     process); ``done()`` after each, if given."""
-    solver = _solver(setup)
-    drive = drive_for(setup.case)
-    state = drive.meshing(solver.positions_rad)
-    system = _system(setup)
+    solver, state, system, reference = _models(setup)
     out = []
     for d in deviations:
-        out.append(_outputs(setup, solver, d, state, system))
+        out.append(_outputs(setup, solver, d, state, system, reference))
         if done is not None:
             done()
     return out

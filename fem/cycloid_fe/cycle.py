@@ -439,11 +439,10 @@ class CycleSolver:
         gap[p, q.pins] = sol.gap
         beta[p] = sol.rigid
 
-    def compliance(self, p: int, q: _Position, lam, q_load: float, side: int = 1,
-                   table=None):
+    def compliance(self, p: int, q: _Position, lam, q_load: float, side: int = 1):
         """Contact flexibility of one position's candidates at given forces: the disc's
-        (and integral housing's) influence table plus each contact's local Hertz approach
-        at its half-width b(F) and, for conventional pins, the pin's own compliance.
+        (and integral housing's) influence table plus each contact's local approach
+        (:meth:`local_compliance`) on the diagonal.
 
         Parameters
         ----------
@@ -452,19 +451,37 @@ class CycleSolver:
         q : _Position
             That position's candidates (:meth:`candidates`).
         lam : array_like, shape (C,)
-            Contact forces per length [N/m] the half-widths are taken at (an unloaded
-            candidate: the width of the mean load).
+            Contact forces per length [N/m].
         q_load : float
             The member torque per length [N m/m] (its sign picks the carrying flank).
         side : {1, -1}
             The flank of the tables.
-        table : numpy.ndarray, shape (C, C), optional
-            Another influence table of these candidates (the disc at another pitch: the
-            system model's filled tables) instead of this solver's.
 
         Returns
         -------
         numpy.ndarray, shape (C, C)
+            [m per N/m].
+        """
+        return self.influence(p, side) + np.diag(self.local_compliance(q, lam, q_load))
+
+    def local_compliance(self, q: _Position, lam, q_load: float) -> np.ndarray:
+        """Each candidate's local approach per force at given forces, what the influence
+        tables leave out: the Hertz approach at its half-width b(F) and, for conventional
+        pins, the pin's own compliance (a secant: the approach is this times the force).
+
+        Parameters
+        ----------
+        q : _Position
+            One position's candidates (:meth:`candidates`).
+        lam : array_like, shape (C,)
+            Contact forces per length [N/m] the half-widths are taken at (an unloaded
+            candidate: the width of the mean load).
+        q_load : float
+            The member torque per length [N m/m] (its sign picks the carrying flank).
+
+        Returns
+        -------
+        numpy.ndarray, shape (C,)
             [m per N/m].
         """
         m = self.model
@@ -478,7 +495,7 @@ class CycleSolver:
             local = local + strip_width_correction(b, self.b_ref / 2, e_p)
         elif m.pin_structure == "conventional":
             local = local + self._pin.compliance(q.gamma, b)
-        return (self.influence(p, side) if table is None else table) + np.diag(local)
+        return local
 
     def candidates(self, side: int = 1) -> list:
         """The candidate contacts of every position for a torque of sign ``side``.

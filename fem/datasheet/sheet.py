@@ -203,6 +203,21 @@ def loop_branches(torques) -> np.ndarray:
     return np.concatenate([[1], np.where(np.diff(t) >= 0, 1, -1)])
 
 
+def _stick(branches, twist) -> np.ndarray:
+    """The loop's twist with the contacts stuck after each reversal: on a falling branch no
+    more than at the reversal, on a rising one no less, until the branch's own curve
+    passes that value (the play operator of a Coulomb element with rigid stick; without
+    friction the branch curves are continuous and nothing changes)."""
+    out = np.array(twist, float)
+    tip = None
+    for i in range(1, out.size):
+        if branches[i] != branches[i - 1]:
+            tip = out[i - 1]                    # the reversal
+        if tip is not None:
+            out[i] = min(out[i], tip) if branches[i] < 0 else max(out[i], tip)
+    return out
+
+
 def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool = False,
               torque_max_Nm: float | None = None, steps: int = 8) -> Datasheet:
     """The hysteresis loop and the catalogue figures.
@@ -241,10 +256,11 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
             side = 1 if t > 0 else -1           # zero: the flank the path comes from
         points.append(model.at(t, side, branch=int(branch)))
     deg = lambda x: x / ARCMIN  # noqa: E731
+    branches = loop_branches(torques)
     loop = Loop(torque_Nm=torques,
-                twist_arcmin=np.array([deg(p.total.mean()) for p in points]),
-                twist_min_arcmin=np.array([deg(p.total.min()) for p in points]),
-                twist_max_arcmin=np.array([deg(p.total.max()) for p in points]),
+                twist_arcmin=_stick(branches, [deg(p.total.mean()) for p in points]),
+                twist_min_arcmin=_stick(branches, [deg(p.total.min()) for p in points]),
+                twist_max_arcmin=_stick(branches, [deg(p.total.max()) for p in points]),
                 contacts=np.array([float(np.mean(p.contacts)) for p in points]))
     lo, hi = (f * rated for f in RIGIDITY_FRACTIONS)
     rig = tuple(_slope(model, lo, hi, s) * ARCMIN for s in (1, -1))

@@ -310,6 +310,37 @@ class Drive(abc.ABC):
         """
         return (0,)
 
+    def member_axial_positions_m(self, supports) -> np.ndarray:
+        """The members side by side, centred between the crankshaft's (input shaft's)
+        support bearings [m] (M,).
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+            Its crankshaft span.
+
+        Returns
+        -------
+        numpy.ndarray
+        """
+        w, n = self.face_width_m, self.members
+        return 0.5 * supports.crankshaft_span_m + (np.arange(n) - 0.5 * (n - 1)) * w
+
+    def system_mesh(self, pin_spring_m_per_N=None):
+        """The member's contact with the fixed teeth as the system model takes it
+        (:mod:`toothfem.fem.system.mesh`).
+
+        Parameters
+        ----------
+        pin_spring_m_per_N : float, optional
+            Equal contact springs instead of the FE, where the drive has that limit.
+
+        Returns
+        -------
+        object
+        """
+        raise CaseError(f"drive '{self.kind}' has no system model")
+
     def system_model(self, supports, n_positions: int, **options):
         """The system model of the whole reducer around the contact (docs/stiffness.md),
         or None where the drive has none yet (then the datasheet chains its load paths:

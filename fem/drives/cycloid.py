@@ -14,6 +14,7 @@ from .. import cycloid_fe as cf
 from .. import deviations as dv
 from ..datasheet import supports as sp
 from ..system.cycloid import CycloidSystem
+from ..system.mesh import PinMesh
 from .base import Drive
 from ...geometry.disc import disc_polygon
 
@@ -311,11 +312,6 @@ class CycloidDrive(Drive):
         along = np.sum(f * t, axis=0) / np.where(mag > 0, mag, 1.0)
         return {"crank bearings": np.mean(defl * along, axis=1) / r_c}
 
-    def _disc_axial_positions(self, supports) -> np.ndarray:
-        """Discs side by side, centred between the crankshaft's carrier bearings [m]."""
-        w, n = self.face_width_m, self.members
-        return 0.5 * supports.crankshaft_span_m + (np.arange(n) - 0.5 * (n - 1)) * w
-
     def coupled_compliance(self, supports) -> dict:
         """The crankshafts: each a shaft on two simple supports (its carrier bearings)
         loaded by every disc's tangential force T_i/(n R_c) at the disc's axial place; disc
@@ -334,7 +330,7 @@ class CycloidDrive(Drive):
         """
         h = self.stage.holes
         n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-        a = self._disc_axial_positions(supports)
+        a = self.member_axial_positions_m(supports)
         m = self.material_si
         w = sp.simply_supported_influence(a[:, None], a[None, :], supports.crankshaft_span_m,
                                           supports.crankshaft_diameter_m,
@@ -363,6 +359,20 @@ class CycloidDrive(Drive):
                                   supports.crankshaft_diameter_m, m.youngs_modulus_Pa,
                                   m.poisson_ratio)
         return {"crankshaft torsion": c / (n * zb ** 2)}
+
+    def system_mesh(self, pin_spring_m_per_N=None):
+        """Every disc on its pins (:class:`toothfem.fem.system.mesh.PinMesh`).
+
+        Parameters
+        ----------
+        pin_spring_m_per_N : float, optional
+            Equal contact springs instead of the FE (the hand models' limit) [m/N].
+
+        Returns
+        -------
+        toothfem.fem.system.mesh.PinMesh
+        """
+        return PinMesh(self, pin_spring_m_per_N)
 
     def system_model(self, supports, n_positions: int, **options):
         """The cycloid reducer's system model, 2K-V or K-H-V

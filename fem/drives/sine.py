@@ -12,6 +12,8 @@ from ...geometry.vectors import rotate
 from .. import deviations as dv
 from .. import sine_fe as sf
 from ..datasheet import supports as sp
+from ..system.cycloid import CycloidSystem
+from ..system.mesh import ToothMesh
 from .base import Drive
 
 #: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
@@ -61,6 +63,11 @@ class SineDrive(Drive):
             raise CaseError("a [material] section is required for the contact analyses")
         return cls(stage=si.sine, material_si=si.material,
                    output_mechanism=si.output_mechanism)
+
+    @property
+    def output(self):
+        """The output mechanism (pins in the planet's holes): the path of the torque."""
+        return self.output_mechanism
 
     @property
     def pair(self) -> sg.SineGearPair:
@@ -185,8 +192,11 @@ class SineDrive(Drive):
         om = self.output_mechanism
         r_in = (om.eccentric_bearing_inner_radius_m if om is not None
                 else ECCENTRIC_RACEWAY_REL * self.pair.planet_pitch_radius_m)
-        return sp.resolved(declared, raceway_radius_m=r_in, roller_length_m=self.face_width_m,
-                           outer_raceway=False)
+        w = self.face_width_m
+        return sp.resolved(declared, raceway_radius_m=r_in, roller_length_m=w,
+                           outer_raceway=False,
+                           crankshaft_diameter_m=2 * (r_in - self.pair.centre_distance_m),
+                           crankshaft_span_m=(self.members + 2) * w)
 
     def member_support_twists(self, supports, member_torque, resultant, positions_rad):
         """The eccentric bearing carries the planet's balance of the tooth resultant and
@@ -229,6 +239,49 @@ class SineDrive(Drive):
             f_max = 4 * np.abs(t) / (om.pin_count * r_w)
             out["output pins"] = np.sign(t) * sp.roller_approach(f_max, self.face_width_m) / r_w
         return out
+
+    def system_mesh(self, pin_spring_m_per_N=None):
+        """The planet's hats in the ring (:class:`toothfem.fem.system.mesh.ToothMesh`).
+
+        Parameters
+        ----------
+        pin_spring_m_per_N : None
+            The sine pair has no equal-springs limit.
+
+        Returns
+        -------
+        toothfem.fem.system.mesh.ToothMesh
+
+        Raises
+        ------
+        CaseError
+            If ``pin_spring_m_per_N`` is given.
+        """
+        if pin_spring_m_per_N is not None:
+            raise CaseError("pin_spring_m_per_N: the sine pair's contact is the FE's only")
+        return ToothMesh(self)
+
+    def system_model(self, supports, n_positions: int, **options):
+        """The reducer's system model (:class:`toothfem.fem.system.cycloid.CycloidSystem`
+        with the planet's mesh): the planet on its teeth, the eccentric bearing, the input
+        shaft on its bearings and the output pins in the planet's holes; None without an
+        output mechanism (nothing carries the torque to the output).
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+        n_positions : int
+            Positions per meshing period.
+        **options
+            Go to the model.
+
+        Returns
+        -------
+        toothfem.fem.system.cycloid.CycloidSystem or None
+        """
+        if self.output_mechanism is None:
+            return None
+        return CycloidSystem(self, supports, n_positions, **options)
 
     def sample_deviation(self, tolerances, rng) -> dv.SineDeviation:
         """Each flank of the planet and the ring off its profile, the crank's eccentricity

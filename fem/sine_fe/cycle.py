@@ -60,6 +60,52 @@ class PositionResult:
     hat_moment: float = 0.0     # second moment of one hat about its centre / its area, m^2
 
 
+@dataclass(frozen=True, kw_only=True)
+class HatContacts:
+    """The contact unknowns of one crank angle (:meth:`CycleSolver.hat_contacts`): planet
+    hat indices (H,), arc lengths ``sigma`` (H,) [m], centres ``point`` (2, H) and the
+    ring's normal ``normal`` (2, H) at their feet (ring frame, pointing into the planet: a
+    planet translation d opens the gap by d . normal), initial gaps ``g0`` (H,) [m],
+    moment arms ``arm`` (H,) [m] (the gap's change per planet rotation), the two bodies'
+    ``flexibility`` (H, H) [m per N/m], the meshing ``column`` (H,) of each and the
+    ``select_gap`` they were chosen with [m]."""
+    hat: np.ndarray
+    sigma: np.ndarray
+    point: np.ndarray
+    normal: np.ndarray
+    g0: np.ndarray
+    arm: np.ndarray
+    flexibility: np.ndarray
+    column: np.ndarray
+    select_gap: float
+
+    def result(self, chi, force, gap, rotation, iterations, spacing) -> PositionResult:
+        """The position's record of a solution on these hats.
+
+        Parameters
+        ----------
+        chi : float
+            Crank angle [rad].
+        force, gap : numpy.ndarray
+            Per hat [N/m], [m].
+        rotation : float
+            The planet's rotation [rad].
+        iterations : int
+            Active-set iterations taken.
+        spacing : float
+            The hats' spacing [m] (pressure = force / spacing).
+
+        Returns
+        -------
+        PositionResult
+        """
+        return PositionResult(crank_angle=chi, hat=self.hat, point=self.point,
+                              sigma=self.sigma, g0=self.g0, arm=self.arm, force=force,
+                              pressure=force / spacing, gap=gap, column=self.column,
+                              rotation=rotation, iterations=iterations,
+                              select_gap=self.select_gap, hat_moment=spacing**2 / 6)
+
+
 #: Bump when the discretisation behind the hat tables changes (part of the cache key).
 TABLES_VERSION = 1
 
@@ -203,7 +249,28 @@ class CycleSolver:
                     "high for the candidate teeth (raise candidates)")
             sel_gap *= 2
 
-    def _solve(self, chi, q_load, sel_gap, deviation=None) -> PositionResult:
+    def hat_contacts(self, chi: float, sel_gap: float, deviation=None) -> HatContacts:
+        """The contact unknowns at one crank angle: the candidate teeth's planet hats whose
+        initial gap to the ring is below ``sel_gap``, with their flexibility.
+
+        Parameters
+        ----------
+        chi : float
+            Crank angle [rad].
+        sel_gap : float
+            Selection gap [m].
+        deviation : toothfem.fem.deviations.SineDeviation, optional
+            The pair as built (its eccentricity moves the planet; :func:`deviation_gaps`).
+
+        Returns
+        -------
+        HatContacts
+
+        Raises
+        ------
+        toothfem.fem.contact.ContactError
+            If no hat lies within the selection gap.
+        """
         pair = self.model.pair
         pl, rg = self.planet, self.ring
         n, s = pl.n_hats, pl.spacing
@@ -240,13 +307,15 @@ class CycleSolver:
         for wa, ja in ((1 - a, j), (a, j + 1)):
             for wb, jb in ((1 - a, j), (a, j + 1)):
                 hmat += wa[:, None] * wb[None, :] * rg.matrix(ja, jb)
-        hmat = 0.5 * (hmat + hmat.T)
-        sol = contact.solve_contact(hmat, g0, arm, q_load)
-        column = self._columns(chi, hats)
-        return PositionResult(crank_angle=chi, hat=hats, point=pts, sigma=sigma, g0=g0, arm=arm,
-                              force=sol.force, pressure=sol.force / s, gap=sol.gap,
-                              column=column, rotation=sol.rigid, iterations=sol.iterations,
-                              select_gap=sel_gap, hat_moment=s**2 / 6)
+        return HatContacts(hat=hats, sigma=sigma, point=pts, normal=nrm, g0=g0, arm=arm,
+                           flexibility=0.5 * (hmat + hmat.T), column=self._columns(chi, hats),
+                           select_gap=float(sel_gap))
+
+    def _solve(self, chi, q_load, sel_gap, deviation=None) -> PositionResult:
+        h = self.hat_contacts(chi, sel_gap, deviation)
+        sol = contact.solve_contact(h.flexibility, h.g0, h.arm, q_load)
+        return h.result(chi, sol.force, sol.gap, sol.rigid, sol.iterations,
+                        self.planet.spacing)
 
     def _columns(self, chi, hats):
         j0 = int(np.round(chi * self.model.pair.ring_teeth / (2 * math.pi)))
@@ -294,13 +363,49 @@ class CycleSolver:
         results = []
         for p in it:
             chi, m = float(self.positions_rad[p]), int(pitches[p])
-            r = self.solve_position(chi + m * pitch, torque, deviation)
-            if m:
-                r = dataclasses.replace(r, crank_angle=chi, point=rotate(r.point, -m * pitch),
-                                        sigma=r.sigma - m * self.planet.n_hats
-                                        * self.planet.spacing)
-            results.append(r)
-        return _record("cycle", self.model, self.states, results, torque, self.planet.toothed)
+            results.append(self.labelled(self.solve_position(chi + m * pitch, torque,
+                                                             deviation), chi, m))
+        return self.record("cycle", results, torque)
+
+    def labelled(self, r: PositionResult, chi: float, m: int) -> PositionResult:
+        """A result m meshing periods on put in the labels of pitch 0 at crank angle chi
+        (points turned back by m crank pitches, arc lengths m teeth back).
+
+        Parameters
+        ----------
+        r : PositionResult
+        chi : float
+            The crank angle of pitch 0 [rad].
+        m : int
+            Meshing periods on.
+
+        Returns
+        -------
+        PositionResult
+        """
+        if not m:
+            return r
+        pitch = self.model.pair.crank_pitch_rad
+        return dataclasses.replace(r, crank_angle=chi, point=rotate(r.point, -m * pitch),
+                                   sigma=r.sigma - m * self.planet.n_hats * self.planet.spacing)
+
+    def record(self, method: str, results, torque: float) -> LoadSharing:
+        """The load sharing of one result per position (:func:`_record`).
+
+        Parameters
+        ----------
+        method : str
+            "cycle" or "system".
+        results : list of PositionResult
+            In the labels of pitch 0 (:meth:`labelled`).
+        torque : float
+            The planet's torque [N m].
+
+        Returns
+        -------
+        LoadSharing
+        """
+        return _record(method, self.model, self.states, results, torque, self.planet.toothed)
 
 
 def deviation_gaps(pair, planet, ring, hats, f2, deviation) -> np.ndarray:

@@ -63,9 +63,8 @@ from ...geometry.vectors import rotate
 from ..datasheet import supports as sp
 from . import elements as el
 from ..contact import ContactError
-from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps
+from .mesh import MeshSolution
 from .solve import ContactSet, Element, Linear, closing_motion, solve
-from .tables import PitchTables
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
 #: ~ 20 N/(mm um) per mm of face width [N/m per m].
@@ -200,6 +199,7 @@ class SystemState:
     paths_rad: dict                  # group -> its part of the twist (sum: twist)
     equilibrium: object = field(repr=False, default=None)
     friction_Nm: dict = field(default_factory=dict)   # source -> friction torque on the output
+    mesh: tuple = field(repr=False, default=())      # each member's MeshSolution
 
     @property
     def friction_torque_Nm(self) -> float:
@@ -235,7 +235,8 @@ class CycloidSystem:
         Each disc's eccentric phase (default 2 pi j / discs, the balanced layout).
     pitch_samples : int, optional
         Every disc's influence tables at any pitch (``solve(pitch=)``) filled from this
-        many sampled pitches (:class:`PitchTables`); None: the tables of the positions'
+        many sampled pitches (:class:`toothfem.fem.system.tables.PitchTables`; a mesh
+        whose tables cover every tooth needs none); None: the tables of the positions'
         own pitch (``pitch`` above) at every pitch.
     """
 
@@ -248,6 +249,7 @@ class CycloidSystem:
         if self.khv and drive.output is None:
             raise CaseError("a K-H-V drive needs [output_mechanism]: its output pins are "
                             "the path of the torque")
+        self.mesh = drive.system_mesh(pin_spring_m_per_N)
         unknown = set(rigid) - set(GROUPS)
         if unknown:
             raise CaseError(f"rigid = {sorted(unknown)!r}: not parts of the model "
@@ -255,31 +257,26 @@ class CycloidSystem:
         self.drive, self.supports = drive, supports
         self.n_positions = int(n_positions)
         self.rigid = tuple(rigid)
-        self.pin_spring = pin_spring_m_per_N
-        g = drive.geometry
-        h = drive.stage.holes
-        self.zb, self.za = g.pin_count, drive.stage.lobe_count
+        self.zb = self.mesh.labels
         if self.khv:
             self.cranks, self.r_c, self.sun_over_planet = 1, 0.0, 0.0
         else:
+            h = drive.stage.holes
             self.cranks, self.r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
             self.sun_over_planet = drive.first_teeth[0] / drive.first_teeth[1]
         self.discs = drive.members
-        options = {"equal_springs": pin_spring_m_per_N * drive.face_width_m} \
-            if pin_spring_m_per_N is not None else {}
         phases = [2 * math.pi * j / self.discs for j in range(self.discs)] \
             if phases_rad is None else [float(x) for x in phases_rad]
         if len(phases) != self.discs:
             raise CaseError(f"phases_rad has {len(phases)} values for {self.discs} discs")
         offsets = drive.member_offsets(self.n_positions, [x / (2 * math.pi) for x in phases])
         step = drive.period_rad / self.n_positions
-        axial = drive._disc_axial_positions(supports)
+        axial = drive.member_axial_positions_m(supports)
         slots = []
         for j in range(self.discs):
             solver = drive.cycle_solver(self.n_positions, cache=cache,
                                         offset=offsets[j] + int(pitch) * self.n_positions,
-                                        solver_options={**drive.both_flanks_options,
-                                                        **options})
+                                        solver_options=self.mesh.solver_options)
             phase = phases[j]
             beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)   # pitch: none
             if abs(beta * self.zb / (2 * math.pi) - round(beta * self.zb / (2 * math.pi))) \
@@ -289,15 +286,14 @@ class CycloidSystem:
             slots.append(DiscSlot(j, phase, float(axial[j]), int(offsets[j]), beta, solver))
         self.slots = tuple(slots)
         self.pitch_tables = None
-        if pitch_samples is not None and pin_spring_m_per_N is None:
+        if pitch_samples is not None:
             if int(pitch):
                 raise CaseError("pitch_samples fills the tables over the full period: give "
                                 "the pitch to solve(), not to the model")
             filled = {}
-            self.pitch_tables = tuple(
-                filled.setdefault(s.offset, PitchTables(
-                    drive, self.n_positions, s.offset, drive.both_flanks_options, cache,
-                    int(pitch_samples))) for s in slots)
+            tables = tuple(filled.setdefault(s.offset, self.mesh.pitch_tables(
+                self.n_positions, s.offset, cache, int(pitch_samples))) for s in slots)
+            self.pitch_tables = None if None in tables else tables
         self.crank_bearing = el.RollerBearing(supports.bearing_roller_count,
                                               supports.bearing_roller_length_m,
                                               play_m=crank_bearing_play_m) \
@@ -315,8 +311,8 @@ class CycloidSystem:
         self.torsion_stiffness = 1.0 / sp.torsion_compliance(0.5 * span, d,
                                                              m.youngs_modulus_Pa,
                                                              m.poisson_ratio)
-        fs = drive.first_stage
-        if self.khv or fs is None:   # no spur stage, or no module: the mesh taken rigid
+        fs = None if self.khv else drive.first_stage
+        if fs is None:               # no spur stage, or no module: the mesh taken rigid
             self.rigid = self.rigid + ("spur mesh",)
             self.planet_base_radius, self.spur_stiffness = 1.0, RIGID_STIFFNESS / RIGID_FACTOR
         else:
@@ -367,17 +363,17 @@ class CycloidSystem:
 
     def _eccentric(self, phi: float, s: DiscSlot) -> np.ndarray:
         """E_j (2,) [m], housing frame."""
-        return self.drive.geometry.eccentricity_m * np.array(
+        return self.mesh.eccentricity_m * np.array(
             [math.cos(phi + s.phase_rad), math.sin(phi + s.phase_rad)])
 
     def _disc_turn(self, s: DiscSlot, p: int) -> float:
         """Disc ``s``'s rotation at position p [rad], housing frame: the K-H-V pose of its
         configuration turned by its beta."""
-        return -float(s.solver.positions_rad[p]) / self.za + s.beta_rad
+        return self.mesh.turn_ratio * float(s.solver.positions_rad[p]) + s.beta_rad
 
     def _output_normal(self, phi: float, s: DiscSlot) -> np.ndarray:
         """(2,) the K-H-V output pins' contact normal in disc ``s``'s holes, -E_j/e."""
-        return -self._eccentric(phi, s) / self.drive.geometry.eccentricity_m
+        return -self._eccentric(phi, s) / self.mesh.eccentricity_m
 
     def _elements(self, phi: float) -> list:
         """The elements at crank angle phi (kept: every torque at a position uses them)."""
@@ -389,7 +385,7 @@ class CycloidSystem:
     def _build_elements(self, phi: float) -> list:
         c, out = self._coords, []
         n = c.n
-        carrier_angle = -phi / self.za          # the discs and the output turn together
+        carrier_angle = self.mesh.turn_ratio * phi    # the discs and the output together
         for k in range(self.cranks):
             a_k = rotate(self.r_c * np.array([1.0, 0.0]), 2 * math.pi * k / self.cranks
                          + carrier_angle)
@@ -452,38 +448,22 @@ class CycloidSystem:
 
     def _pins(self, p: int, side: int, torque: float, deviation=None, pitch: int = 0,
               geometry=None):
-        """(ContactSet, candidates) of each disc's pins at position p; a built stage's
-        ``deviation`` shifts the initial gaps (:func:`toothfem.fem.cycloid_fe.cycle.
-        deviation_gaps`, every disc ground alike), ``pitch`` pin pitches on; ``geometry``:
-        the disc with other modifications, on these tables (the design search)."""
+        """(ContactSet, MeshContacts) of each member's mesh at position p
+        (:mod:`toothfem.fem.system.mesh`): a built stage's ``deviation``, ``pitch``
+        meshing periods on; ``geometry``: the disc with other modifications, on these
+        tables (the design search). The gap changes by -n . d_j + arm theta_j."""
         c, out = self._coords, []
-        w = self.drive.face_width_m
-        q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
         for s in self.slots:
-            q = s.solver.candidates(side)[p]
-            rot = self._disc_turn(s, p)
-            n_h = rotate(q.normal, rot)
-            gmat = np.zeros((q.pins.size, c.n))
+            mc = self.mesh.contacts(
+                s, p, side, torque, self._disc_turn(s, p), deviation=deviation, pitch=pitch,
+                shift=self._shift(s), geometry=geometry,
+                tables=None if self.pitch_tables is None else self.pitch_tables[s.index])
+            gmat = np.zeros((mc.g0.size, c.n))
             dj = c.index[f"disc{s.index}"]
-            gmat[:, dj.start] = -n_h[0]
-            gmat[:, dj.start + 1] = -n_h[1]
-            gmat[:, dj.start + 2] = q.arm
-            g0 = q.gap if geometry is None else s.solver.modified_gaps(geometry, side)[p]
-            g0 = np.where(np.isfinite(g0), g0, MODIFIED_GAP_FAR)
-            if deviation is not None:
-                g0 = g0 + deviation_gaps(s.solver.model, q, deviation,
-                                         int(pitch) + self._shift(s))
-            if self.pin_spring is not None:
-                def flex(lam, size=q.pins.size):
-                    return np.eye(size) * self.pin_spring
-            else:
-                table = None if self.pitch_tables is None else \
-                    self.pitch_tables[s.index].table(p, int(pitch), side)
-
-                def flex(lam, s=s, q=q, table=table):
-                    return s.solver.compliance(p, q, np.asarray(lam) / w, q_load, side,
-                                               table) / w
-            out.append((ContactSet(f"pins disc {s.index + 1}", "mesh", g0, gmat, flex), q))
+            gmat[:, dj.start:dj.start + 2] = -mc.normal.T
+            gmat[:, dj.start + 2] = mc.arm
+            out.append((ContactSet(f"mesh {self.drive.member_name} {s.index + 1}", "mesh", mc.g0,
+                                   gmat, mc.base, mc.local), mc))
         return out
 
     def _output_pins(self, phi: float, torque: float) -> ContactSet:
@@ -493,7 +473,7 @@ class CycloidSystem:
         on one pin."""
         om, c = self.drive.output, self._coords
         n_o, r_w = om.pin_count, om.pin_hole_circle_radius_m
-        e = self.drive.geometry.eccentricity_m
+        e = self.mesh.eccentricity_m
         centres = self._output_centres(phi)
         rows, g0, normals = [], [], []
         hole = om.hole_radius_m if om.hole_radius_m is not None else om.contact_radius_m + e
@@ -520,11 +500,11 @@ class CycloidSystem:
         contacts = 1 if om.roller_radius_m is None else 2
         mean = abs(torque) / (0.5 * n_o * r_w * self.discs)                  # a typical load
 
-        def flex(lam):
+        def local(lam):             # Palmgren's secant, per contact
             q = np.maximum(np.abs(np.asarray(lam, float)), OUTPUT_LOAD_FLOOR * mean)
-            secant = contacts * sp.roller_approach(q, width) / q   # Palmgren, per contact
-            return bending + np.diag(secant)
-        return ContactSet("output pins", "output pins", np.array(g0), np.array(rows), flex)
+            return contacts * sp.roller_approach(q, width) / q
+        return ContactSet("output pins", "output pins", np.array(g0), np.array(rows),
+                          bending, local)
 
     # -- solving ------------------------------------------------------------------------
     def closing_rotation(self, p: int, side: int, *, deviation=None, pitch: int = 0,
@@ -604,12 +584,67 @@ class CycloidSystem:
         phi = float(self.slots[0].solver.positions_rad[p])
         c = self._coords
         elements = self._elements(phi)
-        pins = self._pins(p, side, t, deviation, pitch)
-        sets = [cs for cs, _ in pins]
-        if self.khv:
-            sets.append(self._output_pins(phi, t))
         q = np.zeros(c.n)
         q[c.index["out"]] = t
+        while True:
+            pins = self._pins(p, side, t, deviation, pitch)
+            sets = [cs for cs, _ in pins]
+            if self.khv:
+                sets.append(self._output_pins(phi, t))
+            eq = self._equilibrium(elements, sets, q, start, t, phi)
+            # a mesh that selects its candidates (the sine pair's hats) widens the
+            # selection until the contact lies inside it
+            if not any(self.mesh.widen(p, pitch, mc, eq.forces[cs.name], eq.gaps[cs.name])
+                       for cs, mc in pins):
+                break
+        force = np.zeros((self.discs, self.zb))
+        torque = np.zeros(self.discs)
+        contacts = np.zeros(self.discs, int)
+        for s, (cs, qq) in zip(self.slots, pins):
+            lam = eq.forces[cs.name]
+            np.add.at(force[s.index], qq.label, lam)
+            torque[s.index] = -float(qq.arm @ lam)
+            contacts[s.index] = int(np.sum(force[s.index] > 0))
+        bearings = {e.name: eq.element_force[e.name] for e in elements
+                    if e.group in (self.group("crank bearings"), self.group("support bearings"))}
+        out_pins = eq.forces["output pins"].reshape(self.discs, -1) if self.khv else None
+        lost = {} if friction is None else self._friction(p, phi, pins, sets, eq, friction)
+        solved = tuple(MeshSolution(mc, eq.forces[cs.name], eq.gaps[cs.name],
+                                    float(eq.u[c.index[f"disc{s.index}"]][2]))
+                       for s, (cs, mc) in zip(self.slots, pins))
+        return SystemState(output_torque_Nm=t, position_rad=phi,
+                           twist_rad=float(eq.u[c.index["out"]][0]), pin_force_N=force,
+                           disc_torque_Nm=torque, contacts=contacts,
+                           bearing_force_N=bearings, output_pin_force_N=out_pins,
+                           paths_rad={k: v / t for k, v in eq.work.items()}, equilibrium=eq,
+                           friction_Nm=lost, mesh=solved)
+
+    def member_record(self, j: int, states, meshing=None):
+        """Member j's load sharing over the positions of ``states`` (one SystemState per
+        position, in order): its contact forces with Hertz's (or the FE's) pressure, the
+        reducer's TE, the member's mean torque (:meth:`toothfem.fem.system.mesh.PinMesh.
+        record`).
+
+        Parameters
+        ----------
+        j : int
+            Member index.
+        states : list of SystemState
+        meshing : toothfem.geometry.kinematics.MeshingState, optional
+            The first member's meshing at the positions, if known.
+
+        Returns
+        -------
+        toothfem.fem.load_sharing.LoadSharing
+        """
+        return self.mesh.record(self.slots[j], [s.mesh[j] for s in states],
+                                [s.twist_rad for s in states],
+                                float(np.mean([s.disc_torque_Nm[j] for s in states])), meshing)
+
+    def _equilibrium(self, elements, sets, q, start, t, phi):
+        """:func:`solve` from a nearby state ``start`` where it fits, else from rest (the
+        message names the torque and the crank angle)."""
+        c = self._coords
         u0 = active0 = lam0 = None
         if start is not None and start.equilibrium is not None:
             u0, lam0 = start.equilibrium.u, start.equilibrium.forces
@@ -619,34 +654,16 @@ class CycloidSystem:
                 active0 = {name: f > 0 for name, f in lam0.items()}
         try:
             try:
-                eq = solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
+                return solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
             except ContactError:
                 if u0 is None:
                     raise
                 # a start far from here (another torque's contacts) can lead the active
                 # set astray: from rest
-                eq = solve(c.n, elements, sets, q)
+                return solve(c.n, elements, sets, q)
         except ContactError as exc:
             raise ContactError(f"{exc} (output torque {t:g} N m, crank angle "
                                f"{math.degrees(phi):.4g} deg)") from None
-        force = np.zeros((self.discs, self.zb))
-        torque = np.zeros(self.discs)
-        contacts = np.zeros(self.discs, int)
-        for s, (cs, qq) in zip(self.slots, pins):
-            lam = eq.forces[cs.name]
-            force[s.index, (qq.pins + self._shift(s)) % self.zb] = lam
-            torque[s.index] = -float(qq.arm @ lam)
-            contacts[s.index] = int(np.sum(lam > 0))
-        bearings = {e.name: eq.element_force[e.name] for e in elements
-                    if e.group in (self.group("crank bearings"), self.group("support bearings"))}
-        out_pins = eq.forces["output pins"].reshape(self.discs, -1) if self.khv else None
-        lost = {} if friction is None else self._friction(p, phi, pins, sets, eq, friction)
-        return SystemState(output_torque_Nm=t, position_rad=phi,
-                           twist_rad=float(eq.u[c.index["out"]][0]), pin_force_N=force,
-                           disc_torque_Nm=torque, contacts=contacts,
-                           bearing_force_N=bearings, output_pin_force_N=out_pins,
-                           paths_rad={k: v / t for k, v in eq.work.items()}, equilibrium=eq,
-                           friction_Nm=lost)
 
     def _friction(self, p, phi, pins, sets, eq, fr: PathFriction) -> dict:
         """Friction torque [N m] on the output per source: each friction pair's force (mu
@@ -655,19 +672,14 @@ class CycloidSystem:
         c = self._coords
         v = eq.rate / eq.rate[c.index["out"]][0]          # per unit output twist
         out = {}
-        mu_pin = min(fr.pin_disc, fr.pin_groove) \
-            if self.drive.stage.pin_structure == "conventional" else fr.pin_disc
+        mu = self.mesh.sliding_coefficient(fr)
         total = 0.0
-        for s, (cs, q) in zip(self.slots, pins):
-            rot = self._disc_turn(s, p)
-            n_h, arm = rotate(q.normal, rot), rotate(q.point, rot)   # about the disc centre
+        for s, (cs, mc) in zip(self.slots, pins):
             dj = v[c.index[f"disc{s.index}"]]
-            vel = dj[:2, None] + dj[2] * perp(arm)         # the disc at each contact point
-            total += mu_pin * float(eq.forces[cs.name] @ np.abs(np.sum(perp(n_h) * vel, 0)))
-        out["pin contacts"] = total
-        h = self.drive.stage.holes
-        journal = (h.centre_bore_radius_m if self.khv else h.crank_hole_radius_m) \
-            - self.supports.bearing_roller_diameter_m
+            vel = dj[:2, None] + dj[2] * perp(mc.point)    # the member at each contact
+            total += mu * float(eq.forces[cs.name] @ np.abs(np.sum(perp(mc.normal) * vel, 0)))
+        out[f"{self.drive.contact_name} contacts"] = total
+        journal = self.mesh.journal_radius_m(self.supports)
         bear = supp = 0.0
         for k in range(self.cranks):
             psi = v[c.index[f"psi_e{k}"]][0]
@@ -712,7 +724,7 @@ class CycloidSystem:
     def _output_centres(self, phi: float) -> np.ndarray:
         """(2, n_o) the output pins' centres [m] at crank angle phi."""
         om = self.drive.output
-        angle = 2 * math.pi * np.arange(om.pin_count) / om.pin_count - phi / self.za
+        angle = 2 * math.pi * np.arange(om.pin_count) / om.pin_count + self.mesh.turn_ratio * phi
         return om.pin_hole_circle_radius_m * np.stack([np.cos(angle), np.sin(angle)])
 
 

@@ -19,7 +19,6 @@ from ...errors import CaseError
 from ..datasheet.transmission import (MemberSplit, check_te_inputs, fourier_fill,
                                       loaded_record, sampled_pitches)
 from ..datasheet.twist import ARCMIN, ZERO_TORQUE_NM, TwistPoint
-from ..cycloid_fe.cycle import record
 from .cycloid import CycloidSystem
 
 #: Every part of the twist is named after the part; a contact set's closed clearance
@@ -73,31 +72,6 @@ def system_backlash_arcmin(system: CycloidSystem, *, deviation=None, geometry=No
     return float(np.mean(out) / ARCMIN)
 
 
-def disc_record(model, state, force, twist, torque):
-    """One disc's loads from the system model as the cycle mode's record.
-
-    Parameters
-    ----------
-    model : toothfem.fem.cycloid_fe.CycloidFEModel
-    state : toothfem.geometry.kinematics.MeshingState
-        The first disc's meshing at the positions (the pins' radii and points).
-    force : array_like, shape (P, Zb)
-        The disc's pin forces [N] by the pins' own numbers.
-    twist : array_like, shape (P,)
-        The reducer's TE at each position [rad].
-    torque : float
-        The disc's torque [N m].
-
-    Returns
-    -------
-    toothfem.fem.load_sharing.LoadSharing
-        Method "system"; Hertz half-widths and pressures from the forces.
-    """
-    force = np.asarray(force, float)
-    return record("system", model, state, force, np.full(force.shape, np.inf),
-                   np.asarray(twist, float), torque)
-
-
 def _paths(states) -> dict:
     """{path: (P,) rad} of states at the positions."""
     names = []
@@ -135,10 +109,14 @@ class SystemTwist:
         A built stage (:meth:`CycloidSystem.solve`).
     pitches : array_like of int, optional
         The built stage's pin pitch at each position.
+    reference : SystemTwist, optional
+        A twist of the same system and positions (the nominal design of a built ring):
+        each torque's solve starts from its states at that torque (a few um away: the
+        contacts that carry mostly the same).
     """
 
     def __init__(self, system: CycloidSystem, progress=None, friction=None, deviation=None,
-                 pitches=None):
+                 pitches=None, reference: SystemTwist | None = None):
         self.system = system
         self.friction = friction
         self.deviation = deviation
@@ -147,6 +125,7 @@ class SystemTwist:
         self.supports = system.supports
         self.positions_rad = np.asarray(system.slots[0].solver.positions_rad, float)
         self.progress = progress
+        self.reference = reference
         self._memo = {}
         self._last = {}          # flank -> the states of the last torque solved (a start)
 
@@ -169,7 +148,8 @@ class SystemTwist:
         flank = side if t == 0 else int(math.copysign(1, t))
         t = flank * ZERO_TORQUE_NM if t == 0 else t
         if t not in self._memo:
-            last = self._last.get(flank)
+            last = self._last.get(flank) if self.reference is None else \
+                self.reference.states(t, side)
             it = range(self.positions_rad.size)
             it = it if self.progress is None else self.progress(it)
             self._memo[t] = [self.system.solve(

@@ -79,6 +79,9 @@ class RollerBearing:
         if not (self.length_m > 0 and math.isfinite(self.length_m)):
             raise ValueError(f"length_m = {self.length_m!r}: > 0 and finite")
 
+    #: f(t delta) = t^a f(delta) without play (the solver's secant steps from rest)
+    homogeneity = LINE_EXPONENT
+
     @cached_property
     def directions(self) -> np.ndarray:
         """(2, Z) unit vectors toward each roller."""

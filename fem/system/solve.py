@@ -20,9 +20,9 @@ On an active set A (the contacts that carry) the Newton step solves the symmetri
 system [[K, -G_A^T], [-G_A, -H_AA]]; an inactive contact whose gap closes joins A, an active
 one whose force turns negative leaves it (semismooth Newton, the primal-dual active set of
 Hintermueller, Ito & Kunisch, SIAM J. Optim. 13 (2003) 865, with the element forces
-linearised at each step). H depends on lambda only through the contacts' half-widths: it is
-updated from each step's forces until they settle (as the cycle mode iterates them,
-fem/cycloid_fe/cycle.py).
+linearised at each step). H depends on lambda only through each contact's own local law
+(the Hertz half-width, Palmgren's power): the step takes the approach H(lambda) lambda's
+tangent, H + diag(lambda_i dH_ii/dlambda_i), so it is Newton's in the forces as well.
 
 Work balance. Taking the solution itself as the virtual displacement,
 ``Q . u = sum_e f_e . delta_e + lambda . H lambda + lambda . g0`` exactly (the gaps of the
@@ -55,9 +55,19 @@ DEGENERATE_RTOL = 1e-10
 #: on every coordinate, a fraction of the largest stiffness (the free body moves until it
 #: meets contacts; a set it settles on holds every body, so no solution carries it).
 HOLD_REL = 1e-9
+#: Newton's step is taken for quadratic (the next step predicted from the last two) once
+#: the step is below this fraction of the coordinates and forces.
+QUADRATIC_FROM = 1e-3
 #: A settled active set whose Newton step stops falling (round-off of parts made rigid)
 #: is converged once the step is below this fraction of the coordinates.
 STALL_RTOL = 1e-7
+#: From rest, the elements take secant steps until a step is this fraction of the
+#: coordinates (then Newton's).
+SECANT_UNTIL = 0.1
+#: Relative force step of the contacts' approach tangent (a forward difference of a
+#: logarithmic or power law: its error is this fraction of the tangent's change, far below
+#: the step's own).
+APPROACH_STEP = 1e-6
 #: Singular values below this fraction of the largest are a mechanism (a motion that
 #: deforms no element).
 MECHANISM_RTOL = 1e-10
@@ -76,13 +86,44 @@ class Element:
 @dataclass(frozen=True)
 class ContactSet:
     """Unilateral contacts of one kind: initial gaps g0 (c,) [m], the gap change per
-    coordinate G (c, n) and ``flexibility(lam) -> H (c, c)`` [m/N] at contact forces lam
-    [N] (None: rigid contacts)."""
+    coordinate G (c, n), and their flexibility at contact forces lam [N],
+    H(lam) = ``base`` + diag(``local(lam)``) [m/N]: the bodies' fixed influence (c, c)
+    and each contact's own local law (c,) as a secant (its approach local_i(lam_i) lam_i,
+    e.g. Hertz's, Palmgren's). Both None: rigid contacts."""
     name: str
     group: str
     g0: np.ndarray
     g: np.ndarray
-    flexibility: object = None
+    base: np.ndarray | None = None
+    local: object = None
+
+    def flexibility(self, lam):
+        """H and its diagonal's own-force rate at the forces lam.
+
+        Parameters
+        ----------
+        lam : array_like, shape (c,)
+            Contact forces [N].
+
+        Returns
+        -------
+        h : numpy.ndarray, shape (c, c)
+            [m/N].
+        rate : numpy.ndarray, shape (c,)
+            lam_i d local_i / d lam_i [m/N], what the approach's tangent adds to the
+            secant's diagonal (a relative forward difference; none without force).
+        """
+        lam = np.asarray(lam, float)
+        c = lam.size
+        h = np.zeros((c, c)) if self.base is None else np.array(self.base, float)
+        rate = np.zeros(c)
+        if self.local is not None:
+            local = self.local(lam)
+            h[np.diag_indices(c)] += local
+            if np.any(lam > 0):
+                up = self.local(lam * (1 + APPROACH_STEP))
+                rate = np.where(lam > 0, (up - local) / APPROACH_STEP, 0.0)
+        return h, rate
 
 
 @dataclass(frozen=True)
@@ -103,11 +144,17 @@ class Equilibrium:
 
 
 def _each_element(elements, u) -> dict:
-    """{name: (force, deformation)} of every element at u (what the outputs report)."""
-    out = {}
+    """{name: (force, deformation)} of every element at u (what the outputs report); the
+    elements of one law evaluated together."""
+    groups = {}
     for e in elements:
-        d = e.b @ u
-        out[e.name] = (e.law(d)[0], d)
+        groups.setdefault(id(e.law), []).append(e)
+    out = {}
+    for same in groups.values():
+        d = np.stack([e.b @ u for e in same])            # (G, d)
+        f = same[0].law(d)[0] if not isinstance(same[0].law, Linear) else \
+            np.einsum("ij,gj->gi", same[0].law.k, d)
+        out.update({e.name: (f[i], d[i]) for i, e in enumerate(same)})
     return out
 
 
@@ -154,27 +201,45 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
     linear, nonlinear = _split_linear(elements, n)
     last = np.inf
     with one_blas_thread():
-        h = _flexibility(contacts, lam, sizes)
+        h, d = _flexibility(contacts, lam, sizes)
         if active is None:
             active = closing_motion(n, elements, gmat, g0, q, u)[0]
+        secant = u0 is None
+        last_rel = (np.inf, np.inf)
         for it in range(1, MAX_NEWTON + 1):
-            f_int, kt = _internal(linear, nonlinear, u, n)
-            u_new, lam_new, active = _linear_step(n, kt, q - f_int + kt @ u, gmat, g0, h,
-                                                  active)
+            f_int, kt = _internal(linear, nonlinear, u, n, secant)
+            # the contacts' approach H(lam) lam linearised at lam: H + D, D its diagonal's
+            # own-force derivative lam_i dH_ii/dlam_i (the Hertz and Palmgren laws), so the
+            # step is Newton's in the forces too
+            before = active
+            u_new, lam_new, active = _linear_step(n, kt, q - f_int + kt @ u, gmat,
+                                                  g0 - d * lam, h + np.diag(d), active)
             step = np.max(np.abs(u_new - u))
             change = np.max(np.abs(lam_new - lam), initial=0.0)
             u, lam = u_new, lam_new
             size = max(np.max(np.abs(u)), 1e-300)
-            settled = change <= RTOL * max(np.max(lam, initial=0.0), 1e-300)
-            if settled and (step <= RTOL * size
-                            or (step >= 0.5 * last and step <= STALL_RTOL * size)):
+            rel = (step / size, change / max(np.max(lam, initial=0.0), 1e-300))
+            newton = not secant and np.array_equal(before, active)
+            # from rest, the first step finds bearings inside their play at their holding
+            # stiffness and throws the bodies far; Newton on a power law comes back from
+            # there by only 1 - 1/a a step (a = 10/9: ten steps a decade), the secant in
+            # one: secant steps until the step is within SECANT_UNTIL of the size
+            secant = secant and step > SECANT_UNTIL * size
+            if rel[1] <= RTOL and (rel[0] <= RTOL
+                                   or (step >= 0.5 * last and rel[0] <= STALL_RTOL)):
                 break
-            last = step
-            h = _flexibility(contacts, lam, sizes)
+            # Newton's steps on a settled active set fall quadratically, s_k+1 ~ s_k^3 /
+            # s_k-1^2: the next one would be below RTOL, so this iterate is converged
+            if newton and all(r <= QUADRATIC_FROM and r ** 3 <= RTOL * p ** 2
+                              for r, p in zip(rel, last_rel)):
+                break
+            last, last_rel = step, rel
+            h, d = _flexibility(contacts, lam, sizes)
         else:
             raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
     _, kt = _internal(linear, nonlinear, u, n)
-    rate = _rate(n, kt, gmat[active], h[np.ix_(active, active)], q / np.linalg.norm(q))
+    tangent = h + np.diag(d)
+    rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)], q / np.linalg.norm(q))
     per = _each_element(elements, u)
     gap = g0 + h @ lam + gmat @ u
     gap = np.where(active, 0.0, gap)
@@ -223,14 +288,15 @@ def _saddle(n, kt, ga, haa, rhs_u, rhs_g) -> np.ndarray:
     return sol
 
 
-def _flexibility(contacts, lam, sizes) -> np.ndarray:
+def _flexibility(contacts, lam, sizes):
+    """(H (m, m), rate (m,)) of every contact set at the forces lam
+    (:meth:`ContactSet.flexibility`)."""
     m = int(sizes[-1])
-    h = np.zeros((m, m))
+    h, rate = np.zeros((m, m)), np.zeros(m)
     for k, c in enumerate(contacts):
         sl = slice(sizes[k], sizes[k + 1])
-        if c.flexibility is not None:
-            h[sl, sl] = c.flexibility(lam[sl])
-    return h
+        h[sl, sl], rate[sl] = c.flexibility(lam[sl])
+    return h, rate
 
 
 def closing_motion(n, elements, gmat, g0, q, u=None, signed=False):
@@ -316,12 +382,16 @@ def _split_linear(elements, n):
     return k, [(law, np.stack(bs)) for law, bs in groups.values()]
 
 
-def _internal(k_linear, nonlinear, u, n):
-    """(F(u), K(u)) of every element: the linear ones' sum, the others by law, batched."""
+def _internal(k_linear, nonlinear, u, n, secant=False):
+    """(F(u), K(u)) of every element: the linear ones' sum, the others by law, batched;
+    ``secant``: each law's tangent over its ``homogeneity`` a (a law f(t delta) = t^a
+    f(delta) has K delta = a f: K / a is its secant)."""
     force = k_linear @ u
     stiff = k_linear.copy()
     for law, b in nonlinear:
         f, k = law(b @ u)                               # (G, d), (G, d, d)
+        if secant:
+            k = k / getattr(law, "homogeneity", 1.0)
         flat = b.reshape(-1, n)
         force += flat.T @ f.ravel()
         stiff += flat.T @ (k @ b).reshape(-1, n)
@@ -358,11 +428,22 @@ class Linear:
 def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
     """(u, lambda, active) of K u - G^T lambda = rhs_u, g = g0 + H lambda + G u >= 0,
     lambda >= 0, lambda g = 0 (one Newton step's complementarity problem), from the
-    active set ``active``."""
+    active set ``active``: the primal-dual active set, every violated contact swapped at
+    once; where that fails (many nearly equal contacts, as a pressure grid's, swing
+    between signs and leave a body free), the cautious set from the same start: the
+    negative forces leave, and only the most violated gap joins at a time."""
+    try:
+        return _active_set(n, kt, rhs_u, gmat, g0, h, active, cautious=False)
+    except ContactError:
+        return _active_set(n, kt, rhs_u, gmat, g0, h, active, cautious=True)
+
+
+def _active_set(n, kt, rhs_u, gmat, g0, h, active, cautious):
+    """:func:`_linear_step` with one strategy."""
     m = g0.size
     seen = set()
     hold = HOLD_REL * np.max(np.abs(np.diag(kt)), initial=1.0) * np.eye(n)
-    for _ in range(MAX_ACTIVE_SET):
+    for _ in range(MAX_ACTIVE_SET * (4 if cautious else 1)):
         idx = np.flatnonzero(active)
         held = False
         try:
@@ -391,6 +472,11 @@ def _linear_step(n, kt, rhs_u, gmat, g0, h, active):
         new = np.where(active, lam > -tol_lam, gap < -tol_gap)
         if np.array_equal(new, active):
             return u, np.maximum(lam, 0.0), active
+        if cautious:
+            leave = active & ~new
+            new = active & ~leave
+            if not np.any(leave):
+                new[int(np.argmin(np.where(active, np.inf, gap)))] = True
         if not np.any(new):
             new = active & (lam >= np.max(lam))
         key = new.tobytes()

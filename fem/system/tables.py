@@ -40,6 +40,12 @@ class PitchTables:
                                            solver_options=options) for m in self.pitches]
         self._filled = {}
 
+    def prepare(self) -> None:
+        """Every sampled pitch's tables now: from the disk cache where it holds them, else
+        computed (and stored there)."""
+        for solver in self.solvers:
+            solver.prepare()
+
     def table(self, p: int, pitch: int, side: int) -> np.ndarray:
         """The influence table of position p's candidates (pitch 0's order) at a pitch.
 
@@ -59,6 +65,8 @@ class PitchTables:
         """
         key = (p, side)
         if key not in self._filled:
+            if not self._filled:
+                self.prepare()
             ref = self.solvers[0].candidates(side)[p].pins
             mats = []
             for m, solver in zip(self.pitches, self.solvers):

@@ -1,0 +1,419 @@
+"""The contact of each member (cycloid disc, sine planet) with the fixed teeth (pins, ring)
+as the system model takes it: the candidates at a position, their initial gaps, where and
+along which normal they touch, the bodies' flexibility from the FE tables, and which pin
+or tooth each stands for (docs/stiffness.md, "The system model"). One class per kind of
+mesh; everything else about a layout is the system model's own (fem/system/cycloid.py).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ...geometry import sine
+from ...geometry.vectors import rotate
+from ..contact import ContactError
+from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps, record
+from ..sine_fe.cycle import DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN
+from .tables import PitchTables
+
+
+@dataclass(frozen=True)
+class MeshContacts:
+    """One member's candidate contacts at one position (C of them), housing frame.
+
+    ``normal`` (2, C): the member's outward normal at each (a translation d of the member
+    closes the gap by d . normal); ``point`` (2, C): each contact about the member's centre
+    [m]; ``arm`` (C,): the gap's change per member rotation [m]; ``g0`` (C,) [m];
+    ``base`` (C, C) [m/N] and ``local`` (lam [N] -> (C,) [m/N]) the flexibility (as
+    :class:`toothfem.fem.system.solve.ContactSet`); ``label`` (C,): the pin (cycloid) or
+    meshing column (sine) each stands for; ``source``: the mesh's own record of them."""
+    g0: np.ndarray
+    normal: np.ndarray
+    point: np.ndarray
+    arm: np.ndarray
+    base: np.ndarray
+    local: object
+    label: np.ndarray
+    source: object = None
+
+
+@dataclass(frozen=True)
+class MeshSolution:
+    """One member's contacts solved at one position: their forces [N] and remaining gaps
+    [m], and the member's rotation [rad] (what its record closes the untouched contacts
+    by)."""
+    contacts: MeshContacts
+    force_N: np.ndarray
+    gap_m: np.ndarray
+    rotation_rad: float
+
+
+class PinMesh:
+    """A cycloid disc on its pins: every pin a candidate (both flanks), the disc's FE
+    influence tables at the disc's true configuration (its pitch and phase), each pin's
+    local Hertz approach and, for conventional pins, the pin's own compliance
+    (:meth:`toothfem.fem.cycloid_fe.cycle.CycleSolver.local_compliance`).
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.cycloid.CycloidDrive
+    pin_spring_m_per_N : float, optional
+        Equal contact springs instead of the FE (the hand models' limit).
+    """
+
+    def __init__(self, drive, pin_spring_m_per_N=None):
+        self.drive = drive
+        self.pin_spring = pin_spring_m_per_N
+        g = drive.geometry
+        self.eccentricity_m = g.eccentricity_m
+        self.labels = g.pin_count
+        #: the member's rotation per crank angle (K-H-V pose; its output turns with it)
+        self.turn_ratio = -1.0 / drive.stage.lobe_count
+        self.solver_options = {**drive.both_flanks_options, **(
+            {"equal_springs": pin_spring_m_per_N * drive.face_width_m}
+            if pin_spring_m_per_N is not None else {})}
+        self._kept_gaps = {}
+
+    def journal_radius_m(self, supports) -> float:
+        """The crank (eccentric) journal's radius under the crank bearing's rollers.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+
+        Returns
+        -------
+        float
+            [m]: the crank hole's (K-H-V: centre bore's) radius less a roller diameter.
+        """
+        h = self.drive.stage.holes
+        race = h.crank_hole_radius_m if self.drive.two_stage else h.centre_bore_radius_m
+        return race - supports.bearing_roller_diameter_m
+
+    def sliding_coefficient(self, friction) -> float:
+        """The mesh's Coulomb coefficient: a conventional pin that turns more easily in its
+        groove than the disc slides on it rolls (the smaller coefficient acts).
+
+        Parameters
+        ----------
+        friction : toothfem.fem.system.cycloid.PathFriction
+
+        Returns
+        -------
+        float
+        """
+        if self.drive.stage.pin_structure == "conventional":
+            return min(friction.pin_disc, friction.pin_groove)
+        return friction.pin_disc
+
+    def pitch_tables(self, n_positions, offset, cache, samples):
+        """A disc configuration's tables at every pitch.
+
+        Parameters
+        ----------
+        n_positions, offset : int
+            The disc's grid and its offset.
+        cache
+            The FE tables' disk cache.
+        samples : int
+            Sampled pitches.
+
+        Returns
+        -------
+        PitchTables or None
+            None for equal springs.
+        """
+        if self.pin_spring is not None:
+            return None
+        return PitchTables(self.drive, n_positions, offset, self.drive.both_flanks_options,
+                           cache, samples)
+
+    def contacts(self, slot, p, side, torque, turn, *, deviation=None, pitch=0, shift=0,
+                 geometry=None, tables=None) -> MeshContacts:
+        """The disc's pins at position p.
+
+        Parameters
+        ----------
+        slot : toothfem.fem.system.cycloid.DiscSlot
+        p : int
+            Position index.
+        side : {1, -1}
+            The flank.
+        torque : float
+            The output torque [N m] (its member torque sets the unloaded half-widths).
+        turn : float
+            The disc's rotation from its frame to the housing's [rad].
+        deviation : toothfem.fem.deviations.CycloidDeviation, optional
+            Every disc ground alike (:func:`deviation_gaps`, at ``pitch + shift``).
+        pitch, shift : int
+            Pin pitches on; the disc's own labels from the first disc's.
+        geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+            Another modification of the disc on these tables.
+        tables : PitchTables, optional
+            The disc's tables at any pitch (else its solver's own).
+
+        Returns
+        -------
+        MeshContacts
+        """
+        s, w = slot.solver, self.drive.face_width_m
+        q_load = self.drive.member_torque(abs(torque), peak=False) * side / w
+        q = s.candidates(side)[p]
+        g0 = q.gap if geometry is None else s.modified_gaps(geometry, side)[p]
+        g0 = np.where(np.isfinite(g0), g0, MODIFIED_GAP_FAR)
+        if deviation is not None:
+            g0 = g0 + self._deviation_gaps(slot, q, deviation, int(pitch) + shift, (p, side))
+        if self.pin_spring is not None:
+            base, local = np.eye(q.pins.size) * self.pin_spring, None
+        else:
+            base = (s.influence(p, side) if tables is None else
+                    tables.table(p, int(pitch), side)) / w
+
+            def local(lam):
+                return s.local_compliance(q, np.asarray(lam) / w, q_load) / w
+        return MeshContacts(g0=g0, normal=rotate(q.normal, turn), point=rotate(q.point, turn),
+                            arm=q.arm, base=base, local=local,
+                            label=(q.pins + shift) % self.labels, source=q)
+
+    def record(self, slot, solved, twist, torque: float, meshing=None):
+        """The disc's load sharing over the positions from the system's solutions.
+
+        Parameters
+        ----------
+        slot : toothfem.fem.system.cycloid.DiscSlot
+        solved : list of MeshSolution
+            The disc's at each position.
+        twist : array_like, shape (P,)
+            The reducer's TE [rad].
+        torque : float
+            The disc's torque [N m].
+        meshing : toothfem.geometry.kinematics.MeshingState, optional
+            The first disc's meshing at the positions (computed if not given).
+
+        Returns
+        -------
+        toothfem.fem.load_sharing.LoadSharing
+            Method "system"; Hertz half-widths and pressures from the forces.
+        """
+        force = np.zeros((len(solved), self.labels))
+        for p, sol in enumerate(solved):
+            np.add.at(force[p], sol.contacts.label, sol.force_N)
+        model = slot.solver.model
+        meshing = self.drive.meshing(slot.solver.positions_rad) if meshing is None \
+            else meshing
+        return record("system", model, meshing, force, np.full(force.shape, np.inf),
+                      np.asarray(twist, float), torque)
+
+    def _deviation_gaps(self, slot, q, deviation, pitch: int, where) -> np.ndarray:
+        """:func:`deviation_gaps` of a disc's candidates (kept for the last deviation: its
+        torques at a position share them)."""
+        if self._kept_gaps.get("deviation") is not deviation:
+            self._kept_gaps = {"deviation": deviation}
+        key = (slot.index, pitch, *where)
+        if key not in self._kept_gaps:
+            self._kept_gaps[key] = deviation_gaps(slot.solver.model, q, deviation, pitch)
+        return self._kept_gaps[key]
+
+    def widen(self, p, pitch, mesh: MeshContacts, force, gap) -> bool:
+        """Whether the candidates must widen: every pin is one, so never.
+
+        Parameters
+        ----------
+        p, pitch : int
+        mesh : MeshContacts
+        force, gap : numpy.ndarray
+            The solved forces [N] and gaps [m].
+
+        Returns
+        -------
+        bool
+            False.
+        """
+        return False
+
+
+class ToothMesh:
+    """The sine planet in its ring: the contact unknowns are the planet's hats (the cycle
+    mode's pressure grid, fem/sine_fe) whose initial gap is below a selection gap, their
+    flexibility the two bodies' hat tables (no half-space formula: the grids resolve the
+    conformal contact). The selection widens (doubled, up to SELECT_GAP_MAX) until the
+    loaded hats lie well inside it and the planet's motion closes no hat left out, as the
+    cycle mode's does; the widened gap is kept per position.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.sine.SineDrive
+    """
+
+    def __init__(self, drive):
+        self.drive = drive
+        pair = drive.pair
+        self.eccentricity_m = pair.centre_distance_m
+        self.turn_ratio = -pair.tooth_difference / pair.planet_teeth
+        self.solver_options = {}
+        self._select = {}
+        self._kept = {}          # the last deviation's contacts per position (torque-free)
+
+    @property
+    def labels(self) -> int:
+        """Meshing columns (both flanks of the candidate teeth)."""
+        return 2 * (2 * self.drive.fe_model().candidates + 1)
+
+    def journal_radius_m(self, supports) -> float:
+        """The eccentric's radius under the eccentric bearing's rollers.
+
+        Parameters
+        ----------
+        supports : toothfem.fem.datasheet.supports.Supports
+
+        Returns
+        -------
+        float
+            [m]: the output mechanism's eccentric bearing inner radius.
+        """
+        om = self.drive.output_mechanism
+        return om.eccentric_bearing_inner_radius_m
+
+    def sliding_coefficient(self, friction) -> float:
+        """The teeth slide on each other: the sliding contacts' coefficient.
+
+        Parameters
+        ----------
+        friction : toothfem.fem.system.cycloid.PathFriction
+
+        Returns
+        -------
+        float
+            ``friction.pin_disc``.
+        """
+        return friction.pin_disc
+
+    def pitch_tables(self, n_positions, offset, cache, samples):
+        """No pitch tables: the hat tables cover every tooth, a pitch on is exact.
+
+        Parameters
+        ----------
+        n_positions, offset, cache, samples
+            Ignored.
+
+        Returns
+        -------
+        None
+        """
+        return None
+
+    def contacts(self, slot, p, side, torque, turn, *, deviation=None, pitch=0, shift=0,
+                 geometry=None, tables=None) -> MeshContacts:
+        """The planet's hats at position p, ``pitch`` meshing periods on, in the housing
+        frame of pitch 0 (kept per position: they do not depend on the torque).
+
+        Parameters
+        ----------
+        slot : toothfem.fem.system.cycloid.DiscSlot
+        p : int
+            Position index.
+        side, torque, turn, shift, tables
+            Ignored: the hats cover both flanks in the ring frame.
+        deviation : toothfem.fem.deviations.SineDeviation, optional
+            The pair as built (:meth:`toothfem.fem.sine_fe.CycleSolver.hat_contacts`).
+        pitch : int
+            Meshing periods on.
+        geometry : None
+            The sine pair has no modification to put on its tables.
+
+        Returns
+        -------
+        MeshContacts
+        """
+        if geometry is not None:
+            raise ContactError("the sine pair has no modification to put on its tables")
+        sel = self._select.get((p, int(pitch)), DEFAULT_SELECT_GAP)
+        if self._kept.get("deviation") is not deviation:
+            self._kept = {"deviation": deviation}
+        key = (slot.index, p, int(pitch), sel)
+        if key not in self._kept:
+            self._kept[key] = self._contacts(slot, p, pitch, sel, deviation)
+        return self._kept[key]
+
+    def _contacts(self, slot, p, pitch, sel, deviation) -> MeshContacts:
+        s, w = slot.solver, self.drive.face_width_m
+        back = -int(pitch) * self.drive.pair.crank_pitch_rad
+        chi = float(s.positions_rad[p]) - back
+        h = s.hat_contacts(chi, sel, deviation)
+        centre, _ = sine.planet_pose(self.drive.pair, chi)
+        if deviation is not None:
+            centre = centre + deviation.eccentricity * np.array([[math.cos(chi)],
+                                                                 [math.sin(chi)]])
+        # the housing frame of pitch 0 (the mesh m periods on is pitch 0's turned by m
+        # crank pitches: the system's eccentric and output pins stand at pitch 0's)
+        return MeshContacts(g0=h.g0, normal=-rotate(h.normal, back),
+                            point=rotate(h.point - centre, back), arm=h.arm,
+                            base=h.flexibility / w, local=None, label=h.column,
+                            source=(chi, h, int(pitch)))
+
+    def record(self, slot, solved, twist, torque: float, meshing=None):
+        """The planet's load sharing over the positions from the system's solutions (the
+        cycle mode's record: per meshing column, Hertz's or the FE's pressure).
+
+        Parameters
+        ----------
+        slot : toothfem.fem.system.cycloid.DiscSlot
+        solved : list of MeshSolution
+            The planet's at each position.
+        twist : array_like, shape (P,)
+            Not used (each solution's own planet rotation closes the untouched columns).
+        torque : float
+            The planet's torque [N m].
+        meshing : ignored
+            (The solver's own meshing states.)
+
+        Returns
+        -------
+        toothfem.fem.load_sharing.LoadSharing
+        """
+        s, w = slot.solver, self.drive.face_width_m
+        results = []
+        for p, sol in enumerate(solved):
+            chi, h, m = sol.contacts.source
+            r = h.result(chi, sol.force_N / w, sol.gap_m, sol.rotation_rad, 0,
+                         s.planet.spacing)
+            results.append(s.labelled(r, float(s.positions_rad[p]), m))
+        return s.record("system", results, torque)
+
+    def widen(self, p, pitch, mesh: MeshContacts, force, gap) -> bool:
+        """Whether the selection must widen: a loaded hat's initial gap above SELECT_MARGIN
+        of the selection gap, or a hat at the selection's edge (initial gap above that)
+        closed to less than half its initial gap (the bodies' motion reaches the hats left
+        out). Then the gap is doubled for this position.
+
+        Parameters
+        ----------
+        p, pitch : int
+            The position and pitch solved.
+        mesh : MeshContacts
+        force, gap : numpy.ndarray
+            The solved forces [N] and gaps [m].
+
+        Returns
+        -------
+        bool
+
+        Raises
+        ------
+        toothfem.fem.contact.ContactError
+            If it would pass SELECT_GAP_MAX (the load is too high for the candidates).
+        """
+        _, h, _ = mesh.source
+        loaded = force > 0
+        edge = mesh.g0 > SELECT_MARGIN * h.select_gap
+        if np.max(mesh.g0[loaded], initial=0.0) <= SELECT_MARGIN * h.select_gap \
+                and np.all(gap[edge] >= 0.5 * mesh.g0[edge]):
+            return False
+        if 2 * h.select_gap > SELECT_GAP_MAX:
+            raise ContactError(f"the contact reaches hats with an initial gap of "
+                               f"{np.max(mesh.g0[loaded]) * 1e6:.1f} um; the load is too "
+                               "high for the candidate teeth (raise candidates)")
+        self._select[(p, int(pitch))] = 2 * h.select_gap
+        return True
