@@ -182,10 +182,12 @@ def test_against_the_planar_hand_model(pinhousing, layout, phases_deg):
 def test_rate_is_the_tangent_of_the_solution(pinhousing):
     """Equilibrium.rate (du per unit torque, the carrying contacts held) against the
     central difference of two solves: 1e-4 (the bearings' law is smooth; the same
-    contacts carry at both torques)."""
+    contacts carry at both torques). The rate is solved where friction asks for it."""
+    from toothfem.fem.system.cycloid import PathFriction
     s = system(pinhousing, pin_spring_m_per_N=1e-9)
     h = 0.5
-    st = s.solve(100.0, 4)
+    st = s.solve(100.0, 4, friction=PathFriction(0.0, 0.0, 0.0, 0.0))
+    assert s.solve(100.0, 4).equilibrium.rate is None
     du = (s.solve(100.0 + h, 4).equilibrium.u - s.solve(100.0 - h, 4).equilibrium.u) / (2 * h)
     assert st.equilibrium.rate == pytest.approx(du, rel=1e-4, abs=1e-6 * np.max(np.abs(du)))
 

@@ -15,7 +15,7 @@ from ...geometry import cycloid_mesh as cy
 from ...geometry.vectors import rotate
 from .. import contact
 from ..cache import content_key
-from ..elastic import Body
+from ..elastic import Body, plane_modulus
 from ..linsolve import one_blas_thread
 from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
 from ..mesh import Refinement, mesh_rings
@@ -473,7 +473,7 @@ class CycleSolver:
         ----------
         q : _Position
             One position's candidates (:meth:`candidates`).
-        lam : array_like, shape (C,)
+        lam : array_like, shape (..., C)
             Contact forces per length [N/m] the half-widths are taken at (an unloaded
             candidate: the width of the mean load).
         q_load : float
@@ -481,21 +481,46 @@ class CycleSolver:
 
         Returns
         -------
-        numpy.ndarray, shape (C,)
+        numpy.ndarray, shape (..., C)
             [m per N/m].
+        """
+        return self.local_law(q, q_load)(lam)
+
+    def local_law(self, q: _Position, q_load: float):
+        """:meth:`local_compliance` of one position's candidates as a function of the
+        forces alone (what does not depend on them taken once).
+
+        Parameters
+        ----------
+        q : _Position
+        q_load : float
+            The member torque per length [N m/m].
+
+        Returns
+        -------
+        callable
+            lam (..., C) [N/m] -> (..., C) [m per N/m].
         """
         m = self.model
         e_p = m.e_plane
         # the tables measure each body's pressure-weighted mean approach; the gap closes at
         # the contact's centre, F/(2 pi E') further per elastic body (docs/derivations.md 6)
-        centre = CENTRE_APPROACH * (1 if m.pin_structure == "rigid" else 2) / e_p
-        b = _half_width(np.asarray(lam, float), q.r_eq, m.e_star, q_load, q.arm)
-        local = centre + strip_width_correction(b, self.b_ref, e_p)
-        if m.pin_structure == "integral":       # housing tooth: strip of b_ref/2
-            local = local + strip_width_correction(b, self.b_ref / 2, e_p)
-        elif m.pin_structure == "conventional":
-            local = local + self._pin.compliance(q.gamma, b)
-        return local
+        fixed = CENTRE_APPROACH * (1 if m.pin_structure == "rigid" else 2) / e_p
+        strips = [(self.b_ref, e_p)]                 # the disc's strip of b_ref
+        if m.pin_structure == "integral":           # housing tooth: strip of b_ref/2
+            strips.append((self.b_ref / 2, e_p))
+        elif m.pin_structure == "conventional":     # the pin's table and its strip
+            pin = self._pin
+            fixed = fixed + np.interp(q.gamma, pin.angles, pin.table)
+            strips.append((pin.b_ref, plane_modulus(pin.youngs_modulus, pin.poisson_ratio,
+                                                    pin.plane)))
+        mean, r_eq, e_star = _mean_load(q_load, q.arm), np.abs(q.r_eq), m.e_star
+
+        def law(lam):
+            lam = np.asarray(lam, float)
+            b = line_half_width(np.where(lam > 0, lam, mean), r_eq, e_star)
+            return fixed + sum(strip_width_correction(b, ref, e) for ref, e in strips)
+        return law
 
     def candidates(self, side: int = 1) -> list:
         """The candidate contacts of every position for a torque of sign ``side``.
@@ -616,11 +641,11 @@ def _seed_guess(q: _Position, q_load):
     return w * q_load / np.sum(w * -q.arm)
 
 
-def _half_width(lam, r_eq, e_star, q_load, arm):
-    """Hertz half-width per candidate; unloaded ones get the width of a mean load."""
+def _mean_load(q_load, arm) -> float:
+    """The force per length [N/m] an unloaded candidate's half-width is taken at: the
+    member's load shared over the carrying flank's arms."""
     carry = (arm < 0) if q_load > 0 else (arm > 0)
-    mean = abs(q_load) / np.sum(np.abs(arm[carry])) if np.any(carry) else abs(q_load)
-    return line_half_width(np.where(lam > 0, lam, mean), np.abs(r_eq), e_star)
+    return abs(q_load) / np.sum(np.abs(arm[carry])) if np.any(carry) else abs(q_load)
 
 
 def record(method, model, state, force, gap, beta, torque) -> LoadSharing:

@@ -591,7 +591,7 @@ class CycloidSystem:
             sets = [cs for cs, _ in pins]
             if self.khv:
                 sets.append(self._output_pins(phi, t))
-            eq = self._equilibrium(elements, sets, q, start, t, phi)
+            eq = self._equilibrium(elements, sets, q, start, t, phi, friction is not None)
             # a mesh that selects its candidates (the sine pair's hats) widens the
             # selection until the contact lies inside it
             if not any(self.mesh.widen(p, pitch, mc, eq.forces[cs.name], eq.gaps[cs.name])
@@ -641,9 +641,9 @@ class CycloidSystem:
                                 [s.twist_rad for s in states],
                                 float(np.mean([s.disc_torque_Nm[j] for s in states])), meshing)
 
-    def _equilibrium(self, elements, sets, q, start, t, phi):
+    def _equilibrium(self, elements, sets, q, start, t, phi, rate):
         """:func:`solve` from a nearby state ``start`` where it fits, else from rest (the
-        message names the torque and the crank angle)."""
+        message names the torque and the crank angle); ``rate``: with its tangent."""
         c = self._coords
         u0 = active0 = lam0 = None
         if start is not None and start.equilibrium is not None:
@@ -654,13 +654,14 @@ class CycloidSystem:
                 active0 = {name: f > 0 for name, f in lam0.items()}
         try:
             try:
-                return solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0)
+                return solve(c.n, elements, sets, q, u0=u0, active0=active0, lam0=lam0,
+                             rate=rate)
             except ContactError:
                 if u0 is None:
                     raise
                 # a start far from here (another torque's contacts) can lead the active
                 # set astray: from rest
-                return solve(c.n, elements, sets, q)
+                return solve(c.n, elements, sets, q, rate=rate)
         except ContactError as exc:
             raise ContactError(f"{exc} (output torque {t:g} N m, crank angle "
                                f"{math.degrees(phi):.4g} deg)") from None

@@ -75,6 +75,7 @@ class PinMesh:
             {"equal_springs": pin_spring_m_per_N * drive.face_width_m}
             if pin_spring_m_per_N is not None else {})}
         self._kept_gaps = {}
+        self._turned = {}        # (disc, position, side, turn) -> its normals and points
 
     def journal_radius_m(self, supports) -> float:
         """The crank (eccentric) journal's radius under the crank bearing's rollers.
@@ -170,12 +171,16 @@ class PinMesh:
         else:
             base = (s.influence(p, side) if tables is None else
                     tables.table(p, int(pitch), side)) / w
+            law = s.local_law(q, q_load)
 
             def local(lam):
-                return s.local_compliance(q, np.asarray(lam) / w, q_load) / w
-        return MeshContacts(g0=g0, normal=rotate(q.normal, turn), point=rotate(q.point, turn),
-                            arm=q.arm, base=base, local=local,
-                            label=(q.pins + shift) % self.labels, source=q)
+                return law(np.asarray(lam) / w) / w
+        key = (slot.index, p, side, turn)
+        if key not in self._turned:
+            self._turned[key] = (rotate(q.normal, turn), rotate(q.point, turn))
+        normal, point = self._turned[key]
+        return MeshContacts(g0=g0, normal=normal, point=point, arm=q.arm, base=base,
+                            local=local, label=(q.pins + shift) % self.labels, source=q)
 
     def record(self, slot, solved, twist, torque: float, meshing=None):
         """The disc's load sharing over the positions from the system's solutions.

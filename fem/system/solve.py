@@ -89,7 +89,8 @@ class ContactSet:
     coordinate G (c, n), and their flexibility at contact forces lam [N],
     H(lam) = ``base`` + diag(``local(lam)``) [m/N]: the bodies' fixed influence (c, c)
     and each contact's own local law (c,) as a secant (its approach local_i(lam_i) lam_i,
-    e.g. Hertz's, Palmgren's). Both None: rigid contacts."""
+    e.g. Hertz's, Palmgren's; elementwise, so it takes forces (..., c) at once). Both None:
+    rigid contacts."""
     name: str
     group: str
     g0: np.ndarray
@@ -118,11 +119,9 @@ class ContactSet:
         h = np.zeros((c, c)) if self.base is None else np.array(self.base, float)
         rate = np.zeros(c)
         if self.local is not None:
-            local = self.local(lam)
+            local, up = self.local(np.stack([lam, lam * (1 + APPROACH_STEP)]))
             h[np.diag_indices(c)] += local
-            if np.any(lam > 0):
-                up = self.local(lam * (1 + APPROACH_STEP))
-                rate = np.where(lam > 0, (up - local) / APPROACH_STEP, 0.0)
+            rate = np.where(lam > 0, (up - local) / APPROACH_STEP, 0.0)
         return h, rate
 
 
@@ -159,7 +158,7 @@ def _each_element(elements, u) -> dict:
 
 
 def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
-          lam0=None) -> Equilibrium:
+          lam0=None, rate: bool = True) -> Equilibrium:
     """Equilibrium of the assembly under the generalised forces ``q``.
 
     Parameters
@@ -177,6 +176,8 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         load moves the assembly (:func:`closing_motion`).
     lam0 : dict of str to array, optional
         Contact forces to take the first flexibilities at (a nearby state's).
+    rate : bool
+        Also the tangent ``Equilibrium.rate`` (one more solve; what friction reads).
 
     Returns
     -------
@@ -237,9 +238,13 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
             h, d = _flexibility(contacts, lam, sizes)
         else:
             raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
-    _, kt = _internal(linear, nonlinear, u, n)
-    tangent = h + np.diag(d)
-    rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)], q / np.linalg.norm(q))
+    if rate:
+        _, kt = _internal(linear, nonlinear, u, n)
+        tangent = h + np.diag(d)
+        rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)],
+                     q / np.linalg.norm(q))
+    else:
+        rate = None
     per = _each_element(elements, u)
     gap = g0 + h @ lam + gmat @ u
     gap = np.where(active, 0.0, gap)
