@@ -1,14 +1,14 @@
-"""The system model of a cycloid reducer: every disc a rigid body on its pins (the FE
-contact) and its bearings, the shafts that carry the eccentrics on their support bearings,
-bending and twisting, and the path to the output (docs/stiffness.md, "The system model").
-Two layouts of one model:
+"""The system model of a reducer: every disc (or sine planet) a rigid body on its teeth
+(the FE contact, :mod:`toothfem.fem.system.mesh`) and its bearings, the shafts that carry
+the eccentrics on their support bearings, bending and twisting, and the path to the output
+(docs/stiffness.md, "The system model"). Two layouts of one model:
 
 - 2K-V (RV): n crankshafts at radius R_c on the carrier (the output), each through a crank
   hole of every disc, turned by the spur first stage from the sun (held: the catalogue's
   input held);
 - K-H-V: one input shaft on the axis with an eccentric per disc in the disc's centre bore
   (held: input held), the output flange's pins (or rollers) in holes through the discs,
-  contacts with clearance.
+  contacts with clearance; the sine pair is this layout with one planet in its ring.
 
 Coordinates (small displacements, housing frame, at one crank angle):
 
@@ -208,13 +208,14 @@ class SystemState:
 
 
 class CycloidSystem:
-    """The system model of a cycloid drive (2K-V or K-H-V) over the positions of one pin
-    pitch.
+    """The system model of a drive (2K-V or K-H-V cycloid, the K-H-V sine pair) over the
+    positions of one meshing period.
 
     Parameters
     ----------
-    drive : toothfem.fem.drives.cycloid.CycloidDrive
-        A 2K-V drive (``first_teeth`` set) or a K-H-V drive with its ``output`` pins.
+    drive : toothfem.fem.drives.Drive
+        A 2K-V drive (``first_teeth`` set) or a K-H-V drive with its ``output`` pins; its
+        ``system_mesh`` is the members' contact.
     supports : toothfem.fem.datasheet.supports.Supports
     n_positions : int
         Positions per pin pitch.
