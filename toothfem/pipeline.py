@@ -185,11 +185,19 @@ def reducer_te(system, output_torque_Nm: float) -> dict:
     -------
     dict
         ``transmission_error_reducer_arcsec`` (mean), its ``..._ripple_arcsec`` (peak to
-        peak) and ``transmission_error_reducer_mesh_arcsec`` (the mesh's part, mean).
+        peak) and ``transmission_error_reducer_mesh_arcsec`` (the mesh's part, mean); the
+        largest contact force and Hertz pressure over every member as the system carries
+        them (``max_force_reducer_N``, ``max_ph_reducer_MPa``: each member free on its
+        supports, the split solved).
     """
-    point = SystemTwist(system).at(output_torque_Nm)
+    twist = SystemTwist(system)
+    point = twist.at(output_torque_Nm)
+    states = twist.states(output_torque_Nm)
+    records = [system.member_record(j, states) for j in range(system.discs)]
     arcsec = 180 * 3600 / np.pi
-    return {"transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
+    return {"max_force_reducer_N": float(max(np.max(r.force) for r in records)),
+            "max_ph_reducer_MPa": float(max(np.max(r.ph) for r in records)) * 1e-6,
+            "transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
             "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
                                                             * arcsec),

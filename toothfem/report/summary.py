@@ -13,8 +13,13 @@ import math
 CONTACT_QUANTITIES = (
     ("{contacts}_in_contact_max", "{contacts} in contact, most", ""),
     ("{contacts}_in_contact_min", "{contacts} in contact, fewest", ""),
-    ("max_force_N", "largest {contact} force", "N"),
-    ("max_ph_MPa", "largest Hertz pressure P_h", "MPa"),
+    ("max_force_reducer_N", "largest {contact} force in the reducer (system model: every "
+     "{member} free on its supports)", "N"),
+    ("max_ph_reducer_MPa", "largest Hertz pressure P_h in the reducer (system model)", "MPa"),
+    ("max_force_N", "largest {contact} force, one {member} held at its bearing seats "
+     "(member torque)", "N"),
+    ("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing seats",
+     "MPa"),
     ("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
      "model), mean", "arcsec"),
     ("transmission_error_reducer_ripple_arcsec", "  its peak to peak over the pitch",
