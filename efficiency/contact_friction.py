@@ -16,13 +16,14 @@ import warnings
 import numpy as np
 
 from . import friction as fr
+from ..limits import film_ratio
 from .mixed_film import asperity_load_share, mixed_friction
 
 #: Full-film bound of the EHL regression (friction.LAMBDA_FULL_FILM).
 LAMBDA_FULL = fr.LAMBDA_FULL_FILM
 
 
-def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
+def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits=None):
     """Friction coefficient at each loaded contact, and the film ratio.
 
     Parameters
@@ -40,6 +41,9 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
         Inlet dynamic viscosity [Pa s], scalar or (M,).
     notes : list of str
         Notes about the validity of the laws are appended here.
+    limits : list, optional
+        The film ratio's limits passed (:func:`toothfem.limits.film_ratio`) are appended
+        here.
 
     Returns
     -------
@@ -79,6 +83,8 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes):
                             pressure_viscosity=lub.pressure_viscosity_1_per_Pa)
     mu[ok] = res.mu
     lam[ok] = res.film_ratio
+    if limits is not None and np.any(ok):
+        limits.extend(film_ratio("the mesh contacts", float(np.min(lam[ok]))))
     share = asperity_load_share(lam, ph, si.material.hardness_Pa)
     low = np.isfinite(lam) & (lam < LAMBDA_FULL)
     if np.any(low):

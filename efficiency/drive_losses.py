@@ -42,6 +42,7 @@ class DriveLosses:
     losses_W: dict
     notes: tuple
     mesh_efficiency: dict          # per stage, (M,)
+    limits: tuple = ()             # toothfem.limits.Exceeded: limits the points pass
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -176,7 +177,8 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     table = _table(si, drive, points, t2, notes)
     force, ph = table.at(t2)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
-    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes)
+    limits = []
+    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes, limits)
     mesh = sliding_loss(table, force, mu, crank)
     if np.any(table.hertz_invalid):
         notes.append(f"Hertz's assumptions fail at {int(table.hertz_invalid.sum())} of "
@@ -195,7 +197,8 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
     # display: in a K-H-V stage the energy balance with the contact loss itself is exact
     return DriveLosses(output_power_W=t2 * np.abs(w_planet), losses_W=losses,
-                       notes=tuple(notes), mesh_efficiency={"sine": 1 - mesh / (t2 * rel)})
+                       notes=tuple(notes), mesh_efficiency={"sine": 1 - mesh / (t2 * rel)},
+                       limits=tuple(limits))
 
 
 def pin_contact_mu(si, mu_disc):
@@ -223,7 +226,8 @@ def pin_contact_mu(si, mu_disc):
     return np.minimum(mu_disc, si.friction.pin_groove_coefficient)
 
 
-def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None):
+def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None,
+                        limits=None):
     """Pin-contact loss of one cycloid disc and the mean resultant of its pin forces.
 
     Parameters
@@ -240,6 +244,8 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None)
         Inlet dynamic viscosity [Pa s].
     notes : list of str, optional
         Validity notes are appended here.
+    limits : list, optional
+        Limits passed are appended here (:func:`contact_mu`).
 
     Returns
     -------
@@ -250,7 +256,7 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None)
     notes = [] if notes is None else notes
     force, ph = table.at(torque_disc)
     mu_disc, _ = contact_mu(si, drive_for(si).e_star_Pa, table, force, ph, crank_speed, eta0,
-                            notes)
+                            notes, limits)
     mu = pin_contact_mu(si, mu_disc)
     if si.cycloid.pin_structure == "conventional":
         share = np.mean(mu_disc > si.friction.pin_groove_coefficient)
@@ -356,10 +362,10 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
     # every member's loss at its own loads: (label, table, torque (M,), members alike)
     members = _members(si, drive, points, table, t_disc, notes)
-    pins, f_bearing = 0.0, []
+    pins, f_bearing, limits = 0.0, [], []
     for label, tab, t_j, count in members:
         said = []
-        loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said)
+        loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said, limits)
         notes.extend(f"{label}: {n}" if label else n for n in said)
         pins = pins + count * loss
         f_bearing.append(f_b)
@@ -403,7 +409,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                                  eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor))
     return DriveLosses(output_power_W=p_out, losses_W=losses,
-                       notes=tuple(notes), mesh_efficiency=mesh_eff)
+                       notes=tuple(notes), mesh_efficiency=mesh_eff, limits=tuple(limits))
 
 
 def bearing_component(drive) -> str:

@@ -17,6 +17,7 @@ from ..errors import CaseError, ToothfemError, check_range
 from ..fem.drives import drive_for
 from . import rv_paper
 from .drive_losses import LOSS_MODELS, OperatingPoints
+from .. import limits
 from .lubricant import viscosity_factor
 from .mesh_table import LOADS
 
@@ -40,6 +41,7 @@ class Efficiency:
     method: str
     notes: tuple = ()
     mesh_efficiency: dict = field(default_factory=dict)   # per stage, (M,)
+    warnings: tuple = ()           # toothfem.limits.Exceeded: limits the points pass
 
     @property
     def input_power_W(self) -> np.ndarray:
@@ -105,7 +107,9 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     Returns
     -------
     Efficiency
-        Losses [W] per component, efficiency, notes on the laws' validity.
+        Losses [W] per component, efficiency, notes on the laws' validity, the limits
+        the points pass (``warnings``: the output torque above the rating, the mesh's
+        film ratio below 1 or 0.1).
 
     Raises
     ------
@@ -132,7 +136,8 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
         res = rv_paper.split_power_losses(si, n * 2 * math.pi / 60, t)
         return Efficiency(**record, output_power_W=res.output_power_W,
                           losses_W=res.losses_W, loads="analytic", method=method,
-                          notes=res.notes, mesh_efficiency=res.mesh_efficiency)
+                          notes=res.notes, mesh_efficiency=res.mesh_efficiency,
+                          warnings=tuple(limits.rated_torque(si, t)))
     drive = drive_for(si)
     points = OperatingPoints(
         input_speed_rad_s=n * 2 * math.pi / 60, output_torque_Nm=t,
@@ -141,7 +146,9 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     res = LOSS_MODELS[drive.kind](si, drive, points)
     return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
                       loads=loads, method=method, notes=res.notes,
-                      mesh_efficiency=res.mesh_efficiency)
+                      mesh_efficiency=res.mesh_efficiency,
+                      warnings=tuple(limits.rated_torque(si, t))
+                      + limits.worst(res.limits))
 
 
 def predict(case, speed_rpm, torque_Nm, oil_temp_C=None, **kw) -> np.ndarray:

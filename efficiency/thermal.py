@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.integrate import solve_ivp
 
+from .. import limits
 from ..errors import CaseError, ToothfemError, check_range
 from ..fem.drives import drive_for
 from .envelope import envelope
@@ -183,6 +184,8 @@ class HeatBalance:
     housing: Housing
     iterations: int
     evaluation: object              # toothfem.efficiency.evaluation.Efficiency at T
+    warnings: tuple = ()            # toothfem.limits.Exceeded: the case's temperature
+                                    # limit and the evaluation's at T
 
     @property
     def efficiency(self) -> np.ndarray:
@@ -251,7 +254,9 @@ def heat_balance(case, speed_rpm, torque_Nm, *, tol_K=TEMPERATURE_TOL_K, **kw) -
             _, ev = _total_loss(si, n, t, temp, **kw)
             return HeatBalance(temperature_C=temp,
                                heat_transfer_W_m2K=heat_transfer_coefficient(h, temp),
-                               housing=h, iterations=it, evaluation=ev)
+                               housing=h, iterations=it, evaluation=ev,
+                               warnings=tuple(limits.case_temperature(si, drive_for(si),
+                                                                      temp)) + ev.warnings)
     raise ToothfemError(f"the heat balance did not converge to {tol_K:g} K in "
                         f"{MAX_ITERATIONS} iterations")
 

@@ -480,6 +480,10 @@ class Thermal(_Section):
     sensor_resistance_K_W: float = _f(0.0, 20.0, default=0.0,
                                       doc="oil at the contacts above a sump sensor per W "
                                           "of loss (the loop's thermal effect; 0: none)")
+    case_temperature_limit_C: float | None = _f(0.0, 300.0, lo_open=True, default=None,
+                                                doc="the maker's limit of the case surface "
+                                                    "(a warning above it); default 60 C for "
+                                                    "a 2K-V drive (Nabtesco RV-E), else none")
 
 
 @dataclass(frozen=True)

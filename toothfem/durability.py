@@ -48,6 +48,7 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
         "heat_transfer_W_m2K": float(hb.heat_transfer_W_m2K[0]),
         "losses_W": float(hb.losses_W[0]), "efficiency": float(hb.efficiency[0]),
         "iterations": hb.iterations,
+        "warnings": [w.as_dict() for w in hb.warnings],
     }
     if duration_h is not None:
         w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * 3600.0, loads=loads)

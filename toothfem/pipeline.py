@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import durability
+from . import durability, limits
 from .case import Case, load_case
 from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_stiffness
 from .efficiency import evaluate, operating_point
@@ -155,6 +155,13 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         summary.update(reducer_te(system, output))
         if summary.get("interference_before_load_um", 0) > 0:
             summary.update(assembly_preload(system, si.material))
+    found = limits.rated_torque(si, output) + limits.contact_pressure(
+        f"the {drive.contact_name} contacts, one {drive.member_name} held",
+        summary["max_ph_MPa"], si.material)
+    if "max_ph_reducer_MPa" in summary:
+        found += limits.contact_pressure(f"the {drive.contact_name} contacts in the reducer",
+                                         summary["max_ph_reducer_MPa"], si.material)
+    summary["warnings"] = [w.as_dict() for w in found]
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {
@@ -311,6 +318,7 @@ def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
         "loss_shares": {k: float(v[0]) for k, v in shares.items()},
         "mesh_efficiency": {k: float(v[0]) for k, v in e.mesh_efficiency.items()},
         "notes": list(e.notes),
+        "warnings": [w.as_dict() for w in e.warnings],
     }
 
 
@@ -325,6 +333,39 @@ class RunResult:
     output_torque_Nm: float
     case: Case | None = None       # the case the run analysed
     durability: dict = None        # {"life", "strength", "heat"}: toothfem.durability
+
+    @property
+    def warnings(self) -> list:
+        """Every limit the run's results pass, one line each (contact, efficiency, heat,
+        strength), each said once."""
+        return run_warnings(self.contact.summary if self.contact else None, self.efficiency,
+                            self.durability or {})
+
+
+def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> list:
+    """The one list of a run's warnings from its parts' summaries.
+
+    Parameters
+    ----------
+    contact : dict or None
+        The contact summary.
+    efficiency : dict
+        {source: efficiency summary}.
+    durability : dict
+        {"heat", "life", "strength"} summaries.
+
+    Returns
+    -------
+    list of str
+        Each message once, in the order the parts ran.
+    """
+    found = list((contact or {}).get("warnings", ()))
+    for r in efficiency.values():
+        found += r.get("warnings", ())
+    found += durability.get("heat", {}).get("warnings", ())
+    lines = [w["message"] for w in found]
+    lines += list(durability.get("strength", {}).get("warnings", ()))
+    return list(dict.fromkeys(lines))
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
@@ -424,6 +465,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                                                  case.rv.disc_teeth, case.rv.pin_count)
         report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"],
                                              rv_teeth)
+        said = run_warnings(None if contact is None else contact.summary, results, dur)
+        report += ["## Warnings", "", *([f"- {w}" for w in said] or ["None."]), ""]
         (tmp / "report.md").write_text("\n".join(report) + "\n")
     return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
                      speed_rpm=float(speed), output_torque_Nm=float(torque), case=case,

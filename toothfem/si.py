@@ -183,6 +183,7 @@ class ThermalSI:
     emissivity: float
     heat_capacity_J_K: float | None
     sensor_resistance_K_W: float    # the loop's thermal effect (K per W of loss)
+    case_temperature_limit_C: float | None = None   # the maker's surface limit
 
 
 @dataclass(**_RECORD)
@@ -411,7 +412,8 @@ def from_case(case) -> CaseSI:
             heat_transfer_W_m2K=case.thermal.heat_transfer_W_m2K,
             emissivity=case.thermal.emissivity,
             heat_capacity_J_K=case.thermal.heat_capacity_J_K,
-            sensor_resistance_K_W=case.thermal.sensor_resistance_K_W),
+            sensor_resistance_K_W=case.thermal.sensor_resistance_K_W,
+            case_temperature_limit_C=case.thermal.case_temperature_limit_C),
         duty_cycle=tuple(DutyPointSI(
             output_torque_Nm=d.output_torque_Nm,
             input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,

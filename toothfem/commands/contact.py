@@ -86,5 +86,7 @@ def run(args) -> int:
     rows = report_summary.contact_rows(summary, contact_labels(result), case.published)
     print(report_summary.text(rows, title=f"{case.name}: {result.mode} mode, "
                                           f"{summary['positions']} positions over one period"))
+    for w in summary.get("warnings", ()):
+        print(f"warning: {w['message']}")
     print(f"wrote {', '.join(summary['files'])} to {Path(args.out).resolve()}")
     return 0

@@ -123,4 +123,9 @@ def _run(args) -> int:
                   f"efficiency {100 * row['efficiency']:.2f} %")
     for note in out["notes"]:
         print(f"note: {note}")
+    said = set()
+    for w in out["warnings"] + (heat or {}).get("warnings", []):
+        if w["message"] not in said:
+            print(f"warning: {w['message']}")
+            said.add(w["message"])
     return 0

@@ -59,7 +59,7 @@ def run(args) -> int:
     if args.json:
         contact = None if res.contact is None else res.contact.summary
         print(json.dumps({"efficiency": res.efficiency, "contact": contact,
-                          "report": str(report)}, indent=2))
+                          "warnings": res.warnings, "report": str(report)}, indent=2))
         return 0
     case = res.case
     print(report_summary.text(
@@ -77,7 +77,7 @@ def run(args) -> int:
     print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; eccentric bearings L10 "
           + ("not rated" if l10 is None else f"{l10:.4g} h")
           + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f}")
-    for w in strength["warnings"]:
+    for w in res.warnings:
         print(f"warning: {w}")
     print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")
     return 0

@@ -57,5 +57,5 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
             f"{_num(strength['yield_safety'], '.2f')} |",
             f"| hole edges von Mises (fatigue) | {_num(strength['von_mises_holes_MPa'], '.0f')} "
             f"MPa | {_num(strength['fatigue_safety'], '.2f')} |", ""]
-    out += [f"- warning: {w}" for w in strength["warnings"]]
-    return out + ["", "Tables: `durability.json`.", ""]
+    return out + ["Safety factors below 1 are in the report's warnings.", "",
+                  "Tables: `durability.json`.", ""]

@@ -1,0 +1,76 @@
+"""Limits a result passes are warnings with the value, the limit and its source (issue 22,
+item 5): the output torque against the rating, the mesh's film ratio, the case
+temperature of the heat balance, the Hertz pressure against the material's allowable;
+each printed by the command that computes it and in its JSON."""
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import pytest
+
+from toothfem import cli, limits
+from toothfem.case import load_case
+from toothfem.efficiency import evaluate
+from toothfem.efficiency.thermal import heat_balance
+
+
+def test_a_record_says_the_value_the_limit_and_the_source():
+    e = limits.above("output torque", 1552.0, 412.0, "N m", "operating.rated_torque_Nm")
+    assert str(e) == ("output torque: 1552 N m, above the limit 412 N m "
+                      "(operating.rated_torque_Nm)")
+    assert limits.above("x", 1.0, 2.0, "", "s") is None          # within
+    assert limits.above("x", 3.0, None, "", "s") is None         # no limit
+    low = limits.below("film ratio", 0.05, 1.0, "", "s")
+    assert low.lower and "below the limit 1" in str(low)
+    assert limits.film_ratio("c", 0.05)[0].limit == limits.FILM_RATIO_DRY
+    assert limits.film_ratio("c", 0.5)[0].limit == limits.FILM_RATIO_BOUNDARY
+    assert limits.film_ratio("c", 2.0) == []
+    worst = limits.worst([limits.below("f", 0.5, 1, "", "s"), limits.below("f", 0.2, 1, "", "s"),
+                          limits.above("t", 5, 1, "", "s")])
+    assert [w.value for w in worst] == [0.2, 5]
+
+
+def test_rv40e_at_the_papers_point_passes_its_rating_film_and_case_temperature(cases_dir):
+    """The shipped RV-40E case's operating point (the paper's 2.27 kW at 1552 N m) is 3.8x
+    the rated 412 N m, its pin contacts run with a film ratio of 2e-5, and its heat balance
+    settles at 145 C against the maker's 60 C: each said, with the limit's source."""
+    case = load_case(cases_dir / "rv40e.toml")
+    e = evaluate(case, 1500.0, 1552.0)
+    by = {w.quantity: w for w in e.warnings}
+    assert by["output torque"].limit == 412.0
+    assert by["film ratio of the mesh contacts"].limit == limits.FILM_RATIO_DRY
+    hb = heat_balance(case, 1500.0, 1552.0)
+    hot = [w for w in hb.warnings if "temperature" in w.quantity]
+    assert hot and hot[0].limit == limits.RV_CASE_TEMPERATURE_LIMIT_C
+    assert "Nabtesco" in hot[0].source
+    # a stated limit replaces the default; at the rated torque nothing about the torque
+    stated = dataclasses.replace(case, thermal=dataclasses.replace(
+        case.thermal, case_temperature_limit_C=200.0))
+    assert not [w for w in heat_balance(stated, 1500.0, 1552.0).warnings
+                if "temperature" in w.quantity]
+    assert "output torque" not in {w.quantity for w in evaluate(case, 1500.0, 400.0).warnings}
+
+
+def test_the_efficiency_command_prints_them_and_its_json_holds_them(cases_dir, capsys):
+    path = str(cases_dir / "rv40e.toml")
+    assert cli.main(["efficiency", path, "--thermal"]) == 0
+    out = capsys.readouterr().out
+    assert "warning: output torque: 1552 N m, above the limit 412 N m" in out
+    assert "warning: case (oil) temperature of the heat balance" in out
+    assert cli.main(["efficiency", path, "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert {w["quantity"] for w in data["warnings"]} >= {"output torque"}
+    assert all({"value", "limit", "source", "message"} <= set(w) for w in data["warnings"])
+
+
+@pytest.mark.slow
+def test_contact_warns_of_a_pressure_above_the_allowable(cases_dir, tmp_path, capsys):
+    """RV-40E at 1552 N m: P_h about 2.1 GPa (held disc) and 2.5 GPa (the reducer) against
+    the case's 1500 MPa."""
+    assert cli.main(["contact", str(cases_dir / "rv40e.toml"), "--out",
+                     str(tmp_path / "c")]) == 0
+    out = capsys.readouterr().out
+    assert "warning: largest Hertz pressure P_h of the pin contacts in the reducer" in out
+    summary = json.loads((tmp_path / "c" / "summary.json").read_text())
+    assert any(w["limit"] == 1500.0 for w in summary["warnings"])

@@ -1,0 +1,212 @@
+"""Limits a result can pass, each with its source: one record for every warning a command
+prints ("warning: ..."), writes to its JSON and to its report (issue 22). Computing only;
+the commands write.
+
+A limit passed is never an error: the figure is still computed, and the warning says the
+value, the limit and where the limit comes from.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+#: Film ratio lambda = h_c / S below which the asperities carry load: boundary
+#: lubrication below 1, mixed to about 3 (Hamrock, Schmid & Jacobson, Fundamentals of Fluid
+#: Film Lubrication, 2nd ed., 2004, Sec. 1.4: the regimes by the film parameter).
+FILM_RATIO_BOUNDARY = 1.0
+#: Below this the film carries next to nothing: the contact's friction is the boundary
+#: coefficient's alone and the EHL law (Xu 2007, fitted for full films) says nothing of it
+#: (docs/efficiency.md, the mixed-film blend: the asperities' share is then above 99 %).
+FILM_RATIO_DRY = 0.1
+#: The case surface temperature limit of a 2K-V (RV) reducer when the case states none:
+#: Nabtesco's RV-E series catalogue (operating conditions: the reducer's surface at most
+#: 60 C). ASSUMPTION for a reducer of another maker.
+RV_CASE_TEMPERATURE_LIMIT_C = 60.0
+
+
+@dataclass(frozen=True)
+class Exceeded:
+    """A value beyond its limit.
+
+    ``quantity``: what it is (with where: "film ratio of the pin contacts"); ``value`` and
+    ``limit`` in ``unit``; ``source``: where the limit comes from (a case key, a standard,
+    a catalogue); ``lower``: the limit is a least value (film ratio, life, safety)."""
+    quantity: str
+    value: float
+    limit: float
+    unit: str
+    source: str
+    lower: bool = False
+
+    def __str__(self) -> str:
+        side = "below" if self.lower else "above"
+        unit = f" {self.unit}" if self.unit else ""
+        return (f"{self.quantity}: {self.value:.4g}{unit}, {side} the limit "
+                f"{self.limit:.4g}{unit} ({self.source})")
+
+    def as_dict(self) -> dict:
+        """The record for JSON, with its one-line ``message``.
+
+        Returns
+        -------
+        dict
+        """
+        return {**asdict(self), "message": str(self)}
+
+
+def above(quantity: str, value, limit, unit: str, source: str) -> Exceeded | None:
+    """An upper limit passed, or None (also when there is no limit).
+
+    Parameters
+    ----------
+    quantity : str
+    value, limit : float or None
+    unit, source : str
+
+    Returns
+    -------
+    Exceeded or None
+    """
+    if limit is None or value is None or not math.isfinite(value) or value <= limit:
+        return None
+    return Exceeded(quantity, float(value), float(limit), unit, source)
+
+
+def below(quantity: str, value, limit, unit: str, source: str) -> Exceeded | None:
+    """A lower limit not reached, or None (also when there is no limit).
+
+    Parameters
+    ----------
+    quantity : str
+    value, limit : float or None
+    unit, source : str
+
+    Returns
+    -------
+    Exceeded or None
+    """
+    if limit is None or value is None or math.isnan(value) or value >= limit:
+        return None
+    return Exceeded(quantity, float(value), float(limit), unit, source, lower=True)
+
+
+def film_ratio(where: str, lowest: float) -> list:
+    """The film ratio's two limits (FILM_RATIO_BOUNDARY, FILM_RATIO_DRY): the lower one
+    passed, if any.
+
+    Parameters
+    ----------
+    where : str
+        The contacts ("the pin contacts").
+    lowest : float
+        The least film ratio over them [-].
+
+    Returns
+    -------
+    list of Exceeded
+        At most one.
+    """
+    for limit, source in ((FILM_RATIO_DRY, "the film carries next to nothing: boundary "
+                           "friction alone, outside the EHL law's range (docs/efficiency.md)"),
+                          (FILM_RATIO_BOUNDARY, "boundary lubrication: the asperities carry "
+                           "load (Hamrock, Schmid & Jacobson 2004, Sec. 1.4)")):
+        hit = below(f"film ratio of {where}", lowest, limit, "", source)
+        if hit is not None:
+            return [hit]
+    return []
+
+
+def worst(found) -> tuple:
+    """One record per quantity: the farthest beyond its limit (several members or points
+    that pass the same limit say it once).
+
+    Parameters
+    ----------
+    found : iterable of Exceeded
+
+    Returns
+    -------
+    tuple of Exceeded
+        In the order the quantities first appear.
+    """
+    out = {}
+    for e in found:
+        k = (e.quantity, e.lower)
+        if k not in out or (e.value < out[k].value if e.lower else e.value > out[k].value):
+            out[k] = e
+    return tuple(out.values())
+
+
+def rated_torque(si, torque_Nm) -> list:
+    """The output torque against the case's rated torque (``operating.rated_torque_Nm``),
+    else against its operating torque (what the datasheet takes as the rating then).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    torque_Nm : float or array_like
+        Output torque(s) [N m]; the largest magnitude is checked.
+
+    Returns
+    -------
+    list of Exceeded
+    """
+    import numpy as np
+
+    t = float(np.max(np.abs(np.atleast_1d(torque_Nm))))
+    rated, assumed = si.rated_output_torque_Nm()
+    source = ("the case's operating torque, taken as the rating: operating.rated_torque_Nm "
+              "not given" if assumed else "operating.rated_torque_Nm, the reducer's rating")
+    hit = above("output torque", t, rated, "N m", source)
+    return [hit] if hit else []
+
+
+def contact_pressure(where: str, ph_MPa: float, material) -> list:
+    """A Hertz pressure against the material's allowable (contact fatigue).
+
+    Parameters
+    ----------
+    where : str
+        Which contacts ("the pin contacts in the reducer").
+    ph_MPa : float
+        The largest P_h [MPa].
+    material : toothfem.si.MaterialSI
+
+    Returns
+    -------
+    list of Exceeded
+    """
+    hit = above(f"largest Hertz pressure P_h of {where}", ph_MPa,
+                material.allowable_contact_stress_Pa * 1e-6, "MPa",
+                "material.allowable_contact_stress_MPa, contact fatigue (ISO 281:2007)")
+    return [hit] if hit else []
+
+
+def case_temperature(si, drive, temperature_C) -> list:
+    """The housing (case surface) temperature against its limit: the case's
+    ``thermal.case_temperature_limit_C``, else RV_CASE_TEMPERATURE_LIMIT_C for a 2K-V
+    drive; none otherwise.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    temperature_C : float or array_like
+        The lumped heat balance's temperature (oil, parts and housing wall at one) [C];
+        the largest is checked.
+
+    Returns
+    -------
+    list of Exceeded
+    """
+    import numpy as np
+
+    t = float(np.max(np.atleast_1d(temperature_C)))
+    limit = None if si.thermal is None else si.thermal.case_temperature_limit_C
+    source = "thermal.case_temperature_limit_C"
+    if limit is None and drive.two_stage:
+        limit = RV_CASE_TEMPERATURE_LIMIT_C
+        source = ("Nabtesco RV-E catalogue: the reducer's surface at most 60 C; "
+                  "ASSUMPTION for this case (thermal.case_temperature_limit_C sets it)")
+    hit = above("case (oil) temperature of the heat balance", t, limit, "C", source)
+    return [hit] if hit else []
