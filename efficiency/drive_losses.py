@@ -318,6 +318,45 @@ def crank_bearing_loss(si, f_resultant, t_disc, rel):
     return si.friction.bearing_coefficient * load * r_b * rel
 
 
+def crank_support_loss(si, supports, t_discs, rel):
+    """Friction loss of the crankshafts' support bearings in the carrier (2K-V) [W].
+
+    Each of the k crankshafts passes its discs' torque to the carrier at radius R_c: the
+    discs' crank bearings on it push with sum_j T_j/(k R_c) along the carrier's tangent
+    (their pin resultants, the discs a 1/M turn apart, cancel on the shaft), shared by its
+    two support bearings (the discs centred between them). Each turns with the crank
+    against the carrier at w_rel with Palmgren's load-dependent friction torque
+    f F d/2 (the case's bearing coefficient f, the bearing's bore d: the crankshaft's
+    diameter, ``supports.crankshaft_diameter_m``, assumed where the case gives none). The
+    spur planet's tangential force on the crank (T_in/(k r_sun): 0.19 kN beside 6.8 kN on
+    the RV-40E at its rating) is left out. The system model's loads on the RV-40E at 412
+    N m (the discs off-centre on the shaft: 3.81 and 2.83 kN on a crank's two bearings)
+    sum to the power flow's disc torque, 3.3 % below the even share the loss model takes
+    (``Drive.member_torque``; tests/test_efficiency_defaults.py).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        The crank holes and the bearing coefficient.
+    supports : toothfem.fem.datasheet.supports.Supports
+        The crankshaft's diameter.
+    t_discs : numpy.ndarray, shape (M,)
+        The discs' torque together [N m].
+    rel : numpy.ndarray, shape (M,)
+        The crank against the carrier [rad/s].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+        [W], every support bearing of every crankshaft.
+    """
+    h = si.cycloid.holes
+    k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+    per_bearing = np.abs(t_discs) / (k * r_c) / 2
+    moment = si.friction.bearing_coefficient * per_bearing * supports.crankshaft_diameter_m / 2
+    return 2 * k * moment * rel
+
+
 def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
     """Sun-planet mesh efficiency in the carrier frame: declared, or Ohlendorf/Schlenk."""
     stage = si.first_stage
@@ -385,7 +424,11 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     else:                      # 2K-V: the closed form of the general power flow
         losses = {"crank_bearings": sum(
             count * crank_bearing_loss(si, f_b, t_j, disc_rel)
-            for (_, _, t_j, count), f_b in zip(members, f_bearing))}
+            for (_, _, t_j, count), f_b in zip(members, f_bearing)),
+            "crank_support_bearings": crank_support_loss(
+                si, drive.supports(si.supports),
+                sum(count * t_j for _, _, t_j, count in members),
+                np.abs(w_in * (w["crank"] - w["output"])))}
         ratio = abs(1 / w["output"])
         eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
         zs, zp = drive.first_teeth

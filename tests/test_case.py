@@ -47,10 +47,16 @@ def test_sine_case(cases_dir):
 
 
 def test_rv40e_case(cases_dir):
+    """The unit at its maker's rated point (412 N m at 15 rpm output), one planet per
+    crankshaft; the paper's 2.27 kW example is a case of its own with the same train."""
     c = load_case(cases_dir / "rv40e.toml")
     assert (c.rv.sun_teeth, c.rv.planet_teeth, c.rv.disc_teeth, c.rv.pin_count) == (12, 36, 39, 40)
-    assert c.operating.input_power_kW == 2.27 and c.rv.mesh_efficiency == 0.94
+    assert c.operating.output_torque_Nm == 412.0 and c.operating.input_speed_rpm == 1815.0
+    assert c.first_stage.planet_count == c.cycloid.disc_holes.crank_hole_count == 2
     assert math.isclose(c.ratio(), 121, rel_tol=1e-12)
+    paper = load_case(cases_dir / "rv_paper_example.toml")
+    assert paper.operating.input_power_kW == 2.27 and paper.rv.mesh_efficiency == 0.94
+    assert paper.rv == c.rv and paper.cycloid == c.cycloid
 
 
 @pytest.mark.parametrize("name", ["cycloid_pinhousing.toml", "sine_prototype.toml", "rv40e.toml"])

@@ -136,7 +136,7 @@ def test_efficiency_command_json(cases_dir, capsys):
 def test_efficiency_command_rv_paper_method_from_declared_input_power(cases_dir, capsys):
     """The case declares 2.27 kW input: the output torque follows from the method's own
     efficiency, so the RV paper's L1 and L2 come out in watts (Eqs. 13-14)."""
-    assert cli.main(["efficiency", str(cases_dir / "rv40e.toml"), "--method",
+    assert cli.main(["efficiency", str(cases_dir / "rv_paper_example.toml"), "--method",
                      "rv_split_power", "--json"]) == 0
     d = json.loads(capsys.readouterr().out)
     assert d["input_power_W"] == pytest.approx(2270.0, rel=1e-9)

@@ -243,13 +243,14 @@ def test_heat_balance_closes(cases):
 
 def test_warm_up_reaches_the_equilibrium(cases):
     """C dT/dt = P(T) - h A (T - T_a) from the ambient: rising, and within 1 K of the
-    equilibrium after five time constants (e^-5 of a 55 K rise is 0.4 K)."""
+    equilibrium after five time constants (e^-5 of a 58 K rise is 0.4 K); the time
+    constant C/(h A) at the equilibrium as measured (regression, 1 %: h with T)."""
     rv = cases["rv40e"]
     hb = th.heat_balance(rv, 1500.0, 412.0)
-    w = th.warm_up(rv, 1500.0, 412.0, 5 * 3734.0, samples=11)
+    w = th.warm_up(rv, 1500.0, 412.0, 5 * 3672.0, samples=11)
     assert w.temperature_C[0] == 20.0 and np.all(np.diff(w.temperature_C) > 0)
     assert w.temperature_C[-1] == pytest.approx(hb.temperature_C[0], abs=1.0)
-    assert w.time_constant_s == pytest.approx(3734, rel=0.01)
+    assert w.time_constant_s == pytest.approx(3672, rel=0.01)
 
 
 def test_ambient_above_the_oil_limit_is_refused(cases):

@@ -23,7 +23,7 @@ RV40E = (12, 36, 39, 40)
 
 @pytest.fixture
 def rv40e_case(cases_dir):
-    with open(cases_dir / "rv40e.toml", "rb") as f:
+    with open(cases_dir / "rv_paper_example.toml", "rb") as f:
         return tomllib.load(f)
 
 

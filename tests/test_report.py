@@ -54,7 +54,7 @@ def test_cad_profiles_read_back(cases_dir, tmp_path, capsys, name, profiles):
 
 
 def test_check_states_the_convention_once_and_warns_above_the_rating(cases_dir, capsys):
-    assert cli.main(["check", str(cases_dir / "rv40e.toml")]) == 0
+    assert cli.main(["check", str(cases_dir / "rv_paper_example.toml")]) == 0
     out = capsys.readouterr().out
     assert out.count("i = n_input / n_output") == 1
     assert "operating_output_torque_Nm" in out and "operating_input_power_W" in out
@@ -71,7 +71,7 @@ def test_check_states_the_convention_once_and_warns_above_the_rating(cases_dir, 
 
 
 def test_efficiency_table_with_the_published_figures(cases_dir, capsys):
-    assert cli.main(["efficiency", str(cases_dir / "rv40e.toml"), "--method",
+    assert cli.main(["efficiency", str(cases_dir / "rv_paper_example.toml"), "--method",
                      "rv_split_power"]) == 0
     out = capsys.readouterr().out
     row = next(line for line in out.splitlines() if line.startswith("loss: cycloid_mesh"))

@@ -67,9 +67,7 @@ def above(quantity: str, value, limit, unit: str, source: str) -> Exceeded | Non
     -------
     Exceeded or None
     """
-    if limit is None or value is None or not math.isfinite(value) or value <= limit:
-        return None
-    return Exceeded(quantity, float(value), float(limit), unit, source)
+    return _passed(quantity, value, limit, unit, source, lower=False)
 
 
 def below(quantity: str, value, limit, unit: str, source: str) -> Exceeded | None:
@@ -85,9 +83,15 @@ def below(quantity: str, value, limit, unit: str, source: str) -> Exceeded | Non
     -------
     Exceeded or None
     """
-    if limit is None or value is None or math.isnan(value) or value >= limit:
+    return _passed(quantity, value, limit, unit, source, lower=True)
+
+
+def _passed(quantity, value, limit, unit, source, lower) -> Exceeded | None:
+    if limit is None or value is None or math.isnan(value):
         return None
-    return Exceeded(quantity, float(value), float(limit), unit, source, lower=True)
+    if (value >= limit) if lower else (value <= limit or math.isinf(value)):
+        return None
+    return Exceeded(quantity, float(value), float(limit), unit, source, lower=lower)
 
 
 def film_ratio(where: str, lowest: float) -> list:

@@ -50,7 +50,53 @@ class MeshSolution:
     rotation_rad: float
 
 
-class PinMesh:
+class Mesh:
+    """What the system model asks of a kind of mesh (one subclass each): ``contacts`` at
+    a position, each member's ``record``, the crank journal's radius, the Coulomb
+    coefficient of its sliding, and, where they apply, tables over the pitches and a
+    selection that widens. Attributes: ``eccentricity_m``, ``turn_ratio`` (the member's
+    rotation per crank angle), ``labels`` (pins or meshing columns), ``solver_options``
+    (the cycle solver's)."""
+
+    def pitch_tables(self, n_positions, offset, cache, samples):
+        """A member configuration's tables at every pitch; None where the mesh's own
+        tables cover every pitch.
+
+        Parameters
+        ----------
+        n_positions, offset : int
+            The member's grid and its offset.
+        cache
+            The FE tables' disk cache.
+        samples : int
+            Sampled pitches.
+
+        Returns
+        -------
+        PitchTables or None
+        """
+        return None
+
+    def widen(self, p, pitch, mesh: MeshContacts, force, gap) -> bool:
+        """Whether the candidates must widen and the position be solved again (a mesh whose
+        candidates are every contact: never).
+
+        Parameters
+        ----------
+        p, pitch : int
+            The position and pitch solved.
+        mesh : MeshContacts
+        force, gap : numpy.ndarray
+            The solved forces [N] and gaps [m].
+
+        Returns
+        -------
+        bool
+        """
+        return False
+
+
+class PinMesh(Mesh):
     """A cycloid disc on its pins: every pin a candidate (both flanks), the disc's FE
     influence tables at the disc's true configuration (its pitch and phase), each pin's
     local Hertz approach and, for conventional pins, the pin's own compliance
@@ -110,7 +156,8 @@ class PinMesh:
         return friction.pin_disc
 
     def pitch_tables(self, n_positions, offset, cache, samples):
-        """A disc configuration's tables at every pitch.
+        """A disc configuration's tables at every pitch (:class:`PitchTables`: the disc's
+        holes sit elsewhere against the pins a pitch on).
 
         Parameters
         ----------
@@ -221,25 +268,8 @@ class PinMesh:
             self._kept_gaps[key] = deviation_gaps(slot.solver.model, q, deviation, pitch)
         return self._kept_gaps[key]
 
-    def widen(self, p, pitch, mesh: MeshContacts, force, gap) -> bool:
-        """Whether the candidates must widen: every pin is one, so never.
 
-        Parameters
-        ----------
-        p, pitch : int
-        mesh : MeshContacts
-        force, gap : numpy.ndarray
-            The solved forces [N] and gaps [m].
-
-        Returns
-        -------
-        bool
-            False.
-        """
-        return False
-
-
-class ToothMesh:
+class ToothMesh(Mesh):
     """The sine planet in its ring: the contact unknowns are the planet's hats (the cycle
     mode's pressure grid, fem/sine_fe) whose initial gap is below a selection gap, their
     flexibility the two bodies' hat tables (no half-space formula: the grids resolve the
@@ -294,20 +324,6 @@ class ToothMesh:
             ``friction.pin_disc``.
         """
         return friction.pin_disc
-
-    def pitch_tables(self, n_positions, offset, cache, samples):
-        """No pitch tables: the hat tables cover every tooth, a pitch on is exact.
-
-        Parameters
-        ----------
-        n_positions, offset, cache, samples
-            Ignored.
-
-        Returns
-        -------
-        None
-        """
-        return None
 
     def contacts(self, slot, p, side, torque, turn, *, deviation=None, pitch=0, shift=0,
                  geometry=None, tables=None) -> MeshContacts:
