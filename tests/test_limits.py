@@ -82,3 +82,16 @@ def test_contact_warns_of_a_pressure_above_the_allowable(cases_dir, tmp_path, ca
     assert "warning: largest Hertz pressure P_h of the pin contacts in the reducer" in out
     summary = json.loads((tmp_path / "c" / "summary.json").read_text())
     assert any(w["limit"] == 1500.0 for w in summary["warnings"])
+
+
+def test_a_life_below_the_makers_rated_life_is_warned(cases_dir):
+    """The RV-40E case's crank bearings (C = 14 kN, ASSUMPTION) live about 400 h as a set
+    of four at the maker's rating point, where the maker rates the unit at 6000 h (issue
+    22): the life summary says so, with the source of the 6000 h."""
+    from toothfem.durability import life_summary
+
+    d = life_summary(load_case(cases_dir / "rv40e.toml"))
+    (w,) = d["warnings"]
+    assert w["lower"] and w["limit"] == pytest.approx(6000.0)
+    assert w["value"] == pytest.approx(d["eccentric"]["l10_set_h"])
+    assert "crank bearings" in w["quantity"] and "rated_life_h" in w["source"]

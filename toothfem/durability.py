@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from . import limits
 from .efficiency import bearings as br
 from .efficiency import strength as st
 from .efficiency import thermal as th
@@ -96,6 +97,15 @@ def life_summary(case, *, loads="analytic") -> dict:
             "life_at_duty_h": br.maker_rated_life_h(pub["rated_life_h"],
                                                     pub["rated_torque_Nm"],
                                                     pub["rated_output_speed_rpm"], rows)}
+    found = []
+    if "maker" in out and res.eccentric.l10_set_h is not None:
+        which = "crank" if drive_for(case).two_stage else "eccentric"
+        found.append(limits.below(
+            f"L10 of the {res.eccentric.count} {which} bearings as a set",
+            res.eccentric.l10_set_h, out["maker"]["life_at_duty_h"], "h",
+            "the maker's rated life published.rated_life_h scaled to the duty cycle by "
+            "the RV-E life formula"))
+    out["warnings"] = [w.as_dict() for w in found if w is not None]
     return out
 
 

@@ -357,13 +357,16 @@ def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> li
     Returns
     -------
     list of str
-        Each message once, in the order the parts ran.
+        Each message once, in the order the parts ran; where the parts' models differ
+        (the efficiency's load sources, the heat balance's temperature) each line says
+        whose it is.
     """
-    found = list((contact or {}).get("warnings", ()))
-    for r in efficiency.values():
-        found += r.get("warnings", ())
-    found += durability.get("heat", {}).get("warnings", ())
-    lines = [w["message"] for w in found]
+    lines = [w["message"] for w in (contact or {}).get("warnings", ())]
+    for src, r in efficiency.items():
+        lines += [f"efficiency ({src}): {w['message']}" for w in r.get("warnings", ())]
+    lines += [f"heat balance: {w['message']}"
+              for w in durability.get("heat", {}).get("warnings", ())]
+    lines += [w["message"] for w in durability.get("life", {}).get("warnings", ())]
     lines += list(durability.get("strength", {}).get("warnings", ()))
     return list(dict.fromkeys(lines))
 
@@ -457,8 +460,10 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         report += ["", "![loss shares](loss_shares.png)", ""]
         report += _efficiency_charts(case, tmp, speed, torque, sources)
         # 4. life, strength and heat beside the efficiency
-        dur = {"heat": durability.thermal_summary(case, speed, torque),
-               "life": durability.life_summary(case),
+        # from the FE loads where the FE has run (the strength from its contact result)
+        loads = "fem" if fem else "analytic"
+        dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
+               "life": durability.life_summary(case, loads=loads),
                "strength": durability.strength_summary(case, contact=contact)}
         (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
         rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
