@@ -408,7 +408,8 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         notes.extend(f"{label}: {n}" if label else n for n in said)
         pins = pins + count * loss
         f_bearing.append(f_b)
-    eta2 = 1 - pins / (t2 * disc_rel)                 # disc-pin mesh, crank frame
+    # disc-pin mesh in the crank frame: the loss over the discs' virtual power
+    eta2 = 1 - pins / (drive.members_torque(t2) * disc_rel)
     mesh_eff = {"cycloid": eta2}
     if not drive.two_stage:
         # K-H-V: the disc's torque leaves through pins in holes; its central eccentric

@@ -207,12 +207,10 @@ def test_crank_support_bearings_carry_the_output_torque(cases):
     """Issue 22: each of the RV-40E's 2 crankshafts passes its discs' torque to the carrier
     (T (1 - 1/i)/(2 R_c), shared by its two tapered support bearings: 3.40 kN each at the
     rated 412 N m); each bearing's Palmgren torque f F d/2 at the crank's speed against the
-    carrier, by hand, exact arithmetic (1e-9). The loss model takes the discs' torque as
-    the even share of the output torque (its one torque rule, ``Drive.member_torque``);
-    the system model's loads on a crank's two bearings (3.81 and 2.83 kN: the discs sit
-    off-centre on the shaft) sum to the power flow's disc torque T (1 - 1/i)(Za/Zb) over
-    k R_c (1e-4), 3.3 % below the even share: issue 22's item 4, one torque rule from
-    the power flow, not done yet."""
+    carrier, by hand, exact arithmetic (1e-9). The discs' torque is the power flow's,
+    T (1 - 1/i)(Za/Zb) (``Drive.member_torque``, the one torque rule); the system model's
+    loads on a crank's two bearings (3.81 and 2.83 kN: the discs sit off-centre on the
+    shaft) sum to it over k R_c (1e-4)."""
     from toothfem.fem.drives import drive_for
 
     rv = cases["rv40e"]
@@ -223,7 +221,7 @@ def test_crank_support_bearings_carry_the_output_torque(cases):
     e = evaluate(rv, n_in, t)
     w = drive.speeds()
     w_rel = abs(n_in * math.pi / 30 * (w["crank"] - w["output"]))
-    t_discs = 2 * drive.member_torque(t, peak=False)       # the discs' even share
+    t_discs = drive.members_torque(t)                       # the power flow's
     per_bearing = t_discs / (2 * 0.030) / 2
     by_hand = 4 * si.friction.bearing_coefficient * per_bearing \
         * supports.crankshaft_diameter_m / 2 * w_rel
@@ -234,4 +232,4 @@ def test_crank_support_bearings_carry_the_output_torque(cases):
     crank1 = sum(np.hypot(*st.bearing_force_N[f"support bearing 1{end}"]) for end in "ab")
     power_flow = t * (1 - 1 / 121) * (39 / 40) / (2 * 0.030)
     assert crank1 == pytest.approx(power_flow, rel=1e-4)
-    assert 2 * per_bearing / power_flow == pytest.approx(1.034, abs=0.001)
+    assert 2 * per_bearing == pytest.approx(power_flow, rel=1e-12)

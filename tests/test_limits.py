@@ -42,11 +42,11 @@ def test_rv40e_at_the_papers_point_passes_its_rating_film_and_case_temperature(c
     assert by["output torque"].limit == 412.0
     assert by["film ratio of the mesh contacts"].limit == limits.FILM_RATIO_DRY
     # at 1552 N m the housing cannot shed the losses below the oil's 150 C (refused); at
-    # the rated point the balance settles at 87 C against the maker's 60 C
+    # the rated point the balance settles at 86.8 C against the maker's 60 C
     hb = heat_balance(case, 1815.0, 412.0)
     hot = [w for w in hb.warnings if "temperature" in w.quantity]
     assert hot and hot[0].limit == limits.RV_CASE_TEMPERATURE_LIMIT_C
-    assert hot[0].value == pytest.approx(87.2, abs=0.5) and "Nabtesco" in hot[0].source
+    assert hot[0].value == pytest.approx(86.8, abs=0.5) and "Nabtesco" in hot[0].source
     # a stated limit replaces the default; at the rated torque nothing about the torque
     stated = dataclasses.replace(case, thermal=dataclasses.replace(
         case.thermal, case_temperature_limit_C=100.0))

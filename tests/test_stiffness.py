@@ -86,8 +86,9 @@ SPRING = 1e-11      # m per N/m: an equal contact spring (rigid bodies, the seed
 
 def test_equal_springs_twist_is_the_closed_form(drive, supports):
     """Rigid bodies on equal springs k: beta = (T_m / w) k / sum l_i^2 over the pins of the
-    loaded flank (docs/stiffness.md), either sign; the datasheet's mesh compliance is its
-    mean slope k / (M w sum l^2). Linear algebra only: 1e-9."""
+    loaded flank (docs/stiffness.md), either sign, T_m the member torque (the power flow's
+    share); the datasheet's mesh compliance is its mean slope (T_m/T) k / (w sum l^2).
+    Linear algebra only: 1e-9."""
     phis = drive.positions(4)
     solver = cf.CycleSolver(drive.fe_model(), phis, equal_springs=SPRING, sides=(1, -1))
     model = TwistModel(drive, supports, solver)
@@ -96,11 +97,12 @@ def test_equal_springs_twist_is_the_closed_form(drive, supports):
     for side in (1, -1):
         t = side * 120.0
         sum_l2 = np.sum(np.where(side * arm < 0, arm ** 2, 0.0), axis=1)
-        want = (t / m / w) * SPRING / sum_l2
+        want = (side * drive.member_torque(abs(t), peak=False) / w) * SPRING / sum_l2
         assert np.allclose(model.at(t).paths["mesh"], want, rtol=1e-9)
     sheet = datasheet(model, 167.0)
     sum_l2 = np.sum(np.where(arm < 0, arm ** 2, 0.0), axis=1)
-    slope = np.mean(SPRING / (m * w * sum_l2)) / ARCMIN
+    per_nm = drive.member_torque(1.0, peak=False)
+    slope = np.mean(per_nm * SPRING / (w * sum_l2)) / ARCMIN
     assert sheet.compliance_arcmin_per_Nm["mesh"] == pytest.approx(slope, rel=1e-9)
     # unmodified: both flanks touch at rest; the springs' part at ZERO_TORQUE_NM remains
     assert abs(sheet.backlash_arcmin) < 1e-6

@@ -84,10 +84,12 @@ def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, ca
     # load cases of a design share one setup task
     assert by[(1.0, 100)]["setup_s"] == by[(1.0, 200)]["setup_s"]
     assert len(list(cache_dir.glob("*.npz"))) == 2
-    # the row is the cycle solver's own result (disc torque 1.1 * 100 / 2 N m)
+    # the row is the cycle solver's own result (disc torque 1.1 x the power flow's share
+    # of 100 N m)
     model = drive_for(cycloid).fe_model(pin_structure="rigid")
     phis = np.linspace(0, 2 * math.pi / 40, 2, endpoint=False)
-    ls = cf.CycleSolver(model, phis, cache=DiskCache(cache_dir)).solve(55.0)
+    ls = cf.CycleSolver(model, phis, cache=DiskCache(cache_dir)).solve(
+        drive_for(cycloid).member_torque(100.0))
     assert float(by[(1.0, 100)]["max_force_N"]) == pytest.approx(ls.force.max(), rel=1e-8)
     assert float(by[(1.0, 100)]["max_ph_MPa"]) == pytest.approx(ls.ph.max() / 1e6, rel=1e-8)
     # nearly linear in the torque (Hertz adds a log); the smaller eccentricity loads harder

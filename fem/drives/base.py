@@ -393,9 +393,9 @@ class Drive(abc.ABC):
         output_torque_Nm : float or array_like
             Output torque [N m], > 0.
         peak : bool
-            True (contact, strength): ``load_factor * T / members`` (the pin-housing
-            paper's Eq. 6 with its disc load factor); False (losses): the even share
-            ``T / members``, whose sum over the members is the output torque.
+            True (contact, strength): ``load_factor`` times the even share (the
+            pin-housing paper's Eq. 6 with its disc load factor); False (losses): the
+            even share of the members' torque (:meth:`members_torque`) over the members.
 
         Returns
         -------
@@ -412,9 +412,26 @@ class Drive(abc.ABC):
         if np.any(bad):
             check_range("output_torque_Nm", float(t[bad].flat[0]), 0, None, lo_open=True,
                         error=CaseError)
-        share = t / self.members
+        share = self.members_torque(t) / self.members
         out = self.load_factor * share if peak else share
         return float(out) if out.ndim == 0 else out
+
+    def members_torque(self, output_torque_Nm):
+        """The moving members' torque together for an output torque, from the power flow
+        (the fixed teeth's moment on the members): the output torque itself where the
+        members are the output (K-H-V, the sine planet).
+
+        Parameters
+        ----------
+        output_torque_Nm : float or numpy.ndarray
+            [N m].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            [N m].
+        """
+        return output_torque_Nm
 
     @cached_property
     def e_star_Pa(self) -> float:

@@ -103,6 +103,27 @@ class CycloidDrive(Drive):
         """A 2K-V (RV-type) train: a spur first stage drives the cranks."""
         return self.first_teeth is not None
 
+    def members_torque(self, output_torque_Nm):
+        """The discs' torque together: a 2K-V drive's pins turn the discs against the
+        cranks, and the power flow gives T (1 - 1/i)(Za/Zb) (the output torque less what
+        the spur stage carries, over the pins' lever; the system model's pin moments
+        agree to 1e-6, tests/test_system.py); a K-H-V drive's discs are the output: T.
+
+        Parameters
+        ----------
+        output_torque_Nm : float or numpy.ndarray
+            [N m].
+
+        Returns
+        -------
+        float or numpy.ndarray
+            [N m].
+        """
+        if not self.two_stage:
+            return output_torque_Nm
+        i = abs(1.0 / self.speeds()["output"])
+        return output_torque_Nm * (1 - 1 / i) * self.stage.lobe_count / self.geometry.pin_count
+
     def speeds(self) -> dict:
         """Per unit input speed, from :func:`~toothfem.geometry.train.rv_speeds` (2K-V) or
         :func:`~toothfem.geometry.train.khv_speeds`.
