@@ -199,9 +199,9 @@ def test_losses_are_each_members_at_its_own_torque(pinhousing, monkeypatch, khv)
         assert e.losses_W["output_mechanism"] == pytest.approx(out, rel=1e-12)
     else:
         assert e.losses_W["crank_bearings"] == pytest.approx(crank_b, rel=1e-12)
-    # and the even split is not what was charged: the 0.6 disc's loss is not linear in it
-    even = dl.disc_contact_losses(si, table, np.array([t_discs / 2]), crank, eta0)[0]
-    assert pins != 2 * even
+    # (the pins rub at the boundary coefficient here, so each loss is linear in its disc's
+    # torque and the even split would charge the same sum: the wiring is what this tests;
+    # an earlier "pins != 2 * even" passed on round-off alone)
 
 
 def test_notes_name_a_disc_only_where_the_discs_differ(pinhousing):

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -119,10 +120,14 @@ class CycloidDrive(Drive):
         float or numpy.ndarray
             [N m].
         """
+        return output_torque_Nm * self._members_torque_per_output
+
+    @cached_property
+    def _members_torque_per_output(self) -> float:
         if not self.two_stage:
-            return output_torque_Nm
+            return 1.0
         i = abs(1.0 / self.speeds()["output"])
-        return output_torque_Nm * (1 - 1 / i) * self.stage.lobe_count / self.geometry.pin_count
+        return (1 - 1 / i) * self.stage.lobe_count / self.geometry.pin_count
 
     def speeds(self) -> dict:
         """Per unit input speed, from :func:`~toothfem.geometry.train.rv_speeds` (2K-V) or
