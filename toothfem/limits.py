@@ -10,6 +10,8 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass
 
+import numpy as np
+
 #: Film ratio lambda = h_c / S below which the asperities carry load: boundary
 #: lubrication below 1, mixed to about 3 (Hamrock, Schmid & Jacobson, Fundamentals of Fluid
 #: Film Lubrication, 2nd ed., 2004, Sec. 1.4: the regimes by the film parameter).
@@ -155,8 +157,6 @@ def rated_torque(si, torque_Nm) -> list:
     -------
     list of Exceeded
     """
-    import numpy as np
-
     t = float(np.max(np.abs(np.atleast_1d(torque_Nm))))
     rated, assumed = si.rated_output_torque_Nm()
     source = ("the case's operating torque, taken as the rating: operating.rated_torque_Nm "
@@ -203,8 +203,6 @@ def case_temperature(si, drive, temperature_C) -> list:
     -------
     list of Exceeded
     """
-    import numpy as np
-
     t = float(np.max(np.atleast_1d(temperature_C)))
     limit = None if si.thermal is None else si.thermal.case_temperature_limit_C
     source = "thermal.case_temperature_limit_C"
