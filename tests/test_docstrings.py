@@ -26,10 +26,6 @@ import pytest
 
 ROOTS = ("toothfem", "toothfem.geometry", "toothfem.fem", "toothfem.efficiency")
 
-#: Modules whose code another change is rewriting; each is documented, and taken off
-#: this list, once that change lands (issue 10, item 7). A module here is skipped whole.
-ALLOWED_MODULES: dict[str, str] = {}
-
 #: Dunder methods that are checked; the others (__post_init__, __repr__, __eq__, __len__,
 #: __iter__, __getitem__, ...) follow Python's protocol and say nothing a reader needs.
 CHECKED_DUNDERS = ("__init__", "__call__")
@@ -137,22 +133,15 @@ def gaps(modnames):
 
 
 def missing():
-    """:func:`gaps` of every public module outside :data:`ALLOWED_MODULES`."""
-    return gaps(m for m in _public_modules() if m not in ALLOWED_MODULES)
+    """:func:`gaps` of every public module (every one is documented: the allow-list of
+    issue 10 emptied and went)."""
+    return gaps(_public_modules())
 
 
 def test_public_api_has_numpydoc_sections():
     found = missing()
     assert not found, (f"{len(found)} public callables lack numpydoc sections:\n"
                        + "\n".join(found))
-
-
-@pytest.mark.parametrize("module", sorted(ALLOWED_MODULES))
-def test_allowed_module_still_needs_its_entry(module):
-    """The allow-list names real modules that still lack sections, so a rename does not
-    silently widen it and a module documented since is taken off it."""
-    importlib.import_module(module)
-    assert gaps([module]), f"{module} is documented now: remove it from ALLOWED_MODULES"
 
 
 def _documented(x: float, *, flag=False) -> float:
