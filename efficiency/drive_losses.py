@@ -452,6 +452,13 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
                                  eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor))
+    if "churning" in losses:
+        notes.append("churning: Eq. 42 of Lu & Xu (2024), after Xu & Yang (1998), is the "
+                     "sine paper's oil-bath law for the agitation, splashing and seals of its "
+                     "one-tooth-difference stage, used by its source only there; on this "
+                     "drive's " + ("spur and cycloid stages" if drive.two_stage else
+                                   "cycloid stage")
+                     + " it is an estimate outside that use")
     return DriveLosses(output_power_W=p_out, losses_W=losses,
                        notes=tuple(notes), mesh_efficiency=mesh_eff, limits=tuple(limits))
 
