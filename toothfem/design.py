@@ -107,7 +107,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     positions : int
         Meshing positions over one period for every candidate.
     progress : bool
-        A tqdm bar on stderr.
+        A tqdm bar on stderr (on a terminal only: toothfem.bars).
 
     Returns
     -------
@@ -122,7 +122,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     """
     from scipy.optimize import minimize
     from scipy.stats import qmc
-    from tqdm import tqdm
+    from .bars import bar as progress_bar
 
     if case.design is None:
         raise CaseError("[design] section is required (targets: max_backlash_arcmin, "
@@ -155,8 +155,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     # a built reducer's positions spread over its pairing period (toothfem.tolerance)
     pitches = (np.arange(positions) * drive.pairing_period_pitches) // positions
     evaluated = []
-    bar = tqdm(total=DOE_POINTS + REFINE_EVALUATIONS, desc="design", unit="candidate",
-               disable=not progress)
+    bar = progress_bar(total=DOE_POINTS + REFINE_EVALUATIONS, desc="design",
+                       unit="candidate", enabled=progress)
 
     def evaluate(x, devs=None, record=True) -> Candidate:
         mod = {k: float(v) for k, v in zip(names, x)}

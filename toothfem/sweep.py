@@ -148,7 +148,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
         outside its key's own range, or a bad argument; a design refused only in
         combination (a looped profile, say) is a failed row.
     """
-    from tqdm import tqdm
+    from .bars import bar as progress_bar
 
 
     if not isinstance(case, Case):
@@ -166,8 +166,8 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     t0 = time.perf_counter()
     with atomic_dir(out) as tmp, dask_client(scheduler, n_workers) as client, \
             open(tmp / "sweep.csv", "w", newline="") as fh, \
-            tqdm(total=len(plan.designs) * len(plan.load_cases), desc="sweep", unit="point",
-                 disable=not progress) as bar:
+            progress_bar(total=len(plan.designs) * len(plan.load_cases), desc="sweep",
+                         unit="point", enabled=progress) as bar:
         writer = csv.DictWriter(fh, columns)
         writer.writeheader()
         fh.flush()

@@ -149,7 +149,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     overrides : dict, optional
         [tolerances] keys (mm) to use instead of the case's.
     progress : bool
-        A tqdm bar on stderr.
+        A tqdm bar on stderr (on a terminal only: toothfem.bars).
     cache : bool or toothfem.fem.cache.DiskCache
         Where the nominal influence tables are kept (True: the user's cache).
 
@@ -372,9 +372,9 @@ def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
 
 def _run_all(setup, deviations, workers, scheduler, progress) -> list:
     """Outputs of every deviation, in order: here, or in Dask tasks of CHUNK samples."""
-    from tqdm import tqdm
+    from .bars import bar as progress_bar
 
-    bar = tqdm(total=len(deviations), desc="tolerance", unit="ring", disable=not progress)
+    bar = progress_bar(total=len(deviations), desc="tolerance", unit="ring", enabled=progress)
     try:
         if workers == 1 and scheduler is None:
             return _run_chunk(setup, deviations, bar.update)

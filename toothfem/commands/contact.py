@@ -67,14 +67,14 @@ def run(args) -> int:
     CaseError
         If ``--positions`` or ``--torque-Nm`` is outside its range, or the case is invalid.
     """
-    from tqdm import tqdm
+    from ..bars import bar
 
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)
     if args.torque is not None:         # the case's plausibility bounds (issue 14)
         check_range("--torque-Nm", args.torque, *TORQUE_NM, error=CaseError)
     case = load_case(args.case)
-    progress = lambda it: tqdm(it, desc=f"{args.mode} mode", unit="position")  # noqa: E731
+    progress = lambda it: bar(it, desc=f"{args.mode} mode", unit="position")  # noqa: E731
     with atomic_dir(args.out) as tmp:     # open from the start: an interrupt leaves none
         result = contact_analysis(case, positions=args.positions, torque_Nm=args.torque,
                                   mode=args.mode, pins=args.pins, field=args.field,

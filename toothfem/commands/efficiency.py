@@ -70,9 +70,9 @@ def run(args) -> int:
     CaseError
         If a value is outside its range or the options exclude each other.
     """
-    from tqdm import tqdm
+    from ..bars import bar
 
-    with fe_progress(tqdm):          # the FE load table's solves on a bar (stderr)
+    with fe_progress(bar):          # the FE load table's solves on a bar (stderr)
         return _run(args)
 
 

@@ -48,11 +48,11 @@ def run(args) -> int:
     """
     import json
 
-    from tqdm import tqdm
+    from ..bars import bar
 
 
-    progress = lambda it: tqdm(it, desc="cycle mode", unit="position")  # noqa: E731
-    with fe_progress(tqdm):          # the efficiency's FE load table on a bar too
+    progress = lambda it: bar(it, desc="cycle mode", unit="position")  # noqa: E731
+    with fe_progress(bar):          # the efficiency's FE load table on a bar too
         res = run_case(args.case, args.out, positions=args.positions, field=args.field,
                        fem=not args.no_fem, progress=progress)
     report = res.report.resolve()
