@@ -67,8 +67,9 @@ class HatContacts:
     ring's normal ``normal`` (2, H) at their feet (ring frame, pointing into the planet: a
     planet translation d opens the gap by d . normal), initial gaps ``g0`` (H,) [m],
     moment arms ``arm`` (H,) [m] (the gap's change per planet rotation), the two bodies'
-    ``flexibility`` (H, H) [m per N/m], the meshing ``column`` (H,) of each and the
-    ``select_gap`` they were chosen with [m]."""
+    ``flexibility`` (H, H) [m per N/m], the meshing ``column`` (H,) of each, the
+    ``select_gap`` they were chosen with [m] and the planet's ``centre`` (2, 1) the
+    points stand about (ring frame, the eccentricity's error included) [m]."""
     hat: np.ndarray
     sigma: np.ndarray
     point: np.ndarray
@@ -78,6 +79,7 @@ class HatContacts:
     flexibility: np.ndarray
     column: np.ndarray
     select_gap: float
+    centre: np.ndarray
 
     def result(self, chi, force, gap, rotation, iterations, spacing) -> PositionResult:
         """The position's record of a solution on these hats.
@@ -309,7 +311,7 @@ class CycleSolver:
                 hmat += wa[:, None] * wb[None, :] * rg.matrix(ja, jb)
         return HatContacts(hat=hats, sigma=sigma, point=pts, normal=nrm, g0=g0, arm=arm,
                            flexibility=0.5 * (hmat + hmat.T), column=self._columns(chi, hats),
-                           select_gap=float(sel_gap))
+                           select_gap=float(sel_gap), centre=centre)
 
     def _solve(self, chi, q_load, sel_gap, deviation=None) -> PositionResult:
         h = self.hat_contacts(chi, sel_gap, deviation)

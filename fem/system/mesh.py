@@ -6,12 +6,10 @@ mesh; everything else about a layout is the system model's own (fem/system/cyclo
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
-from ...geometry import sine
 from ...geometry.vectors import rotate
 from ..contact import ContactError
 from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps, record
@@ -95,6 +93,18 @@ class Mesh:
         """
         return False
 
+    def _kept(self, deviation, key, compute):
+        """``compute()`` kept under ``key`` for the last deviation (a built stage's torques
+        at a position share what depends on its deviation alone; the next deviation
+        drops them)."""
+        kept = self.__dict__.setdefault("_kept_for", {})
+        if kept.get("deviation", kept) is not deviation:
+            kept.clear()
+            kept["deviation"] = deviation
+        if key not in kept:
+            kept[key] = compute()
+        return kept[key]
+
 
 class PinMesh(Mesh):
     """A cycloid disc on its pins: every pin a candidate (both flanks), the disc's FE
@@ -120,7 +130,6 @@ class PinMesh(Mesh):
         self.solver_options = {**drive.both_flanks_options, **(
             {"equal_springs": pin_spring_m_per_N * drive.face_width_m}
             if pin_spring_m_per_N is not None else {})}
-        self._kept_gaps = {}
         self._turned = {}        # (disc, position, side, turn) -> its normals and points
 
     def journal_radius_m(self, supports) -> float:
@@ -212,7 +221,9 @@ class PinMesh(Mesh):
         g0 = q.gap if geometry is None else s.modified_gaps(geometry, side)[p]
         g0 = np.where(np.isfinite(g0), g0, MODIFIED_GAP_FAR)
         if deviation is not None:
-            g0 = g0 + self._deviation_gaps(slot, q, deviation, int(pitch) + shift, (p, side))
+            m = int(pitch) + shift
+            g0 = g0 + self._kept(deviation, (slot.index, m, p, side),
+                                 lambda: deviation_gaps(s.model, q, deviation, m))
         if self.pin_spring is not None:
             base, local = np.eye(q.pins.size) * self.pin_spring, None
         else:
@@ -258,16 +269,6 @@ class PinMesh(Mesh):
         return record("system", model, meshing, force, np.full(force.shape, np.inf),
                       np.asarray(twist, float), torque)
 
-    def _deviation_gaps(self, slot, q, deviation, pitch: int, where) -> np.ndarray:
-        """:func:`deviation_gaps` of a disc's candidates (kept for the last deviation: its
-        torques at a position share them)."""
-        if self._kept_gaps.get("deviation") is not deviation:
-            self._kept_gaps = {"deviation": deviation}
-        key = (slot.index, pitch, *where)
-        if key not in self._kept_gaps:
-            self._kept_gaps[key] = deviation_gaps(slot.solver.model, q, deviation, pitch)
-        return self._kept_gaps[key]
-
 
 class ToothMesh(Mesh):
     """The sine planet in its ring: the contact unknowns are the planet's hats (the cycle
@@ -289,7 +290,6 @@ class ToothMesh(Mesh):
         self.turn_ratio = -pair.tooth_difference / pair.planet_teeth
         self.solver_options = {}
         self._select = {}
-        self._kept = {}          # the last deviation's contacts per position (torque-free)
 
     @property
     def labels(self) -> int:
@@ -351,26 +351,18 @@ class ToothMesh(Mesh):
         if geometry is not None:
             raise ContactError("the sine pair has no modification to put on its tables")
         sel = self._select.get((p, int(pitch)), DEFAULT_SELECT_GAP)
-        if self._kept.get("deviation") is not deviation:
-            self._kept = {"deviation": deviation}
-        key = (slot.index, p, int(pitch), sel)
-        if key not in self._kept:
-            self._kept[key] = self._contacts(slot, p, pitch, sel, deviation)
-        return self._kept[key]
+        return self._kept(deviation, (slot.index, p, int(pitch), sel),
+                          lambda: self._contacts(slot, p, pitch, sel, deviation))
 
     def _contacts(self, slot, p, pitch, sel, deviation) -> MeshContacts:
         s, w = slot.solver, self.drive.face_width_m
         back = -int(pitch) * self.drive.pair.crank_pitch_rad
         chi = float(s.positions_rad[p]) - back
         h = s.hat_contacts(chi, sel, deviation)
-        centre, _ = sine.planet_pose(self.drive.pair, chi)
-        if deviation is not None:
-            centre = centre + deviation.eccentricity * np.array([[math.cos(chi)],
-                                                                 [math.sin(chi)]])
         # the housing frame of pitch 0 (the mesh m periods on is pitch 0's turned by m
         # crank pitches: the system's eccentric and output pins stand at pitch 0's)
         return MeshContacts(g0=h.g0, normal=-rotate(h.normal, back),
-                            point=rotate(h.point - centre, back), arm=h.arm,
+                            point=rotate(h.point - h.centre, back), arm=h.arm,
                             base=h.flexibility / w, local=None, label=h.column,
                             source=(chi, h, int(pitch)))
 

@@ -98,8 +98,9 @@ class ContactSet:
     base: np.ndarray | None = None
     local: object = None
 
-    def flexibility(self, lam):
-        """H and its diagonal's own-force rate at the forces lam.
+    def local_terms(self, lam):
+        """The local law's secant and its own-force rate at the forces lam (the diagonal
+        H adds to ``base``).
 
         Parameters
         ----------
@@ -108,21 +109,17 @@ class ContactSet:
 
         Returns
         -------
-        h : numpy.ndarray, shape (c, c)
-            [m/N].
+        local : numpy.ndarray, shape (c,)
+            [m/N] (zeros without a local law).
         rate : numpy.ndarray, shape (c,)
             lam_i d local_i / d lam_i [m/N], what the approach's tangent adds to the
             secant's diagonal (a relative forward difference; none without force).
         """
         lam = np.asarray(lam, float)
-        c = lam.size
-        h = np.zeros((c, c)) if self.base is None else np.array(self.base, float)
-        rate = np.zeros(c)
-        if self.local is not None:
-            local, up = self.local(np.stack([lam, lam * (1 + APPROACH_STEP)]))
-            h[np.diag_indices(c)] += local
-            rate = np.where(lam > 0, (up - local) / APPROACH_STEP, 0.0)
-        return h, rate
+        if self.local is None:
+            return np.zeros(lam.size), np.zeros(lam.size)
+        local, up = self.local(np.stack([lam, lam * (1 + APPROACH_STEP)]))
+        return local, np.where(lam > 0, (up - local) / APPROACH_STEP, 0.0)
 
 
 @dataclass(frozen=True)
@@ -294,13 +291,17 @@ def _saddle(n, kt, ga, haa, rhs_u, rhs_g) -> np.ndarray:
 
 
 def _flexibility(contacts, lam, sizes):
-    """(H (m, m), rate (m,)) of every contact set at the forces lam
-    (:meth:`ContactSet.flexibility`)."""
+    """(H (m, m), rate (m,)) of every contact set at the forces lam: each set's ``base``
+    with its local secant on the diagonal (:meth:`ContactSet.local_terms`), written into
+    one matrix."""
     m = int(sizes[-1])
-    h, rate = np.zeros((m, m)), np.zeros(m)
+    h, local, rate = np.zeros((m, m)), np.zeros(m), np.zeros(m)
     for k, c in enumerate(contacts):
         sl = slice(sizes[k], sizes[k + 1])
-        h[sl, sl], rate[sl] = c.flexibility(lam[sl])
+        if c.base is not None:
+            h[sl, sl] = c.base
+        local[sl], rate[sl] = c.local_terms(lam[sl])
+    h[np.diag_indices(m)] += local
     return h, rate
 
 
