@@ -195,6 +195,29 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
                         max_N=float(radial.max()))
 
 
+def main_bearing_load(si, drive, table, output_torque_Nm):
+    """Sum of the main bearing rows' loads at M output torques, each averaged over the
+    cycle (:func:`main_loads`): what their load-dependent friction takes [N].
+
+    Parameters
+    ----------
+    si, drive, table
+        As :func:`eccentric_loads`.
+    output_torque_Nm : numpy.ndarray, shape (M,)
+        [N m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M,)
+        [N].
+    """
+    out = []
+    for t in np.atleast_1d(np.asarray(output_torque_Nm, float)):
+        b = main_loads(si, drive, table, float(t))
+        out.append(b.count * float(np.mean(b.load_N)))
+    return np.array(out)
+
+
 def rating_life_revolutions(rating_N, load_N, exponent):
     """Basic rating life L10 [revolutions], ISO 281: (C/P)^p 10^6.
 
@@ -389,3 +412,161 @@ def maker_rated_life_h(rated_life_h, rated_torque_Nm, rated_output_speed_rpm, ro
     t_m = mean_equivalent_load(t, n, q, 10 / 3)
     n_m = float(np.dot(n, q))
     return rated_life_h * (rated_output_speed_rpm / n_m) * (rated_torque_Nm / t_m) ** (10 / 3)
+
+
+#: The system model's bearing names (fem/system/cycloid.py) by the group they belong to.
+SYSTEM_GROUPS = (("crank bearing", "crank_bearings"), ("eccentric bearing", "eccentric_bearing"),
+                 ("support bearing", "crank_support_bearings"), ("input bearing", "input_bearings"))
+#: Sampled pitches over the full period, and positions per pitch, of the system model's
+#: bearing loads for the life: the crank bearings' load turns once relative to the disc
+#: over the period, 8 x 4 samples its p-mean within 1 % on the RV-40E case against 16 x 8
+#: (benchmarks/ none: measured when written, tests/test_bearing_set.py).
+LIFE_SAMPLES, LIFE_PER_PITCH = 8, 4
+
+
+@dataclass(frozen=True, kw_only=True)
+class GroupLife:
+    """ISO 281 life of one group of like bearings over the duty cycle; ``l10_h`` of its
+    most loaded bearing, ``l10_set_h`` of the group (the first failure ends it)."""
+    name: str
+    label: str
+    bearing_type: str
+    count: int
+    dynamic_rating_N: float
+    rating_source: str
+    equivalent_load_N: float      # P_m of the most loaded bearing
+    max_load_N: float
+    speed_rpm: float              # mean, relative to its other ring
+    l10_h: float
+    l10_set_h: float
+
+
+@dataclass(frozen=True, kw_only=True)
+class ReducerLife:
+    """Life of every bearing group and of the reducer (its first bearing failure)."""
+    groups: tuple
+    l10_h: float
+    limiting: str
+    rows: tuple                   # (output torque [N m], input speed [rpm], share)
+    source: str
+
+
+def first_failure(lives, slope) -> float:
+    """L10 of bearings in series, the first failure ending them:
+    (sum_i L_i^-e)^(-1/e) (Lundberg & Palmgren); an unloaded bearing (inf) adds nothing.
+
+    Parameters
+    ----------
+    lives : array_like
+        Each bearing's L10 (any unit, inf allowed).
+    slope : float
+        e, the Weibull slope.
+
+    Returns
+    -------
+    float
+        The set's L10 (inf if every bearing's is).
+    """
+    x = np.asarray(lives, float)
+    s = float(np.sum(x[np.isfinite(x)] ** -slope))
+    return math.inf if s == 0 else s ** (-1 / slope)
+
+
+def _system_loads(si, drive, torque_Nm, progress=None) -> dict:
+    """Each bearing's loads over the full period from the system model: name -> (N,)."""
+    from ..fem.system.datasheet import system_te
+    _, _, loads = system_te(drive, drive.supports(si.supports), torque_Nm,
+                            samples=LIFE_SAMPLES, per_pitch=LIFE_PER_PITCH, progress=progress)
+    return dict(zip(loads.names, loads.load_N))
+
+
+def _group_of(name: str) -> str:
+    return next(g for prefix, g in SYSTEM_GROUPS if name.startswith(prefix))
+
+
+def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
+    """ISO 281 life of every bearing of a cycloid or RV reducer over a duty cycle, the
+    loads from the system model over the full period (the main bearings' from the
+    external loads on the output, :func:`main_loads`; the planar model has no tilt).
+
+    Each bearing: P_m, the p-mean of its load over the period and the duty rows weighted by
+    speed and time (:func:`mean_equivalent_load`), L10 = (C/P_m)^p 10^6 revolutions at its
+    mean speed. A group, and the reducer, fail with their first bearing:
+    L = (sum_i L_i^-e)^(-1/e) (Lundberg & Palmgren), e = 9/8 for the reducer (its
+    limiting bearings are rollers).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+    duty : sequence of (torque [N m], input speed [rpm], share), optional
+        Default: the case's ``[[duty_cycle]]``, else its operating point.
+    progress : callable, optional
+        Wraps the iterator over the system model's sampled pitches.
+
+    Returns
+    -------
+    ReducerLife
+
+    Raises
+    ------
+    CaseError
+        For a drive without a system model of its bearings (the sine pair: its eccentric
+        and main bearings are in :func:`bearing_life`), or a bearing that does not fit.
+    """
+    from .bearing_set import reducer_bearings
+    si = case.to_si()
+    drive = drive_for(si)
+    if drive.kind != "cycloid":
+        raise CaseError(f"the bearing set of a {drive.kind!r} drive is not modelled: its "
+                        "eccentric and main bearings' life is bearing_life's")
+    rows = (_duty(si) if duty is None else
+            [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])
+    bearings = {b.name: b for b in reducer_bearings(si, drive)}
+    per_bearing = {}                          # name -> [P per row]
+    table = mesh_table(drive, "analytic", 36, None)
+    for t, _, _ in rows:
+        for name, load in _system_loads(si, drive, t, progress).items():
+            p = LIFE_EXPONENT[bearings[_group_of(name)].bearing_type]
+            per_bearing.setdefault(name, []).append((_pmean(load, p), float(np.max(load))))
+        main = main_loads(si, drive, table, t)
+        p = LIFE_EXPONENT[main.bearing_type]
+        for r in range(main.count):
+            per_bearing.setdefault(f"main bearing row {r + 1}", []).append(
+                (main.equivalent_N, main.max_N))
+    shares = [q for *_, q in rows]
+    groups = []
+    for g, b in bearings.items():
+        names = [n for n in per_bearing
+                 if (n.startswith("main bearing") and g == "main_bearings")
+                 or (not n.startswith("main bearing") and _group_of(n) == g)]
+        p = LIFE_EXPONENT[b.bearing_type]
+        if not names:          # carries nothing in the model (an RV's sun: planets balance)
+            groups.append(GroupLife(
+                name=g, label=b.label, bearing_type=b.bearing_type, count=b.count,
+                dynamic_rating_N=b.dynamic_rating_N, rating_source=b.rating_source,
+                equivalent_load_N=0.0, max_load_N=0.0,
+                speed_rpm=float(np.dot([n * b.speed_per_input * 60 / (2 * math.pi)
+                                        for _, n, _ in rows], shares)),
+                l10_h=math.inf, l10_set_h=math.inf))
+            continue
+        speeds = [n * b.speed_per_input * 60 / (2 * math.pi) for _, n, _ in rows]
+        n_m = float(np.dot(speeds, shares))
+        lives, p_ms = [], []
+        for n in names:
+            p_m = mean_equivalent_load([x for x, _ in per_bearing[n]], speeds, shares, p)
+            p_ms.append(p_m)
+            lives.append(float(rating_life_revolutions(b.dynamic_rating_N, p_m, p))
+                         / (60.0 * n_m))
+        groups.append(GroupLife(
+            name=g, label=b.label, bearing_type=b.bearing_type, count=len(names),
+            dynamic_rating_N=b.dynamic_rating_N, rating_source=b.rating_source,
+            equivalent_load_N=max(p_ms), max_load_N=max(m for n in names
+                                                         for _, m in per_bearing[n]),
+            speed_rpm=n_m, l10_h=float(min(lives)),
+            l10_set_h=first_failure(lives, WEIBULL_SLOPE[b.bearing_type])))
+    unit = first_failure([x.l10_set_h for x in groups], WEIBULL_SLOPE["needle"])
+    limiting = min(groups, key=lambda x: x.l10_set_h).name
+    return ReducerLife(groups=tuple(groups), l10_h=unit, limiting=limiting,
+                       rows=tuple((t, n * 60 / (2 * math.pi), q) for t, n, q in rows),
+                       source="system model (FE pin tables, every bearing's load over the "
+                              "full period)")

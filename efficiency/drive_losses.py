@@ -30,6 +30,8 @@ import numpy as np
 from ..errors import CaseError
 from ..fem.drives import drive_for
 from . import spur as sp
+from .bearing_set import friction_moment, reducer_bearings
+from .bearings import main_bearing_load
 from .contact_friction import contact_mu, sliding_loss
 from .mesh_table import fe_member_split, fe_reference, mesh_table
 from .no_load import no_load_losses
@@ -123,8 +125,9 @@ def w_mechanism(si, table, force, member_torque, a0_m, rel):
 
     Returns
     -------
-    eccentric, output : numpy.ndarray, shape (M,)
-        The two losses [W].
+    f_r1, output : numpy.ndarray, shape (M,)
+        The eccentric bearing's mean load [N] (Eq. 27) and the output mechanism's loss
+        [W].
 
     Raises
     ------
@@ -140,9 +143,8 @@ def w_mechanism(si, table, force, member_torque, a0_m, rel):
     e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]   # (P, 2)
     bearing = table.resultant(force) - sum_q[:, None, None] * e_dir[None]
     f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
-    ecc = si.friction.bearing_coefficient * om.eccentric_bearing_inner_radius_m * f_r1 * rel
     out_mech = si.friction.output_pin_coefficient * sum_q * 2 * a0_m * rel   # Eqs. 38-39
-    return ecc, out_mech
+    return f_r1, out_mech
 
 
 def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
@@ -187,7 +189,9 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                      + ("P_h there is the FE pressure" if np.any(table.pressure_from_fe) else
                         "P_h there is still Hertz's (analytic loads): use loads='fem'"))
     a0 = pair.centre_distance_m
-    ecc, out_mech = w_mechanism(si, table, force, t2, a0, rel)
+    f_r1, out_mech = w_mechanism(si, table, force, t2, a0, rel)
+    ecc = si.friction.bearing_coefficient * si.output_mechanism.eccentric_bearing_inner_radius_m \
+        * f_r1 * rel                                                                 # Eq. 32
     plain = si.output_mechanism.plain_bearing_friction_torque_Nm * crank          # Eq. 34
     losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
               "output_mechanism": out_mech,
@@ -272,30 +276,28 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None,
 CRANK_ANGLE_SAMPLES = 64
 
 
-def crank_bearing_loss(si, f_resultant, t_disc, rel):
-    """Friction loss of one disc's crank-hole bearings (2K-V) [W].
+def crank_bearing_load(si, f_resultant, t_disc):
+    """Sum of the loads on one disc's crank-hole bearings (2K-V), averaged over a crank
+    turn [N].
 
     The k holes at radius R_c take the pin resultant F and the disc torque T between
     them, evenly: hole i carries -F/k + T/(k R_c) t_i (t_i its tangent), so
     sum |F_i| = k <|a e - b t|> with a = F/k, b = T/(k R_c), averaged over the angle
-    between e and t (uniform over a crank turn). Loss = f r_b sum |F_i| w_rel (Palmgren's
-    load-dependent friction torque f F r_b).
+    between e and t (uniform over a crank turn).
 
     Parameters
     ----------
     si : toothfem.si.CaseSI
-        The disc's crank holes and the bearing coefficient f.
+        The disc's crank holes.
     f_resultant : numpy.ndarray, shape (M,)
         |F|, the mean pin resultant [N].
     t_disc : numpy.ndarray, shape (M,)
         T [N m].
-    rel : numpy.ndarray, shape (M,)
-        w_rel, the crank relative to the disc [rad/s].
 
     Returns
     -------
     numpy.ndarray, shape (M,)
-        [W].
+        [N].
 
     Raises
     ------
@@ -304,30 +306,25 @@ def crank_bearing_loss(si, f_resultant, t_disc, rel):
     """
     h = si.cycloid.holes
     k = h.crank_hole_count
-    r_b = h.crank_hole_radius_m
     r_c = h.crank_hole_circle_radius_m
-    if k < 1 or r_b <= 0 or r_c <= 0:
+    if k < 1 or h.crank_hole_radius_m <= 0 or r_c <= 0:
         raise CaseError("cycloid.disc_holes: crank_hole_count, crank_hole_radius_mm and "
-                        "crank_hole_circle_radius_mm are required for the crank-bearing loss "
+                        "crank_hole_circle_radius_mm are required for the crank bearings "
                         "of a 2K-V (RV-type) drive")
     a = f_resultant / k
     b = t_disc / (k * r_c)
     psi = (np.arange(CRANK_ANGLE_SAMPLES) + 0.5) * 2 * math.pi / CRANK_ANGLE_SAMPLES
-    load = k * np.mean(np.sqrt(a[:, None] ** 2 + b[:, None] ** 2
+    return k * np.mean(np.sqrt(a[:, None] ** 2 + b[:, None] ** 2
                                - 2 * a[:, None] * b[:, None] * np.cos(psi)), axis=1)
-    return si.friction.bearing_coefficient * load * r_b * rel
 
 
-def crank_support_loss(si, supports, t_discs, rel):
-    """Friction loss of the crankshafts' support bearings in the carrier (2K-V) [W].
+def crank_support_load(si, t_discs):
+    """Sum of the loads on the crankshafts' support bearings in the carrier (2K-V) [N].
 
     Each of the k crankshafts passes its discs' torque to the carrier at radius R_c: the
     discs' crank bearings on it push with sum_j T_j/(k R_c) along the carrier's tangent
     (their pin resultants, the discs a 1/M turn apart, cancel on the shaft), shared by its
-    two support bearings (the discs centred between them). Each turns with the crank
-    against the carrier at w_rel with Palmgren's load-dependent friction torque
-    f F d/2 (the case's bearing coefficient f, the bearing's bore d: the crankshaft's
-    diameter, ``supports.crankshaft_diameter_m``, assumed where the case gives none). The
+    two support bearings (the discs centred between them): sum_j T_j / R_c over all. The
     spur planet's tangential force on the crank (T_in/(k r_sun): 0.19 kN beside 6.8 kN on
     the RV-40E at its rating) is left out. The system model's loads on the RV-40E at 412
     N m (the discs off-centre on the shaft: 3.81 and 2.83 kN on a crank's two bearings)
@@ -337,24 +334,48 @@ def crank_support_loss(si, supports, t_discs, rel):
     Parameters
     ----------
     si : toothfem.si.CaseSI
-        The crank holes and the bearing coefficient.
-    supports : toothfem.fem.datasheet.supports.Supports
-        The crankshaft's diameter.
+        The crank holes' circle.
     t_discs : numpy.ndarray, shape (M,)
         The discs' torque together [N m].
-    rel : numpy.ndarray, shape (M,)
-        The crank against the carrier [rad/s].
 
     Returns
     -------
     numpy.ndarray, shape (M,)
-        [W], every support bearing of every crankshaft.
+        [N].
     """
-    h = si.cycloid.holes
-    k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-    per_bearing = np.abs(t_discs) / (k * r_c) / 2
-    moment = si.friction.bearing_coefficient * per_bearing * supports.crankshaft_diameter_m / 2
-    return 2 * k * moment * rel
+    return np.abs(t_discs) / si.cycloid.holes.crank_hole_circle_radius_m
+
+
+def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:
+    """Friction loss of every bearing group of a cycloid or RV reducer [W]: each bearing's
+    Palmgren moment (:func:`toothfem.efficiency.bearing_set.friction_moment`) at its load
+    and its speed relative to its other ring.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.CycloidDrive
+    loads : dict
+        Group name -> (M,) sum of the loads on the group's bearings [N] (a group left out
+        carries none: its viscous moment only).
+    input_rad_s, viscosity_factor : numpy.ndarray
+        (M,) input speed [rad/s] and eta(T)/eta_ref of the oil.
+
+    Returns
+    -------
+    dict
+        Group name -> (M,) [W].
+    """
+    lub = si.lubricant
+    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
+    out = {}
+    for b in reducer_bearings(si, drive):
+        speed = np.abs(input_rad_s) * b.speed_per_input
+        m0 = friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
+        load = loads.get(b.name, 0.0)
+        m1 = si.friction.bearing_coefficient * load * b.pitch_diameter_m / 2
+        out[b.name] = (b.count * m0 + m1) * speed
+    return out
 
 
 def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
@@ -418,18 +439,19 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         # to first order)
         ecc = out_mech = 0.0
         for _, tab, t_j, count in members:
-            e, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j, cyc.geometry.eccentricity_m,
-                               disc_rel)
-            ecc, out_mech = ecc + count * e, out_mech + count * o
-        losses = {"pin_contacts": pins, "eccentric_bearing": ecc, "output_mechanism": out_mech}
+            f_r1, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j, cyc.geometry.eccentricity_m,
+                                  disc_rel)
+            ecc, out_mech = ecc + count * f_r1, out_mech + count * o
+        # one disc's eccentric load reaches the input shaft's two bearings; discs evenly
+        # phased balance there (their couple is left out)
+        loads = {"eccentric_bearing": ecc, "input_bearings": ecc if drive.members == 1 else 0}
+        losses = {"pin_contacts": pins, "output_mechanism": out_mech}
     else:                      # 2K-V: the closed form of the general power flow
-        losses = {"crank_bearings": sum(
-            count * crank_bearing_loss(si, f_b, t_j, disc_rel)
-            for (_, _, t_j, count), f_b in zip(members, f_bearing)),
-            "crank_support_bearings": crank_support_loss(
-                si, drive.supports(si.supports),
-                sum(count * t_j for _, _, t_j, count in members),
-                np.abs(w_in * (w["crank"] - w["output"])))}
+        loads = {"crank_bearings": sum(count * crank_bearing_load(si, f_b, t_j)
+                                       for (_, _, t_j, count), f_b in zip(members, f_bearing)),
+                 "crank_support_bearings": crank_support_load(
+                     si, sum(count * t_j for _, _, t_j, count in members))}
+        losses = {}
         ratio = abs(1 / w["output"])
         eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
         zs, zp = drive.first_teeth
@@ -444,6 +466,8 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         losses["first_stage"] = p_out / eta_lossless_1 - p_out
         losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
         mesh_eff["first_stage"] = eta1
+    loads["main_bearings"] = main_bearing_load(si, drive, table, t2)
+    losses.update(bearing_losses(si, drive, loads, w_in, points.viscosity_factor))
     stages = [(cyc.geometry.eccentricity_m, crank)]
     if drive.two_stage and si.first_stage is not None:
         fs = si.first_stage           # the spur stage churns too (a0, sun vs carrier)
@@ -451,7 +475,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                        w_in * (1 - w["output"])))
     losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
                                  eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
-                                 viscosity_factor=points.viscosity_factor))
+                                 viscosity_factor=points.viscosity_factor, bearings=False))
     if "churning" in losses:
         notes.append("churning: Eq. 42 of Lu & Xu (2024), after Xu & Yang (1998), is the "
                      "sine paper's oil-bath law for the agitation, splashing and seals of its "

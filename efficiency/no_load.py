@@ -145,7 +145,7 @@ def palmgren_f0(bearing_type: str, lubrication: str) -> float:
 
 
 def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_rad_s,
-                   viscosity_factor) -> dict:
+                   viscosity_factor, bearings=True) -> dict:
     """The load-independent losses of a drive at M operating points [W] (module docstring).
 
     Parameters
@@ -160,6 +160,9 @@ def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_ra
         carries, and of the output.
     viscosity_factor : numpy.ndarray
         (M,) eta(T)/eta(T_ref) of the oil.
+    bearings : bool
+        Whether ``bearing_drag`` is counted here (False: the caller counts every bearing's
+        viscous moment with its load, :mod:`.bearing_set`).
 
     Returns
     -------
@@ -175,7 +178,7 @@ def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_ra
         if lub.churning != "none":
             out["churning"] = lub.churning_scale * sum(
                 churning_lu_xu_2024(a0, np.abs(n) * _RPM, nu) for a0, n in stages)
-    else:
+    elif bearings:
         main_type = DEFAULT_MAIN_TYPE if si.bearings is None else si.bearings.main_type
         m_ecc = palmgren_no_load_moment(palmgren_f0(env.eccentric_type, lub.lubrication), nu,
                                         eccentric_rad_s, env.eccentric_pitch_diameter_m)

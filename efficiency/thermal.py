@@ -15,6 +15,16 @@ through the oil's viscosity) leave by natural convection and radiation from the 
 
 At T - T_a = 40 K on a 0.16 m housing: h_conv = 5.2, h_rad = 6.9 (eps 0.9, 60/20 C):
 12 W/(m^2 K), within the 10-20 W/(m^2 K) of gear housings in still air (ISO/TR 14179-2).
+Mounted by one flange on a machine (``thermal.mounting = "flange"``), the flange's end
+face sheds heat by conduction instead of convection: through the bolted joint (contact
+conductance h_c over the face, ASSUMPTION 1000 W/(m^2 K): bolted steel joints 400-1700,
+F. P. Incropera & D. P. DeWitt, *Fundamentals of Heat and Mass Transfer*, Table 3.1) in
+series with the spreading into the machine, taken as a semi-infinite body at the ambient
+temperature (the shape factor of an isothermal disc of diameter D on a semi-infinite
+medium, S = 2 D, Incropera Table 4.1: R = 1/(2 k D), k the machine's conductivity):
+
+    P(T) = h(T) (A - A_f) (T - T_a) + (T - T_a) / (1/(h_c A_f) + 1/(2 k D))
+
 The case may declare A, h and the heat capacity (``[thermal]``); the defaults (the housing
 of :mod:`.envelope`, half of its envelope in steel) are ASSUMPTIONS. The equilibrium is the
 fixed point T = T_a + P(T)/(h(T) A), iterated to 0.1 K (bracketed, so it cannot wander);
@@ -47,6 +57,9 @@ STEEL_SPECIFIC_HEAT = 450.0
 #: the default heat capacity. ASSUMPTION: half (an RV-40E, 190 mm x about 100 mm, weighs
 #: about 9 kg, 0.4 of its envelope in steel).
 HOUSING_STEEL_SHARE = 0.5
+#: Conduction shape factor of an isothermal disc on a semi-infinite medium, S = 2 D
+#: (Incropera & DeWitt, Table 4.1).
+SPREADING_SHAPE_FACTOR = 2.0
 #: Tolerance of the equilibrium temperature [K] and the iteration cap.
 TEMPERATURE_TOL_K = 0.1
 MAX_ITERATIONS = 100
@@ -62,6 +75,8 @@ class Housing:
     emissivity: float
     heat_transfer_W_m2K: float | None   # declared; None: convection + radiation
     heat_capacity_J_K: float
+    flange_area_m2: float = 0.0         # the end face bolted to the machine (0: free)
+    flange_conductance_W_K: float = 0.0  # joint and spreading in series
 
 
 def housing(si, drive=None) -> Housing:
@@ -82,9 +97,16 @@ def housing(si, drive=None) -> Housing:
     area = th.housing_area_m2 or 2 * math.pi * r * length + 2 * math.pi * r ** 2
     capacity = th.heat_capacity_J_K or (HOUSING_STEEL_SHARE * math.pi * r ** 2 * length
                                         * si.material.density_kg_m3 * STEEL_SPECIFIC_HEAT)
+    face, conductance = 0.0, 0.0
+    if th.mounting == "flange":
+        face = min(math.pi * r ** 2, area)
+        conductance = 1.0 / (1.0 / (th.contact_conductance_W_m2K * face)
+                             + 1.0 / (SPREADING_SHAPE_FACTOR * 2 * r
+                                      * th.mount_conductivity_W_mK))
     return Housing(area_m2=area, diameter_m=2 * r, ambient_C=th.ambient_C,
                    emissivity=th.emissivity, heat_transfer_W_m2K=th.heat_transfer_W_m2K,
-                   heat_capacity_J_K=capacity)
+                   heat_capacity_J_K=capacity, flange_area_m2=face,
+                   flange_conductance_W_K=conductance)
 
 
 def convection_coefficient(delta_K, diameter_m):
@@ -165,7 +187,28 @@ def heat_flow(h: Housing, temperature_C):
         Heat flow [W], shape of ``temperature_C``.
     """
     t = np.asarray(temperature_C, float)
-    return heat_transfer_coefficient(h, t) * h.area_m2 * (t - h.ambient_C)
+    return shed_per_kelvin(h, t) * (t - h.ambient_C)
+
+
+def shed_per_kelvin(h: Housing, temperature_C):
+    """The housing's heat loss per kelvin above the ambient [W/K]: convection and
+    radiation from the free surface, conduction through a bolted flange.
+
+    Parameters
+    ----------
+    h : Housing
+        The housing.
+    temperature_C : array_like
+        Oil temperature [deg C].
+
+    Returns
+    -------
+    numpy.ndarray
+        [W/K], shape of ``temperature_C``.
+    """
+    t = np.asarray(temperature_C, float)
+    return (heat_transfer_coefficient(h, t) * (h.area_m2 - h.flange_area_m2)
+            + h.flange_conductance_W_K)
 
 
 def _check_ambient(si, h: Housing):
@@ -237,12 +280,12 @@ def heat_balance(case, speed_rpm, torque_Nm, *, tol_K=TEMPERATURE_TOL_K, **kw) -
                         f"{float(hot[over][0]):.4g} W of losses against "
                         f"{float(heat_flow(h, t_max)):.4g} W shed by the housing "
                         f"(A = {h.area_m2:.3g} m^2); give [thermal] a larger "
-                        "housing_area_m2 or heat_transfer_W_m2K")
+                        "housing_area_m2 or heat_transfer_W_m2K, or mounting = 'flange'")
     lo, hi = np.full_like(n, h.ambient_C), np.full_like(n, t_max)
     temp = lo.copy()
     for it in range(1, MAX_ITERATIONS + 1):
         loss, _ = _total_loss(si, n, t, temp, **kw)
-        shed_per_K = heat_transfer_coefficient(h, temp) * h.area_m2
+        shed_per_K = shed_per_kelvin(h, temp)
         step = h.ambient_C + loss / shed_per_K            # the fixed point's next value
         above = step > temp                               # g(T) > 0: the root lies above
         lo = np.where(above, temp, lo)
@@ -306,7 +349,7 @@ def warm_up(case, speed_rpm, torque_Nm, duration_s, *, samples=41, **kw) -> Warm
         loss, _ = _total_loss(si, n, t, temp, **kw)
         return (loss - heat_flow(h, temp)) / h.heat_capacity_J_K
 
-    tau = h.heat_capacity_J_K / float(eq.heat_transfer_W_m2K[0] * h.area_m2)
+    tau = h.heat_capacity_J_K / float(shed_per_kelvin(h, eq.temperature_C)[0])
     times = np.linspace(0.0, duration_s, samples)
     sol = solve_ivp(rate, (0.0, duration_s), [h.ambient_C], t_eval=times, rtol=1e-4,
                     atol=0.01, max_step=tau / 10)

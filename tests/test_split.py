@@ -189,16 +189,21 @@ def test_losses_are_each_members_at_its_own_torque(pinhousing, monkeypatch, khv)
         if khv:
             e_j, o_j = dl.w_mechanism(si, table, table.at(t_j)[0], t_j,
                                       si.cycloid.geometry.eccentricity_m, rel)
-            ecc, out = ecc + e_j, out + o_j
+            ecc, out = ecc + e_j, out + o_j           # the eccentric bearing's load
         else:
-            crank_b += dl.crank_bearing_loss(si, f_b, t_j, rel)
+            crank_b += dl.crank_bearing_load(si, f_b, t_j)
+    # each bearing group's loss at the summed load of the members' own torques
+    bearing = dl.bearing_losses(si, drive, {"eccentric_bearing": ecc, "crank_bearings": crank_b},
+                                w_in, np.ones(1))
     assert e.mesh_efficiency["cycloid"] == pytest.approx(1 - pins / (t_discs * rel), rel=1e-12)
     if khv:
         assert e.losses_W["pin_contacts"] == pytest.approx(pins, rel=1e-12)
-        assert e.losses_W["eccentric_bearing"] == pytest.approx(ecc, rel=1e-12)
+        assert e.losses_W["eccentric_bearing"] == pytest.approx(bearing["eccentric_bearing"],
+                                                                rel=1e-12)
         assert e.losses_W["output_mechanism"] == pytest.approx(out, rel=1e-12)
     else:
-        assert e.losses_W["crank_bearings"] == pytest.approx(crank_b, rel=1e-12)
+        assert e.losses_W["crank_bearings"] == pytest.approx(bearing["crank_bearings"],
+                                                             rel=1e-12)
     # (the pins rub at the boundary coefficient here, so each loss is linear in its disc's
     # torque and the even split would charge the same sum: the wiring is what this tests;
     # an earlier "pins != 2 * even" passed on round-off alone)

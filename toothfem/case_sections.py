@@ -335,6 +335,24 @@ class Operating(_Section):
         *TORQUE_NM, default=None,
         doc="rated output torque of the reducer (catalogue, datasheet): check warns above "
             "it; the stiffness curve spans +-it")
+    start_stop_torque_Nm: float | None = _f(
+        *TORQUE_NM, default=None,
+        doc="allowable output torque when starting and stopping (catalogue): above it a "
+            "warning")
+    momentary_torque_Nm: float | None = _f(
+        *TORQUE_NM, default=None,
+        doc="momentary maximum output torque (catalogue, e.g. an emergency stop): above it a "
+            "warning that the reducer is damaged")
+
+    def _check(self):
+        limits = [("rated_torque_Nm", self.rated_torque_Nm),
+                  ("start_stop_torque_Nm", self.start_stop_torque_Nm),
+                  ("momentary_torque_Nm", self.momentary_torque_Nm)]
+        given = [(k, v) for k, v in limits if v]
+        for (k1, v1), (k2, v2) in zip(given, given[1:]):
+            if v2 < v1:
+                raise CaseError(f"operating.{k2} = {v2:g} is below operating.{k1} = {v1:g}: "
+                                "rated <= start/stop <= momentary")
 
 
 @dataclass(frozen=True)
@@ -484,6 +502,15 @@ class Thermal(_Section):
                                                 doc="the maker's limit of the case surface "
                                                     "(a warning above it); default 60 C for "
                                                     "a 2K-V drive (Nabtesco RV-E), else none")
+    mounting: str = _f(choices=("free", "flange"), default="free",
+                       doc="free: the housing sheds heat to the air only; flange: one end "
+                           "face is bolted to a machine that conducts heat away")
+    contact_conductance_W_m2K: float = _f(1.0, 1e6, default=1000.0,
+                                          doc="thermal contact conductance of the bolted "
+                                              "flange joint; ASSUMPTION 1000 (Incropera)")
+    mount_conductivity_W_mK: float = _f(0.1, 1000.0, default=50.0,
+                                        doc="thermal conductivity of the machine the flange "
+                                            "is bolted to; 50 (steel, Incropera Table A.1)")
 
 
 @dataclass(frozen=True)

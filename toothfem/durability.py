@@ -45,6 +45,8 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
     out = {
         "ambient_C": h.ambient_C, "housing_area_m2": h.area_m2,
         "heat_capacity_J_K": h.heat_capacity_J_K,
+        "mounting": case.to_si().thermal.mounting,
+        "flange_conductance_W_K": h.flange_conductance_W_K,
         "equilibrium_oil_temp_C": float(hb.temperature_C[0]),
         "heat_transfer_W_m2K": float(hb.heat_transfer_W_m2K[0]),
         "losses_W": float(hb.losses_W[0]), "efficiency": float(hb.efficiency[0]),
@@ -60,36 +62,68 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
     return out
 
 
-def _life(life: br.Life) -> dict:
-    return {"bearing_type": life.bearing_type, "count": life.count,
-            "dynamic_rating_N": _f(life.rating_N), "life_exponent": life.exponent,
+def _group(g) -> dict:
+    return {"label": g.label, "bearing_type": g.bearing_type, "count": g.count,
+            "dynamic_rating_N": _f(g.dynamic_rating_N), "rating_source": g.rating_source,
+            "equivalent_load_N": g.equivalent_load_N, "max_load_N": g.max_load_N,
+            "mean_speed_rpm": g.speed_rpm, "l10_h": finite(g.l10_h),
+            "l10_set_h": finite(g.l10_set_h)}
+
+
+def _life(life: br.Life, label) -> dict:
+    return {"label": label, "bearing_type": life.bearing_type, "count": life.count,
+            "dynamic_rating_N": _f(life.rating_N),
+            "rating_source": "case" if life.rating_N is not None else None,
             "equivalent_load_N": life.equivalent_load_N, "max_load_N": life.max_load_N,
             "mean_speed_rpm": life.mean_speed_rpm, "l10_h": _f(life.l10_h),
             "l10_set_h": _f(life.l10_set_h)}
 
 
-def life_summary(case, *, loads="analytic") -> dict:
-    """ISO 281 life of the eccentric and main bearings over the case's duty cycle (else its
-    operating point), with the maker's rated life scaled to it where ``[published]`` gives
-    one (``rated_life_h``, ``rated_torque_Nm``, ``rated_output_speed_rpm``).
+def life_summary(case, *, loads="analytic", progress=None) -> dict:
+    """ISO 281 life of every bearing over the case's duty cycle (else its operating
+    point): a cycloid or RV reducer's from the system model's loads
+    (:func:`~toothfem.efficiency.bearings.reducer_life`, whatever ``loads``), the sine
+    reducer's eccentric and main bearings from the meshing table's; with the maker's
+    rated life scaled to the duty where ``[published]`` gives one (``rated_life_h``,
+    ``rated_torque_Nm``, ``rated_output_speed_rpm``).
 
     Parameters
     ----------
     case : toothfem.case.Case
     loads : {"analytic", "fem"}
+        The sine reducer's meshing table.
+    progress : callable, optional
+        Wraps the system model's sampled pitches.
 
     Returns
     -------
     dict
+        ``bearings``: {group: its life}; ``unit_l10_h`` and ``limiting``: the reducer's
+        first bearing failure and the group that sets it.
     """
-    res = br.bearing_life(case, loads=loads)
+    drive = drive_for(case)
+    if drive.kind == "cycloid":
+        res = br.reducer_life(case, progress=progress)
+        groups = {g.name: _group(g) for g in res.groups}
+        unit, limiting, source, rows = res.l10_h, res.limiting, res.source, res.rows
+    else:
+        res = br.bearing_life(case, loads=loads)
+        groups = {"eccentric_bearing": _life(res.eccentric, "eccentric bearing"),
+                  "main_bearings": _life(res.main, "main bearings")}
+        lives = [g["l10_set_h"] for g in groups.values() if g["l10_set_h"] is not None]
+        unit = br.first_failure(lives, br.WEIBULL_SLOPE["ball"]) if lives else None
+        limiting = (None if not lives else
+                    min((g for g in groups if groups[g]["l10_set_h"] is not None),
+                        key=lambda g: groups[g]["l10_set_h"]))
+        source, rows = f"{loads} meshing table", res.rows
     ratio = abs(case.ratio())
     out = {"duty_cycle": [{"output_torque_Nm": t, "input_speed_rpm": n, "time_share": q}
-                          for t, n, q in res.rows],
-           "eccentric": _life(res.eccentric), "main": _life(res.main), "loads": loads}
+                          for t, n, q in rows],
+           "bearings": groups, "unit_l10_h": finite(unit), "limiting": limiting,
+           "loads": source}
     pub = case.published
     if all(k in pub for k in MAKER_KEYS):
-        rows = [(t, n / ratio, q) for t, n, q in res.rows]
+        rows = [(t, n / ratio, q) for t, n, q in rows]
         out["maker"] = {
             "rated_life_h": float(pub["rated_life_h"]),
             "rated_torque_Nm": float(pub["rated_torque_Nm"]),
@@ -98,11 +132,20 @@ def life_summary(case, *, loads="analytic") -> dict:
                                                     pub["rated_torque_Nm"],
                                                     pub["rated_output_speed_rpm"], rows)}
     found = []
-    if "maker" in out and res.eccentric.l10_set_h is not None:
-        which = "crank" if drive_for(case).two_stage else "eccentric"
+    if drive.kind == "cycloid":
+        from .efficiency.bearing_set import main_tilt
+        si = case.to_si()
+        out["main_bearing_tilt"] = tilt = main_tilt(si, drive)
+        moment = 0.0 if si.bearings is None else si.bearings.external_moment_Nm
+        found.append(limits.above(
+            "external tilting moment on the main bearings", moment,
+            tilt["allowable_moment_Nm"], "N m",
+            "the main bearing pair's allowable moment: half the moment at ISO 76's static "
+            "limit, 4200 MPa (efficiency/bearing_set.py)"))
+    if "maker" in out and unit is not None:
         found.append(limits.below(
-            f"L10 of the {res.eccentric.count} {which} bearings as a set",
-            res.eccentric.l10_set_h, out["maker"]["life_at_duty_h"], "h",
+            f"L10 of the reducer's bearings (limiting: {limiting})", unit,
+            out["maker"]["life_at_duty_h"], "h",
             "the maker's rated life published.rated_life_h scaled to the duty cycle by "
             "the RV-E life formula"))
     out["warnings"] = [w.as_dict() for w in found if w is not None]

@@ -161,8 +161,14 @@ def rated_torque(si, torque_Nm) -> list:
     rated, assumed = si.rated_output_torque_Nm()
     source = ("the case's operating torque, taken as the rating: operating.rated_torque_Nm "
               "not given" if assumed else "operating.rated_torque_Nm, the reducer's rating")
-    hit = above("output torque", t, rated, "N m", source)
-    return [hit] if hit else []
+    op = si.operating
+    found = [above("output torque", t, rated, "N m", source),
+             above("output torque", t, op.start_stop_torque_Nm, "N m",
+                   "operating.start_stop_torque_Nm, allowed only while starting and stopping"),
+             above("output torque", t, op.momentary_torque_Nm, "N m",
+                   "operating.momentary_torque_Nm, the momentary maximum: the reducer is "
+                   "damaged above it")]
+    return [h for h in found if h is not None]
 
 
 def contact_pressure(where: str, ph_MPa: float, material) -> list:

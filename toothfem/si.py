@@ -85,6 +85,8 @@ class OperatingSI:
     input_torque_Nm: float | None
     input_power_W: float | None
     rated_torque_Nm: float | None = None     # the catalogue's rated output torque
+    start_stop_torque_Nm: float | None = None    # its start/stop allowable torque
+    momentary_torque_Nm: float | None = None     # its momentary maximum torque
 
     @property
     def input_speed_rpm(self) -> float:
@@ -184,6 +186,9 @@ class ThermalSI:
     heat_capacity_J_K: float | None
     sensor_resistance_K_W: float    # the loop's thermal effect (K per W of loss)
     case_temperature_limit_C: float | None = None   # the maker's surface limit
+    mounting: str = "free"                          # "free" | "flange"
+    contact_conductance_W_m2K: float = 1000.0       # the bolted flange joint
+    mount_conductivity_W_mK: float = 50.0           # the machine it is bolted to
 
 
 @dataclass(**_RECORD)
@@ -380,7 +385,9 @@ def from_case(case) -> CaseSI:
             output_torque_Nm=op.output_torque_Nm or None,
             input_torque_Nm=op.input_torque_Nm or None,
             input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
-            rated_torque_Nm=op.rated_torque_Nm),
+            rated_torque_Nm=op.rated_torque_Nm,
+            start_stop_torque_Nm=op.start_stop_torque_Nm,
+            momentary_torque_Nm=op.momentary_torque_Nm),
         supports=SupportsSI() if case.supports is None else _supports_si(case.supports),
         tolerances=_tolerances_si(case.tolerances),
         lubricant=LubricantSI(
@@ -413,7 +420,10 @@ def from_case(case) -> CaseSI:
             emissivity=case.thermal.emissivity,
             heat_capacity_J_K=case.thermal.heat_capacity_J_K,
             sensor_resistance_K_W=case.thermal.sensor_resistance_K_W,
-            case_temperature_limit_C=case.thermal.case_temperature_limit_C),
+            case_temperature_limit_C=case.thermal.case_temperature_limit_C,
+            mounting=case.thermal.mounting,
+            contact_conductance_W_m2K=case.thermal.contact_conductance_W_m2K,
+            mount_conductivity_W_mK=case.thermal.mount_conductivity_W_mK),
         duty_cycle=tuple(DutyPointSI(
             output_torque_Nm=d.output_torque_Nm,
             input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,

@@ -73,9 +73,9 @@ def run(args) -> int:
                                         case.published),
             title=f"contact ({res.contact.mode} mode)"))
     heat, life, strength = (res.durability[k] for k in ("heat", "life", "strength"))
-    l10 = life["eccentric"]["l10_set_h"]
-    print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; eccentric bearings L10 "
-          + ("not rated" if l10 is None else f"{l10:.4g} h")
+    l10 = life["unit_l10_h"]
+    print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; bearings L10 "
+          + ("not rated" if l10 is None else f"{l10:.4g} h (limiting: {life['limiting']})")
           + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f}")
     for w in res.warnings:
         print(f"warning: {w}")

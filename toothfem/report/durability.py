@@ -29,17 +29,27 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
             f" losses); efficiency there {100 * heat['efficiency']:.2f} %.", ""]
     duty = ", ".join(f"{r['output_torque_Nm']:g} N m at {r['input_speed_rpm']:g} rpm "
                      f"({100 * r['time_share']:g} %)" for r in life["duty_cycle"])
-    out += [f"Bearing life (ISO 281, {life['loads']} loads), duty cycle: {duty}.", "",
-            "| bearings | type | count | C [N] | P_m [N] | P_max [N] | n [rpm] | L10 one [h] |"
-            " L10 set [h] |", "|---|---|---|---|---|---|---|---|---|"]
-    for name in ("eccentric", "main"):
-        b = life[name]
-        out.append(f"| {name} | {b['bearing_type']} | {b['count']} | "
+    out += [f"Bearing life (ISO 281, loads: {life['loads']}), duty cycle: {duty}.", "",
+            "| bearings | type | count | C [N] | C from | P_m [N] | P_max [N] | n [rpm] |"
+            " L10 most loaded [h] | L10 group [h] |", "|---|---|---|---|---|---|---|---|---|---|"]
+    for b in life["bearings"].values():
+        out.append(f"| {b['label']} | {b['bearing_type']} | {b['count']} | "
                    f"{_num(b['dynamic_rating_N'], '.4g', 'not given')} | "
+                   f"{b['rating_source'] or '–'} | "
                    f"{b['equivalent_load_N']:.4g} | {b['max_load_N']:.4g} | "
                    f"{b['mean_speed_rpm']:.4g} | {_num(b['l10_h'], '.4g', '∞ or not rated')} | "
                    f"{_num(b['l10_set_h'], '.4g', '∞ or not rated')} |")
-    out.append("")
+    out += ["", f"The reducer's bearings together (the first failure): L10 "
+                f"**{_num(life['unit_l10_h'], '.4g', '∞ or not rated')} h**, limited by "
+                f"{life['limiting'] or '–'}.", ""]
+    if "main_bearing_tilt" in life:
+        t = life["main_bearing_tilt"]
+        out += [f"Main bearing pair against a tilting moment ({t['balls_per_row']} balls of "
+                f"{t['ball_diameter_mm']:.3g} mm per row on {t['pitch_diameter_mm']:.4g} mm, "
+                f"{t['preload_N']:.0f} N preload; assumed: {', '.join(t['assumed'])}): "
+                f"allowable moment {t['allowable_moment_Nm']:.4g} N m, momentary "
+                f"{t['momentary_moment_Nm']:.4g} N m (ISO 76 static limit), moment rigidity "
+                f"{t['moment_rigidity_Nm_per_arcmin']:.4g} N m/arcmin (the pair alone).", ""]
     if "maker" in life:
         m = life["maker"]
         teeth = ("" if rv_teeth is None else

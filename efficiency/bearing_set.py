@@ -1,0 +1,434 @@
+"""Every rolling bearing of a cycloid or RV reducer: its size, ratings, speed and friction.
+
+One record (:class:`Bearing`) per group of like bearings of the layout, built from the
+case where it names them and from the geometry where it does not (each assumed value
+named in ``assumed``, every rule below an ASSUMPTION stated beside it):
+
+* ``crank_bearings`` (2K-V) or ``eccentric_bearing`` (K-H-V): needle rollers running in
+  the disc's crank hole (centre bore) on the crank's eccentric journal, the rolling set of
+  :meth:`toothfem.fem.drives.Drive.supports` (the system model's rollers);
+* ``crank_support_bearings`` (2K-V): a tapered roller bearing at each end of each
+  crankshaft in the carrier, bore the crankshaft's diameter;
+* ``main_bearings``: the output's angular contact ball pair at the pin circle (RV-E);
+* ``input_bearings``: deep groove ball bearings on the input shaft.
+
+A bearing without a declared rating has the ISO 281 / ISO 76 ratings of its rolling set
+(:mod:`.rating`), the set sized from the bearing's section (:func:`rolling_set`); a
+bearing that cannot fit where it sits is refused naming the keys that clash
+(:func:`check_fits`).
+
+Friction (:func:`friction_moment`): Palmgren's two terms, M = M0 + M1 (A. Palmgren, *Ball
+and Roller Bearing Engineering*, 1959; T. A. Harris & M. N. Kotzalas, *Essential Concepts
+of Bearing Technology*, 2007, Ch. 10): the viscous M0 of :mod:`.no_load` (f0 by type and
+lubrication) and the load term M1 = f1 P d_m written with the case's one coefficient
+``friction.bearing_coefficient`` = mu = 2 f1 (M1 = mu P d_m / 2, the makers' constant
+coefficient form). Palmgren's model and not the SKF four-term model: the latter's
+constants (R1, R2, S1, S2, the seals' K_S1 ...) are per bearing series of one maker and
+exist only for catalogue bearings, while these bearings are sized from the geometry;
+Palmgren's needs the type, the pitch diameter, the load and the viscosity, which the
+model has for every bearing.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import CaseError
+from .envelope import envelope
+from .no_load import palmgren_f0, palmgren_no_load_moment
+from .rating import dynamic_rating_N, static_rating_N
+
+#: Standard boundary dimensions, ISO 15:2017, diameter series 0 (60xx, 70xx, 320xx-like
+#: sections): bore d -> (outside diameter D, width B) [mm]. The thinnest common radial
+#: section, for bearings that sit in a carrier between other parts.
+ISO15_SERIES_0 = {10: (26, 8), 12: (28, 8), 15: (32, 9), 17: (35, 10), 20: (42, 12),
+                  25: (47, 12), 30: (55, 13), 35: (62, 14), 40: (68, 15), 45: (75, 16),
+                  50: (80, 16), 55: (90, 18), 60: (95, 18), 65: (100, 18), 70: (110, 20),
+                  75: (115, 20), 80: (125, 22), 85: (130, 22), 90: (140, 24),
+                  95: (145, 24), 100: (150, 24)}
+#: ASSUMPTION: the rolling set of a bearing of radial section h = (D - d)/2: elements of
+#: diameter ELEMENT_PER_SECTION h (deep groove 6204: 7.94 mm balls in a 13.5 mm section,
+#: 0.59; tapered 32004 X and cylindrical rollers about 0.5), spaced ELEMENT_PITCH element
+#: diameters apart on the pitch circle (a cage web between them; 6204: 8 balls on 33.5 mm
+#: is 1.66 (a Conrad bearing's assembly limit), angular contact and roller bearings 1.2-1.4),
+#: rollers as long as ROLLER_LENGTH_PER_WIDTH of the width (the ends' chamfers and flanges).
+ELEMENT_PER_SECTION = {"ball": 0.59, "angular_ball": 0.55, "tapered": 0.5, "cylindrical": 0.5}
+ELEMENT_PITCH = {"ball": 1.66, "angular_ball": 1.35, "tapered": 1.25, "cylindrical": 1.25}
+ROLLER_LENGTH_PER_WIDTH = 0.7
+#: Nominal contact angles [deg]: angular contact ball bearings of a reducer's main bearing
+#: (RV-E: 40-45 deg back to back; ISO 281 tabulates X, Y at 40 deg), tapered rollers of
+#: the 320 X series (about 15 deg: e = 1.5 tan(alpha) = 0.37-0.43 in makers' tables).
+CONTACT_ANGLE_DEG = {"ball": 0.0, "angular_ball": 40.0, "tapered": 15.0, "cylindrical": 0.0,
+                     "needle": 0.0}
+#: ASSUMPTION: the main bearing's balls, as a share of its pitch diameter (RV-E reducers'
+#: integral main bearings run balls of about 6-8 % of the pitch circle), and the
+#: distance between the two rows' ball centres per ball diameter (two rows side by side
+#: with a shoulder between them).
+MAIN_BALL_PER_PITCH = 0.06
+MAIN_ROW_SPACING_PER_BALL = 2.5
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bearing:
+    """One group of like bearings: dimensions [m], rolling set, ratings [N], speed.
+
+    ``speed_per_input``: the rotating ring's speed relative to the other per unit input
+    speed [-]; ``rating_source``: "case" or the standard the rating was computed by;
+    ``assumed``: what the case did not give.
+    """
+    name: str
+    label: str
+    bearing_type: str
+    count: int
+    bore_m: float
+    outer_m: float
+    width_m: float
+    pitch_diameter_m: float
+    elements: int
+    element_diameter_m: float
+    element_length_m: float | None
+    contact_angle_deg: float
+    dynamic_rating_N: float
+    static_rating_N: float
+    rating_source: str
+    speed_per_input: float
+    assumed: tuple = ()
+
+    def describe(self) -> dict:
+        """The record in mm and kN for the outputs.
+
+        Returns
+        -------
+        dict
+        """
+        mm = 1e3
+        return {"label": self.label, "type": self.bearing_type, "count": self.count,
+                "bore_mm": self.bore_m * mm, "outer_mm": self.outer_m * mm,
+                "width_mm": self.width_m * mm, "pitch_diameter_mm": self.pitch_diameter_m * mm,
+                "elements": self.elements, "element_diameter_mm": self.element_diameter_m * mm,
+                "contact_angle_deg": self.contact_angle_deg,
+                "dynamic_rating_kN": self.dynamic_rating_N / 1e3,
+                "static_rating_kN": self.static_rating_N / 1e3,
+                "rating_source": self.rating_source, "assumed": list(self.assumed)}
+
+
+def standard_size(shaft_m: float, name: str) -> tuple:
+    """The smallest bearing of :data:`ISO15_SERIES_0` whose bore takes the shaft.
+
+    Parameters
+    ----------
+    shaft_m : float
+        Shaft diameter [m].
+    name : str
+        The shaft's case key, for the message.
+
+    Returns
+    -------
+    tuple
+        (bore, outside diameter, width) [m].
+
+    Raises
+    ------
+    CaseError
+        If no bore of the table takes the shaft.
+    """
+    d_mm = shaft_m * 1e3
+    for bore, (outer, width) in ISO15_SERIES_0.items():
+        if bore >= d_mm - 1e-9:
+            return bore * 1e-3, outer * 1e-3, width * 1e-3
+    raise CaseError(f"{name} = {d_mm:.4g} mm: no bearing of ISO 15 diameter series 0 "
+                    f"(bores {min(ISO15_SERIES_0)}-{max(ISO15_SERIES_0)} mm) takes it")
+
+
+def rolling_set(bearing_type: str, bore_m: float, outer_m: float, width_m: float) -> dict:
+    """The assumed rolling set of a bearing of these boundary dimensions (the rules of
+    :data:`ELEMENT_PER_SECTION`, :data:`ELEMENT_PITCH`, :data:`ROLLER_LENGTH_PER_WIDTH`).
+
+    Parameters
+    ----------
+    bearing_type : str
+        "ball", "angular_ball", "tapered" or "cylindrical".
+    bore_m, outer_m, width_m : float
+        d, D, B [m].
+
+    Returns
+    -------
+    dict
+        ``elements``, ``element_diameter_m``, ``element_length_m`` (None for balls),
+        ``pitch_diameter_m``, ``contact_angle_deg``.
+    """
+    d_w = ELEMENT_PER_SECTION[bearing_type] * (outer_m - bore_m) / 2
+    d_m = (outer_m + bore_m) / 2
+    z = max(int(math.pi * d_m / (ELEMENT_PITCH[bearing_type] * d_w)), 3)
+    length = None if "ball" in bearing_type else ROLLER_LENGTH_PER_WIDTH * width_m
+    return dict(elements=z, element_diameter_m=d_w, element_length_m=length,
+                pitch_diameter_m=d_m, contact_angle_deg=CONTACT_ANGLE_DEG[bearing_type])
+
+
+def _ratings(bearing_type, rolling, declared_C):
+    kw = dict(rows=1, elements=rolling["elements"],
+              element_diameter_m=rolling["element_diameter_m"],
+              element_length_m=rolling["element_length_m"],
+              pitch_diameter_m=rolling["pitch_diameter_m"],
+              contact_angle_deg=rolling["contact_angle_deg"])
+    c0 = static_rating_N(bearing_type, **kw)
+    if declared_C is not None:
+        return declared_C, c0, "case"
+    return dynamic_rating_N(bearing_type, **kw), c0, "ISO 281 / ISO 76 of the rolling set"
+
+
+def _needles(si, drive, supports, two_stage):
+    """The crank (eccentric) bearings: the system model's needle rollers in the hole."""
+    h, g = si.cycloid.holes, si.cycloid.geometry
+    b = si.bearings
+    hole = 2 * (h.crank_hole_radius_m if two_stage else h.centre_bore_radius_m)
+    d_w = supports.bearing_roller_diameter_m
+    journal = hole - 2 * d_w
+    hole_key = ("cycloid.disc_holes.crank_hole_radius_mm" if two_stage
+                else "cycloid.disc_holes.centre_bore_radius_mm")
+    if journal <= 0:
+        raise CaseError(f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g} does not fit "
+                        f"{hole_key} = {hole * 500:.4g}: two rollers fill the hole")
+    if supports.crankshaft_diameter_m is not None and \
+            supports.crankshaft_diameter_m + 2 * g.eccentricity_m > journal * (1 + 1e-9):
+        raise CaseError(
+            f"supports.crankshaft_diameter_mm = {supports.crankshaft_diameter_m * 1e3:.4g} "
+            f"does not fit the eccentric journal ({journal * 1e3:.4g} mm: {hole_key} = "
+            f"{hole * 500:.4g} less two rollers of supports.bearing_roller_diameter_mm = "
+            f"{d_w * 1e3:.4g}): the shaft must pass through the journal, offset by "
+            f"cycloid.eccentricity_mm = {g.eccentricity_m * 1e3:.4g}")
+    d_m = hole - d_w
+    declared_dm = None if b is None else b.eccentric_pitch_diameter_m
+    if declared_dm is not None and not journal < declared_dm < hole:
+        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * 1e3:.4g} does "
+                        f"not fit {hole_key} = {hole * 500:.4g}: the rollers' pitch circle "
+                        f"lies between the journal ({journal * 1e3:.4g} mm) and the hole")
+    rolling = dict(elements=supports.bearing_roller_count, element_diameter_m=d_w,
+                   element_length_m=supports.bearing_roller_length_m, pitch_diameter_m=d_m,
+                   contact_angle_deg=0.0)
+    declared_C = None if b is None else b.eccentric_dynamic_rating_N
+    c, c0, source = _ratings("needle", rolling, None)
+    if declared_C is not None:
+        check_rating(declared_C, c, "bearings.eccentric_dynamic_rating_kN",
+                     f"{hole_key} = {hole * 500:.4g}")
+        c, source = declared_C, "case"
+    w = drive.speeds()
+    count = (h.crank_hole_count if two_stage else 1) * si.cycloid.disc_count
+    assumed = tuple(f"supports.{n}" for n in supports.assumed
+                    if n.startswith("bearing_roller"))
+    return Bearing(name="crank_bearings" if two_stage else "eccentric_bearing",
+                   label="crank bearings (needle rollers in the discs' crank holes)"
+                   if two_stage else "eccentric bearings (needle rollers in the centre bore)",
+                   bearing_type="needle", count=count, bore_m=journal, outer_m=hole,
+                   width_m=supports.bearing_roller_length_m, pitch_diameter_m=d_m,
+                   elements=rolling["elements"], element_diameter_m=d_w,
+                   element_length_m=rolling["element_length_m"], contact_angle_deg=0.0,
+                   dynamic_rating_N=c, static_rating_N=c0, rating_source=source,
+                   speed_per_input=abs(w["crank"] - w["member"]), assumed=assumed)
+
+
+#: A declared rating may exceed ISO 281's for the rolling set that fits by this factor
+#: (makers rate premium steels and profiles up to about 30 % above the standard's b_m f_c;
+#: more than that is a bearing that does not fit the space).
+RATING_MARGIN = 1.3
+
+
+def check_rating(declared_N, fitting_N, key, space):
+    """Refuse a declared rating no bearing that fits the space can have.
+
+    Parameters
+    ----------
+    declared_N, fitting_N : float
+        The case's C and ISO 281's C of the rolling set that fits [N].
+    key, space : str
+        The rating's key, and the key and value of the space it must fit.
+
+    Raises
+    ------
+    CaseError
+        If ``declared_N`` exceeds ``RATING_MARGIN`` times ``fitting_N``.
+    """
+    if declared_N > RATING_MARGIN * fitting_N:
+        raise CaseError(f"{key} = {declared_N / 1e3:.4g} kN does not fit {space}: the rolling "
+                        f"set that fits rates {fitting_N / 1e3:.4g} kN (ISO 281), at most "
+                        f"{RATING_MARGIN:g}x that is credible")
+
+
+def _sized(name, label, bearing_type, count, shaft_m, shaft_key, speed, assumed, room=None):
+    bore, outer, width = standard_size(shaft_m, shaft_key)
+    if room is not None and outer > room[0] * (1 + 1e-9):
+        raise CaseError(f"{shaft_key} = {shaft_m * 1e3:.4g} mm needs a {label} of outside "
+                        f"diameter {outer * 1e3:.4g} mm (ISO 15 series 0), which does not fit "
+                        f"{room[1]}")
+    rolling = rolling_set(bearing_type, bore, outer, width)
+    c, c0, source = _ratings(bearing_type, rolling, None)
+    return Bearing(name=name, label=label, bearing_type=bearing_type, count=count,
+                   bore_m=bore, outer_m=outer, width_m=width, dynamic_rating_N=c,
+                   static_rating_N=c0, rating_source=source + " (ISO 15 series 0 size)",
+                   speed_per_input=speed, assumed=tuple(assumed) + ("size",), **rolling)
+
+
+def main_pair(si, drive) -> Bearing:
+    """The output's main bearing pair (one record per row): angular contact balls on the
+    pitch diameter of :mod:`.envelope`, balls :data:`MAIN_BALL_PER_PITCH` of it.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    Bearing
+    """
+    env = envelope(si, drive)
+    b = si.bearings
+    t = "angular_ball" if b is None else b.main_type
+    d_m = env.main_pitch_diameter_m
+    d_w = MAIN_BALL_PER_PITCH * d_m
+    z = max(int(math.pi * d_m / (ELEMENT_PITCH.get(t, 1.35) * d_w)), 3)
+    rolling = dict(elements=z, element_diameter_m=d_w,
+                   element_length_m=None if "ball" in t else d_w,
+                   pitch_diameter_m=d_m, contact_angle_deg=CONTACT_ANGLE_DEG[t])
+    declared = None if b is None else b.main_dynamic_rating_N
+    c, c0, source = _ratings(t, rolling, declared)
+    assumed = ["ball size"] + (["pitch diameter"] if b is None or
+                               b.main_pitch_diameter_m is None else [])
+    return Bearing(name="main_bearings", label="main bearings (angular contact ball pair)",
+                   bearing_type=t, count=env.main_count, bore_m=d_m - 2 * d_w,
+                   outer_m=d_m + 2 * d_w, width_m=2 * d_w, dynamic_rating_N=c,
+                   static_rating_N=c0, rating_source=source,
+                   speed_per_input=abs(drive.speeds()["output"]), assumed=tuple(assumed),
+                   **rolling)
+
+
+def reducer_bearings(si, drive) -> tuple:
+    """Every bearing group of a cycloid or RV reducer (module docstring).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.CycloidDrive
+
+    Returns
+    -------
+    tuple of Bearing
+
+    Raises
+    ------
+    CaseError
+        A bearing that does not fit where it sits, naming the keys that clash.
+    """
+    supports = drive.supports(si.supports)
+    two = drive.two_stage
+    w = drive.speeds()
+    env = envelope(si, drive)
+    out = [_needles(si, drive, supports, two)]
+    if two:
+        h = si.cycloid.holes
+        k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        # neighbouring cranks' bearings must not overlap, nor reach past the pins
+        room = min(2 * r_c * math.sin(math.pi / k) if k > 1 else math.inf,
+                   2 * (si.cycloid.geometry.pin_circle_radius_m
+                        - si.cycloid.geometry.pin_radius_m - r_c))
+        out.append(_sized(
+            "crank_support_bearings", "crank support bearings (tapered rollers in the "
+            "carrier)", "tapered", 2 * k, supports.crankshaft_diameter_m,
+            "supports.crankshaft_diameter_mm", abs(w["crank"] - w["output"]),
+            [f"supports.{n}" for n in supports.assumed if n.startswith("crankshaft")],
+            room=(room, f"the carrier ({room * 1e3:.4g} mm between the cranks at "
+                        f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * 1e3:.4g} "
+                        "and the pins)")))
+    out.append(main_pair(si, drive))
+    out.append(_sized("input_bearings", "input bearings (deep groove balls on the input "
+                      "shaft)", "ball", 2, env.input_seal_diameter_m,
+                      "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
+    return tuple(out)
+
+
+def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication: str,
+                    coefficient: float):
+    """Palmgren's friction moment of one bearing [N m]: M0 (viscous, f0 of the type and
+    lubrication) + mu P d_m / 2 (module docstring).
+
+    Parameters
+    ----------
+    bearing : Bearing
+    load_N : array_like
+        Equivalent load P on the bearing [N].
+    nu_m2_s : array_like
+        The oil's (grease's base oil's) kinematic viscosity [m^2/s].
+    speed_rad_s : array_like
+        Speed of the rotating ring relative to the other [rad/s].
+    lubrication : str
+        "grease", "oil_mist", "oil_bath" or "oil_jet".
+    coefficient : float
+        mu = 2 f1 [-] (``friction.bearing_coefficient``).
+
+    Returns
+    -------
+    numpy.ndarray
+        M [N m].
+    """
+    m0 = palmgren_no_load_moment(palmgren_f0(bearing.bearing_type, lubrication), nu_m2_s,
+                                 speed_rad_s, bearing.pitch_diameter_m)
+    return m0 + coefficient * np.abs(np.asarray(load_N, float)) * bearing.pitch_diameter_m / 2
+
+
+#: ASSUMPTION: each row's axial preload as a share of its static rating C0 (a light
+#: preload of makers' matched angular contact pairs is of the order of 1-2 % of C0).
+MAIN_PRELOAD_PER_C0 = 0.02
+#: Makers list a momentary maximum allowable moment twice the allowable moment (Nabtesco
+#: RV-E catalogue: RV-40E 3332 and 1666 N m); the momentary one is taken as the moment at
+#: which the most loaded ball reaches ISO 76's static limit.
+MOMENTARY_PER_ALLOWABLE = 2.0
+
+
+def main_tilt(si, drive) -> dict:
+    """The main bearing pair against a tilting moment, ball by ball
+    (:mod:`toothfem.fem.datasheet.tilt`): the moment at ISO 76's static limit (4200 MPa at
+    the most loaded ball; the catalogue's momentary maximum allowable moment), the
+    allowable moment (half of it, the catalogue's ratio :data:`MOMENTARY_PER_ALLOWABLE`),
+    and the moment rigidity (the secant M/theta at the allowable moment, the catalogue's
+    figure; the pair alone, its housing and carrier rigid).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    dict
+        ``momentary_moment_Nm``, ``allowable_moment_Nm``, ``moment_rigidity_Nm_per_arcmin``,
+        ``row_span_mm``, ``preload_N``, the pair's ``assumed`` values.
+    """
+    from ..fem.datasheet import tilt
+    b = main_pair(si, drive)
+    # bearings.main_span_mm is between the rows' load (pressure cone) centres, the pair's
+    # span between its ball planes: back to back, they differ by d_m tan(alpha)
+    cone = b.pitch_diameter_m * math.tan(math.radians(b.contact_angle_deg))
+    declared = None if si.bearings is None else si.bearings.main_span_m
+    span = (MAIN_ROW_SPACING_PER_BALL * b.element_diameter_m if declared is None
+            else declared - cone)
+    if span <= 0:
+        raise CaseError(f"bearings.main_span_mm = {declared * 1e3:.4g} is below the pair's "
+                        f"pressure-cone spread d_m tan(alpha) = {cone * 1e3:.4g} mm of a "
+                        "back-to-back pair: the rows would overlap")
+    pair = tilt.BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
+                         pitch_diameter_m=b.pitch_diameter_m,
+                         contact_angle_rad=math.radians(b.contact_angle_deg), row_span_m=span,
+                         preload_N=MAIN_PRELOAD_PER_C0 * b.static_rating_N,
+                         youngs_modulus_Pa=si.material.youngs_modulus_Pa,
+                         poisson_ratio=si.material.poisson_ratio)
+    momentary = tilt.moment_at_pressure(pair)
+    allowable = momentary / MOMENTARY_PER_ALLOWABLE
+    return {"momentary_moment_Nm": float(momentary), "allowable_moment_Nm": float(allowable),
+            "moment_rigidity_Nm_per_arcmin": float(
+                tilt.moment_rigidity_Nm_per_arcmin(pair, allowable)),
+            "row_span_mm": span * 1e3, "preload_N": pair.preload_N,
+            "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * 1e3,
+            "pitch_diameter_mm": b.pitch_diameter_m * 1e3,
+            "assumed": list(b.assumed) + ["preload", "row span"]}
