@@ -12,6 +12,10 @@ named in ``assumed``, every rule below an ASSUMPTION stated beside it):
 * ``main_bearings``: the output's angular contact ball pair at the pin circle (RV-E);
 * ``input_bearings``: deep groove ball bearings on the input shaft.
 
+The sine reducer (:func:`_sine_bearings`) has the eccentric bearing's rollers on the
+eccentric in the planet's bore, the main pair and the input bearings; its losses stay the
+sine paper's laws (:mod:`.drive_losses`), the set gives its bearings' life.
+
 A bearing without a declared rating has the ISO 281 / ISO 76 ratings of its rolling set
 (:mod:`.rating`), the set sized from the bearing's section (:func:`rolling_set`); a
 bearing that cannot fit where it sits is refused naming the keys that clash
@@ -304,23 +308,8 @@ def main_pair(si, drive) -> Bearing:
                    **rolling)
 
 
-def reducer_bearings(si, drive) -> tuple:
-    """Every bearing group of a cycloid or RV reducer (module docstring).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.CycloidDrive
-
-    Returns
-    -------
-    tuple of Bearing
-
-    Raises
-    ------
-    CaseError
-        A bearing that does not fit where it sits, naming the keys that clash.
-    """
+def _cycloid_bearings(si, drive) -> tuple:
+    """A cycloid or RV reducer's bearings (module docstring)."""
     supports = drive.supports(si.supports)
     two = drive.two_stage
     w = drive.speeds()
@@ -346,6 +335,77 @@ def reducer_bearings(si, drive) -> tuple:
                       "shaft)", "ball", 2, env.input_seal_diameter_m,
                       "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
     return tuple(out)
+
+
+def _sine_bearings(si, drive) -> tuple:
+    """The sine reducer's bearings: the system model's rollers on the eccentric (inner
+    raceway r_p, the output mechanism's ``eccentric_bearing_inner_radius``) in the
+    planet's bore, which must clear the output pins' holes and the teeth's roots; the
+    main pair; the input shaft's deep groove ball bearings on the shaft of
+    ``Drive.supports`` (2 (r_p - a0), the eccentric's shaft)."""
+    supports = drive.supports(si.supports)
+    om, pair = si.output_mechanism, drive.pair
+    w = drive.speeds()
+    r_p = om.eccentric_bearing_inner_radius_m
+    d_w = supports.bearing_roller_diameter_m
+    bore_out = 2 * (r_p + d_w)                       # the planet's bore
+    hole = om.hole_radius_m or (om.pin_radius_m + pair.centre_distance_m)
+    room = 2 * min(om.pin_hole_circle_radius_m - hole,
+                   pair.planet_pitch_radius_m - pair.tooth_height_m)
+    if bore_out > room * (1 + 1e-9):
+        raise CaseError(
+            f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g} with "
+            f"rollers of supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g} needs a "
+            f"{bore_out * 1e3:.4g} mm bore in the planet, which does not clear the output "
+            f"pins' holes (output_mechanism.pin_hole_circle_radius_mm = "
+            f"{om.pin_hole_circle_radius_m * 1e3:.4g}) or the teeth ({room * 1e3:.4g} mm)")
+    rolling = dict(elements=supports.bearing_roller_count, element_diameter_m=d_w,
+                   element_length_m=supports.bearing_roller_length_m,
+                   pitch_diameter_m=2 * r_p + d_w, contact_angle_deg=0.0)
+    c, c0, source = _ratings("needle", rolling, None)
+    b = si.bearings
+    declared_C = None if b is None else b.eccentric_dynamic_rating_N
+    if declared_C is not None:
+        check_rating(declared_C, c, "bearings.eccentric_dynamic_rating_kN",
+                     f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g}")
+        c, source = declared_C, "case"
+    ecc = Bearing(name="eccentric_bearing",
+                  label="eccentric bearing (rollers on the eccentric in the planet's bore)",
+                  bearing_type="needle", count=1, bore_m=2 * r_p, outer_m=bore_out,
+                  width_m=supports.bearing_roller_length_m, dynamic_rating_N=c,
+                  static_rating_N=c0, rating_source=source,
+                  speed_per_input=abs(w["crank"] - w["member"]),
+                  assumed=tuple(f"supports.{n}" for n in supports.assumed
+                                if n.startswith("bearing_roller")), **rolling)
+    return (ecc, main_pair(si, drive),
+            _sized("input_bearings", "input bearings (deep groove balls on the input shaft)",
+                   "ball", 2, supports.crankshaft_diameter_m,
+                   "output_mechanism.eccentric_bearing_inner_radius_mm", 1.0,
+                   ["input shaft diameter"]))
+
+
+#: The bearing set of each drive kind (toothfem.fem.drives.Drive.kind).
+BEARING_SETS = {"cycloid": _cycloid_bearings, "sine": _sine_bearings}
+
+
+def reducer_bearings(si, drive) -> tuple:
+    """Every bearing group of a reducer (module docstring; :data:`BEARING_SETS`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    tuple of Bearing
+
+    Raises
+    ------
+    CaseError
+        A bearing that does not fit where it sits, naming the keys that clash.
+    """
+    return BEARING_SETS[drive.kind](si, drive)
 
 
 def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication: str,

@@ -266,43 +266,6 @@ def mean_equivalent_load(loads_N, speeds_rpm, shares, exponent) -> float:
     return float((np.sum(p_i ** exponent * w) / np.sum(w)) ** (1.0 / exponent))
 
 
-def set_life(single_life, count, bearing_type):
-    """Life of ``count`` equally loaded bearings, the first failure ending the set:
-    L z^(-1/e) (Lundberg & Palmgren; e = :data:`WEIBULL_SLOPE`).
-
-    Parameters
-    ----------
-    single_life : float
-        L10 life of one bearing [h] (any unit: the result has it).
-    count : int
-        z, bearings in the set.
-    bearing_type : str
-        A key of :data:`WEIBULL_SLOPE` ("ball", "angular_ball", "cylindrical", "tapered",
-        "needle").
-
-    Returns
-    -------
-    float
-        L10 life of the set, the unit of ``single_life``.
-    """
-    return single_life * float(count) ** (-1.0 / WEIBULL_SLOPE[bearing_type])
-
-
-@dataclass(frozen=True, kw_only=True)
-class Life:
-    """Rating life of one bearing group over a duty cycle."""
-    name: str
-    bearing_type: str
-    count: int
-    rating_N: float | None
-    exponent: float
-    equivalent_load_N: float          # P_m over the duty cycle
-    max_load_N: float
-    mean_speed_rpm: float
-    l10_h: float | None               # one bearing (None: no rating declared)
-    l10_set_h: float | None           # the group of ``count``
-
-
 def _duty(si):
     """(output torque [N m], input speed [rad/s], share) rows: the duty cycle, else the
     operating point."""
@@ -313,81 +276,6 @@ def _duty(si):
         raise CaseError("[operating] needs an output torque (or input torque or power) or a "
                         "[[duty_cycle]] for the bearing life")
     return [(t, si.operating.input_speed_rad_s, 1.0)]
-
-
-@dataclass(frozen=True, kw_only=True)
-class LifeResult:
-    """Life of the eccentric and main bearings over a duty cycle, with the loads of every
-    row (``rows``: (output torque [N m], input speed [rpm], share))."""
-    eccentric: Life
-    main: Life
-    loads: dict                       # {"eccentric"|"main": [BearingLoads per row]}
-    rows: tuple
-
-
-def bearing_life(case, *, loads="analytic", n_positions=36, duty=None) -> LifeResult:
-    """Loads and ISO 281 life of the eccentric and main bearings over a duty cycle.
-
-    Parameters
-    ----------
-    case : toothfem.case.Case or toothfem.si.CaseSI
-        The ratings come from ``[bearings]``; without one a group's life is None.
-    loads : {"analytic", "fem"}
-        Contact forces of the meshing table.
-    n_positions : int
-        Positions over the meshing period.
-    duty : sequence of (torque [N m], input speed [rpm], share), optional
-        Default: the case's ``[[duty_cycle]]``, else its operating point.
-
-    Returns
-    -------
-    LifeResult
-
-    Raises
-    ------
-    CaseError
-        If the duty cycle's time shares do not sum to 1, or no output torque is declared.
-    """
-    si = case.to_si()
-    drive = drive_for(si)
-    rows = (_duty(si) if duty is None else
-            [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])
-    if duty is not None:
-        total = sum(q for *_, q in rows)
-        check_range("duty time share sum", total, 1 - 1e-3, 1 + 1e-3, error=CaseError)
-    ref = None
-    if loads == "fem":
-        declared = si.declared_output_torque_Nm() or max(t for t, *_ in rows)
-        ref = drive.member_torque(declared, peak=True)
-    table = mesh_table(drive, loads, n_positions, ref)
-    w = drive.speeds()
-    rel = {"eccentric": abs(w["crank"] - w["member"]), "main": abs(w["output"])}
-    ratings = {"eccentric": si.bearings.eccentric_dynamic_rating_N,
-               "main": si.bearings.main_dynamic_rating_N}
-    per_row = {"eccentric": [], "main": []}
-    for t, n_in, _ in rows:
-        per_row["eccentric"].append(eccentric_loads(si, drive, table, t))
-        per_row["main"].append(main_loads(si, drive, table, t))
-    out = {}
-    for name, group in per_row.items():
-        first = group[0]
-        p = LIFE_EXPONENT[first.bearing_type]
-        speeds = [n_in * rel[name] * 60 / (2 * math.pi) for _, n_in, _ in rows]
-        shares = [q for *_, q in rows]
-        p_m = mean_equivalent_load([g.equivalent_N for g in group], speeds, shares, p)
-        n_m = float(np.dot(speeds, shares))
-        rating = ratings[name]
-        l10 = None
-        if rating is not None:
-            l10 = float(rating_life_revolutions(rating, p_m, p)) / (60.0 * n_m)
-        out[name] = Life(name=name, bearing_type=first.bearing_type, count=first.count,
-                         rating_N=rating, exponent=p, equivalent_load_N=p_m,
-                         max_load_N=max(g.max_N for g in group), mean_speed_rpm=n_m,
-                         l10_h=l10,
-                         l10_set_h=None if l10 is None else set_life(l10, first.count,
-                                                                     first.bearing_type))
-    return LifeResult(eccentric=out["eccentric"], main=out["main"], loads=per_row,
-                      rows=tuple((t, n * 60 / (2 * math.pi), q) for t, n, q in rows))
 
 
 def maker_rated_life_h(rated_life_h, rated_torque_Nm, rated_output_speed_rpm, rows) -> float:
@@ -485,7 +373,7 @@ def _group_of(name: str) -> str:
 
 
 def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
-    """ISO 281 life of every bearing of a cycloid or RV reducer over a duty cycle, the
+    """ISO 281 life of every bearing of a reducer over a duty cycle, the
     loads from the system model over the full period (the main bearings' from the
     external loads on the output, :func:`main_loads`; the planar model has no tilt).
 
@@ -510,17 +398,17 @@ def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
     Raises
     ------
     CaseError
-        For a drive without a system model of its bearings (the sine pair: its eccentric
-        and main bearings are in :func:`bearing_life`), or a bearing that does not fit.
+        A bearing that does not fit, or a drive without a system model (a sine pair
+        without an output mechanism).
     """
     from .bearing_set import reducer_bearings
     si = case.to_si()
     drive = drive_for(si)
-    if drive.kind != "cycloid":
-        raise CaseError(f"the bearing set of a {drive.kind!r} drive is not modelled: its "
-                        "eccentric and main bearings' life is bearing_life's")
     rows = (_duty(si) if duty is None else
             [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])
+    if duty is not None:
+        total = sum(q for *_, q in rows)
+        check_range("duty time share sum", total, 1 - 1e-3, 1 + 1e-3, error=CaseError)
     bearings = {b.name: b for b in reducer_bearings(si, drive)}
     per_bearing = {}                          # name -> [P per row]
     table = mesh_table(drive, "analytic", 36, None)

@@ -158,3 +158,29 @@ def test_commands_on_the_rv40e_case(rv, cases_dir, tmp_path):
     said = json.loads(out.getvalue())
     text = json.dumps(said)
     assert "case (oil) temperature" in text and "60" in text and "Nabtesco" in text
+
+
+def test_sine_bearings_and_their_life(cases_dir):
+    """The sine reducer: the system model's rollers on the eccentric (r_p = 10 mm) in the
+    planet's bore, the main pair, the input bearings; every bearing's life from the system
+    model, the first failure named; a bore that would cut into the output pins' holes is
+    refused naming both keys."""
+    from toothfem.efficiency.bearings import reducer_life
+
+    sine = load_case(cases_dir / "sine_prototype.toml")
+    si = sine.to_si()
+    ecc, main, inp = reducer_bearings(si, drive_for(si))
+    assert (ecc.name, main.name, inp.name) == ("eccentric_bearing", "main_bearings",
+                                               "input_bearings")
+    assert ecc.bore_m == pytest.approx(0.020)
+    life = reducer_life(sine)
+    g = {x.name: x for x in life.groups}
+    assert set(g) == {"eccentric_bearing", "main_bearings", "input_bearings"}
+    assert life.l10_h < min(x.l10_set_h for x in life.groups)
+    assert life.limiting == min(g, key=lambda n: g[n].l10_set_h)
+    # the eccentric bearing carries the planet's load (the analytic model's 2.5 kN at 31.6 N m)
+    assert 2.0e3 < g["eccentric_bearing"].equivalent_load_N < 3.0e3
+    big = _parsed(sine, "output_mechanism", eccentric_bearing_inner_radius_mm=19.0)
+    with pytest.raises(CaseError, match=r"output_mechanism.eccentric_bearing_inner_radius_mm = "
+                                        r"19 .*output_mechanism.pin_hole_circle_radius_mm"):
+        reducer_bearings(big.to_si(), drive_for(big))

@@ -51,7 +51,10 @@ def test_rating_life_and_duty_cycle_mean():
         4.5e9 ** (1 / 3))
     assert br.mean_equivalent_load([1e3, 2e3], [100, 300], [0.5, 0.5], 3) == pytest.approx(
         6.25e9 ** (1 / 3))
-    assert br.set_life(1000.0, 4, "needle") == pytest.approx(1000 * 4 ** (-8 / 9))
+    assert br.first_failure([1000.0] * 4, br.WEIBULL_SLOPE["needle"]) == pytest.approx(
+        1000 * 4 ** (-8 / 9))
+    assert br.first_failure([1000.0, math.inf], 9 / 8) == pytest.approx(1000.0)
+    assert br.first_failure([math.inf], 9 / 8) == math.inf
     assert 4 ** (-8 / 9) == pytest.approx(0.2916, abs=1e-4)
 
 
@@ -168,7 +171,7 @@ def test_bad_bearing_and_duty_input(cases):
                                         r"valid range \[0.999, 1.001\]"):
         parse_case(d)
     with pytest.raises(CaseError, match="duty time share sum = 0.5"):
-        br.bearing_life(cases["rv40e"], duty=[(412.0, 1815.0, 0.5)])
+        br.reducer_life(cases["rv40e"], duty=[(412.0, 1815.0, 0.5)])
 
 
 # ---------------------------------------------------------------------------------------

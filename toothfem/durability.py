@@ -11,6 +11,7 @@ from . import limits
 from .efficiency import bearings as br
 from .efficiency import strength as st
 from .efficiency import thermal as th
+from .efficiency.bearing_set import main_tilt
 from .efficiency.mesh_table import mesh_table
 from .efficiency.evaluation import operating_point
 from .fem.drives import drive_for
@@ -70,28 +71,17 @@ def _group(g) -> dict:
             "l10_set_h": finite(g.l10_set_h)}
 
 
-def _life(life: br.Life, label) -> dict:
-    return {"label": label, "bearing_type": life.bearing_type, "count": life.count,
-            "dynamic_rating_N": _f(life.rating_N),
-            "rating_source": "case" if life.rating_N is not None else None,
-            "equivalent_load_N": life.equivalent_load_N, "max_load_N": life.max_load_N,
-            "mean_speed_rpm": life.mean_speed_rpm, "l10_h": _f(life.l10_h),
-            "l10_set_h": _f(life.l10_set_h)}
-
-
-def life_summary(case, *, loads="analytic", progress=None) -> dict:
+def life_summary(case, *, progress=None) -> dict:
     """ISO 281 life of every bearing over the case's duty cycle (else its operating
-    point): a cycloid or RV reducer's from the system model's loads
-    (:func:`~toothfem.efficiency.bearings.reducer_life`, whatever ``loads``), the sine
-    reducer's eccentric and main bearings from the meshing table's; with the maker's
-    rated life scaled to the duty where ``[published]`` gives one (``rated_life_h``,
+    point), from the system model's loads
+    (:func:`~toothfem.efficiency.bearings.reducer_life`), the main pair's tilting figures
+    (:func:`~toothfem.efficiency.bearing_set.main_tilt`), and the maker's rated life
+    scaled to the duty where ``[published]`` gives one (``rated_life_h``,
     ``rated_torque_Nm``, ``rated_output_speed_rpm``).
 
     Parameters
     ----------
     case : toothfem.case.Case
-    loads : {"analytic", "fem"}
-        The sine reducer's meshing table.
     progress : callable, optional
         Wraps the system model's sampled pitches.
 
@@ -102,25 +92,14 @@ def life_summary(case, *, loads="analytic", progress=None) -> dict:
         first bearing failure and the group that sets it.
     """
     drive = drive_for(case)
-    if drive.kind == "cycloid":
-        res = br.reducer_life(case, progress=progress)
-        groups = {g.name: _group(g) for g in res.groups}
-        unit, limiting, source, rows = res.l10_h, res.limiting, res.source, res.rows
-    else:
-        res = br.bearing_life(case, loads=loads)
-        groups = {"eccentric_bearing": _life(res.eccentric, "eccentric bearing"),
-                  "main_bearings": _life(res.main, "main bearings")}
-        lives = [g["l10_set_h"] for g in groups.values() if g["l10_set_h"] is not None]
-        unit = br.first_failure(lives, br.WEIBULL_SLOPE["ball"]) if lives else None
-        limiting = (None if not lives else
-                    min((g for g in groups if groups[g]["l10_set_h"] is not None),
-                        key=lambda g: groups[g]["l10_set_h"]))
-        source, rows = f"{loads} meshing table", res.rows
+    res = br.reducer_life(case, progress=progress)
+    groups = {g.name: _group(g) for g in res.groups}
+    unit, limiting, rows = res.l10_h, res.limiting, res.rows
     ratio = abs(case.ratio())
     out = {"duty_cycle": [{"output_torque_Nm": t, "input_speed_rpm": n, "time_share": q}
                           for t, n, q in rows],
            "bearings": groups, "unit_l10_h": finite(unit), "limiting": limiting,
-           "loads": source}
+           "loads": res.source}
     pub = case.published
     if all(k in pub for k in MAKER_KEYS):
         rows = [(t, n / ratio, q) for t, n, q in rows]
@@ -131,17 +110,13 @@ def life_summary(case, *, loads="analytic", progress=None) -> dict:
             "life_at_duty_h": br.maker_rated_life_h(pub["rated_life_h"],
                                                     pub["rated_torque_Nm"],
                                                     pub["rated_output_speed_rpm"], rows)}
-    found = []
-    if drive.kind == "cycloid":
-        from .efficiency.bearing_set import main_tilt
-        si = case.to_si()
-        out["main_bearing_tilt"] = tilt = main_tilt(si, drive)
-        moment = 0.0 if si.bearings is None else si.bearings.external_moment_Nm
-        found.append(limits.above(
-            "external tilting moment on the main bearings", moment,
-            tilt["allowable_moment_Nm"], "N m",
-            "the main bearing pair's allowable moment: half the moment at ISO 76's static "
-            "limit, 4200 MPa (efficiency/bearing_set.py)"))
+    si = case.to_si()
+    out["main_bearing_tilt"] = tilt = main_tilt(si, drive)
+    moment = 0.0 if si.bearings is None else si.bearings.external_moment_Nm
+    found = [limits.above(
+        "external tilting moment on the main bearings", moment, tilt["allowable_moment_Nm"],
+        "N m", "the main bearing pair's allowable moment: half the moment at ISO 76's "
+        "static limit, 4200 MPa (efficiency/bearing_set.py)")]
     if "maker" in out and unit is not None:
         found.append(limits.below(
             f"L10 of the reducer's bearings (limiting: {limiting})", unit,

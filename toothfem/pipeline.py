@@ -463,7 +463,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         # from the FE loads where the FE has run (the strength from its contact result)
         loads = "fem" if fem else "analytic"
         dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
-               "life": durability.life_summary(case, loads=loads),
+               "life": durability.life_summary(case),
                "strength": durability.strength_summary(case, contact=contact)}
         (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
         rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,

@@ -33,12 +33,13 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
             "| bearings | type | count | C [N] | C from | P_m [N] | P_max [N] | n [rpm] |"
             " L10 most loaded [h] | L10 group [h] |", "|---|---|---|---|---|---|---|---|---|---|"]
     for b in life["bearings"].values():
+        endless = "not rated" if b["dynamic_rating_N"] is None else "∞ (no load)"
         out.append(f"| {b['label']} | {b['bearing_type']} | {b['count']} | "
-                   f"{_num(b['dynamic_rating_N'], '.4g', 'not given')} | "
+                   f"{_num(b['dynamic_rating_N'], '.0f', 'not given')} | "
                    f"{b['rating_source'] or '–'} | "
                    f"{b['equivalent_load_N']:.4g} | {b['max_load_N']:.4g} | "
-                   f"{b['mean_speed_rpm']:.4g} | {_num(b['l10_h'], '.4g', '∞ or not rated')} | "
-                   f"{_num(b['l10_set_h'], '.4g', '∞ or not rated')} |")
+                   f"{b['mean_speed_rpm']:.4g} | {_num(b['l10_h'], '.4g', endless)} | "
+                   f"{_num(b['l10_set_h'], '.4g', endless)} |")
     out += ["", f"The reducer's bearings together (the first failure): L10 "
                 f"**{_num(life['unit_l10_h'], '.4g', '∞ or not rated')} h**, limited by "
                 f"{life['limiting'] or '–'}.", ""]
