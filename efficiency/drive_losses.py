@@ -503,5 +503,59 @@ def bearing_component(drive) -> str:
     return "crank_bearings" if drive.two_stage else "eccentric_bearing"
 
 
+#: The law and source of each loss component (docs/efficiency.md); a drive kind's own
+#: reading of a component in :data:`KIND_LOSS_SOURCES`.
+LOSS_SOURCES = {
+    "mesh": "sliding friction of every loaded contact over the meshing period: EHL (Xu 2007) "
+            "and asperity (boundary coefficient) shares of mixed lubrication",
+    "pin_contacts": "pin-disc contacts: EHL (Xu 2007) and asperity shares of mixed "
+                    "lubrication, the pin turning in its groove where that slides more "
+                    "easily; the 2K-V train by Chen & Angeles' virtual power",
+    "first_stage": "spur stage: Ohlendorf's loss factor with Schlenk's mean friction "
+                   "(ISO/TR 14179-2), or the declared mesh efficiency",
+    "crank_bearings": "Palmgren M0 + mu P d_m/2 of each needle bearing at its load "
+                      "(Harris & Kotzalas 2007)",
+    "crank_support_bearings": "Palmgren M0 + mu P d_m/2 of each tapered roller bearing, load "
+                              "sum T/R_c (Harris & Kotzalas 2007)",
+    "main_bearings": "Palmgren M0 + mu P d_m/2 of the angular contact rows at the external "
+                     "loads (Harris & Kotzalas 2007)",
+    "input_bearings": "Palmgren M0 + mu P d_m/2 of the input shaft's ball bearings "
+                      "(Harris & Kotzalas 2007)",
+    "eccentric_bearing": "Palmgren M0 + mu P d_m/2 of the eccentric's rollers at the "
+                         "member's equilibrium load (Harris & Kotzalas 2007)",
+    "output_mechanism": "pins sliding in the member's holes, mu sum Q 2 a0 w (Lu & Xu 2024, "
+                        "Eqs. 37-39)",
+    "plain_bearings": "the output pins' plain bearings, M_f w (Lu & Xu 2024, Eq. 34)",
+    "churning": "oil-bath no-load loss, Lu & Xu 2024 Eq. 42 (after Xu & Yang 1998): "
+                "validated by its source on the sine stage only",
+    "bearing_drag": "Palmgren's viscous moment M0 of the eccentric and main bearings "
+                    "(f0 by type and lubrication, Harris & Kotzalas 2007)",
+    "seals": "radial lip seals, ISO/TR 14179-1: 7.69e-6 D^2 n W",
+    "drag": "declared drag torque on the input (friction.drag_torque_Nmm)",
+    "sun_planet_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
+    "cycloid_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
+}
+KIND_LOSS_SOURCES = {"sine": {"eccentric_bearing": "f r_p F_R1 w_rel, F_R1 from the planet's "
+                                                   "equilibrium (Lu & Xu 2024, Eqs. 26-32)"}}
+
+
+def loss_sources(drive, names) -> dict:
+    """The law and source of each named loss component of a drive.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    names : iterable of str
+        Loss components (the keys of ``DriveLosses.losses_W``).
+
+    Returns
+    -------
+    dict
+        name -> source.
+    """
+    own = KIND_LOSS_SOURCES.get(drive.kind, {})
+    return {n: own.get(n, LOSS_SOURCES.get(n, "")) for n in names}
+
+
 #: The loss model of each drive kind (toothfem.fem.drives.Drive.kind).
 LOSS_MODELS = {"cycloid": cycloid_losses, "sine": sine_losses}

@@ -7,13 +7,13 @@ ISO 281:2007, "Rolling bearings - Dynamic load ratings and rating life", clause 
   rating life (efficiency/bearings.py);
 * a1, the life modification factor for reliability, ISO 281:2007 Table 12
   (:func:`reliability_factor`): 1 at 90 %, 0.64 at 95 %, 0.55 at 96 %, 0.47 at 97 %,
-  0.37 at 98 %, 0.25 at 99 %. Computed here from the Weibull expression behind the table
-  (ISO/TR 1281-2), a1 = 0.95 [ln(1/R) / ln(1/0.9)]^(2/3) + 0.05 (Weibull slope 1.5 and a
-  failure-free life of 0.05 L10), which gives every one of those printed values to its
-  printed digit (tests). The values were read from public code quoting the 2007 table
-  (a JavaScript bearing calculator and a Python ISO 281 data module in the search
-  index); ISO 281:1990 (and SKF catalogues of that era: 0.62, 0.53, 0.44, 0.33, 0.21) had
-  the same expression without the 0.05 floor, [ln(1/R)/ln(1/0.9)]^(2/3).
+  0.37 at 98 %, 0.25 at 99 % (as quoted by public code: a JavaScript bearing calculator
+  and a Python ISO 281 data module in the search index). Computed here from the Weibull
+  expression a1 = 0.95 [ln(1/R) / ln(1/0.9)]^(2/3) + 0.05 (Weibull slope 1.5, a
+  failure-free life of 0.05 L10; the derivation ISO/TR 1281-2 is said to give, not read
+  here), which gives every one of those printed values to its printed digit (tests). The
+  same expression without the 0.05 floor, [ln(1/R)/ln(1/0.9)]^(2/3), gives the older
+  values 0.62, 0.53, 0.44, 0.33, 0.21 that SKF catalogues still print (tests).
 * a_ISO, the life modification factor for the systems approach (clause 9.3; equations as
   numbered in a public implementation of the standard: (31)-(33) ball, (34)-(36) roller),
   for radial bearings (:func:`a_iso`), with x = e_C C_u / P:
@@ -29,20 +29,33 @@ ISO 281:2007, "Rolling bearings - Dynamic load ratings and rating life", clause 
   kappa > 4 is taken as 4 (the standard, and SKF: "if kappa > 4, use curve for
   kappa = 4"); below 0.1 the method does not apply: the value at 0.1 is returned and a
   :class:`LifeModificationWarning` issued. a_ISO is capped at 50 (:data:`A_ISO_MAX`); a
-  bracket <= 0 (the series' pole) is that cap too. Sources of the constants: three
-  unrelated public implementations in the search index agree on all of them, except one
-  that writes 0.019087 for the ball exponent of the middle band; 0.19087 is right, since
-  only it makes the ball pieces meet at kappa = 0.4 (the pieces' terms then differ by
-  7e-5 of 0.186, ball, and 7e-7 of 0.115, roller; at kappa = 1 they are the same
-  expression). At kappa = 0.1 the bracket's kappa term is ~0 (7.5e-5 ball, -5.9e-5
-  roller), so a_ISO = 0.1 there at any load, the floor SKF states for its diagrams
-  ("as eta_c Pu/P tends to zero, a_SKF tends to 0.1 for all values of kappa").
+  bracket <= 0 (the series' pole) is that cap too. Sources of the constants (public code
+  in the search index; the standard's text was not available):
+
+  - ball: all constants in three unrelated implementations (a Rust ISO 281/16281 solver
+    that numbers the equations, two Python bearing modules), except the middle-band
+    exponent q, 0.19087 in the first and 0.019087 in both others. 0.19087 is used: the
+    roller middle band has 0.19087 in every source (one of those two Python modules
+    included), and only 0.19087 makes the ball pieces meet at kappa = 0.4 (with 0.019087
+    the kappa term would jump from 0.186 to 0.533 there, a_ISO at e_C C_u/P = 0.1 from
+    0.31 to 2.0);
+  - roller: all constants in two Python implementations (a wind-turbine bearing script, a
+    Python ISO 281 data module); the first applies the kappa term with exponent 1, the
+    second raises it to 0.4 as well. Exponent 1 is used (the form as recalled from the
+    standard); no third source was found to decide it.
+
+  With these constants the pieces meet: at kappa = 0.4 the kappa terms of the two bands
+  differ by 7.1e-5 of 0.186 (ball) and 7.5e-7 of 0.115 (roller), a_ISO by at most 0.28 %
+  (ball) and 2.4e-5 (roller) below the cap; at kappa = 1 the two bands are the same
+  expression (no step). At kappa = 0.1 the kappa term is ~0 (7.5e-5 ball,
+  -5.9e-5 roller), so a_ISO = 0.1 there at any load, the floor SKF states for its
+  diagrams ("as eta_c Pu/P tends to zero, a_SKF tends to 0.1 for all values of kappa").
 * the viscosity ratio kappa = nu / nu1 (:func:`viscosity_ratio`) with the rated viscosity
   nu1 = 45 000 n^-0.83 D_pw^-0.5 mm^2/s for n < 1 000 r/min and
   nu1 = 4 500 n^-0.5 D_pw^-0.5 for n >= 1 000 r/min (D_pw in mm), the closed form of the
   standard's nu1 diagram, as three public implementations give it. The two branches do
   not meet: at 1 000 r/min the first gives 2.3 % more than the second. Note that SKF's
-  catalogue diagram and its online calculator give nu1 about 16-17 % below this formula
+  catalogue diagram and its online calculator give nu1 15-17 % below this formula
   (8.15 mm^2/s at 3 000 r/min, d_m = 72.5 mm, against 9.65; 10.4 at 1 800 r/min against
   12.5); the ISO formula is used here.
 * the contamination factor e_C, ISO 281:2007 Table 13, guide values by contamination
@@ -51,14 +64,14 @@ ISO 281:2007, "Rolling bearings - Dynamic load ratings and rating life", clause 
   The table gives ranges; :func:`contamination_factor` returns the middle of the range
   unless asked for an end. The standard's Annex A formulae (e_C from kappa, D_pw and the
   ISO 4406 oil cleanliness code or the grease cleanliness class) are not implemented: only
-  one public source for their constants was found (an SKF catalogue, whose constants for
-  unfiltered oil also differ from other recollections), so they could not be verified.
+  one public source for their constants was found (an SKF catalogue quoting ISO 281), so
+  they could not be verified.
 * the fatigue load limit C_u estimated from the static rating, ISO 281:2007 Annex B,
   simplified method (:func:`fatigue_load_limit_N`): ball bearings C_u = C_0 / 22 for
   D_pw <= 100 mm, C_0 / 22 (100 / D_pw)^0.5 above; roller bearings C_u = C_0 / 8.2, and
   C_0 / 8.2 (100 / D_pw)^0.3 above (equations (B.18)-(B.20) as a public implementation
   numbers them). The ball rule and the roller divisor 8.2 are in two public sources; the
-  roller size exponent 0.3 in none found (it is as the brief and recollection give it).
+  roller size exponent 0.3 in none found (as recalled; not confirmed).
   Annex B says its detailed method (from the internal geometry and the 1 500 MPa contact
   stress) takes precedence over this estimate. Check against a maker's value: SKF 6309,
   C_0 = 31.5 kN, d_m = 72.5 mm, catalogue P_u = 1.34 kN; C_0/22 = 1.43 kN (+7 %).

@@ -19,6 +19,7 @@ from . import durability, limits
 from .case import Case, load_case
 from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_stiffness
 from .efficiency import evaluate, operating_point
+from .efficiency.drive_losses import loss_sources
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.system.datasheet import SystemTwist
@@ -315,6 +316,7 @@ def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
         "input_power_W": float(e.input_power_W[0]),
         "output_power_W": float(e.output_power_W[0]),
         "losses": {k: float(v[0]) for k, v in e.losses_W.items()},
+        "loss_sources": loss_sources(drive_for(case), e.losses_W),
         "loss_shares": {k: float(v[0]) for k, v in shares.items()},
         "mesh_efficiency": {k: float(v[0]) for k, v in e.mesh_efficiency.items()},
         "notes": list(e.notes),
@@ -451,6 +453,9 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         report += ["## Efficiency", "", f"Operating point: {point}.", "",
                    *report_summary.markdown(report_summary.efficiency_rows(
                        results, case.published))]
+        sources = {k: v for r in results.values() for k, v in r["loss_sources"].items()}
+        report += ["", "Each loss and its law:", ""]
+        report += [f"- {name}: {law}" for name, law in sources.items()]
         for src, r in results.items():
             for note in r["notes"]:
                 report.append(f"\n- {src}: {note}")

@@ -121,6 +121,8 @@ def _run(args) -> int:
         for row in heat.get("warm_up", [])[::10]:
             print(f"  warm-up {row['time_h']:6.2f} h: oil {row['oil_temp_C']:6.1f} C, "
                   f"efficiency {100 * row['efficiency']:.2f} %")
+    for name, source in out["loss_sources"].items():
+        print(f"source: {name}: {source}")
     for note in out["notes"]:
         print(f"note: {note}")
     said = set()
