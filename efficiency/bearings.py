@@ -174,11 +174,14 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     rows = env.main_count
     radial = _turning(np.linalg.norm(vec, axis=1) / rows,
                       np.full(len(vec), b.external_radial_load_N / rows))
-    if b.external_moment_Nm > 0:
+    moment = b.tilting_moment_Nm
+    if moment > 0:
         if b.main_span_m is None:
-            raise CaseError(f"bearings.external_moment_Nm = {b.external_moment_Nm!r} needs "
-                            "bearings.main_span_mm (the rows' load centres)")
-        radial = radial + b.external_moment_Nm / b.main_span_m
+            raise CaseError(f"bearings.external_moment_Nm = {b.external_moment_Nm!r} with the "
+                            "offsets' moment, "
+                            f"{moment:.6g} N m in all, needs bearings.main_span_mm (the rows' "
+                            "load centres)")
+        radial = radial + moment / b.main_span_m
     axial = b.external_axial_load_N
     if axial > 0:
         if b.main_type != "angular_ball":

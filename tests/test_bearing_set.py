@@ -184,3 +184,27 @@ def test_sine_bearings_and_their_life(cases_dir):
     with pytest.raises(CaseError, match=r"output_mechanism.eccentric_bearing_inner_radius_mm = "
                                         r"19 .*output_mechanism.pin_hole_circle_radius_mm"):
         reducer_bearings(big.to_si(), drive_for(big))
+
+
+def test_an_offset_load_tilts_the_main_bearings(rv):
+    """The catalogue's tilting moment M = W1 l + W2 l3 (radial load at its offset, axial
+    load at its radius): 2000 N at 100 mm and 1000 N at 50 mm is 250 N m, over the rows'
+    0.1 m span 2500 N on a row beside the radial share of 1000 N (exact), and the same
+    moment declared directly gives the same row load."""
+    from toothfem.efficiency.bearings import main_loads
+    from toothfem.efficiency.mesh_table import mesh_table
+
+    drive = drive_for(rv)
+    table = mesh_table(drive)
+    offset = R(rv, bearings=R(rv.bearings, external_radial_load_N=2000.0,
+                              external_radial_offset_mm=100.0, external_axial_load_N=1000.0,
+                              external_axial_radius_mm=50.0, main_span_mm=100.0))
+    si = offset.to_si()
+    assert si.bearings.tilting_moment_Nm == pytest.approx(250.0, rel=1e-12)
+    direct = R(rv, bearings=R(rv.bearings, external_radial_load_N=2000.0,
+                              external_moment_Nm=250.0, external_axial_load_N=1000.0,
+                              main_span_mm=100.0))
+    a = main_loads(si, drive, table, 412.0)
+    b = main_loads(direct.to_si(), drive, table, 412.0)
+    assert a.max_N == pytest.approx(b.max_N, rel=1e-12)
+    assert a.max_N == pytest.approx(1000.0 + 2500.0, rel=1e-9)   # F_a/F_r < e: P = F_r

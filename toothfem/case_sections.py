@@ -474,7 +474,15 @@ class Bearings(_Section):
                                     doc="distance between the load centres of the two rows")
     external_radial_load_N: float = _f(0.0, None, default=0.0)
     external_axial_load_N: float = _f(0.0, None, default=0.0)
-    external_moment_Nm: float = _f(0.0, None, default=0.0)
+    external_moment_Nm: float = _f(0.0, None, default=0.0,
+                                   doc="tilting moment on the output besides the one the "
+                                       "offsets below give")
+    external_radial_offset_mm: float = _f(0.0, None, default=0.0,
+                                          doc="axial distance from the main pair's centre to "
+                                              "the radial load's line (its moment arm)")
+    external_axial_radius_mm: float = _f(0.0, None, default=0.0,
+                                         doc="distance from the axis to the axial load's line "
+                                             "(its moment arm)")
 
 
 @dataclass(frozen=True)

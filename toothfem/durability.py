@@ -112,7 +112,7 @@ def life_summary(case, *, progress=None) -> dict:
                                                     pub["rated_output_speed_rpm"], rows)}
     si = case.to_si()
     out["main_bearing_tilt"] = tilt = main_tilt(si, drive)
-    moment = 0.0 if si.bearings is None else si.bearings.external_moment_Nm
+    moment = 0.0 if si.bearings is None else si.bearings.tilting_moment_Nm
     found = [limits.above(
         "external tilting moment on the main bearings", moment, tilt["allowable_moment_Nm"],
         "N m", "the main bearing pair's allowable moment: half the moment at ISO 76's "

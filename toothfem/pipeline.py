@@ -453,9 +453,9 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         report += ["## Efficiency", "", f"Operating point: {point}.", "",
                    *report_summary.markdown(report_summary.efficiency_rows(
                        results, case.published))]
-        sources = {k: v for r in results.values() for k, v in r["loss_sources"].items()}
+        laws = {k: v for r in results.values() for k, v in r["loss_sources"].items()}
         report += ["", "Each loss and its law:", ""]
-        report += [f"- {name}: {law}" for name, law in sources.items()]
+        report += [f"- {name}: {law}" for name, law in laws.items()]
         for src, r in results.items():
             for note in r["notes"]:
                 report.append(f"\n- {src}: {note}")

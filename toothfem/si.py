@@ -174,6 +174,17 @@ class BearingsSI:
     external_radial_load_N: float
     external_axial_load_N: float
     external_moment_Nm: float
+    external_radial_offset_m: float = 0.0
+    external_axial_radius_m: float = 0.0
+
+    @property
+    def tilting_moment_Nm(self) -> float:
+        """The tilting moment on the main pair [N m]: the declared moment plus the radial
+        load at its offset and the axial load at its radius (the catalogue's
+        M = W1 l + W2 l3, the arms from the pair's centre)."""
+        return (self.external_moment_Nm
+                + self.external_radial_load_N * self.external_radial_offset_m
+                + self.external_axial_load_N * self.external_axial_radius_m)
 
 
 @dataclass(**_RECORD)
@@ -457,7 +468,9 @@ def _bearings_si(b) -> BearingsSI:
         main_span_m=_si_or_none(b.main_span_mm, _MM),
         external_radial_load_N=b.external_radial_load_N,
         external_axial_load_N=b.external_axial_load_N,
-        external_moment_Nm=b.external_moment_Nm)
+        external_moment_Nm=b.external_moment_Nm,
+        external_radial_offset_m=b.external_radial_offset_mm * _MM,
+        external_axial_radius_m=b.external_axial_radius_mm * _MM)
 
 
 def _supports_si(sup) -> SupportsSI:
