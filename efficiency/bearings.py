@@ -330,6 +330,9 @@ class GroupLife:
     speed_rpm: float              # mean, relative to its other ring
     l10_h: float
     l10_set_h: float
+    a_iso: float | None = None    # of the most loaded bearing (ISO 281 modified life)
+    l10m_h: float | None = None   # a_ISO L10 of the most loaded bearing
+    l10m_set_h: float | None = None
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -340,6 +343,7 @@ class ReducerLife:
     limiting: str
     rows: tuple                   # (output torque [N m], input speed [rpm], share)
     source: str
+    l10m_h: float | None = None   # the modified life (bearings.contamination given)
 
 
 def first_failure(lives, slope) -> float:
@@ -361,6 +365,23 @@ def first_failure(lives, slope) -> float:
     x = np.asarray(lives, float)
     s = float(np.sum(x[np.isfinite(x)] ** -slope))
     return math.inf if s == 0 else s ** (-1 / slope)
+
+
+def _a_iso(si, bearing, load_N, speed_rpm):
+    """ISO 281's life modification factor of one bearing at its mean load and speed, or
+    None without ``bearings.contamination``: the viscosity ratio of the lubricant at its
+    reference temperature (the duty cycle's oil temperature is not modelled), e_C the
+    middle of Table 13's range, C_u by Annex B's simplified rule
+    (:mod:`.life_modification`)."""
+    from . import life_modification as lm
+    level = None if si.bearings is None else si.bearings.contamination
+    if level is None or load_N <= 0:
+        return None if level is None else lm.A_ISO_MAX
+    d_m = bearing.pitch_diameter_m
+    kappa = float(lm.viscosity_ratio(si.lubricant.kinematic_viscosity_m2_s, speed_rpm, d_m))
+    e_c = float(lm.contamination_factor(level, d_m))
+    c_u = float(lm.fatigue_load_limit_N(bearing.bearing_type, bearing.static_rating_N, d_m))
+    return float(lm.a_iso(bearing.bearing_type, min(max(kappa, 0.1), 4.0), e_c, c_u, load_N))
 
 
 def _system_loads(si, drive, torque_Nm, progress=None) -> dict:
@@ -442,22 +463,31 @@ def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
             continue
         speeds = [n * b.speed_per_input * 60 / (2 * math.pi) for _, n, _ in rows]
         n_m = float(np.dot(speeds, shares))
-        lives, p_ms = [], []
+        lives, p_ms, a_isos = [], [], []
         for n in names:
             p_m = mean_equivalent_load([x for x, _ in per_bearing[n]], speeds, shares, p)
             p_ms.append(p_m)
             lives.append(float(rating_life_revolutions(b.dynamic_rating_N, p_m, p))
                          / (60.0 * n_m))
+            a_isos.append(_a_iso(si, b, p_m, n_m))
+        modified = None if a_isos[0] is None else [a * x for a, x in zip(a_isos, lives)]
+        worst = int(np.argmin(lives))
         groups.append(GroupLife(
             name=g, label=b.label, bearing_type=b.bearing_type, count=len(names),
             dynamic_rating_N=b.dynamic_rating_N, rating_source=b.rating_source,
             equivalent_load_N=max(p_ms), max_load_N=max(m for n in names
                                                          for _, m in per_bearing[n]),
             speed_rpm=n_m, l10_h=float(min(lives)),
-            l10_set_h=first_failure(lives, WEIBULL_SLOPE[b.bearing_type])))
+            l10_set_h=first_failure(lives, WEIBULL_SLOPE[b.bearing_type]),
+            a_iso=a_isos[worst], l10m_h=None if modified is None else float(modified[worst]),
+            l10m_set_h=None if modified is None else first_failure(
+                modified, WEIBULL_SLOPE[b.bearing_type])))
     unit = first_failure([x.l10_set_h for x in groups], WEIBULL_SLOPE["needle"])
+    unit_m = (None if si.bearings is None or si.bearings.contamination is None else
+              first_failure([math.inf if x.l10m_set_h is None else x.l10m_set_h
+                             for x in groups], WEIBULL_SLOPE["needle"]))
     limiting = min(groups, key=lambda x: x.l10_set_h).name
     return ReducerLife(groups=tuple(groups), l10_h=unit, limiting=limiting,
                        rows=tuple((t, n * 60 / (2 * math.pi), q) for t, n, q in rows),
                        source="system model (FE pin tables, every bearing's load over the "
-                              "full period)")
+                              "full period)", l10m_h=unit_m)

@@ -48,8 +48,10 @@ ISO 281:2007, "Rolling bearings - Dynamic load ratings and rating life", clause 
   differ by 7.1e-5 of 0.186 (ball) and 7.5e-7 of 0.115 (roller), a_ISO by at most 0.28 %
   (ball) and 2.4e-5 (roller) below the cap; at kappa = 1 the two bands are the same
   expression (no step). At kappa = 0.1 the kappa term is ~0 (7.5e-5 ball,
-  -5.9e-5 roller), so a_ISO = 0.1 there at any load, the floor SKF states for its
-  diagrams ("as eta_c Pu/P tends to zero, a_SKF tends to 0.1 for all values of kappa").
+  -5.9e-5 roller), so a_ISO is the floor 0.1 there at any load (to +0.6 % ball, -0.1 %
+  roller for e_C C_u/P up to 5); and as e_C C_u/P -> 0, a_ISO -> 0.1 at every kappa, as
+  SKF states for its diagrams ("as eta_c Pu/P tends to zero, a_SKF tends to 0.1 for all
+  values of kappa").
 * the viscosity ratio kappa = nu / nu1 (:func:`viscosity_ratio`) with the rated viscosity
   nu1 = 45 000 n^-0.83 D_pw^-0.5 mm^2/s for n < 1 000 r/min and
   nu1 = 4 500 n^-0.5 D_pw^-0.5 for n >= 1 000 r/min (D_pw in mm), the closed form of the
@@ -144,7 +146,7 @@ RANGE_POINTS = ("middle", "lower", "upper")
 
 #: Reliability range of ISO 281:2007 Table 12 [-].
 RELIABILITY_RANGE = (0.90, 0.9995)
-#: Weibull slope and failure-free life fraction behind Table 12 (ISO/TR 1281-2).
+#: Weibull slope and failure-free life fraction of the expression that reproduces Table 12.
 A1_WEIBULL_SLOPE = 1.5
 A1_FLOOR = 0.05
 
@@ -170,8 +172,14 @@ def _checked(name, value, lo=None, hi=None, *, lo_open=False, hi_open=False, why
     if arr.dtype.kind not in "iuf":
         raise ToothfemError(f"{name} = {value!r} is not an array of numbers")
     arr = arr.astype(float)
-    for v in arr.ravel():           # the first bad element raises, naming the parameter
-        check_range(name, float(v), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why)
+    bad = ~np.isfinite(arr)
+    if lo is not None:
+        bad |= arr <= lo if lo_open else arr < lo
+    if hi is not None:
+        bad |= arr >= hi if hi_open else arr > hi
+    if np.any(bad):                 # the first bad element raises, naming the parameter
+        check_range(name, float(arr[bad].ravel()[0]), lo, hi, lo_open=lo_open,
+                    hi_open=hi_open, why=why)
     return arr
 
 
@@ -356,7 +364,7 @@ def a_iso(bearing_type, kappa, e_c, fatigue_load_limit_N, equivalent_load_N):
     Returns
     -------
     float or numpy.ndarray
-        a_ISO [-], 0.1 (at most a few parts in 1e4 less, roller, kappa = 0.1) to 50.
+        a_ISO [-], 0.1 (roller at kappa = 0.1: up to 0.1 % less) to 50.
 
     Raises
     ------
@@ -401,10 +409,10 @@ def a_iso(bearing_type, kappa, e_c, fatigue_load_limit_N, equivalent_load_N):
 def reliability_factor(reliability=0.9):
     """Life modification factor for reliability a1, ISO 281:2007 Table 12.
 
-    a1 = 0.95 [ln(1/R) / ln(1/0.9)]^(2/3) + 0.05, the Weibull expression behind the table
-    (slope 1.5, failure-free life 0.05 L10; ISO/TR 1281-2); it gives the table's printed
-    values 1, 0.64, 0.55, 0.47, 0.37, 0.25 at R = 90, 95, 96, 97, 98, 99 % to their
-    printed digit.
+    a1 = 0.95 [ln(1/R) / ln(1/0.9)]^(2/3) + 0.05 (Weibull slope 1.5, failure-free life
+    0.05 L10), which gives the table's printed values 1, 0.64, 0.55, 0.47, 0.37, 0.25 at
+    R = 90, 95, 96, 97, 98, 99 % to their printed digit (its derivation in ISO/TR 1281-2
+    was not read; between and beyond those rows the expression, not the table, is used).
 
     Parameters
     ----------
@@ -447,7 +455,8 @@ def modified_life(l10, bearing_type, kappa, e_c, fatigue_load_limit_N, equivalen
     equivalent_load_N : float or array_like
         Dynamic equivalent load P [N], the one L10 was computed with.
     reliability : float
-        Reliability R [-], 0.90 (default: L10m, a1 = 1) to 0.9995 (:func:`reliability_factor`).
+        Reliability R [-], 0.90 (default: L10m, a1 = 1) to 0.9995
+        (:func:`reliability_factor`).
 
     Returns
     -------

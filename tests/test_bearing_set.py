@@ -208,3 +208,20 @@ def test_an_offset_load_tilts_the_main_bearings(rv):
     b = main_loads(direct.to_si(), drive, table, 412.0)
     assert a.max_N == pytest.approx(b.max_N, rel=1e-12)
     assert a.max_N == pytest.approx(1000.0 + 2500.0, rel=1e-9)   # F_a/F_r < e: P = F_r
+
+
+def test_modified_life_with_the_contamination_level(rv):
+    """With bearings.contamination every bearing's L10m = a_ISO L10 (ISO 281): a dirtier
+    lubricant shortens it, the basic L10 stays; without the key no modified life."""
+    from toothfem.efficiency.bearings import reducer_life
+
+    assert reducer_life(rv).l10m_h is None
+    lives = {}
+    for level in ("normal_cleanliness", "typical_contamination"):
+        case = R(rv, bearings=R(rv.bearings, contamination=level))
+        res = reducer_life(case)
+        crank = {g.name: g for g in res.groups}["crank_bearings"]
+        assert crank.l10m_h == pytest.approx(crank.a_iso * crank.l10_h, rel=1e-12)
+        lives[level] = (res.l10_h, res.l10m_h)
+    assert lives["normal_cleanliness"][0] == lives["typical_contamination"][0]
+    assert lives["typical_contamination"][1] < lives["normal_cleanliness"][1]

@@ -470,6 +470,12 @@ class Bearings(_Section):
     main_dynamic_rating_kN: float | None = _f(
         0.0, None, lo_open=True, default=None,
         doc="basic dynamic load rating C of one main bearing row (ISO 281)")
+    contamination: str | None = _f(
+        choices=("extreme_cleanliness", "high_cleanliness", "normal_cleanliness",
+                 "slight_contamination", "typical_contamination", "severe_contamination",
+                 "very_severe_contamination"), default=None,
+        doc="lubricant cleanliness (ISO 281:2007 Table 13): with it, the modified life "
+            "L10m = a_ISO L10 of every bearing")
     main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
                                     doc="distance between the load centres of the two rows")
     external_radial_load_N: float = _f(0.0, None, default=0.0)

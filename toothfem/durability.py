@@ -68,7 +68,8 @@ def _group(g) -> dict:
             "dynamic_rating_N": _f(g.dynamic_rating_N), "rating_source": g.rating_source,
             "equivalent_load_N": g.equivalent_load_N, "max_load_N": g.max_load_N,
             "mean_speed_rpm": g.speed_rpm, "l10_h": finite(g.l10_h),
-            "l10_set_h": finite(g.l10_set_h)}
+            "l10_set_h": finite(g.l10_set_h), "a_iso": g.a_iso,
+            "l10m_h": finite(g.l10m_h), "l10m_set_h": finite(g.l10m_set_h)}
 
 
 def life_summary(case, *, progress=None) -> dict:
@@ -99,7 +100,7 @@ def life_summary(case, *, progress=None) -> dict:
     out = {"duty_cycle": [{"output_torque_Nm": t, "input_speed_rpm": n, "time_share": q}
                           for t, n, q in rows],
            "bearings": groups, "unit_l10_h": finite(unit), "limiting": limiting,
-           "loads": res.source}
+           "unit_l10m_h": finite(res.l10m_h), "loads": res.source}
     pub = case.published
     if all(k in pub for k in MAKER_KEYS):
         rows = [(t, n / ratio, q) for t, n, q in rows]

@@ -176,6 +176,7 @@ class BearingsSI:
     external_moment_Nm: float
     external_radial_offset_m: float = 0.0
     external_axial_radius_m: float = 0.0
+    contamination: str | None = None     # ISO 281 Table 13 level: the modified life
 
     @property
     def tilting_moment_Nm(self) -> float:
@@ -470,7 +471,8 @@ def _bearings_si(b) -> BearingsSI:
         external_axial_load_N=b.external_axial_load_N,
         external_moment_Nm=b.external_moment_Nm,
         external_radial_offset_m=b.external_radial_offset_mm * _MM,
-        external_axial_radius_m=b.external_axial_radius_mm * _MM)
+        external_axial_radius_m=b.external_axial_radius_mm * _MM,
+        contamination=b.contamination)
 
 
 def _supports_si(sup) -> SupportsSI:

@@ -43,6 +43,12 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
     out += ["", f"The reducer's bearings together (the first failure): L10 "
                 f"**{_num(life['unit_l10_h'], '.4g', '∞ or not rated')} h**, limited by "
                 f"{life['limiting'] or '–'}.", ""]
+    if life.get("unit_l10m_h") is not None:
+        modified = "; ".join(
+            f"{name} a_ISO {b['a_iso']:.3g}, L10m {_num(b['l10m_set_h'], '.4g', '∞')} h"
+            for name, b in life["bearings"].items() if b["a_iso"] is not None)
+        out += [f"Modified life (ISO 281 a_ISO, bearings.contamination): {modified}; the "
+                f"reducer's L10m {life['unit_l10m_h']:.4g} h.", ""]
     if "main_bearing_tilt" in life:
         t = life["main_bearing_tilt"]
         out += [f"Main bearing pair against a tilting moment ({t['balls_per_row']} balls of "
