@@ -487,8 +487,14 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
                        notes=tuple(notes), mesh_efficiency=mesh_eff, limits=tuple(limits))
 
 
-def bearing_component(drive) -> str:
-    """The loss component of the bearing that carries the moving member.
+#: The loss component proportional to ``friction.bearing_coefficient`` of each drive kind
+#: (the sine paper's Eq. 32); a cycloid or RV reducer has none: the coefficient is the load
+#: term of every bearing's Palmgren moment, beside its viscous M0 (:func:`bearing_losses`).
+BEARING_COEFFICIENT_COMPONENT = {"sine": "eccentric_bearing"}
+
+
+def bearing_component(drive) -> str | None:
+    """The loss component proportional to the bearing coefficient, if there is one.
 
     Parameters
     ----------
@@ -496,11 +502,11 @@ def bearing_component(drive) -> str:
 
     Returns
     -------
-    str
-        "crank_bearings" for a 2K-V drive, else "eccentric_bearing" (K-H-V: sine planet,
-        plain cycloid disc).
+    str or None
+        "eccentric_bearing" for the sine reducer (Eq. 32), None for a cycloid or RV
+        reducer (the coefficient acts on every bearing's load term, not alone).
     """
-    return "crank_bearings" if drive.two_stage else "eccentric_bearing"
+    return BEARING_COEFFICIENT_COMPONENT.get(drive.kind)
 
 
 #: The law and source of each loss component (docs/efficiency.md); a drive kind's own

@@ -57,7 +57,7 @@ import numpy as np
 from ...errors import ToothfemError
 from ...fem import cycloid_fe as cf
 from ...fem.drives import drive_for
-from ..drive_losses import bearing_component, disc_contact_losses
+from ..drive_losses import bearing_component, bearing_losses, disc_contact_losses
 from ..lubricant import viscosity_factor
 from ..mesh_table import table_from_records
 from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_factor,  # noqa: F401
@@ -227,12 +227,13 @@ def mixed_lubrication() -> Effect:
 
 
 def bearing_friction() -> Effect:
-    """Load-dependent friction of the eccentric (sine) or crank (cycloid, RV) bearings.
+    """Load-dependent friction of the bearings.
 
-    M = mu_b F r (the SKF simplified frictional moment M = 0.5 mu P d; Palmgren's
-    load-dependent term), P = M omega_rel, with F the bearing force from the member's
-    equilibrium (sine paper Eq. 32). The fitted mu_b replaces the library's default; a case
-    that declares its own bearing coefficient is not refitted.
+    Sine reducer: M = mu_b F r_p on the eccentric bearing, F from the planet's equilibrium
+    (sine paper Eq. 32). Cycloid and RV reducers: the load term of every bearing's Palmgren
+    moment, M1 = mu_b P d_m/2 (efficiency/bearing_set.py), beside its viscous M0. P = M
+    omega_rel. The fitted mu_b replaces the library's default; a case that declares its own
+    bearing coefficient is not refitted.
 
     Returns
     -------
@@ -242,7 +243,7 @@ def bearing_friction() -> Effect:
     return Effect(
         name="bearing_friction",
         summary="load-dependent friction of the eccentric/crank bearings",
-        equation="P = mu_b F r omega_rel",
+        equation="P = mu_b F r omega_rel (sine, Eq. 32); mu_b P d_m/2 omega_rel per bearing",
         citation="A. Palmgren, Ball and Roller Bearing Engineering (1959); SKF General "
                  "Catalogue, M = 0.5 mu P d; Lu & Xu 2024 Eq. 32",
         parameters=(Parameter("bearing_coefficient", "-", 0.0, 0.1,
@@ -455,8 +456,17 @@ def _clearance_loss(case, points, ev, values, tables: ClearanceTables):
     rp = PchipInterpolator(x, tables.pin_ratio, axis=0)(c)
     rb = PchipInterpolator(x, tables.bearing_ratio, axis=0)(c)
     pins = ev.losses_W.get("pin_contacts", 0.0)
-    bearings = ev.losses_W.get("crank_bearings", 0.0)
+    # the crank bearings' load term scales with their load; their viscous M0 does not
+    bearings = ev.losses_W.get("crank_bearings", 0.0) - _viscous(case, points, "crank_bearings")
     return (rp - 1.0) * pins + (rb - 1.0) * bearings
+
+
+def _viscous(case, points, component):
+    """A bearing group's viscous (load-independent) loss at the points [W]."""
+    si = case.to_si()
+    w_in = np.asarray(points.speed_rpm, float) * 2 * np.pi / 60
+    factor = viscosity_factor(si.lubricant, points.oil_temp_C) * np.ones_like(w_in)
+    return bearing_losses(si, drive_for(si), {}, w_in, factor).get(component, 0.0)
 
 
 def _declared_modification(case):
