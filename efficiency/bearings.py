@@ -310,10 +310,11 @@ SYSTEM_GROUPS = (("crank bearing", "crank_bearings"), ("eccentric bearing", "ecc
                  ("support bearing", "crank_support_bearings"), ("input bearing", "input_bearings"))
 #: Sampled pitches over the full period, and positions per pitch, of the system model's
 #: bearing loads for the life: the crank bearings' load turns against the disc over the
-#: period. Measured against 16 x 8 (every bearing's 10/3-mean load): 8 x 4 within 2.2e-5
-#: on the RV-40E case, 2.1e-3 on the K-H-V case, 1.8e-4 on the sine case; 4 x 4 is 1e-2
-#: off on the RV-40E (3 % in life). The sampled pitches set the cost (about 1.2 s each).
-LIFE_SAMPLES, LIFE_PER_PITCH = 8, 4
+#: period. Measured against 16 x 8 (every bearing's 10/3-mean load): 5 x 4 within 5.4e-4
+#: on the RV-40E case and 7.1e-4 on the K-H-V case (0.25 % in life); 8 x 4 within 2.2e-5
+#: and 2.1e-3; 4 x 4 is 1e-2 off on the RV-40E (3 % in life). The sampled pitches set the
+#: cost (about 1.2 s each: 6.3 s for 5 x 4 on the RV-40E).
+LIFE_SAMPLES, LIFE_PER_PITCH = 5, 4
 #: The system model's bearing loads already computed in this process, by the parts of the
 #: case they depend on and the torque (a pure function of those; a few entries).
 _LOADS_MEMO: dict = {}

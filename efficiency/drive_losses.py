@@ -349,7 +349,8 @@ def crank_support_load(si, t_discs):
 def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:
     """Friction loss of every bearing group of a cycloid or RV reducer [W]: each bearing's
     Palmgren moment (:func:`toothfem.efficiency.bearing_set.friction_moment`) at its load
-    and its speed relative to its other ring.
+    and its speed relative to its other ring; in an oil bath with a churning law its load
+    term only (the law lumps the bearings' viscous drag, :mod:`.no_load`).
 
     Parameters
     ----------
@@ -368,10 +369,12 @@ def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dic
     """
     lub = si.lubricant
     nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
+    # in an oil bath the churning law lumps the bearings' viscous drag (efficiency/no_load.py)
+    lumped = lub.lubrication == "oil_bath" and lub.churning != "none"
     out = {}
     for b in reducer_bearings(si, drive):
         speed = np.abs(input_rad_s) * b.speed_per_input
-        m0 = friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
+        m0 = 0.0 if lumped else friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
         load = loads.get(b.name, 0.0)
         m1 = si.friction.bearing_coefficient * load * b.pitch_diameter_m / 2
         out[b.name] = (b.count * m0 + m1) * speed

@@ -14,7 +14,8 @@ One cited law per mechanism, none counted twice:
   would count them twice).
 * ``bearing_drag`` (grease, oil mist, oil jet: no bath): Palmgren's viscous friction
   moment of the eccentric and main bearings (:func:`palmgren_no_load_moment`), f0 by
-  bearing type and lubrication (:data:`PALMGREN_F0`). A grease fill is pushed aside by the
+  bearing type and lubrication (:data:`PALMGREN_F0`); a cycloid or RV reducer counts every
+  bearing's in that bearing's own row instead (:mod:`.bearing_set`, ``bearings=False``). A grease fill is pushed aside by the
   parts within minutes (channelling: Lugt, *Grease Lubrication in Rolling Bearings*, 2013):
   its drag is that of the bearings' grease column.
 * ``seals``: radial lip seals on the input and the output shaft, ISO/TR 14179-1:2001

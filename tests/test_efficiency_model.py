@@ -180,15 +180,20 @@ def test_analytic_split_closes_the_first_pair_for_other_tooth_heights(sine):
 def test_crank_bearings_carry_the_disc_torque(pinhousing):
     """2K-V: the crank holes react the pin resultant and the disc torque; the summed
     bearing load is at least T/R_c (the couple alone), so the loss is at least
-    f r_b (T/R_c) w_rel per disc (the reviewer's bound)."""
+    mu (T/R_c) d_m/2 w_rel per disc (the reviewer's bound; Palmgren's load term, d_m the
+    rollers' pitch diameter)."""
+    from toothfem.efficiency.bearing_set import reducer_bearings
+
     e = m.evaluate(pinhousing, 1815.0, 167.0)
     cyc = pinhousing.cycloid
+    si = pinhousing.to_si()
     w = drive_for(pinhousing).speeds()
     rel = abs(1815.0 * 2 * math.pi / 60 * (w["crank"] - w["member"]))
     h = cyc.disc_holes
     couple = (167.0 / cyc.disc_count) / (h.crank_hole_circle_radius_mm * 1e-3)
+    (crank,) = [b for b in reducer_bearings(si, drive_for(si)) if b.name == "crank_bearings"]
     bound = cyc.disc_count * pinhousing.friction.bearing_coefficient * couple \
-        * h.crank_hole_radius_mm * 1e-3 * rel
+        * crank.pitch_diameter_m / 2 * rel
     assert e.losses_W["crank_bearings"][0] > bound
 
 
