@@ -209,6 +209,12 @@ def _needles(si, drive, supports, two_stage):
         raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * 1e3:.4g} does "
                         f"not fit {hole_key} = {hole * 500:.4g}: the rollers' pitch circle "
                         f"lies between the journal ({journal * 1e3:.4g} mm) and the hole")
+    if declared_dm is not None and abs(declared_dm - d_m) > PITCH_TOLERANCE_M:
+        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * 1e3:.4g} "
+                        f"disagrees with the rollers' pitch circle {d_m * 1e3:.4g} mm "
+                        f"({hole_key} = {hole * 500:.4g} less one "
+                        f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g}): give one "
+                        "of them")
     rolling = dict(elements=supports.bearing_roller_count, element_diameter_m=d_w,
                    element_length_m=supports.bearing_roller_length_m, pitch_diameter_m=d_m,
                    contact_angle_deg=0.0)
@@ -233,6 +239,9 @@ def _needles(si, drive, supports, two_stage):
                    speed_per_input=abs(w["crank"] - w["member"]), assumed=assumed)
 
 
+#: A declared pitch diameter agrees with the rollers' when within this [m] (a micrometre:
+#: the case's millimetres to three decimals).
+PITCH_TOLERANCE_M = 1e-6
 #: A declared rating may exceed ISO 281's for the rolling set that fits by this factor
 #: (makers rate premium steels and profiles up to about 30 % above the standard's b_m f_c;
 #: more than that is a bearing that does not fit the space).
@@ -405,6 +414,11 @@ def reducer_bearings(si, drive) -> tuple:
     CaseError
         A bearing that does not fit where it sits, naming the keys that clash.
     """
+    declared = None if si.bearings is None else si.bearings.eccentric_type
+    if declared not in (None, "needle"):
+        raise CaseError(f"bearings.eccentric_type = {declared!r}: the eccentric bearing is the "
+                        "system model's roller set (supports.bearing_roller_*), a 'needle' "
+                        "bearing; another type is not modelled")
     return BEARING_SETS[drive.kind](si, drive)
 
 

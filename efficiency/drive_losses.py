@@ -196,7 +196,7 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
               "output_mechanism": out_mech,
               **no_load_losses(si, drive, stages=[(a0, crank)], input_rad_s=crank,
-                               eccentric_rad_s=rel, output_rad_s=w_planet,
+                               output_rad_s=w_planet,
                                viscosity_factor=points.viscosity_factor)}
     # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
     # display: in a K-H-V stage the energy balance with the contact loss itself is exact
@@ -477,7 +477,7 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         stages.append((fs.module_m * (fs.sun_teeth + fs.planet_teeth) / 2,
                        w_in * (1 - w["output"])))
     losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
-                                 eccentric_rad_s=disc_rel, output_rad_s=w_in * w["output"],
+                                 output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor, bearings=False))
     if "churning" in losses:
         notes.append("churning: Eq. 42 of Lu & Xu (2024), after Xu & Yang (1998), is the "
@@ -537,8 +537,8 @@ LOSS_SOURCES = {
     "plain_bearings": "the output pins' plain bearings, M_f w (Lu & Xu 2024, Eq. 34)",
     "churning": "oil-bath no-load loss, Lu & Xu 2024 Eq. 42 (after Xu & Yang 1998): "
                 "validated by its source on the sine stage only",
-    "bearing_drag": "Palmgren's viscous moment M0 of the eccentric and main bearings "
-                    "(f0 by type and lubrication, Harris & Kotzalas 2007)",
+    "bearing_drag": "Palmgren's viscous moment M0 of every bearing (f0 by type and "
+                    "lubrication, Harris & Kotzalas 2007)",
     "seals": "radial lip seals, ISO/TR 14179-1: 7.69e-6 D^2 n W",
     "drag": "declared drag torque on the input (friction.drag_torque_Nmm)",
     "sun_planet_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",

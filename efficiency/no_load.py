@@ -13,9 +13,10 @@ One cited law per mechanism, none counted twice:
   everything in the bath, the bearings' viscous drag included (Palmgren's "oil bath" f0
   would count them twice).
 * ``bearing_drag`` (grease, oil mist, oil jet: no bath): Palmgren's viscous friction
-  moment of the eccentric and main bearings (:func:`palmgren_no_load_moment`), f0 by
-  bearing type and lubrication (:data:`PALMGREN_F0`); a cycloid or RV reducer counts every
-  bearing's in that bearing's own row instead (:mod:`.bearing_set`, ``bearings=False``). A grease fill is pushed aside by the
+  moment of every bearing of the reducer's set (:mod:`.bearing_set`,
+  :func:`palmgren_no_load_moment`), f0 by bearing type and lubrication
+  (:data:`PALMGREN_F0`); a cycloid or RV reducer counts each bearing's in that bearing's own
+  row instead (``bearings=False``). A grease fill is pushed aside by the
   parts within minutes (channelling: Lugt, *Grease Lubrication in Rolling Bearings*, 2013):
   its drag is that of the bearings' grease column.
 * ``seals``: radial lip seals on the input and the output shaft, ISO/TR 14179-1:2001
@@ -145,8 +146,8 @@ def palmgren_f0(bearing_type: str, lubrication: str) -> float:
     return row[lubrication]
 
 
-def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_rad_s,
-                   viscosity_factor, bearings=True) -> dict:
+def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_factor,
+                   bearings=True) -> dict:
     """The load-independent losses of a drive at M operating points [W] (module docstring).
 
     Parameters
@@ -156,9 +157,9 @@ def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_ra
     stages : sequence of (float, numpy.ndarray)
         The gear stages' (centre distance a0 [m], (M,) pinion speed relative to the
         carrier [rad/s]) for the churning law.
-    input_rad_s, eccentric_rad_s, output_rad_s : numpy.ndarray
-        (M,) speeds [rad/s] of the input shaft, of the eccentric relative to the member it
-        carries, and of the output.
+    input_rad_s, output_rad_s : numpy.ndarray
+        (M,) speeds [rad/s] of the input shaft and of the output (the seals'; each
+        bearing's own speed is its record's, :mod:`.bearing_set`).
     viscosity_factor : numpy.ndarray
         (M,) eta(T)/eta(T_ref) of the oil.
     bearings : bool
@@ -179,14 +180,14 @@ def no_load_losses(si, drive, *, stages, input_rad_s, eccentric_rad_s, output_ra
         if lub.churning != "none":
             out["churning"] = lub.churning_scale * sum(
                 churning_lu_xu_2024(a0, np.abs(n) * _RPM, nu) for a0, n in stages)
-    elif bearings:
-        main_type = DEFAULT_MAIN_TYPE if si.bearings is None else si.bearings.main_type
-        m_ecc = palmgren_no_load_moment(palmgren_f0(env.eccentric_type, lub.lubrication), nu,
-                                        eccentric_rad_s, env.eccentric_pitch_diameter_m)
-        m_main = palmgren_no_load_moment(palmgren_f0(main_type, lub.lubrication), nu,
-                                         output_rad_s, env.main_pitch_diameter_m)
-        out["bearing_drag"] = (env.eccentric_count * m_ecc * np.abs(eccentric_rad_s)
-                               + env.main_count * m_main * np.abs(output_rad_s))
+    elif bearings:           # every bearing of the set at its speed (no load term)
+        from .bearing_set import friction_moment, reducer_bearings
+        drag = 0.0
+        for b in reducer_bearings(si, drive):
+            speed = np.abs(input_rad_s) * b.speed_per_input
+            drag = drag + b.count * friction_moment(b, 0.0, nu, speed, lub.lubrication,
+                                                    0.0) * speed
+        out["bearing_drag"] = drag
     out["seals"] = (seal_loss(env.input_seal_diameter_m, input_rad_s)
                     + seal_loss(env.output_seal_diameter_m, output_rad_s))
     out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)

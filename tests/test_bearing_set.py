@@ -82,6 +82,11 @@ def test_a_bearing_that_does_not_fit_is_refused_naming_both_keys(rv):
         (_parsed(rv, "bearings", eccentric_pitch_diameter_mm=25.0),
          r"bearings.eccentric_pitch_diameter_mm = 25 does not fit "
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
+        (_parsed(rv, "bearings", eccentric_pitch_diameter_mm=18.0),
+         r"bearings.eccentric_pitch_diameter_mm = 18 disagrees with the rollers' pitch "
+         r"circle 17.5 mm"),
+        (_parsed(rv, "bearings", eccentric_type="ball"),
+         r"bearings.eccentric_type = 'ball': the eccentric bearing is the system model's"),
         (_parsed(rv, "bearings", eccentric_dynamic_rating_kN=40.0),
          r"bearings.eccentric_dynamic_rating_kN = 40 kN does not fit "
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
