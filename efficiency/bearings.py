@@ -409,7 +409,7 @@ def _group_of(name: str) -> str:
     return next(g for prefix, g in SYSTEM_GROUPS if name.startswith(prefix))
 
 
-def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
+def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
     """ISO 281 life of every bearing of a reducer over a duty cycle, the
     loads from the system model over the full period (the main bearings' from the
     external loads on the output, :func:`main_loads`; the planar model has no tilt).
@@ -427,6 +427,10 @@ def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
         Default: the case's ``[[duty_cycle]]``, else its operating point.
     progress : callable, optional
         Wraps the iterator over the system model's sampled pitches.
+    known : toothfem.fem.system.datasheet.BearingLoads, optional
+        Every bearing's loads over the full period the system model already gave at one
+        output torque (the datasheet's TE run, :func:`toothfem.fem.system.datasheet.system_te`):
+        a duty row at that torque takes them instead of a new solve.
 
     Returns
     -------
@@ -450,7 +454,10 @@ def reducer_life(case, *, duty=None, progress=None) -> ReducerLife:
     per_bearing = {}                          # name -> [P per row]
     table = mesh_table(drive, "analytic", 36, None)
     for t, _, _ in rows:
-        for name, load in _system_loads(si, drive, t, progress).items():
+        loads = (dict(zip(known.names, known.load_N)) if known is not None
+                 and math.isclose(known.output_torque_Nm, t, rel_tol=1e-12)
+                 else _system_loads(si, drive, t, progress))
+        for name, load in loads.items():
             p = LIFE_EXPONENT[bearings[_group_of(name)].bearing_type]
             per_bearing.setdefault(name, []).append((_pmean(load, p), float(np.max(load))))
         main = main_loads(si, drive, table, t)

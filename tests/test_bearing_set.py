@@ -230,3 +230,38 @@ def test_modified_life_with_the_contamination_level(rv):
         lives[level] = (res.l10_h, res.l10m_h)
     assert lives["normal_cleanliness"][0] == lives["typical_contamination"][0]
     assert lives["typical_contamination"][1] < lives["normal_cleanliness"][1]
+
+
+def test_the_assumed_rolling_set_of_a_standard_bearing():
+    """The rolling-set rule on a 6004 (20 x 42 x 12, ISO 15 series 0): 9 balls of 6.49 mm
+    (the real bearing: 9 of 6.35 mm); its ISO 281 / ISO 76 ratings against SKF's catalogue
+    (6004: C = 9.95 kN, C0 = 5 kN) within 5 % (the balls' size is the rule's, not the
+    maker's)."""
+    from toothfem.efficiency.bearing_set import _ratings, rolling_set
+
+    bore, outer, width = standard_size(0.020, "k")
+    rolling = rolling_set("ball", bore, outer, width)
+    assert rolling["elements"] == 9
+    c, c0, _ = _ratings("ball", rolling, None)
+    assert c == pytest.approx(9.95e3, rel=0.05)
+    assert c0 == pytest.approx(5.0e3, rel=0.05)
+
+
+def test_run_takes_the_datasheets_bearing_loads(rv):
+    """The datasheet's bearing loads at the duty torque serve the life (no second solve):
+    given every load 1 % higher, the reducer's life is 1.01^(-10/3) of it (exact: the
+    limiting groups are rollers); given at another torque, they are not used."""
+    import numpy as np
+
+    from toothfem.efficiency.bearings import _system_loads, reducer_life
+    from toothfem.fem.system.datasheet import BearingLoads
+
+    si = rv.to_si()
+    own = _system_loads(si, drive_for(si), 412.0)
+    known = BearingLoads(names=tuple(own), load_N=1.01 * np.array(list(own.values())),
+                         crank_angle_rad=np.zeros(1), output_torque_Nm=412.0)
+    base = reducer_life(rv)
+    assert reducer_life(rv, known=known).l10_h == pytest.approx(
+        base.l10_h * 1.01 ** (-10 / 3), rel=1e-9)
+    elsewhere = R(known, output_torque_Nm=400.0)
+    assert reducer_life(rv, known=elsewhere).l10_h == base.l10_h

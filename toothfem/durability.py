@@ -72,7 +72,7 @@ def _group(g) -> dict:
             "l10m_h": finite(g.l10m_h), "l10m_set_h": finite(g.l10m_set_h)}
 
 
-def life_summary(case, *, progress=None) -> dict:
+def life_summary(case, *, progress=None, known=None) -> dict:
     """ISO 281 life of every bearing over the case's duty cycle (else its operating
     point), from the system model's loads
     (:func:`~toothfem.efficiency.bearings.reducer_life`), the main pair's tilting figures
@@ -85,6 +85,8 @@ def life_summary(case, *, progress=None) -> dict:
     case : toothfem.case.Case
     progress : callable, optional
         Wraps the system model's sampled pitches.
+    known : toothfem.fem.system.datasheet.BearingLoads, optional
+        Bearing loads the system model already gave at one torque (the datasheet's).
 
     Returns
     -------
@@ -93,7 +95,7 @@ def life_summary(case, *, progress=None) -> dict:
         first bearing failure and the group that sets it.
     """
     drive = drive_for(case)
-    res = br.reducer_life(case, progress=progress)
+    res = br.reducer_life(case, progress=progress, known=known)
     groups = {g.name: _group(g) for g in res.groups}
     unit, limiting, rows = res.l10_h, res.limiting, res.rows
     ratio = abs(case.ratio())

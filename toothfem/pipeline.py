@@ -404,7 +404,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         case = load_case(case)
     out = Path(out)
     report = [f"# {case.name}", "", f"Case file: `{label}`; source: {case.source}", ""]
-    contact = None
+    contact = datasheet = None
     with atomic_dir(out) as tmp:
         # 1. geometry
         (tmp / "geometry").mkdir()
@@ -428,8 +428,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
                        "fields: `contact/*.vtu`.", ""]
             # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
             (tmp / "stiffness").mkdir()
-            stiff = write_stiffness(stiffness_analysis(case, positions=positions),
-                                    tmp / "stiffness")
+            datasheet = stiffness_analysis(case, positions=positions)
+            stiff = write_stiffness(datasheet, tmp / "stiffness")
             report += ["## Datasheet (FE contact and supports in series)", "",
                        "| quantity | value |", "|---|---|"]
             report += [f"| {q} | {v} |" for q, v in datasheet_rows(stiff)]
@@ -468,7 +468,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         # from the FE loads where the FE has run (the strength from its contact result)
         loads = "fem" if fem else "analytic"
         dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
-               "life": durability.life_summary(case),
+               "life": durability.life_summary(
+                   case, known=None if datasheet is None else datasheet.bearings),
                "strength": durability.strength_summary(case, contact=contact)}
         (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
         rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
