@@ -352,8 +352,11 @@ def _sine_bearings(si, drive) -> tuple:
     planet's bore, which must clear the output pins' holes and the teeth's roots; the
     main pair; the input shaft's deep groove ball bearings on the shaft of
     ``Drive.supports`` (2 (r_p - a0), the eccentric's shaft)."""
-    supports = drive.supports(si.supports)
     om, pair = si.output_mechanism, drive.pair
+    if om is None:
+        raise CaseError("a sine reducer needs [output_mechanism] (its eccentric bearing's "
+                        "raceway and the pins that carry the torque out) for its bearings")
+    supports = drive.supports(si.supports)
     w = drive.speeds()
     r_p = om.eccentric_bearing_inner_radius_m
     d_w = supports.bearing_roller_diameter_m

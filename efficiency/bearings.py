@@ -461,7 +461,6 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
             p = LIFE_EXPONENT[bearings[_group_of(name)].bearing_type]
             per_bearing.setdefault(name, []).append((_pmean(load, p), float(np.max(load))))
         main = main_loads(si, drive, table, t)
-        p = LIFE_EXPONENT[main.bearing_type]
         for r in range(main.count):
             per_bearing.setdefault(f"main bearing row {r + 1}", []).append(
                 (main.equivalent_N, main.max_N))

@@ -265,3 +265,4 @@ def test_run_takes_the_datasheets_bearing_loads(rv):
         base.l10_h * 1.01 ** (-10 / 3), rel=1e-9)
     elsewhere = R(known, output_torque_Nm=400.0)
     assert reducer_life(rv, known=elsewhere).l10_h == base.l10_h
+
