@@ -102,3 +102,15 @@ def test_a_life_below_the_makers_rated_life_is_warned(cases_dir):
     assert w["value"] == pytest.approx(d["unit_l10_h"])
     assert d["limiting"] == "crank_bearings"
     assert "crank_bearings" in w["quantity"] and "rated_life_h" in w["source"]
+
+
+def test_torque_limits_in_order(cases_dir):
+    """rated <= start/stop <= momentary, else one line naming both keys."""
+    from toothfem import CaseError, parse_case
+    from toothfem.case import case_to_dict
+
+    d = case_to_dict(load_case(cases_dir / "rv40e.toml"))
+    d["operating"]["momentary_torque_Nm"] = 900.0
+    with pytest.raises(CaseError, match=r"operating.momentary_torque_Nm = 900 is below "
+                                        r"operating.start_stop_torque_Nm = 1029"):
+        parse_case(d)
