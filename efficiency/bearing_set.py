@@ -146,6 +146,13 @@ def standard_size(shaft_m: float, name: str) -> tuple:
                     f"(bores {min(ISO15_SERIES_0)}-{max(ISO15_SERIES_0)} mm) takes it")
 
 
+def _element_count(bearing_type, pitch_diameter_m, element_diameter_m) -> int:
+    """Elements on the pitch circle, :data:`ELEMENT_PITCH` diameters apart (at least 3; a
+    type without its own spacing takes the angular contact bearing's)."""
+    spacing = ELEMENT_PITCH.get(bearing_type, ELEMENT_PITCH["angular_ball"])
+    return max(int(math.pi * pitch_diameter_m / (spacing * element_diameter_m)), 3)
+
+
 def rolling_set(bearing_type: str, bore_m: float, outer_m: float, width_m: float) -> dict:
     """The assumed rolling set of a bearing of these boundary dimensions (the rules of
     :data:`ELEMENT_PER_SECTION`, :data:`ELEMENT_PITCH`, :data:`ROLLER_LENGTH_PER_WIDTH`).
@@ -165,22 +172,48 @@ def rolling_set(bearing_type: str, bore_m: float, outer_m: float, width_m: float
     """
     d_w = ELEMENT_PER_SECTION[bearing_type] * (outer_m - bore_m) / 2
     d_m = (outer_m + bore_m) / 2
-    z = max(int(math.pi * d_m / (ELEMENT_PITCH[bearing_type] * d_w)), 3)
+    z = _element_count(bearing_type, d_m, d_w)
     length = None if "ball" in bearing_type else ROLLER_LENGTH_PER_WIDTH * width_m
     return dict(elements=z, element_diameter_m=d_w, element_length_m=length,
                 pitch_diameter_m=d_m, contact_angle_deg=CONTACT_ANGLE_DEG[bearing_type])
 
 
-def _ratings(bearing_type, rolling, declared_C):
+def _ratings(bearing_type, rolling, declared_C=None, key=None, space=None):
+    """(C, C0, where C comes from): ISO 281 / ISO 76 of the rolling set, or the case's C
+    (checked against the set's where ``key`` names it and ``space`` what it must fit)."""
     kw = dict(rows=1, elements=rolling["elements"],
               element_diameter_m=rolling["element_diameter_m"],
               element_length_m=rolling["element_length_m"],
               pitch_diameter_m=rolling["pitch_diameter_m"],
               contact_angle_deg=rolling["contact_angle_deg"])
     c0 = static_rating_N(bearing_type, **kw)
-    if declared_C is not None:
+    if declared_C is not None and key is None:
         return declared_C, c0, "case"
-    return dynamic_rating_N(bearing_type, **kw), c0, "ISO 281 / ISO 76 of the rolling set"
+    c = dynamic_rating_N(bearing_type, **kw)
+    if declared_C is not None:
+        check_rating(declared_C, c, key, space)
+        return declared_C, c0, "case"
+    return c, c0, "ISO 281 / ISO 76 of the rolling set"
+
+
+def _roller_bearing(si, supports, *, name, label, count, bore_m, outer_m, pitch_m, speed,
+                    space) -> Bearing:
+    """The system model's rollers (``supports``) between ``bore_m`` and ``outer_m`` as a
+    needle bearing record; a declared eccentric rating is checked against ``space``."""
+    rolling = dict(elements=supports.bearing_roller_count,
+                   element_diameter_m=supports.bearing_roller_diameter_m,
+                   element_length_m=supports.bearing_roller_length_m, pitch_diameter_m=pitch_m,
+                   contact_angle_deg=0.0)
+    b = si.bearings
+    c, c0, source = _ratings("needle", rolling,
+                             None if b is None else b.eccentric_dynamic_rating_N,
+                             "bearings.eccentric_dynamic_rating_kN", space)
+    return Bearing(name=name, label=label, bearing_type="needle", count=count, bore_m=bore_m,
+                   outer_m=outer_m, width_m=supports.bearing_roller_length_m,
+                   dynamic_rating_N=c, static_rating_N=c0, rating_source=source,
+                   speed_per_input=speed,
+                   assumed=tuple(f"supports.{n}" for n in supports.assumed
+                                 if n.startswith("bearing_roller")), **rolling)
 
 
 def _needles(si, drive, supports, two_stage):
@@ -215,28 +248,14 @@ def _needles(si, drive, supports, two_stage):
                         f"({hole_key} = {hole * 500:.4g} less one "
                         f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g}): give one "
                         "of them")
-    rolling = dict(elements=supports.bearing_roller_count, element_diameter_m=d_w,
-                   element_length_m=supports.bearing_roller_length_m, pitch_diameter_m=d_m,
-                   contact_angle_deg=0.0)
-    declared_C = None if b is None else b.eccentric_dynamic_rating_N
-    c, c0, source = _ratings("needle", rolling, None)
-    if declared_C is not None:
-        check_rating(declared_C, c, "bearings.eccentric_dynamic_rating_kN",
-                     f"{hole_key} = {hole * 500:.4g}")
-        c, source = declared_C, "case"
     w = drive.speeds()
-    count = (h.crank_hole_count if two_stage else 1) * si.cycloid.disc_count
-    assumed = tuple(f"supports.{n}" for n in supports.assumed
-                    if n.startswith("bearing_roller"))
-    return Bearing(name="crank_bearings" if two_stage else "eccentric_bearing",
-                   label="crank bearings (needle rollers in the discs' crank holes)"
-                   if two_stage else "eccentric bearings (needle rollers in the centre bore)",
-                   bearing_type="needle", count=count, bore_m=journal, outer_m=hole,
-                   width_m=supports.bearing_roller_length_m, pitch_diameter_m=d_m,
-                   elements=rolling["elements"], element_diameter_m=d_w,
-                   element_length_m=rolling["element_length_m"], contact_angle_deg=0.0,
-                   dynamic_rating_N=c, static_rating_N=c0, rating_source=source,
-                   speed_per_input=abs(w["crank"] - w["member"]), assumed=assumed)
+    return _roller_bearing(
+        si, supports, name="crank_bearings" if two_stage else "eccentric_bearing",
+        label="crank bearings (needle rollers in the discs' crank holes)" if two_stage
+        else "eccentric bearings (needle rollers in the centre bore)",
+        count=(h.crank_hole_count if two_stage else 1) * si.cycloid.disc_count,
+        bore_m=journal, outer_m=hole, pitch_m=d_m, speed=abs(w["crank"] - w["member"]),
+        space=f"{hole_key} = {hole * 500:.4g}")
 
 
 #: A declared pitch diameter agrees with the rollers' when within this [m] (a micrometre:
@@ -301,8 +320,7 @@ def main_pair(si, drive) -> Bearing:
     t = "angular_ball" if b is None else b.main_type
     d_m = env.main_pitch_diameter_m
     d_w = MAIN_BALL_PER_PITCH * d_m
-    z = max(int(math.pi * d_m / (ELEMENT_PITCH.get(t, 1.35) * d_w)), 3)
-    rolling = dict(elements=z, element_diameter_m=d_w,
+    rolling = dict(elements=_element_count(t, d_m, d_w), element_diameter_m=d_w,
                    element_length_m=None if "ball" in t else d_w,
                    pitch_diameter_m=d_m, contact_angle_deg=CONTACT_ANGLE_DEG[t])
     declared = None if b is None else b.main_dynamic_rating_N
@@ -371,24 +389,12 @@ def _sine_bearings(si, drive) -> tuple:
             f"{bore_out * 1e3:.4g} mm bore in the planet, which does not clear the output "
             f"pins' holes (output_mechanism.pin_hole_circle_radius_mm = "
             f"{om.pin_hole_circle_radius_m * 1e3:.4g}) or the teeth ({room * 1e3:.4g} mm)")
-    rolling = dict(elements=supports.bearing_roller_count, element_diameter_m=d_w,
-                   element_length_m=supports.bearing_roller_length_m,
-                   pitch_diameter_m=2 * r_p + d_w, contact_angle_deg=0.0)
-    c, c0, source = _ratings("needle", rolling, None)
-    b = si.bearings
-    declared_C = None if b is None else b.eccentric_dynamic_rating_N
-    if declared_C is not None:
-        check_rating(declared_C, c, "bearings.eccentric_dynamic_rating_kN",
-                     f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g}")
-        c, source = declared_C, "case"
-    ecc = Bearing(name="eccentric_bearing",
-                  label="eccentric bearing (rollers on the eccentric in the planet's bore)",
-                  bearing_type="needle", count=1, bore_m=2 * r_p, outer_m=bore_out,
-                  width_m=supports.bearing_roller_length_m, dynamic_rating_N=c,
-                  static_rating_N=c0, rating_source=source,
-                  speed_per_input=abs(w["crank"] - w["member"]),
-                  assumed=tuple(f"supports.{n}" for n in supports.assumed
-                                if n.startswith("bearing_roller")), **rolling)
+    ecc = _roller_bearing(
+        si, supports, name="eccentric_bearing",
+        label="eccentric bearing (rollers on the eccentric in the planet's bore)", count=1,
+        bore_m=2 * r_p, outer_m=bore_out, pitch_m=2 * r_p + d_w,
+        speed=abs(w["crank"] - w["member"]),
+        space=f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g}")
     return (ecc, main_pair(si, drive),
             _sized("input_bearings", "input bearings (deep groove balls on the input shaft)",
                    "ball", 2, supports.crankshaft_diameter_m,
@@ -509,3 +515,38 @@ def main_tilt(si, drive) -> dict:
             "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * 1e3,
             "pitch_diameter_mm": b.pitch_diameter_m * 1e3,
             "assumed": list(b.assumed) + ["preload", "row span"]}
+
+
+def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:
+    """Friction loss of every bearing group of a reducer [W]: each bearing's Palmgren
+    moment (:func:`friction_moment`) at its load and its speed relative to its other ring;
+    in an oil bath with a churning law its load term only (the law lumps the bearings'
+    viscous drag, :mod:`.no_load`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    loads : dict
+        Group name -> (M,) sum of the loads on the group's bearings [N] (a group left out
+        carries none: its viscous moment only).
+    input_rad_s, viscosity_factor : numpy.ndarray
+        (M,) input speed [rad/s] and eta(T)/eta_ref of the oil.
+
+    Returns
+    -------
+    dict
+        Group name -> (M,) [W].
+    """
+    lub = si.lubricant
+    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
+    # in an oil bath the churning law lumps the bearings' viscous drag (efficiency/no_load.py)
+    lumped = lub.lubrication == "oil_bath" and lub.churning != "none"
+    out = {}
+    for b in reducer_bearings(si, drive):
+        speed = np.abs(input_rad_s) * b.speed_per_input
+        m0 = 0.0 if lumped else friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
+        load = loads.get(b.name, 0.0)
+        m1 = si.friction.bearing_coefficient * load * b.pitch_diameter_m / 2
+        out[b.name] = (b.count * m0 + m1) * speed
+    return out

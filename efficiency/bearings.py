@@ -451,25 +451,26 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
         total = sum(q for *_, q in rows)
         check_range("duty time share sum", total, 1 - 1e-3, 1 + 1e-3, error=CaseError)
     bearings = {b.name: b for b in reducer_bearings(si, drive)}
-    per_bearing = {}                          # name -> [P per row]
+    per_group = {}                  # group -> {bearing: [(P_m, P_max) per duty row]}
     table = mesh_table(drive, "analytic", 36, None)
     for t, _, _ in rows:
         loads = (dict(zip(known.names, known.load_N)) if known is not None
                  and math.isclose(known.output_torque_Nm, t, rel_tol=1e-12)
                  else _system_loads(si, drive, t, progress))
         for name, load in loads.items():
-            p = LIFE_EXPONENT[bearings[_group_of(name)].bearing_type]
-            per_bearing.setdefault(name, []).append((_pmean(load, p), float(np.max(load))))
+            g = _group_of(name)
+            p = LIFE_EXPONENT[bearings[g].bearing_type]
+            per_group.setdefault(g, {}).setdefault(name, []).append(
+                (_pmean(load, p), float(np.max(load))))
         main = main_loads(si, drive, table, t)
         for r in range(main.count):
-            per_bearing.setdefault(f"main bearing row {r + 1}", []).append(
-                (main.equivalent_N, main.max_N))
+            per_group.setdefault("main_bearings", {}).setdefault(
+                f"main bearing row {r + 1}", []).append((main.equivalent_N, main.max_N))
     shares = [q for *_, q in rows]
     groups = []
     for g, b in bearings.items():
-        names = [n for n in per_bearing
-                 if (n.startswith("main bearing") and g == "main_bearings")
-                 or (not n.startswith("main bearing") and _group_of(n) == g)]
+        per_bearing = per_group.get(g, {})
+        names = list(per_bearing)
         p = LIFE_EXPONENT[b.bearing_type]
         if not names:          # carries nothing in the model (an RV's sun: planets balance)
             groups.append(GroupLife(

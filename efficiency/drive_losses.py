@@ -30,7 +30,7 @@ import numpy as np
 from ..errors import CaseError
 from ..fem.drives import drive_for
 from . import spur as sp
-from .bearing_set import friction_moment, reducer_bearings
+from .bearing_set import bearing_losses
 from .bearings import main_bearing_load
 from .contact_friction import contact_mu, sliding_loss
 from .mesh_table import fe_member_split, fe_reference, mesh_table
@@ -344,41 +344,6 @@ def crank_support_load(si, t_discs):
         [N].
     """
     return np.abs(t_discs) / si.cycloid.holes.crank_hole_circle_radius_m
-
-
-def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:
-    """Friction loss of every bearing group of a cycloid or RV reducer [W]: each bearing's
-    Palmgren moment (:func:`toothfem.efficiency.bearing_set.friction_moment`) at its load
-    and its speed relative to its other ring; in an oil bath with a churning law its load
-    term only (the law lumps the bearings' viscous drag, :mod:`.no_load`).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.CycloidDrive
-    loads : dict
-        Group name -> (M,) sum of the loads on the group's bearings [N] (a group left out
-        carries none: its viscous moment only).
-    input_rad_s, viscosity_factor : numpy.ndarray
-        (M,) input speed [rad/s] and eta(T)/eta_ref of the oil.
-
-    Returns
-    -------
-    dict
-        Group name -> (M,) [W].
-    """
-    lub = si.lubricant
-    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
-    # in an oil bath the churning law lumps the bearings' viscous drag (efficiency/no_load.py)
-    lumped = lub.lubrication == "oil_bath" and lub.churning != "none"
-    out = {}
-    for b in reducer_bearings(si, drive):
-        speed = np.abs(input_rad_s) * b.speed_per_input
-        m0 = 0.0 if lumped else friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
-        load = loads.get(b.name, 0.0)
-        m1 = si.friction.bearing_coefficient * load * b.pitch_diameter_m / 2
-        out[b.name] = (b.count * m0 + m1) * speed
-    return out
 
 
 def _first_stage_efficiency(si, t_sun, rel_sun, eta0):

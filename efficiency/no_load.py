@@ -180,14 +180,10 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
         if lub.churning != "none":
             out["churning"] = lub.churning_scale * sum(
                 churning_lu_xu_2024(a0, np.abs(n) * _RPM, nu) for a0, n in stages)
-    elif bearings:           # every bearing of the set at its speed (no load term)
-        from .bearing_set import friction_moment, reducer_bearings
-        drag = 0.0
-        for b in reducer_bearings(si, drive):
-            speed = np.abs(input_rad_s) * b.speed_per_input
-            drag = drag + b.count * friction_moment(b, 0.0, nu, speed, lub.lubrication,
-                                                    0.0) * speed
-        out["bearing_drag"] = drag
+    elif bearings:           # every bearing of the set at its speed, no load term
+        from .bearing_set import bearing_losses
+        out["bearing_drag"] = sum(bearing_losses(si, drive, {}, input_rad_s,
+                                                 viscosity_factor).values())
     out["seals"] = (seal_loss(env.input_seal_diameter_m, input_rad_s)
                     + seal_loss(env.output_seal_diameter_m, output_rad_s))
     out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)
