@@ -350,6 +350,11 @@ def test_out_never_replaces_what_toothfem_did_not_write(tmp_path, cases_dir, cap
     for out in (empty, empty):             # empty, then an earlier result
         assert cli.main(["geometry", str(case), "--out", str(out)]) == 0
     assert (empty / "profile.csv").exists()
+    # a file of the user's put into an earlier result: refused, the file kept
+    (empty / "my_note.txt").write_text("mine")
+    assert cli.main(["geometry", str(case), "--out", str(empty)]) == 2
+    assert "my_note.txt" in capsys.readouterr().err
+    assert (empty / "my_note.txt").read_text() == "mine"
 
 
 def test_cache_that_cannot_be_written_warns_and_returns(tmp_path, monkeypatch):

@@ -7,8 +7,10 @@ only when complete. A sibling left by a run that was killed outright (SIGKILL, p
 names its process; the next run into the same folder removes it once that process is gone.
 
 Only a folder toothfem wrote is ever replaced: every result folder holds the marker file
-MARKER, and an ``out`` that is a file, or a folder that is neither empty nor marked (a
-user's folder, the case's own folder), is refused before anything is written.
+MARKER, which lists what the run wrote, and an ``out`` that is a file, a folder that is
+neither empty nor marked (a user's folder, the case's own folder), or a marked folder
+holding something the run did not write (a user's note put beside the results), is
+refused before anything is written.
 """
 from __future__ import annotations
 
@@ -114,9 +116,35 @@ def check_replaceable(out) -> None:
     if not out.is_dir():
         raise ToothfemError(f"--out {out} is a file: toothfem writes a folder and does not "
                             "replace what it did not write (choose a new folder)")
-    if any(out.iterdir()) and not (out / MARKER).is_file():
+    marker = out / MARKER
+    if any(out.iterdir()) and not marker.is_file():
         raise ToothfemError(f"--out {out} holds files toothfem did not write: it is not "
                             "replaced (choose a new or empty folder, or an earlier result)")
+    written = _listed(marker)
+    if written is not None:
+        extra = sorted(p.name for p in out.iterdir() if p.name != MARKER
+                       and p.name not in written)
+        if extra:
+            raise ToothfemError(f"--out {out} is an earlier result with files toothfem did "
+                                f"not write ({', '.join(extra[:3])}"
+                                f"{', ...' if len(extra) > 3 else ''}): it is not replaced "
+                                "(move them, or choose a new folder)")
+
+
+#: The marker's first line; the names the run wrote follow, one per line.
+_MARKER_HEAD = "written by toothfem; a later run may replace this folder"
+
+
+def _listed(marker: Path):
+    """The names a marked folder's run wrote, or None (no marker, or one written before
+    the marker listed them)."""
+    try:
+        lines = marker.read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return None
+    if len(lines) < 2 or lines[0] != _MARKER_HEAD + ":":
+        return None
+    return set(lines[1:])
 
 
 @contextlib.contextmanager
@@ -144,9 +172,10 @@ def atomic_dir(out):
     clean_stale(out)
     tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('tmp')}", dir=out.parent))
     try:
-        (tmp / MARKER).write_text("written by toothfem; a later run may replace this "
-                                  "folder\n")
+        (tmp / MARKER).write_text(_MARKER_HEAD + "\n")
         yield tmp
+        (tmp / MARKER).write_text("\n".join([_MARKER_HEAD + ":"] + sorted(
+            p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
     except BaseException:
         with _signals_held():          # a second Ctrl-C does not cut the clean-up short
             shutil.rmtree(tmp, ignore_errors=True)
