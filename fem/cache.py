@@ -10,7 +10,9 @@ Location: ``$TOOTHFEM_CACHE`` if set, else ``~/.cache/toothfem``. Writes are ato
 temporary file in the same folder, then ``os.replace``), so a reader never sees half a
 file; a file that cannot be read back (truncated, corrupt, other format) or whose stored
 key is not the one its name promises (a renamed or copied file) counts as a miss and is
-recomputed and overwritten by the caller. A cache that cannot be written (read-only, full
+recomputed and overwritten by the caller. A temporary file names its writer
+(:mod:`toothfem.leftovers`): one left by a killed write is removed by the next store once its
+process is gone. A cache that cannot be written (read-only, full
 disk, a file where the folder should be) costs only the saving: :meth:`DiskCache.store`
 warns (:class:`CacheWarning`) and the caller's result stands.
 """
@@ -28,6 +30,8 @@ from pathlib import Path
 from typing import Mapping
 
 import numpy as np
+
+from ..leftovers import left_by_dead_runs, owner
 
 #: Environment variable naming the cache folder.
 CACHE_ENV = "TOOTHFEM_CACHE"
@@ -186,7 +190,10 @@ class DiskCache:
         tmp = None
         try:
             self.directory.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(prefix=f".{key[:16]}.", suffix=".tmp",
+            for _, left in left_by_dead_runs(self.directory, "."):
+                with contextlib.suppress(OSError):
+                    left.unlink(missing_ok=True)
+            fd, tmp = tempfile.mkstemp(prefix=f".tmp-{owner()}{key[:16]}.", suffix=".tmp",
                                        dir=self.directory)
             with os.fdopen(fd, "wb") as fh:
                 np.savez(fh, **{KEY_ARRAY: np.asarray(key)},

@@ -280,7 +280,7 @@ def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):
                           "sys.exit(main())", "contact", str(cases_dir / "rv40e.toml"),
                           "--positions", "36", "--out", str(out)],
                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, env=env)
-    while p.poll() is None and not list(tmp_path.glob(".contact.tmp-*")):
+    while p.poll() is None and not list(tmp_path.glob(".contact~*.tmp-*")):
         time.sleep(0.05)
     while p.poll() is None:
         p.send_signal(signum)
@@ -297,15 +297,17 @@ def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):
 
 def test_stale_temporary_folders_of_dead_runs_are_removed(tmp_path):
     from toothfem import output
+    from toothfem.leftovers import host
 
     out = tmp_path / "res"
     dead = 2 ** 22 + 12345                     # above Linux's pid_max default: no process
-    stale = tmp_path / f".res.tmp-{output._host()}-{dead}-abc"
+    stem = output._stem(out)
+    stale = tmp_path / f"{stem}.tmp-{host()}-{dead}-abc"
     stale.mkdir()
     (stale / "half.csv").write_text("x")
-    live = tmp_path / f".res.tmp-{output._host()}-1-abc"      # pid 1 is alive
+    live = tmp_path / f"{stem}.tmp-{host()}-1-abc"      # pid 1 is alive
     live.mkdir()
-    other = tmp_path / f".res.tmp-otherhost-{dead}-abc"
+    other = tmp_path / f"{stem}.tmp-otherhost-{dead}-abc"
     other.mkdir()
     with atomic_dir(out) as tmp:
         (tmp / "a.txt").write_text("done")
@@ -324,6 +326,57 @@ def test_atomic_dir_keeps_the_old_result_on_failure(tmp_path):
             raise KeyboardInterrupt
     assert (out / "v").read_text() == "1"
     assert [p.name for p in tmp_path.iterdir()] == ["res"]
+
+
+def test_a_result_left_aside_by_a_killed_swap_is_put_back(tmp_path):
+    """A run killed between the two renames of the swap leaves the previous result only in
+    its hidden ``.old-`` sibling: the next run puts it back under its name (and says so)
+    before deciding anything, so it is neither lost nor deleted."""
+    from toothfem import output
+    from toothfem.leftovers import host
+
+    out = tmp_path / "res"
+    with atomic_dir(out) as tmp:
+        (tmp / "v").write_text("1")
+    dead = 2 ** 22 + 12345
+    aside = tmp_path / f"{output._stem(out)}.old-{host()}-{dead}-abc"
+    aside.mkdir()
+    out.replace(aside / out.name)                  # the killed swap's first rename
+    with pytest.warns(RuntimeWarning, match="back under its name"):
+        assert clean_stale(out) == [aside]
+    assert (out / "v").read_text() == "1"
+    assert [p.name for p in tmp_path.iterdir()] == ["res"]
+    # with the new result already in place, the copy left aside is the redundant one
+    aside.mkdir()
+    (aside / out.name).mkdir()
+    with atomic_dir(out) as tmp:
+        (tmp / "v").write_text("2")
+    assert (out / "v").read_text() == "2"
+    assert [p.name for p in tmp_path.iterdir()] == ["res"]
+
+
+def test_out_follows_a_symlink_and_takes_a_255_character_name(tmp_path):
+    """A symbolic link --out is written through (the link stays a link); the longest legal
+    folder name is accepted (the hidden temporary name is cut to fit); the marker names the
+    version and the command line."""
+    from toothfem import __version__
+    from toothfem.output import MARKER
+
+    real = tmp_path / "elsewhere"
+    link = tmp_path / "link"
+    link.symlink_to(real, target_is_directory=True)
+    for _ in range(2):                              # new, then an earlier result
+        with atomic_dir(link) as tmp:
+            (tmp / "a.txt").write_text("done")
+    assert link.is_symlink() and (real / "a.txt").read_text() == "done"
+    long = tmp_path / ("r" * 255)
+    with atomic_dir(long) as tmp:
+        (tmp / "a.txt").write_text("done")
+    assert (long / "a.txt").exists()
+    head = (long / MARKER).read_text().splitlines()[0]
+    assert head.startswith(f"written by toothfem {__version__} (") and head.endswith(":")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(["elsewhere", "link",
+                                                                 long.name])
 
 
 def test_out_never_replaces_what_toothfem_did_not_write(tmp_path, cases_dir, capsys):
@@ -355,6 +408,21 @@ def test_out_never_replaces_what_toothfem_did_not_write(tmp_path, cases_dir, cap
     assert cli.main(["geometry", str(case), "--out", str(empty)]) == 2
     assert "my_note.txt" in capsys.readouterr().err
     assert (empty / "my_note.txt").read_text() == "mine"
+
+
+def test_cache_temporary_of_a_killed_write_is_removed(tmp_path):
+    """A write killed outright leaves its temporary file (named by host and process); the
+    next store removes it once that process is gone, and leaves a live writer's alone."""
+    from toothfem.leftovers import host
+
+    dead = 2 ** 22 + 12345
+    killed = tmp_path / f".tmp-{host()}-{dead}-0123456789abcdef.x1.tmp"
+    live = tmp_path / f".tmp-{host()}-1-0123456789abcdef.x2.tmp"
+    for f in (killed, live):
+        f.write_bytes(b"half a file")
+    DiskCache(tmp_path).store(content_key("a"), {"x": np.ones(2)})
+    assert not killed.exists() and live.exists()
+    assert DiskCache(tmp_path).load(content_key("a"))["x"].sum() == 2
 
 
 def test_cache_that_cannot_be_written_warns_and_returns(tmp_path, monkeypatch):

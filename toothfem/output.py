@@ -2,29 +2,38 @@
 
 A run that fails, is interrupted (SIGINT, or SIGTERM, which the CLI turns into an
 exception) or is killed never leaves a half-written result under the output name: the work
-happens in a hidden sibling ``.<name>.tmp-<host>-<pid>-<random>``, renamed to ``<name>``
-only when complete. A sibling left by a run that was killed outright (SIGKILL, power loss)
-names its process; the next run into the same folder removes it once that process is gone.
+happens in a hidden sibling ``.<name>~<digest>.tmp-<host>-<pid>-<random>`` (the name cut to
+64 characters and told apart by a digest, so that a legal 255-character name stays legal),
+renamed to ``<name>`` only when complete. A sibling left by a run that was killed outright
+(SIGKILL, power loss) names its process; the next run into the same folder removes it once
+that process is gone. The previous result is moved aside (``.old-``) only for the instant of
+the swap; a run killed inside that instant leaves it there, and the next run puts it back
+under its name (and says so) before anything else. A symbolic link ``out`` is followed: the
+result is written where it points.
 
 Only a folder toothfem wrote is ever replaced: every result folder holds the marker file
 MARKER, which lists what the run wrote, and an ``out`` that is a file, a folder that is
 neither empty nor marked (a user's folder, the case's own folder), or a marked folder
 holding something the run did not write (a user's note put beside the results), is
-refused before anything is written.
+refused before anything is written. The marker names the toothfem version and the command
+line that wrote the folder.
 """
 from __future__ import annotations
 
 import contextlib
+import hashlib
 import os
-import re
 import shutil
 import signal
-import socket
+import sys
 import tempfile
 import threading
+import warnings
 from pathlib import Path
 
+from . import __version__
 from .errors import ToothfemError
+from .leftovers import left_by_dead_runs, owner
 
 #: The file that marks a folder as a toothfem result (what a later run may replace).
 MARKER = ".toothfem-result"
@@ -34,29 +43,28 @@ MARKER = ".toothfem-result"
 _SWAP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
 
 
-def _host() -> str:
-    """This machine's name as it may appear in a folder name."""
-    return re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host"
+def _stem(out: Path) -> str:
+    """The hidden siblings' common start: ``.<name cut to 64>~<digest of the name>``."""
+    digest = hashlib.sha1(out.name.encode("utf-8", "surrogateescape")).hexdigest()[:8]
+    return f".{out.name[:64]}~{digest}"
 
 
-def _tag(kind: str) -> str:
-    return f"{kind}-{_host()}-{os.getpid()}-"
+def _tag(out: Path, kind: str) -> str:
+    return f"{_stem(out)}.{kind}-{owner()}"
 
 
-def _alive(pid: int) -> bool:
-    try:
-        os.kill(pid, 0)
-    except ProcessLookupError:
-        return False
-    except PermissionError:       # another user's live process
-        return True
-    return True
+def target(out) -> Path:
+    """The folder a result named ``out`` goes to: ``out``, or where it points when it is a
+    symbolic link (followed through every link; a dangling link gives its target)."""
+    out = Path(out)
+    return Path(os.path.realpath(out)) if out.is_symlink() else out
 
 
 def clean_stale(out) -> list[Path]:
-    """Remove the temporary siblings of ``out`` left by runs on this machine whose process
-    has ended. Siblings of live processes, of other machines and of other names are left
-    alone (a hidden folder is ignored by everything else).
+    """Tidy the hidden siblings of ``out`` left by runs on this machine whose process has
+    ended: a previous result left aside by a run killed during the swap is put back under
+    ``out`` when nothing is there (with a warning); every other leftover is removed.
+    Siblings of live processes, of other machines and of other names are left alone.
 
     Parameters
     ----------
@@ -68,16 +76,19 @@ def clean_stale(out) -> list[Path]:
     list of pathlib.Path
         What was removed.
     """
-    out = Path(out)
-    pattern = re.compile(rf"^\.{re.escape(out.name)}\.(tmp|old)-{re.escape(_host())}-"
-                         r"(\d+)-[^/]*$")
+    out = target(out)
     removed = []
-    with contextlib.suppress(OSError):
-        for sib in out.parent.iterdir():
-            m = pattern.match(sib.name)
-            if m and int(m.group(2)) != os.getpid() and not _alive(int(m.group(2))):
-                shutil.rmtree(sib, ignore_errors=True)
-                removed.append(sib)
+    for kind, sib in sorted(left_by_dead_runs(out.parent, _stem(out) + ".", ("tmp", "old")),
+                            key=lambda k: k[0] != "old"):
+        kept = sib / out.name
+        if kind == "old" and kept.is_dir() and not out.exists():
+            with contextlib.suppress(OSError):
+                kept.replace(out)
+                warnings.warn(f"--out {out}: the earlier result, left aside by a run that "
+                              f"was killed while replacing it, is back under its name",
+                              RuntimeWarning, stacklevel=2)
+        shutil.rmtree(sib, ignore_errors=True)
+        removed.append(sib)
     return removed
 
 
@@ -110,7 +121,7 @@ def check_replaceable(out) -> None:
     ToothfemError
         Naming the path and why it is not replaced.
     """
-    out = Path(out)
+    out = target(out)
     if not out.exists():
         return
     if not out.is_dir():
@@ -131,8 +142,16 @@ def check_replaceable(out) -> None:
                                 "(move them, or choose a new folder)")
 
 
-#: The marker's first line; the names the run wrote follow, one per line.
-_MARKER_HEAD = "written by toothfem; a later run may replace this folder"
+#: The marker's first line starts so; the version and command line follow, then ":" and
+#: the names the run wrote, one per line.
+_MARKER_HEAD = "written by toothfem"
+
+
+def _marker_head() -> str:
+    argv = sys.argv or ["python"]
+    command = " ".join([Path(argv[0]).name, *argv[1:]])[:200]
+    return (f"{_MARKER_HEAD} {__version__} ({' '.join(command.split())}); a later run may "
+            "replace this folder")
 
 
 def _listed(marker: Path):
@@ -142,7 +161,7 @@ def _listed(marker: Path):
         lines = marker.read_text(encoding="utf-8").splitlines()
     except (OSError, UnicodeDecodeError):
         return None
-    if len(lines) < 2 or lines[0] != _MARKER_HEAD + ":":
+    if len(lines) < 2 or not (lines[0].startswith(_MARKER_HEAD) and lines[0].endswith(":")):
         return None
     return set(lines[1:])
 
@@ -166,15 +185,15 @@ def atomic_dir(out):
     pathlib.Path
         The temporary folder to write into.
     """
-    out = Path(out)
+    out = target(out)
+    clean_stale(out)
     check_replaceable(out)
     out.parent.mkdir(parents=True, exist_ok=True)
-    clean_stale(out)
-    tmp = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('tmp')}", dir=out.parent))
+    tmp = Path(tempfile.mkdtemp(prefix=_tag(out, "tmp"), dir=out.parent))
     try:
-        (tmp / MARKER).write_text(_MARKER_HEAD + "\n")
+        (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
         yield tmp
-        (tmp / MARKER).write_text("\n".join([_MARKER_HEAD + ":"] + sorted(
+        (tmp / MARKER).write_text("\n".join([_marker_head() + ":"] + sorted(
             p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
     except BaseException:
         with _signals_held():          # a second Ctrl-C does not cut the clean-up short
@@ -184,8 +203,7 @@ def atomic_dir(out):
     try:
         with _signals_held():
             if out.exists():
-                old = Path(tempfile.mkdtemp(prefix=f".{out.name}.{_tag('old')}",
-                                            dir=out.parent))
+                old = Path(tempfile.mkdtemp(prefix=_tag(out, "old"), dir=out.parent))
                 out.replace(old / out.name)
             try:
                 tmp.replace(out)
