@@ -2,20 +2,29 @@
 influence tables (toothfem.fem.cache, CycleSolver.cache).
 
 Facts checked: a sweep row is the cycle solver's own result for that design and load case;
-load cases of a design share one setup; rows reach the temporary CSV one by one, and the
-output folder appears only when the sweep ends (none after a crash of the driver); a failed
-point is a row, not the end of the sweep; a new torque on a known design costs no
+load cases of a design share one setup; rows reach the journal under the output folder one
+by one and the tables appear only when the sweep ends; a sweep stopped by a crash of the
+driver keeps its finished points and the same call resumes it; a failed point is a row, not
+the end of the sweep (the command's exit says how many); a new torque on a known design costs no
 factorisation, from memory or from disk; the cache key follows the geometry, not the torque.
 """
 import argparse
+import contextlib
 import csv
 import json
 import math
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import numpy as np
 import pytest
 
 from toothfem import CaseError, load_case
+from toothfem.errors import IncompleteRun
+from toothfem.output import JOURNAL
 from toothfem.commands import sweep as sweep_cmd
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem import linsolve
@@ -54,7 +63,12 @@ def _read(path):
 
 
 def _temp_tables(out):
-    return list(out.parent.glob(f".{out.name}.*/sweep.csv"))
+    """The tables in hidden siblings of ``out`` (none may be left)."""
+    return list(out.parent.glob(f".{out.name}~*/sweep.csv"))
+
+
+def _journal(out):
+    return [json.loads(line) for line in (out / JOURNAL).read_text().splitlines()]
 
 
 def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, cache_dir,
@@ -63,14 +77,14 @@ def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, ca
     seen = []
 
     def on_row(row):
-        (table,) = _temp_tables(out)          # written in the temporary folder ...
-        seen.append(len(_read(table)))        # ... and flushed row by row
-        assert not out.exists()
+        seen.append(len(_journal(out)))       # on disk row by row ...
+        assert not (out / "sweep.csv").exists()      # ... the table at the end
 
     res = sweep(cycloid, {ECC: [1.0, 0.9]}, torques_Nm=[100, 200], scheduler=scheduler,
                 out=out, cache_dir=cache_dir, on_row=on_row, **FAST)
     assert seen == [1, 2, 3, 4]
     assert res.failed == 0 and res.table == out / "sweep.csv" and not _temp_tables(out)
+    assert not (out / JOURNAL).exists()              # the finished sweep keeps its tables
     rows = _read(res.table)
     assert list(rows[0]) == ["design", "load_case", ECC] + result_columns(drive_for(cycloid))
     assert "pins_in_contact_max" in rows[0]                # a cycloid sweep counts pins
@@ -141,16 +155,32 @@ def test_keys_and_values_checked_before_any_work(cycloid, tmp_path):
     assert not out.exists() and not _temp_tables(out)
 
 
-def test_driver_crash_leaves_no_output(cycloid, scheduler, cache_dir, tmp_path):
+def test_a_stopped_sweep_keeps_its_points_and_the_same_call_resumes(cycloid, scheduler,
+                                                                     cache_dir, tmp_path):
+    """The driver dies after the first row: that row is on disk under the output folder
+    (the exception says so); the same call computes only the other row; another call (other
+    torques) into the folder starts afresh."""
     out = tmp_path / "sw"
 
     def crash(row):
         raise RuntimeError("driver died")
 
-    with pytest.raises(RuntimeError, match="driver died"):
+    with pytest.raises(RuntimeError, match="driver died") as stopped:
         sweep(cycloid, {}, torques_Nm=[100, 200], scheduler=scheduler, out=out,
               cache_dir=cache_dir, on_row=crash, **FAST)
-    assert not out.exists() and not _temp_tables(out)
+    assert stopped.value.toothfem_kept.startswith(f"1 finished points kept in {out}")
+    (kept,) = _journal(out)
+    assert kept["record"]["status"] == "ok" and not (out / "sweep.csv").exists()
+    computed = []
+    res = sweep(cycloid, {}, torques_Nm=[100, 200], scheduler=scheduler, out=out,
+                cache_dir=cache_dir, on_row=computed.append, **FAST)
+    assert res.resumed == 1 and len(computed) == 1 and len(_read(res.table)) == 2
+    assert computed[0]["load_case"] != kept["record"]["load_case"]
+    assert float(_read(res.table)[kept["record"]["load_case"]]["max_force_N"]) == \
+        pytest.approx(kept["record"]["max_force_N"], rel=1e-9)
+    res = sweep(cycloid, {}, torques_Nm=[300], scheduler=scheduler, out=out,
+                cache_dir=cache_dir, **FAST)
+    assert res.resumed == 0 and len(_read(res.table)) == 1 and not _temp_tables(out)
 
 
 def test_sine_sweep_with_the_analytic_split(cases_dir, scheduler, tmp_path):
@@ -216,9 +246,115 @@ def test_cli_sweep(cases_dir, scheduler, cache_dir, tmp_path, capsys):
         "cycloid.pin_structure", ["integral", "conventional"])
     assert sweep_cmd.parse_vary("material.poisson_ratio=0.3, 0.29") == (
         "material.poisson_ratio", [0.3, 0.29])
+    # a failed point: the tables are written, and the command says how many failed
+    args = ap.parse_args(["sweep", str(cases_dir / "cycloid_pinhousing.toml"), "--vary",
+                          f"{ECC}=3.0,1.0", "--torque-Nm", "100", "--positions", "2",
+                          "--pins", "rigid", "--scheduler", scheduler, "--cache-dir",
+                          str(cache_dir), "--out", str(tmp_path / "failed")])
+    with pytest.raises(IncompleteRun, match=r"^1 of 2 points failed"):
+        args.func(args)
+    assert len(_read(tmp_path / "failed" / "sweep.csv")) == 2
     for bad in ("cycloid.eccentricity_mm", "=1,2", "cycloid.eccentricity_mm=1,,2"):
         with pytest.raises(CaseError):
             sweep_cmd.parse_vary(bad)
+
+
+@pytest.mark.parametrize("fault", ["no worker", "worker lost", "scheduler lost"])
+def test_dask_faults_end_in_one_line_and_keep_the_finished_points(cycloid, fault, tmp_path,
+                                                                  monkeypatch):
+    """A scheduler without workers, the only worker lost after the first row, the
+    scheduler closed after it: each ends within seconds (the no-worker wait shortened to
+    3 s here, 30 s by default) in a ClusterError of one line, with the finished row kept."""
+    from distributed import LocalCluster
+
+    from toothfem import cluster
+
+    monkeypatch.setattr(cluster, "NO_WORKER_TIMEOUT_S", 3.0)
+    out = tmp_path / "sw"
+    with LocalCluster(n_workers=0 if fault == "no worker" else 1, threads_per_worker=1,
+                      processes=True, dashboard_address=":0") as local:
+        def on_row(row):
+            if fault == "worker lost":
+                local.scale(0)
+            elif fault == "scheduler lost":
+                local.close()
+
+        t0 = time.monotonic()
+        with pytest.raises(cluster.ClusterError) as stopped:
+            sweep(cycloid, {ECC: [1.0, 0.95, 0.9]}, torques_Nm=[100], positions=2,
+                  pins="rigid", scheduler=local.scheduler_address, out=out, cache_dir=False,
+                  progress=False, on_row=on_row)
+    assert time.monotonic() - t0 < 30
+    message = str(stopped.value)
+    assert "\n" not in message and local.scheduler_address in message
+    assert ("no worker for 3 s" if fault != "scheduler lost" else "stopped answering") \
+        in message
+    if fault == "no worker":
+        assert not out.exists()
+    else:
+        assert len(_journal(out)) == 1
+        assert stopped.value.toothfem_kept.startswith("1 finished points kept")
+
+
+def test_a_silent_scheduler_address_is_refused_in_bounded_time(cycloid, tmp_path,
+                                                               monkeypatch):
+    """Something that accepts the connection and never answers: Dask's own timeout does not
+    bound the handshake (it waited for ever); ours does (shortened to 2 s here)."""
+    import socket
+
+    from toothfem import cluster
+    from toothfem.errors import ToothfemError
+
+    monkeypatch.setattr(cluster, "CONNECT_TIMEOUT_S", 2.0)
+    with socket.socket() as silent:
+        silent.bind(("127.0.0.1", 0))
+        silent.listen(4)
+        address = "tcp://127.0.0.1:%d" % silent.getsockname()[1]
+        t0 = time.monotonic()
+        with pytest.raises(ToothfemError, match=f"scheduler = '{address}': no Dask scheduler "
+                                                r"there \(no answer within 7 s\)"):
+            sweep(cycloid, {}, torques_Nm=[100], scheduler=address, out=tmp_path / "sw",
+                  **FAST)
+    assert time.monotonic() - t0 < 15 and not (tmp_path / "sw").exists()
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("signum", [signal.SIGKILL, signal.SIGINT])
+def test_a_killed_sweep_keeps_its_points_and_a_rerun_finishes_only_the_rest(cases_dir,
+                                                                            tmp_path,
+                                                                            signum):
+    """`toothfem sweep` on a local cluster, its whole process group signalled once two
+    points are on disk: SIGKILL keeps them (nothing could be cleaned up); Ctrl-C exits 130
+    with one line saying they are kept, no traceback. The same command then computes only
+    the rest."""
+    out = tmp_path / "sw"
+    cmd = [sys.executable, "-c", "import sys; from toothfem.cli import main; "
+           "sys.exit(main())", "sweep", str(cases_dir / "cycloid_pinhousing.toml"),
+           "--vary", f"{ECC}=1.0,0.98,0.96,0.94,0.92,0.9", "--torque-Nm", "100",
+           "--positions", "4", "--workers", "1", "--no-cache", "--out", str(out)]
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
+                         start_new_session=True)
+    try:
+        while p.poll() is None and not ((out / JOURNAL).exists() and
+                                        len(_journal(out)) >= 2):
+            time.sleep(0.05)
+        os.killpg(p.pid, signum)
+        p.wait(timeout=60)
+    finally:
+        with contextlib.suppress(ProcessLookupError):
+            os.killpg(p.pid, signal.SIGKILL)
+    err = p.stderr.read().decode()
+    kept = len(_journal(out))
+    assert 2 <= kept < 6, err[-800:]
+    assert p.returncode == (-signum if signum == signal.SIGKILL else 130), err[-800:]
+    if signum == signal.SIGINT:
+        assert "Traceback" not in err, err[-800:]
+        assert err.strip().splitlines()[-1].startswith(
+            f"toothfem sweep: interrupted; {kept} finished points kept in"), err[-800:]
+    done = subprocess.run(cmd, capture_output=True, timeout=300)
+    assert done.returncode == 0, done.stderr.decode()[-800:]
+    summary = json.loads((out / "sweep.json").read_text())
+    assert summary["resumed"] == kept and summary["rows"] == 6 and summary["failed"] == 0
 
 
 @pytest.mark.slow

@@ -195,15 +195,35 @@ def test_sine_pitches_are_periodic(cases_dir):
 # -- the ensemble --------------------------------------------------------------------------
 
 @pytest.mark.slow
-def test_ensemble_is_seeded_and_physical(pinhousing):
-    """Same seed, same numbers; a 5 um pin zone on the unmodified (zero-clearance) disc
-    concentrates the load: the largest pin force rises above the nominal's and fewer pins
-    carry; efficiencies stay within (0, 100) %; the one-tolerance shares sum to one."""
+def test_ensemble_is_seeded_and_physical(pinhousing, tmp_path):
+    """Same seed, same numbers, also when the run was stopped after three rings and
+    resumed from the rings it kept on disk; a 5 um pin zone on the unmodified
+    (zero-clearance) disc concentrates the load: the largest pin force rises above the
+    nominal's and fewer pins carry; efficiencies stay within (0, 100) %; the one-tolerance
+    shares sum to one."""
+    from toothfem.output import resumable_dir
+
     kw = dict(samples=6, seed=11, positions=12, share_samples=4, progress=False,
               overrides={"disc_profile_mm": 0.0, "crank_hole_position_mm": 0.0,
                          "pin_circle_radius_mm": 0.0, "eccentricity_mm": 0.0})
     a = tolerance_analysis(pinhousing, **kw)
-    b = tolerance_analysis(pinhousing, **kw)
+    with pytest.raises(KeyboardInterrupt):
+        with resumable_dir(tmp_path / "tol", "ab12") as points:
+            record = points.record
+
+            def stop_after_three(point, output):
+                record(point, output)
+                if len(points.done) == 3:
+                    raise KeyboardInterrupt
+            points.record = stop_after_three
+            tolerance_analysis(pinhousing, points=points, **kw)
+    with resumable_dir(tmp_path / "tol", "ab12") as points:
+        assert len(points.done) == 3
+        solved = []
+        record = points.record
+        points.record = lambda point, output: (solved.append(point), record(point, output))
+        b = tolerance_analysis(pinhousing, points=points, **kw)
+    assert len(solved) == 1 + 6 + 2 * 4 - 3 and not set(solved) & {"0", "1", "2"}
     for k in a.samples:
         np.testing.assert_array_equal(a.samples[k], b.samples[k])
     assert np.all(a.samples["max_force_N"] > a.nominal["max_force_N"])

@@ -2,10 +2,12 @@
 toothfem's errors into one line on stderr and a non-zero exit code.
 
 Exit codes: 0 done; 2 refused (bad input: the line names the parameter); 3 an internal
-error (a bug: one line, the traceback with ``TOOTHFEM_DEBUG=1``); 130 / 143 interrupted by
-SIGINT / SIGTERM (the output folder is left as it was: commands write through
-:func:`toothfem.output.atomic_dir`). A closed stdout (``toothfem check CASE | head -1``)
-ends the command quietly.
+error (a bug: one line, the traceback with ``TOOTHFEM_DEBUG=1``); 4 a long run incomplete
+(points failed, or the Dask cluster was lost: the line says how many points are kept);
+130 / 143 interrupted by SIGINT / SIGTERM (the output folder is left as it was: commands
+write through :func:`toothfem.output.atomic_dir`; a sweep or ensemble keeps its finished
+points, :func:`toothfem.output.resumable_dir`, and the line says so). A closed stdout
+(``toothfem check CASE | head -1``) ends the command quietly.
 """
 from __future__ import annotations
 
@@ -20,14 +22,14 @@ import warnings
 from . import __version__
 from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
                        sweep, tolerance)
-from .errors import ToothfemError
+from .errors import IncompleteRun, ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
             sweep)
 #: Environment variable that lets an internal error show its traceback.
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).
-EXIT_REFUSED, EXIT_INTERNAL = 2, 3
+EXIT_REFUSED, EXIT_INTERNAL, EXIT_INCOMPLETE = 2, 3, 4
 
 
 class Terminated(BaseException):
@@ -75,14 +77,17 @@ def main(argv=None) -> int:
             return args.func(args)
     except BrokenPipeError:
         return _quiet_broken_pipe()
+    except IncompleteRun as exc:
+        _say(f"{name}: incomplete: {exc}{_kept(exc, '')}")
+        return EXIT_INCOMPLETE
     except (ToothfemError, OSError) as exc:
-        _say(f"{name}: error: {exc}")
+        _say(f"{name}: error: {exc}{_kept(exc, '')}")
         return EXIT_REFUSED
-    except KeyboardInterrupt:
-        _say(f"{name}: interrupted; no output written")
+    except KeyboardInterrupt as exc:
+        _say(f"{name}: interrupted{_kept(exc, '; no output written')}")
         return 128 + signal.SIGINT
-    except Terminated:
-        _say(f"{name}: terminated; no output written")
+    except Terminated as exc:
+        _say(f"{name}: terminated{_kept(exc, '; no output written')}")
         return 128 + signal.SIGTERM
     except (Exception, MemoryError) as exc:     # noqa: BLE001 -- the last line of defence
         if os.environ.get(DEBUG_ENV):
@@ -92,6 +97,12 @@ def main(argv=None) -> int:
         _say(f"{name}: {what} (a bug: please report it with the case file; "
              f"{DEBUG_ENV}=1 shows the traceback)")
         return EXIT_INTERNAL
+
+
+def _kept(exc: BaseException, otherwise: str) -> str:
+    """What a stopped long run kept (toothfem.output.resumable_dir), or ``otherwise``."""
+    kept = getattr(exc, "toothfem_kept", None)
+    return f"; {kept}" if kept else otherwise
 
 
 def _say(line: str):

@@ -1,14 +1,44 @@
-"""The Dask cluster of the long runs (``toothfem sweep``, ``toothfem tolerance``)."""
+"""The Dask cluster of the long runs (``toothfem sweep``, ``toothfem tolerance``).
+
+A run never waits on the cluster without a bound (issue 27):
+
+- reaching a scheduler (connection and handshake) takes at most CONNECT_TIMEOUT_S: an
+  address where nothing answers, or something that accepts and never replies, ends there
+  (Dask's own ``timeout`` does not bound the handshake: measured, it waited for ever);
+- a cluster without a worker (none at the start, or the last one lost) is waited on for
+  NO_WORKER_TIMEOUT_S, then the run stops;
+- a scheduler that stops answering mid-run stops the run at once (its futures are
+  cancelled; Dask reconnects for a few seconds first).
+
+The first is refused as bad input (ToothfemError), the others end in :class:`ClusterError`;
+each is one line, and the finished points are kept by the caller
+(:func:`toothfem.output.resumable_dir`). Work of a lost worker is resubmitted by the
+scheduler itself (Dask's ``allowed-failures``, default 3 tries) while another worker is
+there.
+"""
 from __future__ import annotations
 
 import contextlib
 import os
+import threading
+import time
 
-from .errors import ToothfemError
+from .errors import IncompleteRun, ToothfemError
 
 
 #: The Dask setting the local cluster's workers leave unset (dask_client).
 UNSET_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
+#: Seconds to reach a scheduler, handshake included.
+CONNECT_TIMEOUT_S = 20.0
+#: Seconds a run waits while the cluster has no worker before it stops (a local worker
+#: that dies is restarted by its nanny in a few seconds).
+NO_WORKER_TIMEOUT_S = 30.0
+#: Seconds between two looks at the cluster while waiting for results.
+POLL_S = 1.0
+
+
+class ClusterError(IncompleteRun):
+    """The cluster cannot finish the run: no scheduler, no worker, or the scheduler lost."""
 
 
 def dask_client(scheduler, n_workers):
@@ -25,6 +55,11 @@ def dask_client(scheduler, n_workers):
     Returns
     -------
     contextlib.AbstractContextManager
+
+    Raises
+    ------
+    ToothfemError
+        (On entry) when no scheduler answers at ``scheduler`` within CONNECT_TIMEOUT_S.
     """
     import dask
     from distributed import Client, LocalCluster
@@ -45,12 +80,93 @@ def dask_client(scheduler, n_workers):
         elif isinstance(scheduler, Client):
             yield scheduler
         else:
-            try:
-                client = Client(scheduler)
-            except (OSError, ValueError, TimeoutError) as exc:
-                raise ToothfemError(f"scheduler = {scheduler!r}: no Dask scheduler there "
-                                    f"({exc}); valid: an address such as "
-                                    "tcp://host:8786") from None
-            with client:
+            with _connect(Client, scheduler) as client:
                 yield client
     return owned()
+
+
+def _connect(Client, address):
+    """``Client(address)`` within CONNECT_TIMEOUT_S: made in a daemon thread, which is
+    abandoned (and ends with the process) when the handshake never completes."""
+    box = {}
+
+    def connect():
+        try:
+            box["client"] = Client(address, timeout=CONNECT_TIMEOUT_S)
+        except Exception as exc:        # noqa: BLE001 -- reported below, in one line
+            box["error"] = exc
+
+    thread = threading.Thread(target=connect, name="toothfem-connect", daemon=True)
+    thread.start()
+    thread.join(CONNECT_TIMEOUT_S + 5.0)
+    if "client" in box:
+        return box["client"]
+    why = (f"no answer within {CONNECT_TIMEOUT_S + 5.0:.0f} s" if thread.is_alive() else
+           f"{type(box['error']).__name__}: {box['error']}".splitlines()[0])
+    raise ToothfemError(f"scheduler = {address!r}: no Dask scheduler there ({why}); valid: "
+                       "the address of a running scheduler, such as tcp://host:8786")
+
+
+def as_finished(client, futures, *, no_worker_timeout_s: float | None = None):
+    """Yield each of ``futures`` as it finishes, watching the cluster in between.
+
+    Parameters
+    ----------
+    client : distributed.Client
+    futures : iterable of distributed.Future
+    no_worker_timeout_s : float, optional
+        How long the cluster may have no worker while work is pending (default
+        NO_WORKER_TIMEOUT_S).
+
+    Yields
+    ------
+    distributed.Future
+        A finished one (its ``result()`` may still raise the task's error).
+
+    Raises
+    ------
+    ClusterError
+        When the cluster has had no worker for ``no_worker_timeout_s``, or the scheduler
+        stopped answering (the pending futures were cancelled).
+    """
+    from distributed import wait
+
+    if no_worker_timeout_s is None:
+        no_worker_timeout_s = NO_WORKER_TIMEOUT_S
+    pending = list(futures)
+    address = getattr(client.scheduler, "address", "?")
+    idle_since = None
+    while pending:
+        try:
+            done, _ = wait(pending, timeout=POLL_S, return_when="FIRST_COMPLETED")
+        except TimeoutError:
+            done = set()
+        except Exception as exc:        # noqa: BLE001 -- cancelled futures: scheduler lost
+            raise _lost(address, exc) from None
+        for fut in [f for f in pending if f in done]:
+            if fut.status == "cancelled":
+                raise _lost(address, "its work was cancelled")
+            yield fut
+        pending = [f for f in pending if f not in done]
+        if not pending:
+            return
+        if client.status != "running":
+            raise _lost(address, f"client {client.status}")
+        try:
+            workers = len(client.scheduler_info().get("workers", {}))
+        except Exception as exc:        # noqa: BLE001 -- the client is closing
+            raise _lost(address, exc) from None
+        if workers:
+            idle_since = None
+        elif idle_since is None:
+            idle_since = time.monotonic()
+        elif time.monotonic() - idle_since > no_worker_timeout_s:
+            raise ClusterError(f"the Dask scheduler at {address} has had no worker for "
+                               f"{no_worker_timeout_s:.0f} s ({len(pending)} tasks waiting); "
+                               f"start workers (dask worker {address}) and run again")
+
+
+def _lost(address, why) -> ClusterError:
+    why = f"{type(why).__name__}: {why}" if isinstance(why, BaseException) else str(why)
+    return ClusterError(f"the Dask scheduler at {address} stopped answering "
+                        f"({why.splitlines()[0] if why else 'no reason given'})")

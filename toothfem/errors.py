@@ -53,6 +53,11 @@ class GeometryError(ToothfemError):
     """Geometry parameters that give a looped, cusped, undercut or interfering profile."""
 
 
+class IncompleteRun(ToothfemError):
+    """A long run that did not finish every point (a failed point, a lost cluster); what
+    finished is kept (toothfem.output.resumable_dir)."""
+
+
 class MeasuredDataError(ToothfemError):
     """Measured data that cannot be read: a bad header, no good row, or (strict) a bad row."""
 

@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import json
 import os
+import re
 import shutil
 import signal
 import sys
@@ -51,6 +53,16 @@ def _stem(out: Path) -> str:
 
 def _tag(out: Path, kind: str) -> str:
     return f"{_stem(out)}.{kind}-{owner()}"
+
+
+def _umask() -> int:
+    mask = os.umask(0)
+    os.umask(mask)
+    return mask
+
+
+#: The process's umask (read once, at import: setting it to read it is not thread-safe).
+_UMASK = _umask()
 
 
 def target(out) -> Path:
@@ -145,13 +157,17 @@ def check_replaceable(out) -> None:
 #: The marker's first line starts so; the version and command line follow, then ":" and
 #: the names the run wrote, one per line.
 _MARKER_HEAD = "written by toothfem"
+#: What an unfinished long run's marker says, with its key (resumable_dir).
+_UNFINISHED = re.compile(r"; unfinished run ([0-9a-f]+)")
 
 
-def _marker_head() -> str:
+def _marker_head(unfinished: str | None = None) -> str:
     argv = sys.argv or ["python"]
     command = " ".join([Path(argv[0]).name, *argv[1:]])[:200]
-    return (f"{_MARKER_HEAD} {__version__} ({' '.join(command.split())}); a later run may "
-            "replace this folder")
+    state = (f"; unfinished run {unfinished}: the same command resumes it"
+             if unfinished else "")
+    return (f"{_MARKER_HEAD} {__version__} ({' '.join(command.split())}){state}; a later "
+            "run may replace this folder")
 
 
 def _listed(marker: Path):
@@ -167,7 +183,7 @@ def _listed(marker: Path):
 
 
 @contextlib.contextmanager
-def atomic_dir(out):
+def atomic_dir(out, *, unfinished: str | None = None):
     """Yield a temporary folder that becomes ``out`` only if the block succeeds.
 
     On an exception (KeyboardInterrupt and the CLI's SIGTERM included) the temporary folder
@@ -179,6 +195,9 @@ def atomic_dir(out):
     ----------
     out : str or pathlib.Path
         The output folder (its parent is created).
+    unfinished : str, optional
+        The key of a long run that goes on writing into the folder (its marker says so:
+        :func:`resumable_dir`).
 
     Yields
     ------
@@ -191,9 +210,10 @@ def atomic_dir(out):
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(prefix=_tag(out, "tmp"), dir=out.parent))
     try:
+        tmp.chmod(0o777 & ~_UMASK)          # as a folder made by mkdir (mkdtemp: 0700)
         (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
         yield tmp
-        (tmp / MARKER).write_text("\n".join([_marker_head() + ":"] + sorted(
+        (tmp / MARKER).write_text("\n".join([_marker_head(unfinished) + ":"] + sorted(
             p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
     except BaseException:
         with _signals_held():          # a second Ctrl-C does not cut the clean-up short
@@ -217,3 +237,134 @@ def atomic_dir(out):
     finally:
         if old is not None and out.exists():   # else it holds the only copy: keep it
             shutil.rmtree(old, ignore_errors=True)
+
+
+#: A long run's finished points, one JSON object per line, kept under its output folder
+#: while the run is unfinished (resumable_dir).
+JOURNAL = "finished_points.jsonl"
+
+
+class Points:
+    """The finished points of a long run: ``done`` {point: record}, those read back from
+    the journal of an earlier, unfinished run of the same key and those recorded since.
+    The folder is made (replacing an earlier result) when the first point is recorded, so
+    a run that finishes none leaves everything as it was."""
+
+    def __init__(self, folder: Path, key: str, done: dict):
+        self.folder, self.key, self.done = folder, key, done
+        self._fh = None
+
+    def record(self, point: str, record: dict) -> None:
+        """Keep one finished point: appended to the journal and on disk (flushed and
+        synced) before this returns.
+
+        Parameters
+        ----------
+        point : str
+            The point's name within the run (a later record of the same name replaces
+            the earlier one).
+        record : dict
+            Its result (JSON: numbers, strings, None, lists and dicts of these).
+        """
+        if self._fh is None:
+            self._open()
+        self._fh.write(json.dumps({"point": point, "record": record},
+                                  default=_plain) + "\n")
+        self._fh.flush()
+        os.fsync(self._fh.fileno())
+        self.done[point] = record
+
+    def _open(self):
+        """The journal, opened to append: a new unfinished folder, or the resumed one's
+        journal rewritten without a line cut short by a kill."""
+        if not self.done:
+            with atomic_dir(self.folder, unfinished=self.key) as tmp:
+                (tmp / JOURNAL).touch()
+        else:
+            with tempfile.NamedTemporaryFile("w", encoding="utf-8", dir=self.folder,
+                                             delete=False,
+                                             prefix=f".{JOURNAL}.tmp-{owner()}") as fh:
+                for point, record in self.done.items():
+                    fh.write(json.dumps({"point": point, "record": record}) + "\n")
+            os.replace(fh.name, self.folder / JOURNAL)
+        self._fh = open(self.folder / JOURNAL, "a", encoding="utf-8")
+
+    def close(self):
+        if self._fh is not None:
+            self._fh.close()
+
+
+def _plain(x):
+    """numpy scalars as Python numbers (json's ``default``)."""
+    if hasattr(x, "item"):
+        return x.item()
+    raise TypeError(f"{type(x).__name__} is not JSON")
+
+
+def _journal(out: Path, key: str):
+    """The finished points of an unfinished run of ``key`` in ``out``, or None (no such
+    run there). A line cut short by a kill is skipped."""
+    marker = out / MARKER
+    try:
+        head = marker.read_text(encoding="utf-8").split("\n", 1)[0]
+        lines = (out / JOURNAL).read_text(encoding="utf-8").splitlines()
+    except (OSError, UnicodeDecodeError):
+        return None
+    m = _UNFINISHED.search(head)
+    if not (head.startswith(_MARKER_HEAD) and m and m.group(1) == key):
+        return None
+    done = {}
+    for line in lines:
+        try:
+            entry = json.loads(line)
+            done[str(entry["point"])] = entry["record"]
+        except (ValueError, KeyError, TypeError):
+            continue
+    return done
+
+
+@contextlib.contextmanager
+def resumable_dir(out, key: str):
+    """The output folder of a long run of many points, kept on disk as they finish.
+
+    From the first finished point on, ``out`` holds the run's marker (unfinished, with
+    ``key``) and the journal JOURNAL: each finished point is appended and synced as it
+    arrives (:meth:`Points.record`), so a run stopped in any way (an interrupt, SIGKILL, a
+    lost cluster, power loss) keeps every finished point, and the same command (the same
+    ``key``) resumes: the points read back are in ``done``. The finished result is written
+    afterwards with :func:`atomic_dir`, which replaces the unfinished folder. ``out`` is
+    refused at once as by :func:`atomic_dir` (a folder of the user's is never written
+    into); an earlier result there stays until the first point is recorded.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder.
+    key : str
+        What identifies the run (hex digits: a hash of the case and the settings); an
+        unfinished folder of another key is an earlier result, replaced.
+
+    Yields
+    ------
+    Points
+        ``done`` and ``record``. An exception leaving the block carries
+        ``toothfem_kept``: a line saying how many points are kept and where.
+    """
+    out = target(out)
+    clean_stale(out)
+    for _, left in left_by_dead_runs(out, f".{JOURNAL}."):    # a rewrite cut short
+        with contextlib.suppress(OSError):
+            left.unlink()
+    done = _journal(out, key)
+    if done is None:
+        check_replaceable(out)
+    points = Points(out, key, done or {})
+    try:
+        yield points
+    except BaseException as exc:
+        if points.done:
+            exc.toothfem_kept = (f"{len(points.done)} finished points kept in {out} "
+                                 "(the same command resumes)")
+        raise
+    finally:
+        points.close()

@@ -17,11 +17,14 @@ costs no new factorisation. Independent tasks keep both workers busy without rou
 (Dask queues them and a worker starts its next design at once); a design's rows arrive
 together when it finishes.
 
-Rows are written as the tasks finish (``as_completed``) and flushed one by one into a
-temporary folder that becomes ``out`` only when the sweep ends (``toothfem.output.atomic_dir``):
-a crash of the driver never leaves a half-written ``out``. A point that fails (a design the
-case refuses, a solver error, a lost worker) is a row with ``status = failed`` and its one-line
-error; the sweep goes on.
+Every row is kept on disk as its task finishes: appended and synced to
+``out/finished_points.jsonl`` (:func:`toothfem.output.resumable_dir`), so a sweep stopped in
+any way (Ctrl-C, SIGTERM, SIGKILL, a lost cluster: :mod:`toothfem.cluster`) keeps every
+finished point, and the same command resumes it, computing only the rest. The tables
+``sweep.csv`` and ``sweep.json`` are written when every point has run
+(``toothfem.output.atomic_dir``). A point that fails (a design the case refuses, a solver
+error, a worker that died on it) is a row with ``status = failed`` and its one-line error;
+the sweep goes on, and a resumed sweep tries it again.
 
 Sine drives: the FE cycle mode of ``toothfem.fem.sine_fe`` (``loads = fem``, default), or
 with ``sine_loads = "analytic"`` the seeds' analytic load split on the geometry's meshing
@@ -46,13 +49,13 @@ from typing import Any, Callable, Mapping, Sequence
 import numpy as np
 
 from .case import Case, case_to_dict, load_case, parse_case
-from .cluster import dask_client
+from .cluster import as_finished, dask_client
 from .efficiency import operating_point
-from .fem.cache import DiskCache
+from .fem.cache import DiskCache, content_key
 from .fem.drives import drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
-from .output import atomic_dir
+from .output import atomic_dir, resumable_dir
 
 
 #: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
@@ -91,6 +94,7 @@ class SweepResult:
     table: Path
     rows: tuple
     failed: int
+    resumed: int
     wall_s: float
 
 
@@ -124,7 +128,8 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     n_workers : int, optional
         Processes of the local cluster (default: one per CPU).
     out : str or pathlib.Path
-        The output folder (written atomically).
+        The output folder: the finished points as they arrive, the tables at the end; an
+        unfinished sweep of the same case and settings there is resumed.
     cache_dir : str or pathlib.Path or None or False
         The disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
         ``~/.cache/toothfem``; False: none.
@@ -138,8 +143,8 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     Returns
     -------
     SweepResult
-        The folder, its sweep.csv, the rows in the order they arrived, the failed count
-        and the wall time [s].
+        The folder, its sweep.csv, the rows (those of a resumed run first), the failed
+        count, the points resumed and the wall time [s].
 
     Raises
     ------
@@ -162,52 +167,59 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
         check_range("n_workers", n_workers, 1, 1024, error=CaseError)
     columns = (["design", "load_case"] + plan.design_keys + plan.load_keys
                + result_columns(drive_for(case)))
-    rows: list[dict] = []
+    key = content_key("sweep", case, plan.values,
+                      None if torques_Nm is None else [float(t) for t in np.ravel(torques_Nm)],
+                      plan.positions, pins, plan.loads)
     t0 = time.perf_counter()
-    with atomic_dir(out) as tmp, dask_client(scheduler, n_workers) as client, \
-            open(tmp / "sweep.csv", "w", newline="") as fh, \
-            progress_bar(total=len(plan.designs) * len(plan.load_cases), desc="sweep",
-                         unit="point", enabled=progress) as bar:
-        writer = csv.DictWriter(fh, columns)
-        writer.writeheader()
-        fh.flush()
+    with resumable_dir(out, key) as points:
+        rows = [r for r in points.done.values() if r["status"] == "ok"]
+        finished = {_point(r["design"], r["load_case"]) for r in rows}
+        with dask_client(scheduler, n_workers) as client, \
+                progress_bar(total=len(plan.designs) * len(plan.load_cases),
+                             initial=len(rows), desc="sweep", unit="point",
+                             enabled=progress) as bar:
+            def emit(row):
+                points.record(_point(row["design"], row["load_case"]), row)
+                rows.append(row)
+                bar.update()
+                if on_row is not None:
+                    on_row(row)
 
-        def emit(row):
-            writer.writerow({k: _cell(v) for k, v in row.items()})
-            fh.flush()
-            rows.append(row)
-            bar.update()
-            if on_row is not None:
-                on_row(row)
-
-        _run(client, plan, cache, emit)
-        # rows arrive as tasks finish; the final table is in design, load-case order, so
-        # that two runs give the same file apart from the timing columns (issue 14)
-        rows.sort(key=lambda r: (r["design"], r["load_case"]))
-        fh.seek(0)
-        fh.truncate()
-        writer.writeheader()
-        writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
-        wall = time.perf_counter() - t0
-        failed = sum(r["status"] != "ok" for r in rows)
-        summary = {
-            "case": case.name, "drive": case.drive,
-            "loads": plan.loads, "vary": plan.values,
-            "torques_Nm": None if torques_Nm is None else [float(t) for t in
-                                                           np.ravel(torques_Nm)],
-            "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
-            "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
-            "wall_s": wall,
-            # a local cluster's address changes from run to run (a free port)
-            "scheduler": "local" if scheduler is None else client.scheduler.address,
-            "workers": len(client.nthreads()),
-            "cache_dir": None if cache is None else str(cache.directory),
-            "files": ["sweep.csv", "sweep.json"]}
-        if plan.loads == "analytic":
-            summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * 1e6
+            _run(client, plan, cache, emit, finished)
+            workers = len(client.nthreads())
+            address = "local" if scheduler is None else client.scheduler.address
+    # the final table is in design, load-case order, so that two runs give the same file
+    # apart from the timing columns (issue 14)
+    rows.sort(key=lambda r: (r["design"], r["load_case"]))
+    failed = sum(r["status"] != "ok" for r in rows)
+    summary = {
+        "case": case.name, "drive": case.drive,
+        "loads": plan.loads, "vary": plan.values,
+        "torques_Nm": None if torques_Nm is None else [float(t) for t in
+                                                       np.ravel(torques_Nm)],
+        "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
+        "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
+        "resumed": len(finished), "wall_s": time.perf_counter() - t0,
+        # a local cluster's address changes from run to run (a free port)
+        "scheduler": address, "workers": workers,
+        "cache_dir": None if cache is None else str(cache.directory),
+        "files": ["sweep.csv", "sweep.json"]}
+    if plan.loads == "analytic":
+        summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * 1e6
+    with atomic_dir(out) as tmp:
+        with open(tmp / "sweep.csv", "w", newline="") as fh:
+            writer = csv.DictWriter(fh, columns)
+            writer.writeheader()
+            writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
         (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
     out = Path(out)
-    return SweepResult(out, out / "sweep.csv", tuple(rows), failed, wall)
+    return SweepResult(out, out / "sweep.csv", tuple(rows), failed, len(finished),
+                       summary["wall_s"])
+
+
+def _point(design: int, load_case: int) -> str:
+    """A row's name in the journal."""
+    return f"{design}/{load_case}"
 
 
 # ---------------------------------------------------------------------------------------
@@ -377,20 +389,19 @@ def _cache(cache_dir):
 # ---------------------------------------------------------------------------------------
 # Submitting, and the tasks
 
-def _run(client, plan: _Plan, cache, emit) -> None:
-    """Run the plan on ``client``, calling ``emit(row)`` as each row is known: first the
-    rows refused on the driver, then those of each design task as it finishes."""
-    from distributed import as_completed
-
+def _run(client, plan: _Plan, cache, emit, finished=frozenset()) -> None:
+    """Run the plan on ``client`` but the ``finished`` points, calling ``emit(row)`` as
+    each row is known: first the rows refused on the driver, then those of each design
+    task as it finishes."""
     prefix = f"toothfem-sweep-{uuid.uuid4().hex[:8]}"
     cache_dir = None if cache is None else str(cache.directory)
     pending = {}
-    for key, design, jobs in _groups(plan, emit):
+    for key, design, jobs in _groups(plan, emit, finished):
         fut = client.submit(_design_task, design, plan.pins, plan.positions, cache_dir,
                             [member for _, member in jobs], plan.loads,
                             key=f"{prefix}-{key}", pure=False)
         pending[fut] = [base for base, _ in jobs]
-    for fut in as_completed(list(pending)):
+    for fut in as_finished(client, list(pending)):
         bases = pending.pop(fut)
         try:
             results = fut.result()
@@ -401,12 +412,15 @@ def _run(client, plan: _Plan, cache, emit) -> None:
         fut.release()
 
 
-def _groups(plan: _Plan, emit) -> list:
+def _groups(plan: _Plan, emit, finished=frozenset()) -> list:
     """[(task key, design case, [(row base, member torque)])], one per setup key in the
-    order of the designs; the rows refused on the driver are emitted here."""
+    order of the designs, without the ``finished`` points; the rows refused on the driver
+    are emitted here."""
     groups = {}
     for d, (dvalues, design) in enumerate(plan.designs):
         for lc, (lvalues, torque, ops) in enumerate(plan.load_cases):
+            if _point(d, lc) in finished:
+                continue
             base = {"design": d, "load_case": lc, **dvalues, **lvalues, "loads": plan.loads,
                     "output_torque_Nm": math.nan if torque is None else float(torque)}
             try:

@@ -24,10 +24,10 @@ import numpy as np
 
 from .case import Case
 from .case_checks import check_type
-from .cluster import dask_client
+from .cluster import as_finished, dask_client
 from .efficiency import evaluate, operating_point
 from .efficiency.mesh_table import table_from_records
-from .errors import CaseError, check_range
+from .errors import CaseError, IncompleteRun, check_range
 from .fem.cache import DiskCache
 from .fem.datasheet.sheet import backlash_arcmin, lost_motion_arcmin
 from .fem.datasheet.twist import ARCSEC, TwistModel
@@ -126,7 +126,7 @@ class _Setup:
 def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positions: int = 36,
                        workers: int = 1, scheduler=None, share_samples: int | None = None,
                        overrides: dict | None = None, progress: bool = True,
-                       cache=True) -> ToleranceResult:
+                       cache=True, points=None) -> ToleranceResult:
     """The tolerance ensemble of a case.
 
     Parameters
@@ -152,6 +152,9 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
         A tqdm bar on stderr (on a terminal only: toothfem.bars).
     cache : bool or toothfem.fem.cache.DiskCache
         Where the nominal influence tables are kept (True: the user's cache).
+    points : toothfem.output.Points, optional
+        Where each finished ring is kept as it arrives (``record``), and the rings of an
+        unfinished run of the same settings (``done``), which are not solved again.
 
     Returns
     -------
@@ -203,7 +206,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
             for _ in range(count)]
     # the nominal design (None) first, where the samples run
     nominal, *rows = _run_all(setup, [None] + [d for _, d in plan], int(workers), scheduler,
-                              progress)
+                              progress, points)
     labels = np.array([label for label, _ in plan])
     table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
     ensemble = {k: v[labels == "all"] for k, v in table.items()}
@@ -357,39 +360,56 @@ def _models(setup: _Setup):
 
 def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
     """The outputs of each deviation, in order (a Dask task, or the whole run in one
-    process); ``done()`` after each, if given."""
+    process); ``done(k, output)`` after the k-th, if given."""
     solver, state, system, reference = _models(setup)
     out = []
     # small dense systems: BLAS on one thread (beside the other workers), the limit set
     # once for the task rather than per solve
     with one_blas_thread():
-        for d in deviations:
+        for k, d in enumerate(deviations):
             out.append(_outputs(setup, solver, d, state, system, reference))
             if done is not None:
-                done()
+                done(k, out[-1])
     return out
 
 
-def _run_all(setup, deviations, workers, scheduler, progress) -> list:
-    """Outputs of every deviation, in order: here, or in Dask tasks of CHUNK samples."""
+def _run_all(setup, deviations, workers, scheduler, progress, points=None) -> list:
+    """Outputs of every deviation, in order: here, or in Dask tasks of CHUNK samples;
+    those in ``points.done`` (by index) are taken from there, the others kept there as
+    they finish."""
     from .bars import bar as progress_bar
 
-    bar = progress_bar(total=len(deviations), desc="tolerance", unit="ring", enabled=progress)
+    results = {} if points is None else {int(k): v for k, v in points.done.items()}
+    todo = [i for i in range(len(deviations)) if i not in results]
+
+    def keep(i, output):
+        results[i] = output
+        if points is not None:
+            points.record(str(i), output)
+        bar.update()
+
+    bar = progress_bar(total=len(deviations), initial=len(results), desc="tolerance",
+                       unit="ring", enabled=progress)
     try:
         if workers == 1 and scheduler is None:
-            return _run_chunk(setup, deviations, bar.update)
-        from distributed import as_completed
-
-        chunks = [deviations[i:i + CHUNK] for i in range(0, len(deviations), CHUNK)]
-        results = [None] * len(chunks)
-        with dask_client(scheduler, workers) as client:
-            futures = {client.submit(_run_chunk, setup, c, pure=False): k
-                       for k, c in enumerate(chunks)}
-            for fut in as_completed(list(futures)):
-                k = futures[fut]
-                results[k] = fut.result()
-                bar.update(len(results[k]))
-        return [r for chunk in results for r in chunk]
+            _run_chunk(setup, [deviations[i] for i in todo],
+                       lambda k, output: keep(todo[k], output))
+        elif todo:
+            chunks = [todo[i:i + CHUNK] for i in range(0, len(todo), CHUNK)]
+            with dask_client(scheduler, workers) as client:
+                futures = {client.submit(_run_chunk, setup, [deviations[i] for i in c],
+                                         pure=False): c for c in chunks}
+                for fut in as_finished(client, list(futures)):
+                    chunk = futures[fut]
+                    try:
+                        outputs = fut.result()
+                    except Exception as exc:    # noqa: BLE001 -- a worker died on it
+                        raise IncompleteRun(f"rings {chunk[0]}-{chunk[-1]} failed on the "
+                                            f"cluster ({type(exc).__name__}: {exc})"
+                                            .splitlines()[0]) from None
+                    for i, output in zip(chunk, outputs):
+                        keep(i, output)
+        return [results[i] for i in range(len(deviations))]
     finally:
         bar.close()
 

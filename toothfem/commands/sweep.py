@@ -4,7 +4,7 @@
 from __future__ import annotations
 
 import json
-from ..errors import CaseError
+from ..errors import CaseError, IncompleteRun
 from ..sweep import sweep
 
 
@@ -40,7 +40,10 @@ def add_parser(sub):
                        help="disk cache of influence tables (default: $TOOTHFEM_CACHE or "
                             "~/.cache/toothfem)")
     cache.add_argument("--no-cache", action="store_true", help="no disk cache")
-    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--out", required=True,
+                   help="output folder: finished_points.jsonl as points finish, sweep.csv "
+                        "and sweep.json at the end; the same command resumes an unfinished "
+                        "sweep there")
     p.set_defaults(func=run)
 
 
@@ -57,12 +60,15 @@ def run(args) -> int:
     Returns
     -------
     int
-        0 after every design and load case has run (failed rows included).
+        0 after every design and load case has run.
 
     Raises
     ------
     CaseError
         If a key is given twice, a value cannot be read, or as :func:`toothfem.sweep.sweep`.
+    IncompleteRun
+        When a point failed (after the tables are written), or the cluster was lost
+        (:class:`toothfem.cluster.ClusterError`; the finished points are kept).
     """
 
     vary = {}
@@ -81,6 +87,10 @@ def run(args) -> int:
                    sine_loads=args.sine_loads, progress=True)
     summary = json.loads((result.out / "sweep.json").read_text())
     print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    if result.failed:
+        raise IncompleteRun(f"{result.failed} of {len(result.rows)} points failed (their "
+                            f"errors: the error column of {result.table}); the others are "
+                            "written")
     return 0
 
 

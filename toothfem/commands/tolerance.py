@@ -5,7 +5,8 @@ from __future__ import annotations
 import json
 
 from ..case import load_case
-from ..output import atomic_dir
+from ..fem.cache import content_key
+from ..output import atomic_dir, resumable_dir
 from ..tolerance import tolerance_analysis, write_tolerance
 
 
@@ -21,7 +22,10 @@ def add_parser(sub):
                        "contacts, lost motion, TE and efficiency over reducers built within "
                        "the case's [tolerances], and where their scatter comes from")
     p.add_argument("case", help="case file (TOML) with a [tolerances] section")
-    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--out", required=True,
+                   help="output folder: finished_points.jsonl as rings finish, the tables "
+                        "and pictures at the end; the same command resumes an unfinished "
+                        "ensemble there")
     p.add_argument("--samples", type=int, default=200,
                    help="built reducers to draw (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -57,9 +61,13 @@ def run(args) -> int:
         For an invalid case, no nonzero tolerance, or a count out of range.
     """
     case = load_case(args.case)
-    result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
-                                positions=args.positions, workers=args.workers,
-                                scheduler=args.scheduler, share_samples=args.share_samples)
+    key = content_key("tolerance", case, args.samples, args.seed, args.positions,
+                      args.share_samples)
+    with resumable_dir(args.out, key) as points:
+        result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
+                                    positions=args.positions, workers=args.workers,
+                                    scheduler=args.scheduler,
+                                    share_samples=args.share_samples, points=points)
     with atomic_dir(args.out) as tmp:
         summary = write_tolerance(result, tmp)
     print(json.dumps({"case": summary["case"], "samples": summary["samples"],
