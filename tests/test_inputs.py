@@ -469,19 +469,23 @@ def test_cache_file_under_another_name_is_a_miss(tmp_path):
     np.testing.assert_array_equal(cache.load(b)["x"], np.zeros(2))
 
 
-def test_gmsh_meshing_keeps_pythons_ctrl_c(tmp_path):
-    """A Ctrl-C while gmsh meshes is a KeyboardInterrupt once the mesher returns; it no
-    longer kills the process (gmsh's 'interruptible' set SIGINT to the default action)."""
+@pytest.mark.parametrize("signame", ["SIGINT", "SIGTERM"])
+def test_gmsh_meshing_keeps_pythons_signal_handlers(tmp_path, signame):
+    """A Ctrl-C or SIGTERM while gmsh meshes reaches Python's handler once the mesher
+    returns (a KeyboardInterrupt; the CLI's SIGTERM handler raises likewise); it no longer
+    kills the process (gmsh's 'interruptible' set SIGINT to the default action, and its
+    initialisation replaced the SIGTERM handler: exit -15, the output folder left)."""
     script = (          # imports first: a Ctrl-C inside an import is another matter
         "import os, signal, threading, time, numpy as np\n"
         "from toothfem.fem.mesh import mesh_rings\n"
+        "signal.signal(signal.SIGTERM, signal.default_int_handler)  # as the CLI's\n"
         "t = np.linspace(0, 2 * np.pi, 400, endpoint=False)\n"
         "ring = np.stack([np.cos(t), np.sin(t)])\n"
         "mesh_rings([ring], 0.01)\n"
         "stop = threading.Event()\n"
         "def ctrl_c():  # again until heard: one landing in a GC finalizer is lost\n"
         "    while not stop.wait(0.3):\n"
-        "        os.kill(os.getpid(), signal.SIGINT)\n"
+        "        os.kill(os.getpid(), signal.{})\n"
         "threading.Thread(target=ctrl_c, daemon=True).start()\n"
         "end = time.monotonic() + 120\n"
         "try:\n"
@@ -493,7 +497,7 @@ def test_gmsh_meshing_keeps_pythons_ctrl_c(tmp_path):
         "        time.sleep(1)  # a last one already on its way\n"
         "    except KeyboardInterrupt:\n"
         "        pass\n"
-        "    print('interrupted')\n")
+        "    print('interrupted')\n").format(signame)
     p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                        timeout=300)
     assert p.returncode == 0 and p.stdout.strip() == "interrupted", p.stderr[-500:]
