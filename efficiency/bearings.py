@@ -37,6 +37,7 @@ from ..fem.drives import drive_for
 from ..geometry import cycloid_mesh as cym
 from .envelope import envelope
 from .mesh_table import mesh_table
+from ..si import si_of
 
 #: Life exponent p of ISO 281 by bearing type (3 ball, 10/3 roller).
 LIFE_EXPONENT = {"ball": 3.0, "angular_ball": 3.0, "cylindrical": 10 / 3, "tapered": 10 / 3,
@@ -443,7 +444,7 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
         without an output mechanism).
     """
     from .bearing_set import reducer_bearings
-    si = case.to_si()
+    si = si_of(case)
     drive = drive_for(si)
     rows = (_duty(si) if duty is None else
             [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])

@@ -35,6 +35,7 @@ from .bearings import main_bearing_load
 from .contact_friction import contact_mu, sliding_loss
 from .mesh_table import fe_member_split, fe_reference, mesh_table
 from .no_load import no_load_losses
+from ..si import si_of
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -256,7 +257,7 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None,
     loss, f_bearing : numpy.ndarray
         (M,) the loss [W] and the mean pin resultant [N] (what the crank bearings carry).
     """
-    si = case.to_si()
+    si = si_of(case)
     notes = [] if notes is None else notes
     force, ph = table.at(torque_disc)
     mu_disc, _ = contact_mu(si, drive_for(si).e_star_Pa, table, force, ph, crank_speed, eta0,

@@ -13,13 +13,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import CaseError, ToothfemError, check_range
+from ..case_checks import SPEED_RPM, TORQUE_NM
+from ..errors import CaseError, ToothfemError, check_range, checked_array
 from ..fem.drives import drive_for
 from . import rv_paper
 from .drive_losses import LOSS_MODELS, OperatingPoints
 from .. import limits
 from .lubricant import viscosity_factor
 from .mesh_table import LOADS
+from ..si import si_of
 
 METHODS = ("power_flow", "rv_split_power")
 #: Positions per meshing period the efficiency model accepts: at least 4 to see the load
@@ -64,19 +66,21 @@ class Efficiency:
 
 
 def _points(speed_rpm, torque_Nm, oil_temp_C):
-    n = np.atleast_1d(np.asarray(speed_rpm, float))
-    t = np.atleast_1d(np.asarray(torque_Nm, float))
-    temp = None if oil_temp_C is None else np.atleast_1d(np.asarray(oil_temp_C, float))
+    """The operating points as flat float arrays, each refused naming its argument: not a
+    number (strings and bools included), not finite, or outside the case keys' ranges
+    (input speed SPEED_RPM, output torque above zero up to TORQUE_NM's top); the oil
+    temperature is checked against the lubricant's law where it is used."""
+    n = np.atleast_1d(checked_array("speed_rpm", speed_rpm, 0.0, lo_open=True,
+                                    hi=SPEED_RPM[1], error=CaseError))
+    t = np.atleast_1d(checked_array("torque_Nm", torque_Nm, 0.0, lo_open=True,
+                                    hi=TORQUE_NM[1], error=CaseError))
+    temp = None if oil_temp_C is None else np.atleast_1d(
+        checked_array("oil_temp_C", oil_temp_C, error=CaseError))
     try:
         n, t, *rest = np.broadcast_arrays(n, t, *([] if temp is None else [temp]))
     except ValueError:
         raise ToothfemError(f"speed_rpm {n.shape}, torque_Nm {t.shape} and oil_temp_C "
                             f"{None if temp is None else temp.shape} do not broadcast") from None
-    for name, arr, lo in (("speed_rpm", n, 0.0), ("torque_Nm", t, 0.0)):
-        bad = ~np.isfinite(arr) | (arr <= lo)
-        if np.any(bad):
-            raise CaseError(f"{name} = {float(arr[bad].flat[0])!r} is outside the valid range "
-                            f"({lo:g}, inf)")
     temp = rest[0] if rest else None
     return n.astype(float).ravel(), t.astype(float).ravel(), \
         None if temp is None else temp.ravel()
@@ -126,7 +130,7 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     if isinstance(positions, bool) or int(positions) != positions:
         raise CaseError(f"positions = {positions!r} must be an integer")
     check_range("positions", positions, *POSITIONS_RANGE, error=CaseError)
-    si = case.to_si()
+    si = si_of(case)
     n, t, temp = _points(speed_rpm, torque_Nm, oil_temp_C)
     record = dict(speed_rpm=n, torque_Nm=t, oil_temp_C=temp)
     if method == "rv_split_power":
@@ -197,7 +201,7 @@ def operating_point(case, **kw):
         If [operating] declares no torque or power, or the declared input does not
         overcome the load-independent losses.
     """
-    si = case.to_si()
+    si = si_of(case)
     op = si.operating
     speed = op.input_speed_rpm
     if op.output_torque_Nm:

@@ -44,6 +44,7 @@ from ..fem.drives import drive_for
 from .envelope import envelope
 from .evaluation import evaluate
 from .lubricant import temperature_range
+from ..si import si_of
 
 #: Stefan-Boltzmann constant [W/(m^2 K^4)] (CODATA 2018, exact in SI).
 STEFAN_BOLTZMANN = 5.670374419e-8
@@ -267,7 +268,7 @@ def heat_balance(case, speed_rpm, torque_Nm, *, tol_K=TEMPERATURE_TOL_K, **kw) -
         An ambient outside the oil's range, or losses the housing cannot shed below the
         oil's ``max_temperature_C``.
     """
-    si = case.to_si()
+    si = si_of(case)
     h = housing(si)
     _check_ambient(si, h)
     n, t = (np.ravel(a).astype(float) for a in np.broadcast_arrays(
@@ -339,7 +340,7 @@ def warm_up(case, speed_rpm, torque_Nm, duration_s, *, samples=41, **kw) -> Warm
         If the duration is not positive.
     """
     check_range("duration_s", duration_s, 0.0, None, lo_open=True, error=CaseError)
-    si = case.to_si()
+    si = si_of(case)
     eq = heat_balance(si, speed_rpm, torque_Nm, **kw)
     h = eq.housing
     n, t = float(np.ravel(speed_rpm)[0]), float(np.ravel(torque_Nm)[0])

@@ -21,6 +21,7 @@ terminates in a few iterations for SPD H.
 """
 from __future__ import annotations
 
+import contextlib
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,6 +33,25 @@ from ..errors import ToothfemError
 class ContactError(ToothfemError):
     """The contact problem has no solution (e.g. no candidate can carry the load) or did not
     converge."""
+
+
+@contextlib.contextmanager
+def naming_load(load: str):
+    """A ContactError raised in the block, restated with the load that caused it.
+
+    Parameters
+    ----------
+    load : str
+        The load in the caller's words ("disc torque 1e+12 N m, position 3").
+
+    Yields
+    ------
+    None
+    """
+    try:
+        yield
+    except ContactError as exc:
+        raise ContactError(f"{exc} (at {load})") from None
 
 
 @dataclass(frozen=True)

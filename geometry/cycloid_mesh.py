@@ -19,7 +19,7 @@ import math
 
 import numpy as np
 
-from ..errors import GeometryError, check_range
+from ..errors import GeometryError, check_range, checked_array
 # fem/cycloid_fe reaches CycloidGeometry, inward_normal and working_profile through this
 # module too (one import for the pose and the profile)
 from .cycloid import (CycloidGeometry, _Generating, _rho_of_theta,
@@ -153,7 +153,7 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     if pin_motion not in ("fixed", "rolling"):
         raise GeometryError(f"pin_motion = {pin_motion!r} is not one of ['fixed', 'rolling']")
     check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
-    phi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    phi = np.atleast_1d(checked_array("crank_angle_rad", crank_angle_rad))
     zb, za = geom.pin_count, geom.lobe_count
     omega = float(crank_speed_rad_s)
     omega_d = -omega / za                                    # disc angular velocity

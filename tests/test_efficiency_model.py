@@ -135,8 +135,19 @@ def test_predict_shape_and_bad_input(sine):
     # the oil temperature broadcasts too (a temperature sweep at one point)
     hot = m.predict(sine, 500.0, 28.0, np.linspace(30.0, 90.0, 4))
     assert hot.shape == (4,) and np.all(np.diff(hot) > 0)   # thinner oil, less churning
-    with pytest.raises(CaseError, match=r"speed_rpm = -5.0 is outside the valid range \(0, inf\)"):
+    with pytest.raises(CaseError, match=r"speed_rpm\[0\] = -5.0 is outside the valid range "
+                                        r"\(0, 20000\]"):
         m.predict(sine, [-5.0, 100.0], 10.0)
+    # not numbers, even where float() would read them; a path is not a case
+    for kw, words in (({"speed_rpm": "500"}, "speed_rpm = '500' is not a number"),
+                      ({"torque_Nm": True}, "torque_Nm = True is not a number"),
+                      ({"oil_temp_C": "60"}, "oil_temp_C = '60' is not a number"),
+                      ({"speed_rpm": 1e300}, "speed_rpm = 1e[+]300 is outside")):
+        with pytest.raises(CaseError, match=words):
+            m.predict(sine, **{"speed_rpm": 100.0, "torque_Nm": 10.0, **kw})
+    with pytest.raises(ToothfemError, match="case = 'cases/x.toml' is not a case; load it "
+                                            r"first: toothfem.load_case\(path\)"):
+        m.predict("cases/x.toml", 100.0, 10.0)
     with pytest.raises(CaseError, match="torque_Nm = nan"):
         m.predict(sine, 100.0, float("nan"))
     with pytest.raises(CaseError, match="loads = 'bogus' is not one of"):

@@ -17,7 +17,7 @@ from toothfem import CaseError, load_case, parse_case
 from toothfem import cli
 from toothfem.report import plots
 from toothfem.efficiency.loop import measured as ms
-from toothfem.errors import MeasuredDataError, check_range
+from toothfem.errors import MeasuredDataError, ToothfemError, check_range
 from toothfem.fem.cache import CacheWarning, DiskCache, content_key
 from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
 from toothfem.output import atomic_dir, clean_stale
@@ -606,3 +606,48 @@ def test_seal_diameter_has_a_plausibility_bound(cases_dir, value):
     with pytest.raises(CaseError, match=r"seals.input_diameter_mm = .* is outside the valid "
                                         r"range \[0, 4000\]"):
         parse_case(d)
+
+
+# ---------------------------------------------------------------------------------------
+# The public API's arguments (issue 27, item 5)
+
+def test_api_refuses_what_is_not_a_case_a_path_or_a_number(cases_dir, tmp_path):
+    """The functions the README shows: a path where a case belongs is loaded (top-level
+    analyses) or refused naming the argument (fem, efficiency: they take records); a
+    string, bool, NaN or None where a number or a folder belongs is refused naming it."""
+    from toothfem.case import as_case
+    from toothfem.fem.drives import drive_for
+    from toothfem.geometry import cycloid_mesh
+    from toothfem.pipeline import run_case
+
+    path = cases_dir / "cycloid_pinhousing.toml"
+    case = as_case(str(path))
+    assert as_case(case) is case and as_case(path).name == case.name
+    with pytest.raises(CaseError, match=r"^case = 5 is not a case; valid: a toothfem.Case"):
+        as_case(5)
+    with pytest.raises(ToothfemError, match=r"case = '.*\.toml' is not a case; load it first"):
+        drive_for(str(path))
+    with pytest.raises(ToothfemError, match=r"^out = None is not a folder path"):
+        run_case(case, None, field="none")
+    assert not list(tmp_path.iterdir())
+    geom = case.cycloid.geometry()
+    with pytest.raises(ToothfemError, match=r"crank_angle_rad\[1\] = nan is outside"):
+        cycloid_mesh.meshing(geom, np.array([0.1, np.nan]))
+    with pytest.raises(ToothfemError, match="crank_angle_rad = '0.1' is not a number"):
+        cycloid_mesh.meshing(geom, "0.1")
+    drive = drive_for(case)
+    for bad, words in (("100", "'100' is not a number"), (True, "True is not a number"),
+                       (math.nan, "nan is outside")):
+        with pytest.raises(CaseError, match=f"output_torque_Nm = {words}"):
+            drive.member_torque(bad)
+
+
+def test_a_contact_that_does_not_settle_names_its_load(cases_dir):
+    from toothfem.fem.contact import ContactError
+    from toothfem.fem.drives import drive_for
+
+    drive = drive_for(load_case(cases_dir / "cycloid_pinhousing.toml"))
+    solver = drive.cycle_solver(2, pin_structure="rigid", cache=False)
+    with pytest.raises(ContactError, match=r"did not settle .* \(at disc torque 1e\+12 N m, "
+                                           r"position 0\)$"):
+        solver.solve(1e12)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -318,6 +319,33 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
             check_range(name, v, error=CaseError)
     kwargs["published"] = dict(published)
     return Case(**kwargs)
+
+
+def as_case(case, name: str = "case") -> Case:
+    """A case given as a :class:`Case` or as the path of a case file.
+
+    Parameters
+    ----------
+    case : Case or str or os.PathLike
+        The case, or its TOML file (loaded and validated).
+    name : str
+        The argument, as a message names it.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        For anything else, naming the argument; as :func:`load_case` for a bad file.
+    """
+    if isinstance(case, Case):
+        return case
+    if isinstance(case, (str, os.PathLike)):
+        return load_case(case)
+    raise CaseError(f"{name} = {case!r:.80} is not a case; valid: a toothfem.Case or the "
+                    "path of a case file")
 
 
 def load_case(path) -> Case:

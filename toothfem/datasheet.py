@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .case import Case
+from .case import Case, as_case
 from .errors import CaseError, check_range
 from .fem.datasheet.sheet import datasheet, plural
 from .fem.datasheet.transmission import loaded_te
@@ -101,6 +101,7 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
         If ``positions`` is outside its range, ``torque_max_Nm`` is not positive, or the
         case declares neither a rated nor an operating torque and none is given.
     """
+    case = as_case(case)
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     drive = drive_for(case)
     si = case.to_si()

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .case import Case
+from .case import Case, as_case
 from .errors import CaseError, check_range
 from .datasheet import path_friction
 from .fem.datasheet.sheet import datasheet
@@ -120,6 +120,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
         by how much), or the case lacks [design], [cycloid] or, with a percentile, a
         nonzero tolerance.
     """
+    case = as_case(case)
     from scipy.optimize import minimize
     from scipy.stats import qmc
     from .bars import bar as progress_bar

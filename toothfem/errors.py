@@ -161,6 +161,12 @@ def _fmt(x):
     return f"{x:.10g}" if isinstance(x, float) and len(r) > 12 else r
 
 
+def _fmt_short(value) -> str:
+    """repr of a value for a message, cut to one short line."""
+    r = " ".join(repr(value).split())
+    return r if len(r) <= 60 else r[:57] + "..."
+
+
 def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
     left = "(" if lo_open or lo is None else "["
     right = ")" if hi_open or hi is None else "]"
@@ -173,7 +179,8 @@ def _range_error(name, value, lo, hi, lo_open, hi_open, why, error):
     return exc
 
 
-def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False, why=""):
+def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False, why="",
+                  error=ToothfemError):
     """``value`` as a float array, refused at its first bad element (the vectorised
     :func:`check_range`).
 
@@ -189,6 +196,8 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
         Exclude the bound.
     why : str
         The reason for the range.
+    error : type
+        The exception type raised.
 
     Returns
     -------
@@ -198,12 +207,17 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
     Raises
     ------
     ToothfemError
-        Naming the first bad element, its value and the valid range.
+        Naming the first bad element, its value and the valid range; or the value, when
+        it is not numbers (strings, bools and objects are refused, even where ``float()``
+        would read them).
     """
     try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ToothfemError(f"{name} = {value!r} is not a number") from None
+        raw = np.asarray(value)
+        if raw.dtype.kind not in "iuf":    # strings, bools, objects: not numbers here
+            raise TypeError
+        a = raw.astype(float)
+    except (TypeError, ValueError, OverflowError):
+        raise error(f"{name} = {_fmt_short(value)} is not a number") from None
     bad = ~np.isfinite(a)
     if lo is not None:
         bad |= (a <= lo) if lo_open else (a < lo)
@@ -212,5 +226,6 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
     if bad.any():
         idx = tuple(int(i) for i in np.argwhere(bad)[0])
         label = name if a.ndim == 0 else f"{name}[{','.join(map(str, idx))}]"
-        check_range(label, float(a[idx]), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why)
+        check_range(label, float(a[idx]), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why,
+                    error=error)
     return a

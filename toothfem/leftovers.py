@@ -16,17 +16,41 @@ from pathlib import Path
 
 
 def host() -> str:
-    """This machine's name as it may appear in a file name (at most 32 characters)."""
+    """This machine's name as it may appear in a file name.
+
+    Returns
+    -------
+    str
+        The host name, characters other than letters, digits, ``_`` and ``-`` as ``_``,
+        at most 32 of them.
+    """
     return (re.sub(r"[^A-Za-z0-9_-]", "_", socket.gethostname()) or "host")[:32]
 
 
 def owner() -> str:
-    """``<host>-<pid>-``: the part of a temporary name that names its writer."""
+    """The part of a temporary name that names its writer.
+
+    Returns
+    -------
+    str
+        ``<host>-<pid>-``.
+    """
     return f"{host()}-{os.getpid()}-"
 
 
 def alive(pid: int) -> bool:
-    """Whether process ``pid`` of this machine is running (another user's counts)."""
+    """Whether a process of this machine is running.
+
+    Parameters
+    ----------
+    pid : int
+        Its process id.
+
+    Returns
+    -------
+    bool
+        True while it runs (another user's process counts).
+    """
     try:
         os.kill(pid, 0)
     except ProcessLookupError:

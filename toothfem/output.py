@@ -66,8 +66,27 @@ _UMASK = _umask()
 
 
 def target(out) -> Path:
-    """The folder a result named ``out`` goes to: ``out``, or where it points when it is a
-    symbolic link (followed through every link; a dangling link gives its target)."""
+    """The folder a result named ``out`` goes to.
+
+    Parameters
+    ----------
+    out : str or os.PathLike
+        The output folder as given.
+
+    Returns
+    -------
+    pathlib.Path
+        ``out``, or where it points when it is a symbolic link (followed through every
+        link; a dangling link gives its target).
+
+    Raises
+    ------
+    ToothfemError
+        For an ``out`` that is not a path (None, a number), or an empty one.
+    """
+    if not isinstance(out, (str, os.PathLike)) or not str(out):
+        raise ToothfemError(f"out = {out!r:.80} is not a folder path; valid: a path such as "
+                            "'out/run'")
     out = Path(out)
     return Path(os.path.realpath(out)) if out.is_symlink() else out
 
@@ -248,7 +267,17 @@ class Points:
     """The finished points of a long run: ``done`` {point: record}, those read back from
     the journal of an earlier, unfinished run of the same key and those recorded since.
     The folder is made (replacing an earlier result) when the first point is recorded, so
-    a run that finishes none leaves everything as it was."""
+    a run that finishes none leaves everything as it was.
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+        The output folder.
+    key : str
+        The run's key (its marker says it).
+    done : dict
+        The points read back.
+    """
 
     def __init__(self, folder: Path, key: str, done: dict):
         self.folder, self.key, self.done = folder, key, done

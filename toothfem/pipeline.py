@@ -16,14 +16,14 @@ from pathlib import Path
 import numpy as np
 
 from . import durability, limits
-from .case import Case, load_case
+from .case import Case, as_case
 from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_stiffness
 from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.system.datasheet import SystemTwist
-from .output import atomic_dir
+from .output import atomic_dir, target
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
 from .report import durability as report_durability, plots, save, summary as report_summary
 
@@ -95,6 +95,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         If ``positions`` is outside its range, ``mode``, ``field`` or ``pins`` is unknown,
         or ``pins`` is given for a sine pair.
     """
+    case = as_case(case)
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if mode not in MODES:
         raise CaseError(f"mode = {mode!r} is not one of {list(MODES)}")
@@ -400,9 +401,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     """
 
     label = str(case) if not isinstance(case, Case) else "(in memory)"
-    if not isinstance(case, Case):
-        case = load_case(case)
-    out = Path(out)
+    case = as_case(case)
+    out = target(out)
     report = [f"# {case.name}", "", f"Case file: `{label}`; source: {case.source}", ""]
     contact = datasheet = None
     with atomic_dir(out) as tmp:

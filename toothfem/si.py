@@ -13,10 +13,12 @@ The geometry records (:class:`~toothfem.geometry.cycloid.CycloidGeometry`,
 from __future__ import annotations
 
 import dataclasses
-
 import math
+import os
 from dataclasses import dataclass
 from typing import Any
+
+from .errors import ToothfemError
 
 _RECORD = dict(frozen=True, kw_only=True)
 
@@ -332,6 +334,33 @@ _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
 #: of the usual 8-12 m of industrial spur gears (the RV paper gives no width).
 SPUR_DEFAULT_WIDTH_MODULES = 10.0
 _PER_ARCMIN = 180 * 60 / math.pi        # (N m/arcmin) -> N m/rad
+
+
+def si_of(case, name: str = "case") -> CaseSI:
+    """The SI record of ``case``, or the error naming the argument.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or CaseSI
+        Anything with ``to_si()``.
+    name : str
+        The argument, as the message names it.
+
+    Returns
+    -------
+    CaseSI
+
+    Raises
+    ------
+    ToothfemError
+        For anything else (a path: load it first with ``toothfem.load_case``).
+    """
+    to_si = getattr(case, "to_si", None)
+    if not callable(to_si):
+        hint = ("load it first: toothfem.load_case(path)" if isinstance(case, (str, os.PathLike))
+                else "give a toothfem.Case (toothfem.load_case(path)) or its SI record")
+        raise ToothfemError(f"{name} = {case!r:.80} is not a case; {hint}")
+    return to_si()
 
 
 def _si_or_none(value, factor):

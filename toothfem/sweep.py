@@ -48,14 +48,14 @@ from typing import Any, Callable, Mapping, Sequence
 
 import numpy as np
 
-from .case import Case, case_to_dict, load_case, parse_case
+from .case import Case, as_case, case_to_dict, parse_case
 from .cluster import as_finished, dask_client
 from .efficiency import operating_point
 from .fem.cache import DiskCache, content_key
 from .fem.drives import drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
-from .output import atomic_dir, resumable_dir
+from .output import atomic_dir, resumable_dir, target
 
 
 #: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
@@ -156,8 +156,8 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     from .bars import bar as progress_bar
 
 
-    if not isinstance(case, Case):
-        case = load_case(case)
+    case = as_case(case)
+    target(out)                                  # a bad out refused before any work
     plan = _plan(case, vary, torques_Nm, positions, pins, sine_loads)
     cache = _cache(cache_dir)
     if scheduler is not None and n_workers is not None:

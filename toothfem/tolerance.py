@@ -22,7 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .case import Case
+from .case import Case, as_case
 from .case_checks import check_type
 from .cluster import as_finished, dask_client
 from .efficiency import evaluate, operating_point
@@ -166,6 +166,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
         For a count that is not an integer or out of range, or tolerances without a
         nonzero zone.
     """
+    case = as_case(case)
     for name, value, lo, hi in (("samples", samples, 1, MAX_SAMPLES),
                                 ("workers", workers, 1, 256), ("positions", positions, 2, 3600),
                                 ("seed", seed, 0, 2**63 - 1)):      # numpy's seeds: >= 0

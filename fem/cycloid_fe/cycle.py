@@ -383,8 +383,9 @@ class CycleSolver:
         it = range(n_pos) if progress is None else progress(range(n_pos))
         with one_blas_thread():
             for p in it:
-                self._solve_one(p, pos[p], q_load, side, deviation, pitches[p], force,
-                                gap, beta)
+                with contact.naming_load(f"disc torque {torque:g} N m, position {p}"):
+                    self._solve_one(p, pos[p], q_load, side, deviation, pitches[p], force,
+                                    gap, beta)
         return record("cycle", m, state, force, gap, beta, torque)
 
     def modified_gaps(self, geometry, side: int) -> list:

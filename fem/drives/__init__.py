@@ -17,6 +17,7 @@ from ...errors import CaseError
 from .base import DEFAULT_POSITIONS, MAX_POSITIONS, Drive
 from .cycloid import CycloidDrive
 from .sine import SineDrive
+from ...si import si_of
 
 __all__ = ["DEFAULT_POSITIONS", "MAX_POSITIONS", "Drive", "CycloidDrive", "SineDrive", "DRIVES", "drive_for"]
 
@@ -44,7 +45,7 @@ def drive_for(case) -> Drive:
         When the case has no meshing stage to analyse (an RV case without its [cycloid]
         disc) or lacks the [material] the contact needs.
     """
-    si = case.to_si()
+    si = si_of(case)
     cls = DRIVES.get(si.drive)
     if cls is None:
         raise CaseError(f"case.drive = {si.drive!r} is not one of {sorted(DRIVES)}")

@@ -365,8 +365,9 @@ class CycleSolver:
         results = []
         for p in it:
             chi, m = float(self.positions_rad[p]), int(pitches[p])
-            results.append(self.labelled(self.solve_position(chi + m * pitch, torque,
-                                                             deviation), chi, m))
+            with contact.naming_load(f"planet torque {torque:g} N m, position {p}"):
+                results.append(self.labelled(self.solve_position(chi + m * pitch, torque,
+                                                                 deviation), chi, m))
         return self.record("cycle", results, torque)
 
     def labelled(self, r: PositionResult, chi: float, m: int) -> PositionResult:

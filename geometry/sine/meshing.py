@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...errors import GeometryError, check_range
+from ...errors import GeometryError, check_range, checked_array
 from ..kinematics import MeshingState, slide_to_roll
 from ..vectors import cross, dot, perp, rotate, unit
 from .conjugate import (_NEWTON_MAXITER, _NEWTON_TOL, _approx_gap, _conjugate, _foot,
@@ -362,7 +362,7 @@ def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
     k = int(check_range("candidates", candidates, 1, (pair.planet_teeth - 1) // 2,
                         error=GeometryError))
     g = profile_params(pair)
-    chi = np.atleast_1d(np.asarray(crank_angle_rad, float))
+    chi = np.atleast_1d(checked_array("crank_angle_rad", crank_angle_rad))
     om = float(crank_speed_rad_s)
     teeth, flank, chi2, f1, f2, own, conj = _candidate_points(g, chi, k)
 
