@@ -208,3 +208,22 @@ def test_contact_command_sine_pair(cases_dir, tmp_path, capsys):
     rows = (out / "load_sharing.csv").read_text().splitlines()
     assert rows[0] == ("position_deg,contact_id,force_N,moment_arm_mm,half_width_mm,ph_MPa,"
                        "gap_mm") and len(rows) > 6
+
+
+def test_an_ascii_terminal_and_a_stale_matplotlib_backend_are_no_errors(cases_dir, tmp_path):
+    """PYTHONIOENCODING=ascii (the efficiency table holds en dashes and Greek letters) and
+    an MPLBACKEND matplotlib does not know (it refuses to import under it): the commands
+    print with the characters replaced and draw off-screen as always."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, PYTHONIOENCODING="ascii", MPLBACKEND="no_such_backend")
+    for args in (["efficiency", str(cases_dir / "sine_prototype.toml")],
+                 ["geometry", str(cases_dir / "sine_prototype.toml"), "--out",
+                  str(tmp_path / "g")]):
+        p = subprocess.run([sys.executable, "-c", "import sys; from toothfem.cli import "
+                            "main; sys.exit(main())", *args], capture_output=True, env=env,
+                           timeout=120)
+        assert p.returncode == 0 and p.stderr == b"", p.stderr.decode()[-500:]
+    assert (tmp_path / "g" / "drawing.png").stat().st_size > 0

@@ -651,3 +651,39 @@ def test_a_contact_that_does_not_settle_names_its_load(cases_dir):
     with pytest.raises(ContactError, match=r"did not settle .* \(at disc torque 1e\+12 N m, "
                                            r"position 0\)$"):
         solver.solve(1e12)
+
+
+@pytest.mark.parametrize("delimiter", [";", "\t"])
+def test_semicolon_and_tab_files_with_decimal_commas_are_read_and_said(delimiter):
+    """A spreadsheet's export in a locale with decimal commas: the delimiter is taken from
+    a header without commas, a decimal comma read as a point, and the notes say both."""
+    text = delimiter.join(GOOD.split(",")) + "\n" + "\n".join(
+        delimiter.join(row) for row in (("500", "28,5", "0,82"), ("600", "20", "0.80")))
+    d = ms.parse_measured(text)
+    np.testing.assert_allclose(d.torque_Nm, [28.5, 20.0])
+    np.testing.assert_allclose(d.efficiency, [0.82, 0.80])
+    assert d.notes[:2] == (f"read with {delimiter!r} as the delimiter (the header has no "
+                           "comma)", "decimal commas read as decimal points")
+    assert ms.parse_measured(GOOD + "\n500,28.5,0.82\n").notes == ()
+
+
+def test_a_misspelled_published_figure_is_refused_and_the_read_names_are_complete(cases_dir):
+    """[published] is the case's table of quoted figures: one within a typo of a name
+    toothfem reads is refused (it would silently not be compared); notes under other names
+    stay; every name a reader uses is in the list the check compares against."""
+    import tomllib
+
+    from toothfem.case import PUBLISHED_READ
+    from toothfem.durability import MAKER_KEYS
+    from toothfem.report.summary import PUBLISHED_NAMES
+
+    used = {n.format(contacts=c) for names in PUBLISHED_NAMES.values() for n in names
+            for c in ("pins", "teeth")} | set(MAKER_KEYS)
+    assert used <= set(PUBLISHED_READ)
+    doc = tomllib.loads((cases_dir / "sine_prototype.toml").read_text())
+    doc["published"]["max_forse_N"] = 3.0
+    with pytest.raises(CaseError, match=r"published\.max_forse_N is not a figure toothfem "
+                                        r"reads; did you mean 'max_force_N'\?"):
+        parse_case(doc)
+    doc["published"] = {"loss_share_mesh": 0.4, "a_note_of_mine": 1.0}
+    assert parse_case(doc).published["a_note_of_mine"] == 1.0

@@ -114,3 +114,17 @@ def test_torque_limits_in_order(cases_dir):
     with pytest.raises(CaseError, match=r"operating.momentary_torque_Nm = 900 is below "
                                         r"operating.start_stop_torque_Nm = 1029"):
         parse_case(d)
+
+
+def test_a_pressure_beyond_the_static_capacity_says_the_model_does_not_hold(cases_dir):
+    """1e6 N m on the pin-housing drive gives P_h ~ 51 GPa: above the fatigue allowable
+    and above the static capacity (ISO 76's 4000 MPa), each warned with its source."""
+    from toothfem import limits
+
+    material = load_case(cases_dir / "cycloid_pinhousing.toml").to_si().material
+    assert limits.contact_pressure("the pins", 1400.0, material) == []
+    (fatigue,) = limits.contact_pressure("the pins", 2000.0, material)
+    assert "ISO 281" in fatigue.source
+    fatigue, static = limits.contact_pressure("the pins", 51_000.0, material)
+    assert static.limit == 4000.0 and "ISO 76" in static.source
+    assert "does not hold" in str(static)

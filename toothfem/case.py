@@ -12,6 +12,7 @@ and the geometry constructors convert to SI.
 from __future__ import annotations
 
 import dataclasses
+import difflib
 import math
 import os
 import sys
@@ -310,6 +311,7 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
     if not isinstance(published, Mapping):
         raise CaseError("[published] must be a table")
     for key, value in published.items():      # figures quoted for comparison
+        _check_published_key(key)
         if isinstance(value, str):
             continue
         # a figure, or a range of figures (e.g. the maker's efficiency band [lo, hi])
@@ -319,6 +321,30 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
             check_range(name, v, error=CaseError)
     kwargs["published"] = dict(published)
     return Case(**kwargs)
+
+
+#: The ``[published]`` names toothfem reads: shown beside our figures
+#: (toothfem.report.summary.PUBLISHED_NAMES, and ``loss_share_<component>``), the maker's
+#: rated life (toothfem.durability.MAKER_KEYS) and the paper's rig point on the efficiency
+#: chart. Other keys are kept as notes; a key within a typo of one of these is refused (a
+#: misspelled figure would silently not be compared).
+PUBLISHED_READ = ("pins_in_contact", "teeth_in_contact", "max_contact_stress_MPa",
+                  "max_ph_MPa", "max_force_N", "efficiency", "efficiency_computed",
+                  "loss_L1_W", "loss_L2_W", "rated_life_h", "rated_torque_Nm",
+                  "rated_output_speed_rpm", "rig_input_speed_rpm", "rig_output_torque_max_Nm")
+#: How alike a key must be to a read name to count as its misspelling (difflib's ratio:
+#: "max_forse_N" to "max_force_N" is 0.91; "efficiency_range" to "efficiency" 0.77).
+PUBLISHED_TYPO_RATIO = 0.85
+
+
+def _check_published_key(key: str) -> None:
+    if key in PUBLISHED_READ or key.startswith("loss_share_"):
+        return
+    near = difflib.get_close_matches(key, PUBLISHED_READ, n=1, cutoff=PUBLISHED_TYPO_RATIO)
+    if near:
+        raise CaseError(f"published.{key} is not a figure toothfem reads; did you mean "
+                        f"{near[0]!r}? (read: {', '.join(PUBLISHED_READ)}, loss_share_*; "
+                        "other keys are kept as notes)")
 
 
 def as_case(case, name: str = "case") -> Case:

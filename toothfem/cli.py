@@ -70,6 +70,7 @@ def main(argv=None) -> int:
         The exit code (module docstring): 0, EXIT_REFUSED, EXIT_INTERNAL, or 128 plus
         the signal's number.
     """
+    _never_unencodable()
     args = build_parser().parse_args(argv)
     name = f"toothfem {args.command}"
     try:
@@ -103,6 +104,15 @@ def _kept(exc: BaseException, otherwise: str) -> str:
     """What a stopped long run kept (toothfem.output.resumable_dir), or ``otherwise``."""
     kept = getattr(exc, "toothfem_kept", None)
     return f"; {kept}" if kept else otherwise
+
+
+def _never_unencodable():
+    """stdout and stderr replace a character their encoding lacks (PYTHONIOENCODING=ascii,
+    a C locale) instead of raising: the tables and messages hold en dashes, degrees and
+    Greek letters."""
+    for stream in (sys.stdout, sys.stderr):
+        with contextlib.suppress(AttributeError, ValueError, OSError):
+            stream.reconfigure(errors="replace")
 
 
 def _say(line: str):

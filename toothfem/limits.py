@@ -172,7 +172,8 @@ def rated_torque(si, torque_Nm) -> list:
 
 
 def contact_pressure(where: str, ph_MPa: float, material) -> list:
-    """A Hertz pressure against the material's allowable (contact fatigue).
+    """A Hertz pressure against the material's allowable (contact fatigue) and, beyond
+    it, its static capacity (permanent indentation: the elastic model no longer holds).
 
     Parameters
     ----------
@@ -186,10 +187,14 @@ def contact_pressure(where: str, ph_MPa: float, material) -> list:
     -------
     list of Exceeded
     """
-    hit = above(f"largest Hertz pressure P_h of {where}", ph_MPa,
-                material.allowable_contact_stress_Pa * 1e-6, "MPa",
-                "material.allowable_contact_stress_MPa, contact fatigue (ISO 281:2007)")
-    return [hit] if hit else []
+    found = [above(f"largest Hertz pressure P_h of {where}", ph_MPa,
+                   material.allowable_contact_stress_Pa * 1e-6, "MPa",
+                   "material.allowable_contact_stress_MPa, contact fatigue (ISO 281:2007)"),
+             above(f"largest Hertz pressure P_h of {where}, beyond the static capacity "
+                   "(permanent indentation; the elastic contact model does not hold there)",
+                   ph_MPa, material.static_contact_stress_Pa * 1e-6, "MPa",
+                   "material.static_contact_stress_MPa, static contact (ISO 76:2006)")]
+    return [h for h in found if h is not None]
 
 
 def case_temperature(si, drive, temperature_C) -> list:

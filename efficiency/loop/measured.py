@@ -30,7 +30,10 @@ no row is refused for it. A bad header (a required column missing, a quantity in
 not known, a column twice) refuses the whole file, naming the column; a trailing comma in
 the header or the rows is accepted; an ``efficiency_pct`` column whose every value is at
 most 1 (fractions) is refused. ``strict=True`` raises on the first bad row instead. Files
-are UTF-8 (a byte-order mark is dropped); other encodings are refused in one line.
+are UTF-8 (a byte-order mark is dropped); other encodings are refused in one line. The
+delimiter is the comma; a header without a comma but with semicolons or tabs is read with
+that delimiter, and then a decimal comma in a number (``28,5``: a spreadsheet's export in
+many locales) is read as a decimal point; ``notes`` says both.
 :func:`require_distinct` refuses data with too few distinct operating points.
 """
 from __future__ import annotations
@@ -198,7 +201,8 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
                                 "input_speed_rpm,output_torque_Nm,efficiency)")
     body = lines[start:]
     del lines                                   # large files: keep one copy of the text
-    reader = csv.reader(body)
+    delimiter = _delimiter(body[0])
+    reader = csv.reader(body, delimiter=delimiter)
     header = _header(_next_row(reader, source, start + 1), source)
     columns = _columns(header, source)
     i_abs = None if ratio is None else abs(float(ratio))
@@ -211,6 +215,7 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     values = {k: [] for k in checked}
     cells_free = {k: [] for k in free}
     run, rejected, line_no = [], [], []
+    decimal_comma = False
     k = 0
     while True:
         line = start + 2 + k
@@ -222,6 +227,10 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
             continue
         while len(cells) > len(header) and not cells[-1].strip():
             cells = cells[:-1]                  # trailing separators (a trailing comma)
+        if delimiter != ",":
+            commas = [c.replace(",", ".") for c in cells]
+            decimal_comma |= commas != cells
+            cells = commas
         reason = None
         if len(cells) != len(header):
             reason = f"has {len(cells)} fields, the header has {len(header)}"
@@ -266,12 +275,28 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         implied = t_in if t_in is not None or i_abs is None else t_out / (i_abs * eff)
         sigma = sensor_sigma(eff, implied, t_out, prov.get("sensors"))
     extra, notes = _free_columns(cells_free)
+    if delimiter != ",":
+        notes = [f"read with {delimiter!r} as the delimiter (the header has no comma)"] + \
+            (["decimal commas read as decimal points"] if decimal_comma else []) + list(notes)
     return MeasuredData(speed_rpm=col("input_speed"), torque_Nm=t_out, efficiency=eff,
                         oil_temp_C=col("oil_temp"), time_h=col("time"),
                         run_id=np.array(run, dtype=object) if "run_id" in columns else None,
                         input_torque_Nm=t_in, sigma=sigma, extra=extra,
                         lines=np.array(line_no), rejected=tuple(rejected), provenance=prov,
                         source=source, notes=tuple(notes))
+
+
+#: The delimiters read besides the comma, when the header has no comma.
+OTHER_DELIMITERS = (";", "\t")
+
+
+def _delimiter(header_line: str) -> str:
+    """The comma, or the first of OTHER_DELIMITERS in a header that has no comma."""
+    if "," not in header_line:
+        for d in OTHER_DELIMITERS:
+            if d in header_line:
+                return d
+    return ","
 
 
 def grid_axes(data: MeasuredData) -> dict:

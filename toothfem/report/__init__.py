@@ -19,6 +19,13 @@ def pyplot():
     module
         matplotlib.pyplot.
     """
+    import os
+    import sys
+
+    if "matplotlib" not in sys.modules and os.environ.get("MPLBACKEND"):
+        # matplotlib refuses to import under a backend name it does not know (a stale
+        # MPLBACKEND); toothfem draws off-screen whatever the environment names
+        os.environ.pop("MPLBACKEND")
     import matplotlib
 
     matplotlib.use("Agg")

@@ -46,6 +46,7 @@ CONTACT_QUANTITIES = (
 PUBLISHED_NAMES = {
     "{contacts}_in_contact_max": ("{contacts}_in_contact",),
     "max_ph_MPa": ("max_contact_stress_MPa", "max_ph_MPa"),
+    "max_force_N": ("max_force_N",),
     "efficiency": ("efficiency", "efficiency_computed"),
     "losses.sun_planet_mesh": ("loss_L1_W",),
     "losses.cycloid_mesh": ("loss_L2_W",),
