@@ -2,7 +2,7 @@
 
 A run never waits on the cluster without a bound (issue 27):
 
-- reaching a scheduler (connection and handshake) takes at most CONNECT_TIMEOUT_S: an
+- reaching a scheduler (connection and handshake) takes at most 25 s: an
   address where nothing answers, or something that accepts and never replies, ends there
   (Dask's own ``timeout`` does not bound the handshake: measured, it waited for ever);
 - a cluster without a worker (none at the start, or the last one lost) is waited on for
@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import contextlib
 import os
+import signal
 import threading
 import time
 
@@ -30,6 +31,9 @@ from .errors import IncompleteRun, ToothfemError
 UNSET_TRIM = "distributed.nanny.pre-spawn-environ.MALLOC_TRIM_THRESHOLD_"
 #: Seconds to reach a scheduler, handshake included.
 CONNECT_TIMEOUT_S = 20.0
+#: The connecting thread is waited on this times CONNECT_TIMEOUT_S, so that Dask's own
+#: errors (refused, unknown host) arrive with their words before ours.
+CONNECT_GRACE = 1.25
 #: Seconds a run waits while the cluster has no worker before it stops (a local worker
 #: that dies is restarted by its nanny in a few seconds).
 NO_WORKER_TIMEOUT_S = 30.0
@@ -75,7 +79,8 @@ def dask_client(scheduler, n_workers):
             with dask.config.set({UNSET_TRIM: None}), \
                     LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
                                  threads_per_worker=1, processes=True,
-                                 dashboard_address=":0") as cluster, Client(cluster) as client:
+                                 dashboard_address=":0", preload=[__name__]) as cluster, \
+                    Client(cluster) as client:
                 yield client
         elif isinstance(scheduler, Client):
             yield scheduler
@@ -83,6 +88,21 @@ def dask_client(scheduler, n_workers):
             with _connect(Client, scheduler) as client:
                 yield client
     return owned()
+
+
+def dask_setup(worker) -> None:
+    """Dask's preload hook, run in each worker of the local cluster as it starts: the
+    worker ignores SIGINT. A Ctrl-C at the terminal reaches the whole process group; the
+    command stops and closes its cluster, and a worker that also raised printed its own
+    traceback (issue 27).
+
+    Parameters
+    ----------
+    worker : distributed.Worker
+        The worker starting (unused).
+    """
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _connect(Client, address):
@@ -98,10 +118,10 @@ def _connect(Client, address):
 
     thread = threading.Thread(target=connect, name="toothfem-connect", daemon=True)
     thread.start()
-    thread.join(CONNECT_TIMEOUT_S + 5.0)
+    thread.join(CONNECT_TIMEOUT_S * CONNECT_GRACE)
     if "client" in box:
         return box["client"]
-    why = (f"no answer within {CONNECT_TIMEOUT_S + 5.0:.0f} s" if thread.is_alive() else
+    why = (f"no answer within {CONNECT_TIMEOUT_S * CONNECT_GRACE:.0f} s" if thread.is_alive() else
            f"{type(box['error']).__name__}: {box['error']}".splitlines()[0])
     raise ToothfemError(f"scheduler = {address!r}: no Dask scheduler there ({why}); valid: "
                        "the address of a running scheduler, such as tcp://host:8786")
