@@ -48,7 +48,11 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="toothfem",
         description="Tooth-contact analysis and efficiency of precision robot reducers "
-                    "(cycloid-pin, RV, sine-profile).")
+                    "(cycloid-pin, RV, sine-profile).",
+        epilog="exit codes: 0 done; 2 refused (bad input, one line naming it); 3 internal "
+               "error; 4 a sweep or ensemble incomplete (failed points or a lost Dask "
+               "cluster; finished points kept, the same command resumes); 130 / 143 "
+               "interrupted by Ctrl-C / SIGTERM")
     parser.add_argument("--version", action="version", version=f"toothfem {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for cmd in COMMANDS:

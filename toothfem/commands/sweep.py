@@ -88,9 +88,8 @@ def run(args) -> int:
     summary = json.loads((result.out / "sweep.json").read_text())
     print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
     if result.failed:
-        raise IncompleteRun(f"{result.failed} of {len(result.rows)} points failed (their "
-                            f"errors: the error column of {result.table}); the others are "
-                            "written")
+        raise IncompleteRun(f"{result.failed} of {len(result.rows)} points failed (the "
+                            f"error column of {result.table} says why)")
     return 0
 
 
