@@ -118,6 +118,8 @@ def clean_stale(out) -> list[Path]:
                 warnings.warn(f"--out {out}: the earlier result, left aside by a run that "
                               f"was killed while replacing it, is back under its name",
                               RuntimeWarning, stacklevel=2)
+            if kept.exists():           # not put back: the only copy stays where it is
+                continue
         shutil.rmtree(sib, ignore_errors=True)
         removed.append(sib)
     return removed
