@@ -265,6 +265,46 @@ def test_signal_during_a_command_leaves_no_folder(cases_dir, tmp_path, monkeypat
     assert signal.getsignal(signal.SIGTERM) is before
 
 
+@pytest.mark.parametrize("signum, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_signal_lost_in_a_finalizer_still_stops_the_command(cases_dir, tmp_path,
+                                                             monkeypatch, capsys, signum,
+                                                             code):
+    """Python ignores an exception raised inside a weakref callback or a finalizer; a
+    signal whose handler ran there was lost (the probe saw `run` go on and write its result,
+    exit 0, 1 in 20 tries). The handler notes the signal, and the output folder stops for it
+    before committing: the exit code of the signal, nothing left."""
+    import weakref
+
+    out = tmp_path / "geo"
+    real = plots.cycloid_drawing
+
+    class Part:
+        pass
+
+    def drawing_with_signal_in_a_callback(*a, **kw):
+        def callback(ref):
+            os.kill(os.getpid(), signum)        # the handler runs here: its raise is lost
+            for _ in range(100):                # (a few bytecodes for it to be called)
+                pass
+
+        part = Part()
+        ref = weakref.ref(part, callback)
+        del part
+        assert ref() is None
+        return real(*a, **kw)
+
+    lost = []
+    monkeypatch.setattr(plots, "cycloid_drawing", drawing_with_signal_in_a_callback)
+    monkeypatch.setattr(sys, "unraisablehook", lambda u: lost.append(u.exc_type))
+    assert cli.main(["geometry", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
+                     str(out)]) == code
+    assert [t.__name__ for t in lost] == [{130: "KeyboardInterrupt",      # it did land
+                                           143: "Terminated"}[code]]     # there
+    assert list(tmp_path.iterdir()) == []
+    from toothfem import output
+    assert output._SIGNALLED == []                      # cleared for the next command
+
+
 @pytest.mark.slow
 @pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
 def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):

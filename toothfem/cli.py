@@ -22,7 +22,8 @@ import warnings
 from . import __version__
 from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
                        sweep, tolerance)
-from .errors import IncompleteRun, ToothfemError
+from . import output
+from .errors import IncompleteRun, Terminated, ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
             sweep)
@@ -30,11 +31,6 @@ COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, 
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).
 EXIT_REFUSED, EXIT_INTERNAL, EXIT_INCOMPLETE = 2, 3, 4
-
-
-class Terminated(BaseException):
-    """SIGTERM, raised in the main thread so that ``with`` blocks unwind (a BaseException,
-    like KeyboardInterrupt: ``except Exception`` in library code does not swallow it)."""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -78,7 +74,7 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     name = f"toothfem {args.command}"
     try:
-        with _sigterm_raises(), _one_line_warnings(name):
+        with _signals_raise(), _one_line_warnings(name):
             return args.func(args)
     except BrokenPipeError:
         return _quiet_broken_pipe()
@@ -135,21 +131,29 @@ def _one_line_warnings(name: str):
 
 
 @contextlib.contextmanager
-def _sigterm_raises():
-    """While the command runs, SIGTERM raises :class:`Terminated` (only the main thread can
-    set a handler; elsewhere, as under a test runner's worker thread, nothing changes)."""
+def _signals_raise():
+    """While the command runs, SIGINT raises KeyboardInterrupt and SIGTERM
+    :class:`~toothfem.errors.Terminated`, and each is noted
+    (:func:`toothfem.output.signalled`): Python ignores an exception raised inside a
+    finalizer or a weakref callback, so a signal whose exception lands there was lost (the
+    run went on and wrote its result, exit 0); the output folder stops for a noted signal
+    before it commits a result or keeps a point. Only the main thread can set a handler;
+    elsewhere, as under a test runner's worker thread, nothing changes."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
 
     def handler(signum, frame):
-        raise Terminated(signum)
+        output.signalled(signum)
+        raise KeyboardInterrupt if signum == signal.SIGINT else Terminated(signum)
 
-    previous = signal.signal(signal.SIGTERM, handler)
+    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
-        signal.signal(signal.SIGTERM, previous)
+        for s, h in previous.items():
+            signal.signal(s, h)
+        output.signalled(None)
 
 
 def _quiet_broken_pipe() -> int:

@@ -19,6 +19,7 @@ there.
 from __future__ import annotations
 
 import contextlib
+import logging
 import os
 import signal
 import threading
@@ -76,7 +77,7 @@ def dask_client(scheduler, n_workers):
             # MB or more is mapped and zeroed afresh: the contact solves' dense tables ran
             # 3x slower in a worker than in a process (a sine ring 3.4 s against 1.1 s).
             # The workers keep glibc's own (dynamic) thresholds.
-            with dask.config.set({UNSET_TRIM: None}), \
+            with _dask_logs_quiet(), dask.config.set({UNSET_TRIM: None}), \
                     LocalCluster(n_workers=n_workers or os.cpu_count() or 1,
                                  threads_per_worker=1, processes=True,
                                  dashboard_address=":0", preload=[__name__]) as cluster, \
@@ -85,16 +86,47 @@ def dask_client(scheduler, n_workers):
         elif isinstance(scheduler, Client):
             yield scheduler
         else:
-            with _connect(Client, scheduler) as client:
+            with _dask_logs_quiet(), _connect(Client, scheduler) as client:
                 yield client
     return owned()
 
 
+#: Dask's loggers are held at this level while a toothfem run owns the client: their
+#: warnings and errors on shutdown, a Ctrl-C or a lost scheduler (a cancelled task, a
+#: closed connection with its traceback) repeat what the run's one line says
+#: (TOOTHFEM_DEBUG=1 keeps them).
+DASK_LOG_LEVEL = logging.CRITICAL
+
+
+@contextlib.contextmanager
+def _dask_logs_quiet():
+    if os.environ.get("TOOTHFEM_DEBUG"):
+        yield
+        return
+    before = _set_dask_levels(DASK_LOG_LEVEL)
+    try:
+        yield
+    finally:
+        for logger, level in before:
+            logger.setLevel(level)
+
+
+def _set_dask_levels(level) -> list:
+    """Set every ``distributed`` logger (Dask's configuration gives some their own level)
+    to ``level``; returns [(logger, its level before)]."""
+    loggers = [logging.getLogger(n) for n in list(logging.root.manager.loggerDict)
+               if n == "distributed" or n.startswith("distributed.")]
+    before = [(lg, lg.level) for lg in loggers]
+    for lg in loggers:
+        lg.setLevel(level)
+    return before
+
+
 def dask_setup(worker) -> None:
     """Dask's preload hook, run in each worker of the local cluster as it starts: the
-    worker ignores SIGINT. A Ctrl-C at the terminal reaches the whole process group; the
-    command stops and closes its cluster, and a worker that also raised printed its own
-    traceback (issue 27).
+    worker ignores SIGINT and logs as the run does (DASK_LOG_LEVEL). A Ctrl-C at the
+    terminal reaches the whole process group; the command stops and closes its cluster,
+    and a worker that also raised printed its own traceback (issue 27).
 
     Parameters
     ----------
@@ -103,6 +135,8 @@ def dask_setup(worker) -> None:
     """
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if not os.environ.get("TOOTHFEM_DEBUG"):
+        _set_dask_levels(DASK_LOG_LEVEL)
 
 
 def _connect(Client, address):

@@ -53,6 +53,12 @@ class GeometryError(ToothfemError):
     """Geometry parameters that give a looped, cusped, undercut or interfering profile."""
 
 
+class Terminated(BaseException):
+    """SIGTERM, raised in the main thread by the CLI's handler so that ``with`` blocks
+    unwind (a BaseException, like KeyboardInterrupt: ``except Exception`` in library code
+    does not swallow it)."""
+
+
 class IncompleteRun(ToothfemError):
     """A long run that did not finish every point (a failed point, a lost cluster); what
     finished is kept (toothfem.output.resumable_dir)."""

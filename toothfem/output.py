@@ -34,7 +34,7 @@ import warnings
 from pathlib import Path
 
 from . import __version__
-from .errors import ToothfemError
+from .errors import Terminated, ToothfemError
 from .leftovers import left_by_dead_runs, owner
 
 #: The file that marks a folder as a toothfem result (what a later run may replace).
@@ -43,6 +43,32 @@ MARKER = ".toothfem-result"
 #: The signals that are held back while the finished folder replaces the old one, so that
 #: an interrupt cannot fall between the two renames (and leave neither under the name).
 _SWAP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
+
+
+#: The signal the running command was sent, if any (:func:`signalled`).
+_SIGNALLED: list = []
+
+
+def signalled(signum) -> None:
+    """Note the signal the running command was sent (the CLI's handlers), or clear it.
+
+    Python ignores an exception raised in a finalizer or a weakref callback, so a
+    handler's KeyboardInterrupt or Terminated that lands there is lost and the run goes
+    on; :func:`atomic_dir` (before it commits a result) and :meth:`Points.record` (before
+    it keeps a point) stop for a noted signal.
+
+    Parameters
+    ----------
+    signum : int or None
+        SIGINT or SIGTERM; None clears it.
+    """
+    _SIGNALLED[:] = [] if signum is None else [signum]
+
+
+def _stop_if_signalled() -> None:
+    if _SIGNALLED:
+        raise KeyboardInterrupt if _SIGNALLED[0] == signal.SIGINT else \
+            Terminated(_SIGNALLED[0])
 
 
 def _stem(out: Path) -> str:
@@ -234,6 +260,7 @@ def atomic_dir(out, *, unfinished: str | None = None):
         tmp.chmod(0o777 & ~_UMASK)          # as a folder made by mkdir (mkdtemp: 0700)
         (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
         yield tmp
+        _stop_if_signalled()
         (tmp / MARKER).write_text("\n".join([_marker_head(unfinished) + ":"] + sorted(
             p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
     except BaseException:
@@ -297,6 +324,7 @@ class Points:
         record : dict
             Its result (JSON: numbers, strings, None, lists and dicts of these).
         """
+        _stop_if_signalled()
         if self._fh is None:
             self._open()
         self._fh.write(json.dumps({"point": point, "record": record},

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import csv
 import math
+import re
 
 import numpy as np
 
@@ -67,6 +68,10 @@ def _number(text, name):
     try:
         v = float(s)
     except ValueError:
+        if re.fullmatch(r"[-+]?\d+,\d+", s):
+            return None, (f"{name} = {s!r} is not a number: a decimal comma in a comma-"
+                          "separated file (write a decimal point, or separate the columns "
+                          "with ';')")
         return None, f"{name} = {s!r} is not a number"
     if math.isnan(v):
         return None, f"{name} is NaN"
