@@ -87,6 +87,7 @@ def dask_client(scheduler, n_workers):
             yield scheduler
         else:
             with _dask_logs_quiet(), _connect(Client, scheduler) as client:
+                _a_worker(client)
                 yield client
     return owned()
 
@@ -161,6 +162,22 @@ def _connect(Client, address):
                        "the address of a running scheduler, such as tcp://host:8786")
 
 
+def _a_worker(client) -> None:
+    """Wait up to NO_WORKER_TIMEOUT_S for the scheduler to have a worker (a scheduler
+    without one is found before any work is prepared for it)."""
+    try:
+        client.wait_for_workers(1, timeout=NO_WORKER_TIMEOUT_S)
+    except TimeoutError:
+        raise _no_worker(client.scheduler.address, NO_WORKER_TIMEOUT_S, None) from None
+
+
+def _no_worker(address, seconds, waiting) -> ClusterError:
+    tasks = "" if waiting is None else f" ({waiting} tasks waiting)"
+    return ClusterError(f"the Dask scheduler at {address} has had no worker for "
+                        f"{seconds:.0f} s{tasks}; start workers (dask worker {address}) and "
+                        "run again")
+
+
 def as_finished(client, futures, *, no_worker_timeout_s: float | None = None):
     """Yield each of ``futures`` as it finishes, watching the cluster in between.
 
@@ -215,9 +232,7 @@ def as_finished(client, futures, *, no_worker_timeout_s: float | None = None):
         elif idle_since is None:
             idle_since = time.monotonic()
         elif time.monotonic() - idle_since > no_worker_timeout_s:
-            raise ClusterError(f"the Dask scheduler at {address} has had no worker for "
-                               f"{no_worker_timeout_s:.0f} s ({len(pending)} tasks waiting); "
-                               f"start workers (dask worker {address}) and run again")
+            raise _no_worker(address, no_worker_timeout_s, len(pending))
 
 
 def _lost(address, why) -> ClusterError:

@@ -14,6 +14,7 @@ additive, so the one-tolerance variances need not sum to the whole ensemble's).
 """
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import hashlib
 import math
@@ -196,8 +197,6 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                    rated_torque_Nm=float(rated or t_out),
                    cache_dir=None if cache_obj is None else str(cache_obj.directory),
                    pitch_samples=PITCH_SAMPLES)
-    _solver(setup).prepare()                      # tables once, here (and on disk)
-    by_system = _system(setup, prepare=True) is not None
     rng = np.random.default_rng(seed)
     runs = [("all", tol, int(samples))]
     n_share = max(20, int(samples) // 4) if share_samples is None else int(share_samples)
@@ -205,9 +204,15 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
         runs += [(name, only(tol, name), n_share) for name in active]
     plan = [(label, drive.sample_deviation(t, rng)) for label, t, count in runs
             for _ in range(count)]
-    # the nominal design (None) first, where the samples run
-    nominal, *rows = _run_all(setup, [None] + [d for _, d in plan], int(workers), scheduler,
-                              progress, points)
+    # the cluster first: a scheduler that cannot run the rings is found before the tables
+    remote = int(workers) > 1 or scheduler is not None
+    with dask_client(scheduler, int(workers)) if remote else \
+            contextlib.nullcontext() as client:
+        _solver(setup).prepare()                  # tables once, here (and on disk)
+        by_system = _system(setup, prepare=True) is not None
+        # the nominal design (None) first, where the samples run
+        nominal, *rows = _run_all(setup, [None] + [d for _, d in plan], client, progress,
+                                  points)
     labels = np.array([label for label, _ in plan])
     table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
     ensemble = {k: v[labels == "all"] for k, v in table.items()}
@@ -374,10 +379,10 @@ def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
     return out
 
 
-def _run_all(setup, deviations, workers, scheduler, progress, points=None) -> list:
-    """Outputs of every deviation, in order: here, or in Dask tasks of CHUNK samples;
-    those in ``points.done`` (by index) are taken from there, the others kept there as
-    they finish."""
+def _run_all(setup, deviations, client, progress, points=None) -> list:
+    """Outputs of every deviation, in order: here (``client`` None), or in Dask tasks of
+    CHUNK samples; those in ``points.done`` (by index) are taken from there, the others
+    kept there as they finish."""
     from .bars import bar as progress_bar
 
     results = {} if points is None else {int(k): v for k, v in points.done.items()}
@@ -392,24 +397,23 @@ def _run_all(setup, deviations, workers, scheduler, progress, points=None) -> li
     bar = progress_bar(total=len(deviations), initial=len(results), desc="tolerance",
                        unit="ring", enabled=progress)
     try:
-        if workers == 1 and scheduler is None:
+        if client is None:
             _run_chunk(setup, [deviations[i] for i in todo],
                        lambda k, output: keep(todo[k], output))
         elif todo:
             chunks = [todo[i:i + CHUNK] for i in range(0, len(todo), CHUNK)]
-            with dask_client(scheduler, workers) as client:
-                futures = {client.submit(_run_chunk, setup, [deviations[i] for i in c],
-                                         pure=False): c for c in chunks}
-                for fut in as_finished(client, list(futures)):
-                    chunk = futures[fut]
-                    try:
-                        outputs = fut.result()
-                    except Exception as exc:    # noqa: BLE001 -- a worker died on it
-                        raise IncompleteRun(f"rings {chunk[0]}-{chunk[-1]} failed on the "
-                                            f"cluster ({type(exc).__name__}: {exc})"
-                                            .splitlines()[0]) from None
-                    for i, output in zip(chunk, outputs):
-                        keep(i, output)
+            futures = {client.submit(_run_chunk, setup, [deviations[i] for i in c],
+                                     pure=False): c for c in chunks}
+            for fut in as_finished(client, list(futures)):
+                chunk = futures[fut]
+                try:
+                    outputs = fut.result()
+                except Exception as exc:        # noqa: BLE001 -- a worker died on it
+                    raise IncompleteRun(f"rings {chunk[0]}-{chunk[-1]} failed on the "
+                                        f"cluster ({type(exc).__name__}: {exc})"
+                                        .splitlines()[0]) from None
+                for i, output in zip(chunk, outputs):
+                    keep(i, output)
         return [results[i] for i in range(len(deviations))]
     finally:
         bar.close()
