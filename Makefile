@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 CASE ?= cases/cycloid_pinhousing.toml
 OUT ?= out/demo
 
-.PHONY: demo test test-fast venv clean
+.PHONY: demo test test-fast probe venv clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -25,6 +25,9 @@ test: $(VENV)/.installed
 
 test-fast: $(VENV)/.installed
 	$(BIN)/python -m pytest -q -m "not slow" tests
+
+probe: $(VENV)/.installed
+	$(BIN)/python benchmarks/adversarial_faults.py --quick
 
 clean:
 	rm -rf $(VENV) out build *.egg-info
