@@ -12,7 +12,7 @@ import numpy as np
 
 from .case import Case, as_case
 from .errors import CaseError, check_range
-from .fem.datasheet.sheet import datasheet, plural
+from .fem.datasheet.sheet import datasheet, loop_torques, plural
 from .fem.datasheet.transmission import loaded_te
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
@@ -103,6 +103,7 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     """
     case = as_case(case)
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
+    loop_torques(1.0, steps)                   # steps refused before any work
     drive = drive_for(case)
     si = case.to_si()
     rated, assumed = si.rated_output_torque_Nm()

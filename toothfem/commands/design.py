@@ -50,9 +50,9 @@ def run(args) -> int:
         meets.
     """
     case = load_case(args.case)
-    result = design_analysis(case, positions=args.positions)
     source = decode_text(Path(args.case).read_bytes(), args.case)
-    with atomic_dir(args.out) as tmp:
+    with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
+        result = design_analysis(case, positions=args.positions)
         summary = write_design(result, tmp, source)
     print(json.dumps({"case": summary["case"], "best": summary["best"],
                       "check_with_own_tables": summary["check_with_own_tables"],

@@ -59,11 +59,11 @@ def run(args) -> int:
     """
 
     case = load_case(args.case)
-    result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,
-                                positions=args.positions, te_torque_Nm=args.te_torque,
-                                te_samples=args.te_samples, te_positions=args.te_positions,
-                                friction=args.friction)
-    with atomic_dir(args.out) as tmp:
+    with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
+        result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,
+                                    positions=args.positions, te_torque_Nm=args.te_torque,
+                                    te_samples=args.te_samples,
+                                    te_positions=args.te_positions, friction=args.friction)
         summary = write_stiffness(result, tmp)
     keep = ("rated_torque_Nm", "rated_torque_assumed", "torsional_rigidity_Nm_per_arcmin",
             "lost_motion_arcmin", "backlash_arcmin", "hysteresis_loss_arcmin",
