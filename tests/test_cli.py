@@ -209,3 +209,26 @@ def test_an_ascii_terminal_and_a_stale_matplotlib_backend_are_no_errors(cases_di
                            timeout=120)
         assert p.returncode == 0 and p.stderr == b"", p.stderr.decode()[-500:]
     assert (tmp_path / "g" / "drawing.png").stat().st_size > 0
+
+
+def test_the_console_script_ignores_a_signal_once_its_command_has_ended(cases_dir,
+                                                                        monkeypatch):
+    """`toothfem` ends with the command's exit code even when a SIGTERM arrives during the
+    interpreter's shutdown (it was killed by the signal's default action, exit -15, with
+    its result complete on disk); main() called from Python restores the handlers it
+    found."""
+    import signal
+
+    before = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}
+    assert cli.main(["check", str(cases_dir / "sine_prototype.toml")]) == 0
+    assert {s: signal.getsignal(s) for s in before} == before
+    monkeypatch.setattr("sys.argv", ["toothfem", "check",
+                                     str(cases_dir / "sine_prototype.toml")])
+    try:
+        with pytest.raises(SystemExit) as done:
+            cli.console()
+        assert done.value.code == 0
+        assert all(signal.getsignal(s) is signal.SIG_IGN for s in before)
+    finally:
+        for s, h in before.items():
+            signal.signal(s, h)

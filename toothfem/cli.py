@@ -56,13 +56,25 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv=None) -> int:
+def console() -> None:
+    """The console script ``toothfem``: :func:`main` on ``sys.argv``, then exit with its
+    code. A SIGINT or SIGTERM that arrives once the command has ended (its output in
+    place, its exit code known) is ignored while the interpreter shuts down: it killed the
+    process by the signal's default action (exit -15 with a complete result on disk; the
+    fault probe, 1 in 20 instants)."""
+    sys.exit(main(late_signals_ignored=True))
+
+
+def main(argv=None, *, late_signals_ignored: bool = False) -> int:
     """Run one subcommand, turning toothfem's errors into a line on stderr.
 
     Parameters
     ----------
     argv : list of str, optional
         The arguments without the program name (None: ``sys.argv[1:]``).
+    late_signals_ignored : bool
+        After the command, ignore SIGINT and SIGTERM instead of restoring the handlers
+        it found (the console script, which exits next).
 
     Returns
     -------
@@ -74,7 +86,7 @@ def main(argv=None) -> int:
     args = build_parser().parse_args(argv)
     name = f"toothfem {args.command}"
     try:
-        with _signals_raise(), _one_line_warnings(name):
+        with _signals_raise(late_signals_ignored), _one_line_warnings(name):
             return args.func(args)
     except BrokenPipeError:
         return _quiet_broken_pipe()
@@ -131,14 +143,15 @@ def _one_line_warnings(name: str):
 
 
 @contextlib.contextmanager
-def _signals_raise():
+def _signals_raise(then_ignored: bool = False):
     """While the command runs, SIGINT raises KeyboardInterrupt and SIGTERM
     :class:`~toothfem.errors.Terminated`, and each is noted
     (:func:`toothfem.output.signalled`): Python ignores an exception raised inside a
     finalizer or a weakref callback, so a signal whose exception lands there was lost (the
     run went on and wrote its result, exit 0); the output folder stops for a noted signal
     before it commits a result or keeps a point. Only the main thread can set a handler;
-    elsewhere, as under a test runner's worker thread, nothing changes."""
+    elsewhere, as under a test runner's worker thread, nothing changes. Afterwards the
+    handlers found are restored, or (``then_ignored``) both signals are ignored."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -152,7 +165,7 @@ def _signals_raise():
         yield
     finally:
         for s, h in previous.items():
-            signal.signal(s, h)
+            signal.signal(s, signal.SIG_IGN if then_ignored else h)
         output.signalled(None)
 
 
@@ -167,4 +180,4 @@ def _quiet_broken_pipe() -> int:
 
 
 if __name__ == "__main__":  # pragma: no cover
-    sys.exit(main())
+    console()

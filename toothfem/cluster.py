@@ -153,10 +153,11 @@ def _connect(Client, address):
 
     thread = threading.Thread(target=connect, name="toothfem-connect", daemon=True)
     thread.start()
-    thread.join(CONNECT_TIMEOUT_S * CONNECT_GRACE)
+    thread.join(CONNECT_TIMEOUT_S * CONNECT_GRACE)      # (a silent address: abandoned)
     if "client" in box:
         return box["client"]
-    why = (f"no answer within {CONNECT_TIMEOUT_S * CONNECT_GRACE:.0f} s" if thread.is_alive() else
+    waited = CONNECT_TIMEOUT_S * CONNECT_GRACE
+    why = (f"no answer within {waited:.0f} s" if thread.is_alive() else
            f"{type(box['error']).__name__}: {box['error']}".splitlines()[0])
     raise ToothfemError(f"scheduler = {address!r}: no Dask scheduler there ({why}); valid: "
                        "the address of a running scheduler, such as tcp://host:8786")
