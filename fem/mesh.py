@@ -9,14 +9,12 @@ rings are sampled densely there (:func:`refine_ring`).
 """
 from __future__ import annotations
 
-import contextlib
-import signal
-import threading
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import ToothfemError, check_range
+from ..signals import handlers_kept
 
 
 class MeshError(ToothfemError):
@@ -131,39 +129,12 @@ def _single_edges(ring, size_max, refinements, keep_below):
     return single | (length < keep_below) if keep_below is not None else single
 
 
-#: The signals whose Python handlers gmsh's initialisation would replace.
-_KEPT_SIGNALS = (signal.SIGINT, signal.SIGTERM)
-
-
-@contextlib.contextmanager
-def _handlers_kept():
-    """Python's SIGINT/SIGTERM handlers as they were after the block, with both signals
-    held back during it (delivered to those handlers right after): gmsh's C++
-    initialisation installs its own, so that a SIGTERM while meshing killed the process
-    outright (exit -15, the temporary output folder left behind; issue 27). Only the main
-    thread has handlers; elsewhere nothing changes."""
-    if threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    handlers = {s: signal.getsignal(s) for s in _KEPT_SIGNALS}
-    masks = hasattr(signal, "pthread_sigmask")
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, _KEPT_SIGNALS) if masks else None
-    try:
-        yield
-    finally:
-        for s, handler in handlers.items():
-            if handler is not None:
-                signal.signal(s, handler)
-        if masks:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
-
-
 def _initialize_keeping_handlers(gmsh):
     """``gmsh.initialize`` with Python's signal handlers kept. Not interruptible: gmsh
     would set SIGINT to the default action, and may do so only on the main thread; with
     Python's handlers a Ctrl-C or SIGTERM while gmsh meshes raises as soon as the mesher
     returns, and the output folder is cleaned up (issues 14, 27)."""
-    with _handlers_kept():
+    with handlers_kept():
         gmsh.initialize(interruptible=False)
 
 
@@ -262,7 +233,7 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
     except Exception as exc:  # gmsh raises plain Exceptions
         raise MeshError(f"gmsh failed: {exc}") from None
     finally:
-        with _handlers_kept():
+        with handlers_kept():
             gmsh.finalize()
     index = np.full(int(tags.max()) + 1, -1)
     index[tags.astype(int)] = np.arange(tags.size)

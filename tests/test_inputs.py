@@ -301,8 +301,8 @@ def test_a_signal_lost_in_a_finalizer_still_stops_the_command(cases_dir, tmp_pat
     assert [t.__name__ for t in lost] == [{130: "KeyboardInterrupt",      # it did land
                                            143: "Terminated"}[code]]     # there
     assert list(tmp_path.iterdir()) == []
-    from toothfem import output
-    assert output._SIGNALLED == []                      # cleared for the next command
+    from toothfem import signals
+    assert signals.noted() is None                      # cleared for the next command
 
 
 @pytest.mark.slow

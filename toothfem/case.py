@@ -22,7 +22,7 @@ from typing import Any, Mapping
 
 from . import si
 from .case_checks import STATED_RATIO_MAX, check_type, expected_type
-from .errors import CaseError, GeometryError, check_range, decode_text
+from .errors import CaseError, GeometryError, check_range, decode_text, short_repr
 from .geometry.disc import disc_polygon
 from .geometry import train
 
@@ -370,8 +370,8 @@ def as_case(case, name: str = "case") -> Case:
         return case
     if isinstance(case, (str, os.PathLike)):
         return load_case(case)
-    raise CaseError(f"{name} = {case!r:.80} is not a case; valid: a toothfem.Case or the "
-                    "path of a case file")
+    raise CaseError(f"{name} = {short_repr(case)} is not a case; valid: a toothfem.Case "
+                    "or the path of a case file")
 
 
 def load_case(path) -> Case:

@@ -22,7 +22,7 @@ import warnings
 from . import __version__
 from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
                        sweep, tolerance)
-from . import output
+from . import signals
 from .errors import IncompleteRun, Terminated, ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
@@ -146,7 +146,7 @@ def _one_line_warnings(name: str):
 def _signals_raise(then_ignored: bool = False):
     """While the command runs, SIGINT raises KeyboardInterrupt and SIGTERM
     :class:`~toothfem.errors.Terminated`, and each is noted
-    (:func:`toothfem.output.signalled`): Python ignores an exception raised inside a
+    (:func:`toothfem.signals.note`): Python ignores an exception raised inside a
     finalizer or a weakref callback, so a signal whose exception lands there was lost (the
     run went on and wrote its result, exit 0); the output folder stops for a noted signal
     before it commits a result or keeps a point. Only the main thread can set a handler;
@@ -157,16 +157,16 @@ def _signals_raise(then_ignored: bool = False):
         return
 
     def handler(signum, frame):
-        output.signalled(signum)
-        raise KeyboardInterrupt if signum == signal.SIGINT else Terminated(signum)
+        signals.note(signum)
+        signals.stop_if_noted()
 
-    previous = {s: signal.signal(s, handler) for s in (signal.SIGINT, signal.SIGTERM)}
+    previous = {s: signal.signal(s, handler) for s in signals.STOP_SIGNALS}
     try:
         yield
     finally:
         for s, h in previous.items():
             signal.signal(s, signal.SIG_IGN if then_ignored else h)
-        output.signalled(None)
+        signals.note(None)
 
 
 def _quiet_broken_pipe() -> int:

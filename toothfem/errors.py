@@ -167,8 +167,18 @@ def _fmt(x):
     return f"{x:.10g}" if isinstance(x, float) and len(r) > 12 else r
 
 
-def _fmt_short(value) -> str:
-    """repr of a value for a message, cut to one short line."""
+def short_repr(value) -> str:
+    """repr of a value for a one-line message: whitespace runs as one space, cut to 60
+    characters.
+
+    Parameters
+    ----------
+    value : object
+
+    Returns
+    -------
+    str
+    """
     r = " ".join(repr(value).split())
     return r if len(r) <= 60 else r[:57] + "..."
 
@@ -223,7 +233,7 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
             raise TypeError
         a = raw.astype(float)
     except (TypeError, ValueError, OverflowError):
-        raise error(f"{name} = {_fmt_short(value)} is not a number") from None
+        raise error(f"{name} = {short_repr(value)} is not a number") from None
     bad = ~np.isfinite(a)
     if lo is not None:
         bad |= (a <= lo) if lo_open else (a < lo)

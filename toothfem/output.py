@@ -26,50 +26,17 @@ import json
 import os
 import re
 import shutil
-import signal
 import sys
 import tempfile
-import threading
 import warnings
 from pathlib import Path
 
-from . import __version__
-from .errors import Terminated, ToothfemError
+from . import __version__, signals
+from .errors import ToothfemError, short_repr
 from .leftovers import left_by_dead_runs, owner
 
 #: The file that marks a folder as a toothfem result (what a later run may replace).
 MARKER = ".toothfem-result"
-
-#: The signals that are held back while the finished folder replaces the old one, so that
-#: an interrupt cannot fall between the two renames (and leave neither under the name).
-_SWAP_SIGNALS = {signal.SIGINT, signal.SIGTERM}
-
-
-#: The signal the running command was sent, if any (:func:`signalled`).
-_SIGNALLED: list = []
-
-
-def signalled(signum) -> None:
-    """Note the signal the running command was sent (the CLI's handlers), or clear it.
-
-    Python ignores an exception raised in a finalizer or a weakref callback, so a
-    handler's KeyboardInterrupt or Terminated that lands there is lost and the run goes
-    on; :func:`atomic_dir` (before it commits a result) and :meth:`Points.record` (before
-    it keeps a point) stop for a noted signal.
-
-    Parameters
-    ----------
-    signum : int or None
-        SIGINT or SIGTERM; None clears it.
-    """
-    _SIGNALLED[:] = [] if signum is None else [signum]
-
-
-def _stop_if_signalled() -> None:
-    if _SIGNALLED:
-        raise KeyboardInterrupt if _SIGNALLED[0] == signal.SIGINT else \
-            Terminated(_SIGNALLED[0])
-
 
 def _stem(out: Path) -> str:
     """The hidden siblings' common start: ``.<name cut to 64>~<digest of the name>``."""
@@ -111,8 +78,8 @@ def target(out) -> Path:
         For an ``out`` that is not a path (None, a number), or an empty one.
     """
     if not isinstance(out, (str, os.PathLike)) or not str(out):
-        raise ToothfemError(f"out = {out!r:.80} is not a folder path; valid: a path such as "
-                            "'out/run'")
+        raise ToothfemError(f"out = {short_repr(out)} is not a folder path; valid: a path "
+                            "such as 'out/run'")
     out = Path(out)
     return Path(os.path.realpath(out)) if out.is_symlink() else out
 
@@ -149,21 +116,6 @@ def clean_stale(out) -> list[Path]:
         shutil.rmtree(sib, ignore_errors=True)
         removed.append(sib)
     return removed
-
-
-@contextlib.contextmanager
-def _signals_held():
-    """Hold SIGINT/SIGTERM back for the block (delivered right after it); a no-op where
-    signal masks are not available or off the main thread."""
-    if not hasattr(signal, "pthread_sigmask") or \
-            threading.current_thread() is not threading.main_thread():
-        yield
-        return
-    old = signal.pthread_sigmask(signal.SIG_BLOCK, _SWAP_SIGNALS)
-    try:
-        yield
-    finally:
-        signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
 def check_replaceable(out) -> None:
@@ -260,16 +212,16 @@ def atomic_dir(out, *, unfinished: str | None = None):
         tmp.chmod(0o777 & ~_UMASK)          # as a folder made by mkdir (mkdtemp: 0700)
         (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
         yield tmp
-        _stop_if_signalled()
+        signals.stop_if_noted()
         (tmp / MARKER).write_text("\n".join([_marker_head(unfinished) + ":"] + sorted(
             p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
     except BaseException:
-        with _signals_held():          # a second Ctrl-C does not cut the clean-up short
+        with signals.held():          # a second Ctrl-C does not cut the clean-up short
             shutil.rmtree(tmp, ignore_errors=True)
         raise
     old = None
     try:
-        with _signals_held():
+        with signals.held():
             if out.exists():
                 old = Path(tempfile.mkdtemp(prefix=_tag(out, "old"), dir=out.parent))
                 out.replace(old / out.name)
@@ -324,11 +276,10 @@ class Points:
         record : dict
             Its result (JSON: numbers, strings, None, lists and dicts of these).
         """
-        _stop_if_signalled()
+        signals.stop_if_noted()
         if self._fh is None:
             self._open()
-        self._fh.write(json.dumps({"point": point, "record": record},
-                                  default=_plain) + "\n")
+        self._fh.write(_line(point, record))
         self._fh.flush()
         os.fsync(self._fh.fileno())
         self.done[point] = record
@@ -343,14 +294,18 @@ class Points:
             with tempfile.NamedTemporaryFile("w", encoding="utf-8", dir=self.folder,
                                              delete=False,
                                              prefix=f".{JOURNAL}.tmp-{owner()}") as fh:
-                for point, record in self.done.items():
-                    fh.write(json.dumps({"point": point, "record": record}) + "\n")
+                fh.writelines(_line(p, r) for p, r in self.done.items())
             os.replace(fh.name, self.folder / JOURNAL)
         self._fh = open(self.folder / JOURNAL, "a", encoding="utf-8")
 
     def close(self):
         if self._fh is not None:
             self._fh.close()
+
+
+def _line(point: str, record: dict) -> str:
+    """One journal line (numpy scalars as Python numbers)."""
+    return json.dumps({"point": point, "record": record}, default=_plain) + "\n"
 
 
 def _plain(x):

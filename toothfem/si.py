@@ -18,7 +18,7 @@ import os
 from dataclasses import dataclass
 from typing import Any
 
-from .errors import ToothfemError
+from .errors import ToothfemError, short_repr
 
 _RECORD = dict(frozen=True, kw_only=True)
 
@@ -357,9 +357,10 @@ def si_of(case, name: str = "case") -> CaseSI:
     """
     to_si = getattr(case, "to_si", None)
     if not callable(to_si):
-        hint = ("load it first: toothfem.load_case(path)" if isinstance(case, (str, os.PathLike))
+        hint = ("load it first: toothfem.load_case(path)"
+                if isinstance(case, (str, os.PathLike))
                 else "give a toothfem.Case (toothfem.load_case(path)) or its SI record")
-        raise ToothfemError(f"{name} = {case!r:.80} is not a case; {hint}")
+        raise ToothfemError(f"{name} = {short_repr(case)} is not a case; {hint}")
     return to_si()
 
 

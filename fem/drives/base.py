@@ -6,7 +6,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ...errors import CaseError, ToothfemError, check_range, checked_array
+from ...errors import CaseError, check_range, checked_array
 from ..hertz import reduced_modulus
 from ..cache import DiskCache, default_dir
 from ..load_sharing import LoadSharing, analytic_split
@@ -407,10 +407,8 @@ class Drive(abc.ABC):
         CaseError
             For a torque that is not finite and positive.
         """
-        try:
-            t = checked_array("output_torque_Nm", output_torque_Nm, 0, lo_open=True)
-        except ToothfemError as exc:
-            raise CaseError(str(exc)) from None
+        t = checked_array("output_torque_Nm", output_torque_Nm, 0, lo_open=True,
+                          error=CaseError)
         share = self.members_torque(t) / self.members
         out = self.load_factor * share if peak else share
         return float(out) if out.ndim == 0 else out
