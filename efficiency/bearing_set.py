@@ -463,6 +463,30 @@ def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication:
 #: ASSUMPTION: each row's axial preload as a share of its static rating C0 (a light
 #: preload of makers' matched angular contact pairs is of the order of 1-2 % of C0).
 MAIN_PRELOAD_PER_C0 = 0.02
+
+
+def main_preload_N(si, drive) -> float:
+    """Axial preload of each main bearing row [N]: ``bearings.main_preload_N``, else
+    :data:`MAIN_PRELOAD_PER_C0` of the row's static rating (an ASSUMPTION). The tilt model
+    stiffens the pair with it and the friction model loads each row's Palmgren load term
+    with it, so the two read one preload.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    float
+        [N].
+    """
+    declared = None if si.bearings is None else si.bearings.main_preload_N
+    if declared is not None:
+        return float(declared)
+    return MAIN_PRELOAD_PER_C0 * main_pair(si, drive).static_rating_N
+
+
 #: Makers list a momentary maximum allowable moment twice the allowable moment (Nabtesco
 #: RV-E catalogue: RV-40E 3332 and 1666 N m); the momentary one is taken as the moment at
 #: which the most loaded ball reaches ISO 76's static limit.
@@ -503,7 +527,7 @@ def main_tilt(si, drive) -> dict:
     pair = tilt.BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
                          pitch_diameter_m=b.pitch_diameter_m,
                          contact_angle_rad=math.radians(b.contact_angle_deg), row_span_m=span,
-                         preload_N=MAIN_PRELOAD_PER_C0 * b.static_rating_N,
+                         preload_N=main_preload_N(si, drive),
                          youngs_modulus_Pa=si.material.youngs_modulus_Pa,
                          poisson_ratio=si.material.poisson_ratio)
     momentary = tilt.moment_at_pressure(pair)
@@ -514,7 +538,9 @@ def main_tilt(si, drive) -> dict:
             "row_span_mm": span * 1e3, "preload_N": pair.preload_N,
             "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * 1e3,
             "pitch_diameter_mm": b.pitch_diameter_m * 1e3,
-            "assumed": list(b.assumed) + ["preload", "row span"]}
+            "assumed": list(b.assumed) + (["preload"] if si.bearings is None or
+                                          si.bearings.main_preload_N is None else [])
+                       + ["row span"]}
 
 
 def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:

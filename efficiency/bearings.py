@@ -158,23 +158,34 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
         axial load on a main bearing type other than 'angular_ball'.
     """
     b = si.bearings
+    rows, force, radial = _main_rows(si, drive, table, np.array([float(output_torque_Nm)]))
+    p = LIFE_EXPONENT[b.main_type]
+    return BearingLoads(name="main", count=rows, bearing_type=b.main_type, force_N=force[0],
+                        load_N=radial[0], equivalent_N=_pmean(radial[0], p),
+                        max_N=float(radial[0].max()))
+
+
+def _main_rows(si, drive, table, output_torque_Nm):
+    """(rows, (M, P, 2) force on a row, (M, P, S) its equivalent load over the relative
+    turn) of the main pair at M output torques (:func:`main_loads`)."""
+    b = si.bearings
     env = envelope(si, drive)
-    t_member = drive.member_torque(output_torque_Nm, peak=True)
+    t_member = np.asarray(drive.member_torque(output_torque_Nm, peak=True), float)
     e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
     if _is_two_stage(drive):      # the discs' pin resultants reach the carrier
-        force, _ = table.at(np.array([t_member]))
-        vec = -table.resultant(force)[0]
+        force, _ = table.at(t_member)
+        vec = -table.resultant(force)                                  # (M, P, 2)
     else:                         # the pins-in-holes output takes sum Q along e
         sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
-        vec = sum_q * e_dir
+        vec = sum_q[:, None, None] * e_dir[None]
     n = drive.members          # the members' forces, a 1/n turn apart (rounded: two
     turn = np.round(sum(       # discs half a turn apart cancel exactly)
         np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
         for a in 2 * math.pi * np.arange(n) / n), 12)
     vec = vec @ turn.T
     rows = env.main_count
-    radial = _turning(np.linalg.norm(vec, axis=1) / rows,
-                      np.full(len(vec), b.external_radial_load_N / rows))
+    radial = _turning(np.linalg.norm(vec, axis=-1) / rows,
+                      np.full(vec.shape[:-1], b.external_radial_load_N / rows))
     moment = b.tilting_moment_Nm
     if moment > 0:
         if b.main_span_m is None:
@@ -193,10 +204,7 @@ def main_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
         with np.errstate(divide="ignore"):
             heavy = axial > f["e"] * radial
         radial = np.where(heavy, f["X"] * radial + f["Y"] * axial, radial)
-    p = LIFE_EXPONENT[b.main_type]
-    return BearingLoads(name="main", count=rows, bearing_type=b.main_type, force_N=vec / rows,
-                        load_N=radial, equivalent_N=_pmean(radial, p),
-                        max_N=float(radial.max()))
+    return rows, vec / rows, radial
 
 
 def main_bearing_load(si, drive, table, output_torque_Nm):
@@ -215,11 +223,9 @@ def main_bearing_load(si, drive, table, output_torque_Nm):
     numpy.ndarray, shape (M,)
         [N].
     """
-    out = []
-    for t in np.atleast_1d(np.asarray(output_torque_Nm, float)):
-        b = main_loads(si, drive, table, float(t))
-        out.append(b.count * float(np.mean(b.load_N)))
-    return np.array(out)
+    t = np.atleast_1d(np.asarray(output_torque_Nm, float))
+    rows, _, radial = _main_rows(si, drive, table, t)
+    return rows * radial.reshape(len(t), -1).mean(axis=1)
 
 
 def rating_life_revolutions(rating_N, load_N, exponent):

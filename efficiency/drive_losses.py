@@ -30,8 +30,9 @@ import numpy as np
 from ..errors import CaseError
 from ..fem.drives import drive_for
 from . import spur as sp
-from .bearing_set import bearing_losses
+from .bearing_set import bearing_losses, main_preload_N
 from .bearings import main_bearing_load
+from .envelope import envelope
 from .contact_friction import contact_mu, sliding_loss
 from .mesh_table import fe_member_split, fe_reference, mesh_table
 from .no_load import no_load_losses
@@ -435,7 +436,9 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         losses["first_stage"] = p_out / eta_lossless_1 - p_out
         losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
         mesh_eff["first_stage"] = eta1
-    loads["main_bearings"] = main_bearing_load(si, drive, table, t2)
+    # each row's load term takes its preload beside the external loads' share
+    loads["main_bearings"] = (main_bearing_load(si, drive, table, t2)
+                              + envelope(si, drive).main_count * main_preload_N(si, drive))
     losses.update(bearing_losses(si, drive, loads, w_in, points.viscosity_factor))
     stages = [(cyc.geometry.eccentricity_m, crank)]
     if drive.two_stage and si.first_stage is not None:
@@ -492,8 +495,8 @@ LOSS_SOURCES = {
                       "(Harris & Kotzalas 2007)",
     "crank_support_bearings": "Palmgren M0 + mu P d_m/2 of each tapered roller bearing, load "
                               "sum T/R_c (Harris & Kotzalas 2007)",
-    "main_bearings": "Palmgren M0 + mu P d_m/2 of the angular contact rows at the external "
-                     "loads (Harris & Kotzalas 2007)",
+    "main_bearings": "Palmgren M0 + mu P d_m/2 of the angular contact rows at their preload "
+                     "and the external loads (Harris & Kotzalas 2007)",
     "input_bearings": "Palmgren M0 + mu P d_m/2 of the input shaft's ball bearings "
                       "(Harris & Kotzalas 2007)",
     "eccentric_bearing": "Palmgren M0 + mu P d_m/2 of the eccentric's rollers at the "
@@ -507,6 +510,8 @@ LOSS_SOURCES = {
                     "lubrication, Harris & Kotzalas 2007)",
     "seals": "radial lip seals, ISO/TR 14179-1: 7.69e-6 D^2 n W",
     "drag": "declared drag torque on the input (friction.drag_torque_Nmm)",
+    "windage": "declared drag on the input growing with speed squared, T_w (n/1000 rpm)^2 "
+               "(friction.windage_torque_Nmm; Dawson 1984)",
     "sun_planet_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
     "cycloid_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
 }

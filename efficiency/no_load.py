@@ -24,6 +24,12 @@ One cited law per mechanism, none counted twice:
   includes its rig's seals, so the sine prototype case declares its seal diameters 0.
 * ``drag``: a declared drag torque on the input shaft (``friction.drag_torque_Nmm``, e.g.
   bearing preload; 0 by default).
+* ``windage``: a declared drag on the input shaft that grows with the square of the speed
+  (``friction.windage_torque_Nmm``, its value at :data:`WINDAGE_REFERENCE_RPM`): the
+  aerodynamic (turbulent) drag of parts spinning in air and oil mist, whose torque goes as
+  rho omega^2 r^5 (P. H. Dawson, "Windage loss in larger high-speed gears", Proc. IMechE
+  198A (1984) 51-59: power as n^2.9 near n^3); 0 by default, as the reducers here turn
+  slowly in an oil bath (churning covers the bath).
 """
 from __future__ import annotations
 
@@ -43,6 +49,10 @@ from .lubricant import churning_lu_xu_2024
 #: 14179-2, and the torque it gives (0.18 N m on a 50 mm shaft) is of the order of lip-seal
 #: makers' friction curves (SKF radial shaft seals, "Friction"). Kept, not confirmed.
 SEAL_LOSS_W = 7.69e-6
+#: The input speed at which ``friction.windage_torque_Nmm`` is stated [rpm] (a round
+#: figure inside every shipped case's speed range).
+WINDAGE_REFERENCE_RPM = 1000.0
+WINDAGE_REFERENCE_RAD_S = WINDAGE_REFERENCE_RPM * 2 * math.pi / 60
 #: Palmgren's no-load moment M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 [N mm] (nu [mm^2/s], n [rpm],
 #: d_m [mm]) for nu n >= PALMGREN_NU_N_MIN, and 160e-7 f0 d_m^3 below it.
 PALMGREN_NU_N_MIN = 2000.0
@@ -187,6 +197,10 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
     out["seals"] = (seal_loss(env.input_seal_diameter_m, input_rad_s)
                     + seal_loss(env.output_seal_diameter_m, output_rad_s))
     out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)
+    if si.friction.windage_torque_Nm:
+        out["windage"] = (si.friction.windage_torque_Nm
+                          * (np.abs(input_rad_s) / WINDAGE_REFERENCE_RAD_S) ** 2
+                          * np.abs(input_rad_s))
     return out
 
 

@@ -408,6 +408,10 @@ class Friction(_Section):
                                          "0: the EHL law alone")
     drag_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
                                 doc="load-independent drag on the input shaft (seals, preload)")
+    windage_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
+                                   doc="drag on the input shaft at 1000 rpm that grows with "
+                                       "the square of the speed (windage: P = T_w (n/1000 "
+                                       "rpm)^2 omega_in; Dawson 1984)")
 
 
 @dataclass(frozen=True)
@@ -478,6 +482,10 @@ class Bearings(_Section):
             "L10m = a_ISO L10 of every bearing")
     main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
                                     doc="distance between the load centres of the two rows")
+    main_preload_N: float | None = _f(0.0, None, default=None,
+                                      doc="axial preload of each main bearing row; None: "
+                                          "ASSUMPTION 2 % of the row's C0 (a light preload "
+                                          "of makers' matched pairs)")
     external_radial_load_N: float = _f(0.0, None, default=0.0)
     external_axial_load_N: float = _f(0.0, None, default=0.0)
     external_moment_Nm: float = _f(0.0, None, default=0.0,

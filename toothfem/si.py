@@ -123,6 +123,7 @@ class FrictionSI:
     mesh_law: str
     boundary_coefficient: float
     drag_torque_Nm: float
+    windage_torque_Nm: float = 0.0     # at 1000 rpm input, growing with speed squared
 
 
 @dataclass(**_RECORD)
@@ -179,6 +180,7 @@ class BearingsSI:
     external_radial_offset_m: float = 0.0
     external_axial_radius_m: float = 0.0
     contamination: str | None = None     # ISO 281 Table 13 level: the modified life
+    main_preload_N: float | None = None  # each main row's axial preload; None: assumed
 
     @property
     def tilting_moment_Nm(self) -> float:
@@ -447,7 +449,8 @@ def from_case(case) -> CaseSI:
             output_pin_coefficient=fri.output_pin_coefficient,
             pin_groove_coefficient=fri.pin_groove_coefficient, mesh_law=fri.mesh_law,
             boundary_coefficient=fri.boundary_coefficient,
-            drag_torque_Nm=fri.drag_torque_Nmm * _MM),
+            drag_torque_Nm=fri.drag_torque_Nmm * _MM,
+            windage_torque_Nm=fri.windage_torque_Nmm * _MM),
         output_mechanism=None if om is None else OutputMechanismSI(
             pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
             pin_radius_m=om.pin_radius_mm * _MM,
@@ -502,7 +505,7 @@ def _bearings_si(b) -> BearingsSI:
         external_moment_Nm=b.external_moment_Nm,
         external_radial_offset_m=b.external_radial_offset_mm * _MM,
         external_axial_radius_m=b.external_axial_radius_mm * _MM,
-        contamination=b.contamination)
+        contamination=b.contamination, main_preload_N=b.main_preload_N)
 
 
 def _supports_si(sup) -> SupportsSI:
