@@ -70,13 +70,21 @@ def test_catalog_names_and_records():
                              "output_mechanism_friction", "load_sharing_clearance",
                              "pin_sliding"}
     for e in CATALOG:
-        assert e.citation and e.equation and e.case_fields
+        # an effect of the rig (a sensor's misreading) sets no field of the reducer's case
+        rig = e.true_points is not None or e.reading is not None
+        assert e.citation and e.equation and (bool(e.case_fields) != rig)
+        assert e.direct_test        # what tells it apart from an exact alias
         for p in e.parameters:
             assert p.unit and p.lo < p.hi and p.typical > 0
             assert all(p.lo <= s <= p.hi for s in p.starts)
 
 
-@pytest.mark.parametrize("name", fx.NAMES)
+#: The effects whose single value is the case field they set (viscosity_grade scales two
+#: viscosities to its nu40: tests/test_loop_effects.py; the rig's effects set none).
+FIELD_EFFECTS = tuple(e.name for e in CATALOG if len(e.case_fields) == 1)
+
+
+@pytest.mark.parametrize("name", FIELD_EFFECTS)
 def test_apply_sets_its_fields_by_copy(cases, name):
     eff = fx.by_name(name, CATALOG)
     case = cases["rv40e"] if "sine" not in eff.drives else cases["sine_prototype"]
@@ -97,7 +105,8 @@ def test_declared_and_applicable(cases):
     cands, skipped = lp.candidates_of(sine, pts, CATALOG)
     # churning and mixed lubrication are in the model by default: candidates as corrections
     # of their parameters (the churning law's factor, the boundary coefficient)
-    assert cands == ["drag_torque", "churning", "mixed_lubrication"]
+    assert cands == ["drag_torque", "churning", "mixed_lubrication", "viscosity_grade",
+                     "windage", "input_torque_offset", "output_torque_offset"]
     assert "declared" in skipped["bearing_friction"]
     assert "oil_temp_C" in skipped["viscosity_temperature"]
     assert "oil_temp_C" in skipped["thermal"]              # no sensor to be warmer than
@@ -178,8 +187,10 @@ def test_residual_trends_follow_the_right_covariate():
 # Undeclared effects: named, recovered, error cut
 
 
-@pytest.mark.parametrize("name", fx.NAMES)
+@pytest.mark.parametrize("name", TOLERANCE)
 def test_loop_finds_each_catalog_effect(cases, name):
+    """The effects no other effect aliases exactly are named themselves (the others, named
+    or in their alias group: tests/test_loop_effects.py)."""
     case, truth, kw = scenario(cases, name)
     assert fx.by_name(name, CATALOG).declared(case) is None
     data = sy.generate(case, {name: truth}, n_points=200, seed=1, catalog=CATALOG, **kw)
@@ -219,15 +230,16 @@ def test_effect_outside_the_catalog_is_unexplained(cases):
 
 
 def test_no_effect_adds_nothing(cases):
-    """Every effect field at its default: seven candidates (the churning law's factor and
-    the thermal resistance among them since issue 13), none added."""
+    """Every effect field at its default: thirteen candidates (the churning law's factor
+    and the thermal resistance among them since issue 13, the rig's sensors and the oil's
+    grade since issue 23), none added."""
     case = _lubricant(_friction(cases["sine_prototype"], bearing_coefficient=0.0015,
                                 output_pin_coefficient=0.05), vogel_B_C=1000.0)
     data = sy.generate(case, {}, oil_temp_C=(20, 100), seed=100, catalog=CATALOG)
     rep = lp.run_loop(case, data, CATALOG)
     assert rep.effects == () and rep.unexplained == ()
     assert rep.stop_reason.startswith("nothing helps")
-    assert len(rep.steps[0].candidates) == 7
+    assert len(rep.steps[0].candidates) == 13
 
 
 def test_small_data_reports_what_it_would_take(cases, cases_dir):

@@ -8,14 +8,20 @@ effects from the catalog one at a time while they help. One job per module:
   beside it) as a :class:`~.measured.MeasuredData` record; :mod:`.measured_columns`: the
   columns' units and the checks of the header, cells and rows;
 * :mod:`.effects`: the catalog of physical effects, each a parameter of the model with its
-  bounds, case fields, equation and source;
+  bounds, case fields, equation, source and the measurement that shows it directly
+  (:mod:`.effect_base` the records; :mod:`.loss_effects` the oil's grade, windage and
+  bearing preload; :mod:`.rig_effects` the rig's sensors: torque meters' offsets, the oil
+  sensor's offset, a warm-up it did not log; :mod:`.thermal_effect`);
+* :mod:`.separation`: effects the data cannot tell apart, and the operating points (or the
+  direct measurement) that would;
 * :mod:`.binning`: many rows onto fewer operating points (the mean of each cell of a grid);
 * :mod:`.synthetic`: synthetic rig data (the model plus effects the case does not declare,
   plus sensor noise) for the tests and the figures;
 * :mod:`.fit`: bounded least squares of a set of effects, BIC, k-fold held-out errors;
 * :mod:`.trends`: residual trends against the covariates, and each effect's signature;
 * :mod:`.selection`: the data checked and binned (:func:`loop_data`), forward-backward
-  selection by BIC and held-out gain (:func:`run_loop`);
+  selection by BIC and held-out gain (:func:`run_loop`); an effect that helps only at its
+  parameter's physical bound is not added;
 * :mod:`.report`: the :class:`LoopReport` record and its JSON;
 * :mod:`.settings`: the thresholds of all of the above.
 
@@ -28,9 +34,10 @@ from .binning import Binning, bin_rows  # noqa: F401
 from .report import Candidate, Closing, EffectFit, LoopReport, Step  # noqa: F401
 from .selection import candidates_of, final_case, loop_data, run_loop  # noqa: F401
 from .settings import Settings  # noqa: F401
-from .trends import Trend, residual_trends, signatures  # noqa: F401
+from .separation import AliasGroup, alias_group  # noqa: F401
+from .trends import Trend, most_followed, residual_trends, signatures  # noqa: F401
 
 __all__ = ["AT_BOUND_REL", "FD_STEP", "FIT_TOL", "Binning", "Candidate", "Closing", "EffectFit",
            "Fit", "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
            "bin_rows", "candidates_of", "final_case", "loop_data", "residual_trends",
-           "run_loop", "signatures"]
+           "run_loop", "signatures", "AliasGroup", "alias_group", "most_followed"]

@@ -65,6 +65,24 @@ class Points:
     def __len__(self):
         return int(self.speed_rpm.size)
 
+    def oil_or_reference(self, case) -> np.ndarray:
+        """The oil temperatures the model takes at the points.
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            Its lubricant's reference temperature stands for a missing column.
+
+        Returns
+        -------
+        numpy.ndarray
+            (M,) [deg C]: the column, or the reference temperature where the data have
+            none.
+        """
+        if self.oil_temp_C is not None:
+            return np.asarray(self.oil_temp_C, float)
+        return np.full(len(self), float(case.lubricant.reference_temperature_C))
+
 
 @dataclass(frozen=True, eq=False)
 class Effect:
@@ -85,6 +103,16 @@ class Effect:
     prepare: Callable | None = None          # (case, points) -> prepared tables
     linear_in: Callable | None = None        # (case) -> loss component proportional to the
                                              # (single) parameter, or None
+    true_points: Callable | None = None      # (case, points, values) -> the points the
+                                             # reducer ran at, where the data's columns
+                                             # misread them (a sensor offset, a warm-up)
+    reading: Callable | None = None          # (t1, t2, values) -> (t1, t2) as the rig's
+                                             # torque meters read them [N m]
+    bounds_for: Callable | None = None       # (case, points) -> ((lo, hi, typical[,
+                                             # starts]), ...): bounds that depend on the
+                                             # case and data
+    direct_test: str = ""                    # a measurement that shows this effect
+                                             # whatever the operating points
 
     def __repr__(self):
         return f"Effect({self.name!r})"
@@ -150,7 +178,14 @@ class Effect:
         if case.drive not in self.drives:
             return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
         if self.not_applicable is not None:
-            return self.not_applicable(case, points)
+            why = self.not_applicable(case, points)
+            if why:
+                return why
+        if self.bounds_for is not None:
+            try:
+                self.bound_to(case, points)
+            except ToothfemError as exc:
+                return str(exc)
         return None
 
     def route(self, case) -> str:
@@ -186,6 +221,45 @@ class Effect:
             The key, or None.
         """
         return None if self.linear_in is None else self.linear_in(case)
+
+    def bound_to(self, case, points) -> "Effect":
+        """This effect with the bounds its physics puts on its parameters for this case and
+        data (``bounds_for``; the effect itself where it has none).
+
+        Parameters
+        ----------
+        case : toothfem.case.Case
+            The case the effect would act on.
+        points : Points
+            The operating points.
+
+        Returns
+        -------
+        Effect
+            A copy whose parameters' bounds, typical values and starts (clipped into the
+            bounds) are the case's and data's.
+        """
+        if self.bounds_for is None:
+            return self
+        params = []
+        for p, (lo, hi, typ, *starts) in zip(self.parameters, self.bounds_for(case, points)):
+            lo, hi = max(float(lo), p.lo), min(float(hi), p.hi)
+            if not lo < hi:
+                raise ToothfemError(f"{self.name}.{p.name}: no room for the parameter with "
+                                    f"this case and data (bounds {lo:.4g} to {hi:.4g} "
+                                    f"{p.unit})")
+            starts = tuple(dict.fromkeys(min(hi, max(lo, float(s)))
+                                         for s in (starts[0] if starts else p.starts)))
+            params.append(dataclasses.replace(p, lo=lo, hi=hi, starts=starts,
+                                              typical=float(typ)))
+        return dataclasses.replace(self, parameters=tuple(params))
+
+    @property
+    def misreads_torque_only(self) -> bool:
+        """Whether the effect only changes what the torque meters read: the model's
+        evaluation does not depend on its values."""
+        return (self.reading is not None and self.true_points is None
+                and not self.case_fields)
 
     @property
     def reference(self) -> tuple:
@@ -272,7 +346,7 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
     prepared = {} if prepared is None else prepared
     model_case, key, scale = case, [], {}
     for eff, values in assignment.items():
-        if eff.route(case) != "model":
+        if eff.route(case) != "model" or eff.misreads_torque_only:
             continue
         comp = eff.linear_component(case)
         if comp is not None:
@@ -282,10 +356,10 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
         model_case = eff.apply(model_case, values)
         key.append((eff.name, tuple(float(v) for v in values)))
     key = tuple(sorted(key))
+    ran = true_points(case, points, assignment)
     ev = None if cache is None else cache.get(key)
     if ev is None:
-        ev = evaluate(model_case, points.speed_rpm, points.torque_Nm, points.oil_temp_C,
-                      loads=loads)
+        ev = evaluate(model_case, ran.speed_rpm, ran.torque_Nm, ran.oil_temp_C, loads=loads)
         if cache is not None:
             cache[key] = ev
     losses = dict(ev.losses_W)
@@ -300,8 +374,64 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
                                    prepared.get(eff.name))
             losses[eff.name] = losses.get(eff.name, 0.0) + extra
     p_out = ev.output_power_W
-    eta = p_out / (p_out + sum(losses.values()))
+    eta = read(case, ran, p_out / (p_out + sum(losses.values())), assignment)
     return Prediction(eta, p_out, losses, ev.notes)
+
+
+def true_points(case, points: Points, assignment) -> Points:
+    """The operating points the reducer ran at: the data's columns with every misreading
+    of ``assignment`` (``Effect.true_points``: a sensor's offset, a warm-up it did not see)
+    undone.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        The case (its lubricant's reference temperature stands for a missing column).
+    points : Points
+        The points as the data give them.
+    assignment : dict of Effect to sequence of float
+        {Effect: values}.
+
+    Returns
+    -------
+    Points
+        The points as run (``points`` itself when no effect misreads them).
+    """
+    for eff, values in assignment.items():
+        if eff.true_points is not None:
+            points = eff.true_points(case, points, tuple(values))
+    return points
+
+
+def read(case, ran: Points, efficiency, assignment):
+    """The efficiency as the rig's torque meters read it, T2_read / (|i| T1_read), from
+    the reducer's own at the points it ran at (``Effect.reading``: a meter's zero offset).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+        Gives the ratio i.
+    ran : Points
+        The points as run (:func:`true_points`).
+    efficiency : numpy.ndarray
+        (M,) the reducer's efficiency there.
+    assignment : dict of Effect to sequence of float
+        {Effect: values}.
+
+    Returns
+    -------
+    numpy.ndarray
+        (M,) the efficiency as read (``efficiency`` itself when no effect misreads it).
+    """
+    readers = [(e, v) for e, v in assignment.items() if e.reading is not None]
+    if not readers:
+        return efficiency
+    i = abs(case.ratio())
+    t2 = np.asarray(ran.torque_Nm, float)
+    t1 = t2 / (i * efficiency)
+    for eff, values in readers:
+        t1, t2 = eff.reading(t1, t2, tuple(values))
+    return t2 / (i * t1)
 
 
 def prepare(effects, case, points) -> dict:

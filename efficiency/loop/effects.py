@@ -62,8 +62,11 @@ from ..drive_losses import bearing_component, disc_contact_losses
 from ..lubricant import viscosity_factor
 from ..mesh_table import table_from_records
 from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_factor,  # noqa: F401
-                          declared_if_changed, need_cycloid, predict, prepare, setter,
-                          with_effects)
+                          declared_if_changed, need_cycloid, predict, prepare, read, setter,
+                          true_points, with_effects)
+from .loss_effects import bearing_preload, viscosity_grade, windage
+from .rig_effects import (input_torque_offset, oil_temp_offset, output_torque_offset,
+                          warm_up)
 from .thermal_effect import thermal
 
 
@@ -98,7 +101,10 @@ def drag_torque() -> Effect:
         set_fields=setter("friction", "drag_torque_Nmm"),
         declared_by=declared_if_changed("friction", "drag_torque_Nmm",
                                          "friction.drag_torque_Nmm"),
-        linear_in=lambda case: "drag")
+        linear_in=lambda case: "drag",
+        direct_test="no-load runs (output uncoupled) at several speeds: a drag torque that does "
+                    "not change with speed; run both directions: a drag changes sign with the "
+                    "direction, a meter's offset does not")
 
 
 def _needs_bath_churning(case, points):
@@ -139,7 +145,10 @@ def churning() -> Effect:
         declared_by=declared_if_changed("lubricant", "churning_scale",
                                         "lubricant.churning_scale"),
         not_applicable=_needs_bath_churning,
-        linear_in=lambda case: "churning")
+        linear_in=lambda case: "churning",
+        direct_test="no-load runs (output uncoupled) at several speeds and oil temperatures: a "
+                    "loss that follows n^(4/3) and the viscosity; or the run repeated with "
+                    "the oil level lowered")
 
 
 #: Oil temperatures must span at least this range [K] for the Vogel B to show.
@@ -182,7 +191,8 @@ def viscosity_temperature() -> Effect:
         case_fields=("lubricant.vogel_B_C",),
         set_fields=setter("lubricant", "vogel_B_C"),
         declared_by=declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
-        not_applicable=_needs_temps)
+        not_applicable=_needs_temps,
+        direct_test="the oil's viscosity measured at two temperatures (ISO 3104)")
 
 
 def _needs_ehl(case, points):
@@ -224,7 +234,9 @@ def mixed_lubrication() -> Effect:
         set_fields=setter("friction", "boundary_coefficient"),
         declared_by=declared_if_changed("friction", "boundary_coefficient",
                                          "friction.boundary_coefficient"),
-        not_applicable=_needs_ehl)
+        not_applicable=_needs_ehl,
+        direct_test="the contact's friction on a twin-disc machine at the reducer's film "
+                    "ratios (its boundary friction at low speed and hot oil)")
 
 
 def bearing_friction() -> Effect:
@@ -255,7 +267,9 @@ def bearing_friction() -> Effect:
         set_fields=setter("friction", "bearing_coefficient"),
         declared_by=declared_if_changed("friction", "bearing_coefficient",
                                          "friction.bearing_coefficient"),
-        linear_in=lambda case: bearing_component(drive_for(case)))
+        linear_in=lambda case: bearing_component(drive_for(case)),
+        direct_test="the bearings' friction torque under a known radial load on a bearing "
+                    "test rig")
 
 
 def _needs_output_mechanism(case, points):
@@ -288,7 +302,9 @@ def output_mechanism_friction() -> Effect:
         declared_by=declared_if_changed("friction", "output_pin_coefficient",
                                          "friction.output_pin_coefficient"),
         not_applicable=_needs_output_mechanism,
-        linear_in=lambda case: "output_mechanism")
+        linear_in=lambda case: "output_mechanism",
+        direct_test="the output mechanism turned with the planet's mesh removed: the "
+                    "pins' sliding torque under load")
 
 
 def _needs_conventional(case, points):
@@ -327,7 +343,9 @@ def pin_sliding() -> Effect:
         set_fields=setter("friction", "pin_groove_coefficient"),
         declared_by=declared_if_changed("friction", "pin_groove_coefficient",
                                          "friction.pin_groove_coefficient"),
-        not_applicable=_needs_conventional)
+        not_applicable=_needs_conventional,
+        direct_test="the pins inspected after a run: sliding tracks in the grooves, or "
+                    "marked pins that have not turned")
 
 
 # ---------------------------------------------------------------------------------------
@@ -523,7 +541,9 @@ def load_sharing_clearance(compliance=None) -> Effect:
         not_applicable=need_cycloid,
         loss_route=lambda case: True,
         extra_loss=_clearance_loss,
-        prepare=lambda case, points: clearance_tables(case, points, compliance))
+        prepare=lambda case, points: clearance_tables(case, points, compliance),
+        direct_test="the disc's profile on a gear measuring machine, or pressure-sensitive "
+                    "film at the pins under load (the pins in contact)")
 
 
 # ---------------------------------------------------------------------------------------
@@ -531,7 +551,8 @@ def load_sharing_clearance(compliance=None) -> Effect:
 
 NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication",
          "bearing_friction", "output_mechanism_friction", "load_sharing_clearance",
-         "pin_sliding", "thermal")
+         "pin_sliding", "thermal", "viscosity_grade", "windage", "bearing_preload",
+         "input_torque_offset", "output_torque_offset", "oil_temp_offset", "warm_up")
 
 
 def catalog(*, clearance_compliance=None) -> tuple:
@@ -546,11 +567,13 @@ def catalog(*, clearance_compliance=None) -> tuple:
     Returns
     -------
     tuple of Effect
-        The nine effects.
+        The effects, in the order of :data:`NAMES`.
     """
     return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
             bearing_friction(), output_mechanism_friction(),
-            load_sharing_clearance(clearance_compliance), pin_sliding(), thermal())
+            load_sharing_clearance(clearance_compliance), pin_sliding(), thermal(),
+            viscosity_grade(), windage(), bearing_preload(), input_torque_offset(),
+            output_torque_offset(), oil_temp_offset(), warm_up())
 
 
 def by_name(name, effects=None) -> Effect:

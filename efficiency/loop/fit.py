@@ -161,7 +161,9 @@ class Problem:
         else:
             self.w = np.ones(self.n)
             self.weighted = False
-        self.effects = {e.name: e for e in effects}
+        # each applicable effect with the bounds of this case and data (Effect.bound_to)
+        self.effects = {e.name: e.bound_to(case, self.points)
+                        if e.applicable(case, self.points) is None else e for e in effects}
         self.prepared = {}
         self.evaluations = 0
         self._cache = {}            # (names, values) -> efficiency

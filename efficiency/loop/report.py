@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .fit import Fit, HeldOut
+from .separation import AliasGroup
 from .trends import Trend
 
 
@@ -24,6 +25,7 @@ class Candidate:
     cv_wrmse: float
     delta_bic: float
     passed: bool
+    bounded: bool = False          # would pass but for a parameter at its physical bound
     note: str = ""
 
 
@@ -36,6 +38,9 @@ class Step:
     reason: str
     aliased: tuple = ()            # names as good as the added one (BIC within alias_bic)
     removed: tuple = ()            # names dropped again after this addition
+    bounded: tuple = ()            # names that would help only at a parameter's bound
+    group: AliasGroup | None = None   # the alias group of this step and how to separate it
+    trend: Trend | None = None     # the covariate the residual follows most after the step
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -93,6 +98,7 @@ class LoopReport:
     notes: tuple = ()              # what was done to the data, one line each (dropped
                                    # columns, binning)
     binning: dict | None = None    # binning.Binning.to_dict(), None when not binned
+    alias_groups: tuple = ()       # separation.AliasGroup of the steps that found one
 
     def to_dict(self) -> dict:
         """The JSON of the report (report.json).
@@ -110,7 +116,9 @@ class LoopReport:
                     "folds": h.folds, "fit_rmse": fit.rmse, "bic": fit.bic,
                     "mean_residual": float(np.mean(fit.residual))}
 
-        def trend(t: Trend):
+        def trend(t: Trend | None):
+            if t is None:
+                return None
             return {"covariate": t.covariate, "kind": t.kind, "r2": t.r2,
                     "p_value": t.p_value, "amplitude": t.amplitude, "follows": t.follows}
 
@@ -127,12 +135,15 @@ class LoopReport:
             "stop_reason": self.stop_reason,
             "steps": [{"index": s.index, "added": s.added, "reason": s.reason,
                        "aliased": list(s.aliased), "removed": list(s.removed),
+                       "bounded": list(s.bounded), "residual_follows_most": trend(s.trend),
                        "candidates": [{"name": c.name, "values": list(c.values),
                                        "stderr": list(c.stderr), "rmse": c.rmse,
                                        "cv_weighted_rmse": c.cv_wrmse,
                                        "delta_bic": c.delta_bic, "passed": c.passed,
-                                       "note": c.note} for c in s.candidates]}
+                                       "bounded": c.bounded, "note": c.note}
+                                      for c in s.candidates]}
                       for s in self.steps],
+            "alias_groups": [g.to_dict() for g in self.alias_groups],
             "trends_before": [trend(t) for t in self.trends_before],
             "trends_after": [trend(t) for t in self.trends_after],
             "signatures": self.signatures, "skipped": self.skipped,

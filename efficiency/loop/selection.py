@@ -40,8 +40,9 @@ from .binning import bin_rows
 from .fit import Fit, Problem, at_bound, fold_count
 from .measured import MeasuredData, require_distinct
 from .report import Candidate, Closing, EffectFit, LoopReport, Step
+from .separation import AliasGroup, alias_group
 from .settings import Settings
-from .trends import residual_trends, signatures
+from .trends import most_followed, residual_trends, signatures
 
 #: An effect leaves again when removing it costs less than this fraction of the BIC entry
 #: threshold: below the threshold, so an effect just added does not leave at once.
@@ -49,6 +50,10 @@ PRUNE_FRACTION = 0.5
 #: Selection steps allowed per candidate: each can be added once and removed once; more
 #: steps than that means the selection keeps exchanging effects.
 STEPS_PER_CANDIDATE = 2
+#: Candidates whose BIC changes differ by less than this are a tie (a likelihood ratio
+#: of 1.05: no preference; exact aliases differ by the fit's rounding, near aliases such
+#: as the two torque meters' offsets by about 1e-3).
+TIE_BIC = 0.1
 #: A candidate alone "meets the data" when its RMSE is below this [efficiency]: 0.01
 #: points, far below a rig's uncertainty (the sine prototype's rig: 2 points).
 CLOSING_RMSE = 1e-4
@@ -183,7 +188,7 @@ def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
                           trends_after=trends_before, unexplained=(), stop_reason=stop,
                           closing=_closing(prob, cands), selection=False,
                           elapsed_s=time.perf_counter() - t0, evaluations=prob.evaluations)
-    current, steps, stop = _select(prob, cands, base, settings, say)
+    current, steps, stop = _select(prob, cands, base, settings, say, covs)
     final = prob.held_out(current)
     trends_after = residual_trends(current.residual, covs, prob.w, settings)
     return LoopReport(**common, final=final, final_fit=current,
@@ -192,10 +197,22 @@ def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
                       steps=steps, trends_after=trends_after,
                       unexplained=tuple(t.covariate for t in trends_after if t.follows),
                       stop_reason=stop, closing=(), selection=True,
+                      alias_groups=tuple(s.group for s in steps if s.group is not None),
                       elapsed_s=time.perf_counter() - t0, evaluations=prob.evaluations)
 
 
-def _select(prob: Problem, cands, base: Fit, settings: Settings, say):
+def _group(prob: Problem, step: int, fits: dict) -> AliasGroup:
+    """The alias group of a step (:func:`.separation.alias_group`); a search that fails
+    (a member's model refused at a point of the search) is said in the group's note."""
+    try:
+        return alias_group(prob, step, fits)
+    except ToothfemError as exc:
+        return AliasGroup(step=step, members=(), points=(), separable=False,
+                          note=f"the data cannot tell {', '.join(fits)} apart; the search "
+                               f"for a separating measurement failed: {exc}")
+
+
+def _select(prob: Problem, cands, base: Fit, settings: Settings, say, covs):
     """Forward-backward selection from ``base``: (final fit, steps, stop reason)."""
     current = base
     steps = []
@@ -218,26 +235,41 @@ def _select(prob: Problem, cands, base: Fit, settings: Settings, say):
         scored = _score(prob, current, pool, settings)
         best_fit, best = scored[0]
         cand_records = tuple(c for _, c in scored)
+        bounded = tuple(c.name for c in cand_records if c.bounded)
         if not best.passed:
             closest = min((c for _, c in scored), key=lambda c: c.cv_wrmse)
             stop = (f"nothing helps: the best candidate, {closest.name}, changes the held-out "
                     f"error {_change(closest.cv_wrmse, current.cv_wrmse)} and BIC "
                     f"by {closest.delta_bic:+.1f} (needs <= -{settings.min_cv_gain:.0%} and "
                     f"<= -{settings.delta_bic:g})")
+            if bounded:
+                stop += (f"; {', '.join(bounded)} would explain the data only at the bound of "
+                         "its parameter: the data ask for more than it can physically give, "
+                         "so it is not an explanation")
             steps.append(Step(index=len(steps) + 1, added=None, candidates=cand_records,
-                              reason=stop))
+                              reason=stop, bounded=bounded,
+                              trend=most_followed(residual_trends(current.residual, covs,
+                                                                  prob.w, settings))))
             break
         aliased = tuple(c.name for _, c in scored[1:]
                         if c.passed and abs(c.delta_bic - best.delta_bic) < settings.alias_bic)
         reason = (f"added {best.name}: held-out weighted RMS {current.cv_wrmse:.4g} -> "
                   f"{best.cv_wrmse:.4g}, BIC {best.delta_bic:+.1f}")
+        group = None
         if aliased:
             reason += f"; the data cannot tell it from {', '.join(aliased)}"
+            fits = {best.name: best_fit}
+            fits.update((c.name, f) for f, c in scored[1:] if c.name in aliased)
+            group = _group(prob, len(steps) + 1, fits)
+        if bounded:
+            reason += (f"; not added, at the bound of its parameter: {', '.join(bounded)}")
         current, removed = _prune(prob, best_fit, best.name, settings)
         if removed:
             reason += "; then removed " + ", ".join(removed) + " (no longer needed)"
+        trend = most_followed(residual_trends(current.residual, covs, prob.w, settings))
         steps.append(Step(index=len(steps) + 1, added=best.name, candidates=cand_records,
-                          reason=reason, aliased=aliased, removed=tuple(removed)))
+                          reason=reason, aliased=aliased, removed=tuple(removed),
+                          bounded=bounded, group=group, trend=trend))
         say(reason)
         if len(steps) >= STEPS_PER_CANDIDATE * len(cands):
             stop = "the selection keeps exchanging effects: stopped"
@@ -267,12 +299,32 @@ def _score(prob: Problem, current: Fit, pool, settings: Settings) -> list:
             continue
         dbic = f.bic - current.bic
         gain = 1 - f.cv_wrmse / current.cv_wrmse if current.cv_wrmse > 0 else 0.0
-        ok = dbic <= -settings.delta_bic and gain >= settings.min_cv_gain
-        note = "parameter at its bound" if any(f.at_bound[name]) else ""
+        helps = dbic <= -settings.delta_bic and gain >= settings.min_cv_gain
+        # an effect that helps only with a parameter at its physical bound is not an
+        # explanation: the data ask for more than it can give
+        bounded = helps and any(f.at_bound[name])
+        note = ""
+        if any(f.at_bound[name]):
+            eff = prob.effects[name]
+            note = "at its bound: " + ", ".join(
+                f"{p.name} = {v:.4g} {p.unit} (bounds {p.lo:.4g} to {p.hi:.4g})"
+                for p, v, b in zip(eff.parameters, f.values[name], f.at_bound[name]) if b)
         scored.append((f, Candidate(name=name, values=f.values[name], stderr=f.stderr[name],
                                     rmse=f.rmse, cv_wrmse=f.cv_wrmse, delta_bic=dbic,
-                                    passed=ok, note=note)))
+                                    passed=helps and not bounded, bounded=bounded,
+                                    note=note)))
     scored.sort(key=lambda fc: (not fc[1].passed, fc[1].cv_wrmse))
+    if scored and scored[0][1].passed:
+        # exact aliases (a drag on the input and the input meter's offset) tie up to the
+        # fit's rounding: the one first in the catalog, the reducer's before the rig's, is
+        # added; the step names the others
+        top = scored[0][1].delta_bic
+        order = list(prob.effects)
+        first = min((fc for fc in scored
+                     if fc[1].passed and abs(fc[1].delta_bic - top) <= TIE_BIC),
+                    key=lambda fc: order.index(fc[1].name))
+        scored.remove(first)
+        scored.insert(0, first)
     return scored
 
 

@@ -276,10 +276,7 @@ def _readings(d2, q, sigma):
 def _member(eff, values) -> Member:
     """A member's values and what they would mean."""
     vals = {p.name: {"value": float(v), "unit": p.unit} for p, v in zip(eff.parameters, values)}
-    text = ", ".join(f"{p.name} = {float(v):.4g} {p.unit}" for p, v in
-                     zip(eff.parameters, values))
-    return Member(name=eff.name, values=vals, meaning=f"{eff.summary}: {text}",
-                  direct_test=eff.direct_test)
+    return Member(name=eff.name, values=vals, meaning=eff.summary, direct_test=eff.direct_test)
 
 
 def alias_group(prob, step: int, fits: dict) -> AliasGroup:
@@ -324,9 +321,9 @@ def alias_group(prob, step: int, fits: dict) -> AliasGroup:
                "; ".join(f"{a} from {b}" for a, b in exact))
             + (f" (at best {best:.2g} sigma with {MAX_REPEATS} readings, after the "
                "refit)" if not separable else "")
-            + ": measure directly - " + "; ".join(
-                f"{m.name}: {m.direct_test}" for m in members
-                if m.name in alike and m.direct_test))
+            + ": measure " + ("one of them" if len(alike) == 2 else "them")
+            + " directly (" + "; ".join(f"{m.name}: {m.direct_test}" for m in members
+                                        if m.name in alike and m.direct_test) + ")")
     return AliasGroup(step=step, members=members, points=points if separable else (),
                       separable=bool(separable), note=". ".join(parts),
                       exact_pairs=tuple(exact))

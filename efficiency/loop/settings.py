@@ -25,7 +25,9 @@ class Settings:
     r2_trend: float = 0.05         # and at least this share of the residual variance
     max_levels: int = 6            # a covariate with at most this many values: one mean each
     degree: int = 3                # polynomial degree of a covariate's smooth trend
-    alias_bic: float = 2.0         # candidates within this BIC of the chosen one: aliased
+    alias_bic: float = 6.0         # candidates within this BIC of the chosen one: aliased
+                                   # (the data do not prefer the chosen one 'strongly',
+                                   # Kass & Raftery 1995: 6)
     seed: int = 0                  # fold assignment
     max_nfev: int = 60             # function evaluations per least-squares fit
     max_points: int = 5000         # more rows than this are binned onto at most this many

@@ -155,7 +155,7 @@ def operating_points(n_points, *, speed_rpm=(100.0, 1500.0), torque_Nm=(5.0, 28.
 
 def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 1500.0),
              torque_Nm=None, oil_temp_C=None, hours=20.0, runs=4, extra_loss=None, seed=0,
-             catalog=None, loads="analytic") -> MeasuredData:
+             catalog=None, loads="analytic", at=None) -> MeasuredData:
     """Synthetic measured data (module docstring).
 
     Parameters
@@ -188,6 +188,9 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
         Catalog the effect names are looked up in (default :func:`effects.catalog`).
     loads : str
         Load sharing of the model, ``"analytic"`` or ``"fem"``.
+    at : effects.Points, optional
+        Measure at these operating points instead of drawing them (``n_points``, the
+        ranges and ``hours`` are then not used; a point without a time is at 0 h).
 
     Returns
     -------
@@ -207,16 +210,23 @@ def generate(case, effects=None, *, n_points=200, rig=None, speed_rpm=(100.0, 15
             t_ref = operating_point(case)[1]
         torque_Nm = (TORQUE_RANGE_FRACTION * t_ref, t_ref)
     rig = rig or Rig.matched(case, torque_Nm[1])
-    n, t2, temp = operating_points(n_points, speed_rpm=speed_rpm, torque_Nm=torque_Nm,
-                                   oil_temp_C=oil_temp_C, rng=rng)
-    time_h = np.linspace(0.0, hours, n_points)
+    if at is None:
+        n, t2, temp = operating_points(n_points, speed_rpm=speed_rpm, torque_Nm=torque_Nm,
+                                       oil_temp_C=oil_temp_C, rng=rng)
+        time_h = np.linspace(0.0, hours, n_points)
+    else:
+        n, t2, temp = at.speed_rpm, at.torque_Nm, at.oil_temp_C
+        n_points = len(at)
+        time_h = np.zeros(n_points) if at.time_h is None else np.asarray(at.time_h, float)
     run = np.array([f"run{1 + k * runs // n_points}" for k in range(n_points)], dtype=object)
     points = fx.Points(speed_rpm=n, torque_Nm=t2, oil_temp_C=temp, time_h=time_h)
     pred = fx.predict(case, points, assignment, loads=loads)
     losses = sum(pred.losses_W.values())
     if extra_loss is not None:
         losses = losses + extra_loss(points, time_h, pred)
-    eta = pred.output_power_W / (pred.output_power_W + losses)
+    # the reducer's efficiency where it ran, then as its torque meters read it
+    eta = fx.read(case, fx.true_points(case, points, assignment),
+                  pred.output_power_W / (pred.output_power_W + losses), assignment)
     i = abs(case.ratio())
     t1 = t2 / (i * eta)
     t1_read = t1 + rng.normal(0.0, rig.input_sigma_Nm, n_points)

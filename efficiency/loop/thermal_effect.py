@@ -200,4 +200,6 @@ def thermal() -> Effect:
         drives=("sine", "cycloid", "rv"), not_applicable=_needs_sensor,
         loss_route=lambda case: True, extra_loss=_extra_loss, prepare=thermal_tables,
         case_fields=(FIELD,), set_fields=setter(*FIELD.split(".")),
-        declared_by=declared_if_changed(*FIELD.split("."), FIELD))
+        declared_by=declared_if_changed(*FIELD.split("."), FIELD),
+        direct_test="a thermocouple in the oil near the discs or the teeth beside the sump "
+                    "sensor, logged along the run")

@@ -115,6 +115,25 @@ def residual_trends(residual, covariates: dict, weights=None, settings=Settings(
     return tuple(out)
 
 
+def most_followed(trends) -> Trend | None:
+    """The covariate the residual follows most: the largest R^2 among those it follows,
+    else among all (None when no covariate varies).
+
+    Parameters
+    ----------
+    trends : sequence of Trend
+        From :func:`residual_trends`.
+
+    Returns
+    -------
+    Trend or None
+    """
+    usable = [t for t in trends if math.isfinite(t.r2)]
+    if not usable:
+        return None
+    return max(usable, key=lambda t: (t.follows, t.r2))
+
+
 def signatures(problem: Problem, fit: Fit, names) -> dict:
     """Correlation of the residual with each candidate's signature.
 

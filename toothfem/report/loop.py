@@ -143,7 +143,7 @@ def markdown(report: LoopReport, images=("residuals_before.png", "residuals_afte
         against its uncertainty and what each candidate would need), residual trends,
         signatures, skipped candidates and refused rows.
     """
-    out = _header(report) + _errors(report) + _effects(report)
+    out = _header(report) + _errors(report) + _effects(report) + _groups(report)
     if report.steps:
         out += _steps(report, effects)
     if not report.selection:
@@ -239,10 +239,51 @@ def _values(name: str, values, effects) -> str:
                      for p, v in zip(params, values))
 
 
+def _groups(report: LoopReport) -> list:
+    """The alias groups: each member's values and meaning, the points that would separate
+    them, or the direct measurement where no point does."""
+    if not report.alias_groups:
+        return []
+    out = ["## Effects the data cannot tell apart", ""]
+    for g in report.alias_groups:
+        out += [f"Step {g.step}: {g.note}", "", "| effect | fitted | what it would mean | "
+                "measured directly by |", "|---|---|---|---|"]
+        for m in g.members:
+            vals = ", ".join(f"{k} = {v['value']:.4g} {v['unit']}" for k, v in m.values.items())
+            out.append(f"| {m.name} | {vals} | {m.meaning} | {m.direct_test or '–'} |")
+        out.append("")
+        if g.points:
+            names = [m.name for m in g.members]
+            out += ["Proposed measurements (where their predictions differ most against the "
+                    "noise of one reading):", "",
+                    "| speed [rpm] | torque [N m] | oil [deg C] | time [h] | "
+                    + " | ".join(f"{n} [%]" for n in names)
+                    + " | sigma [points] | apart [sigma] | readings for 3 sigma |",
+                    "|---|---|---|---|" + "---|" * len(names) + "---|---|---|"]
+            for p in g.points:
+                def col(v, key, fmt):
+                    return "any" if key in p.free else ("–" if v is None else format(v, fmt))
+                out.append(f"| {p.input_speed_rpm:.0f} | {p.output_torque_Nm:.4g} | "
+                           f"{col(p.oil_temp_C, 'oil_temp_C', '.0f')} | "
+                           f"{col(p.time_h, 'time_h', '.3g')} | "
+                           + " | ".join(f"{100 * p.efficiency[n]:.2f}" for n in names)
+                           + f" | {100 * p.sigma:.2f} | {p.separation:.2g} | {p.repeats} |")
+            out.append("")
+    return out
+
+
 def _steps(report: LoopReport, effects=None) -> list:
     out = ["## Selection steps", ""]
     for s in report.steps:
-        out += [f"Step {s.index}: {s.reason}", "",
+        if s.trend is not None:
+            t = s.trend
+            follows = ("follows" if t.follows else "follows no covariate significantly; "
+                       "most")
+            after = (f" After this step the residual {follows} {t.covariate} "
+                     f"(R² {t.r2:.2f}, p {t.p_value:.2g}).")
+        else:
+            after = ""
+        out += [f"Step {s.index}: {s.reason}.{after}", "",
                 "| candidate | parameter = value | std. error | fit RMSE [points] | held-out "
                 "weighted RMS "
                 "| ΔBIC | passes |", "|---|---|---|---|---|---|---|"]
@@ -250,7 +291,7 @@ def _steps(report: LoopReport, effects=None) -> list:
             out.append(f"| {c.name} | {_values(c.name, c.values, effects)} | "
                        f"{', '.join(f'{v:.2g}' for v in c.stderr)} | {_pct(c.rmse)} | "
                        f"{c.cv_wrmse:.4g} | {c.delta_bic:+.1f} | "
-                       f"{'yes' if c.passed else 'no'}"
+                       f"{'yes' if c.passed else 'no, at its bound' if c.bounded else 'no'}"
                        f"{' (' + c.note + ')' if c.note else ''} |")
         out.append("")
     return out
