@@ -1,4 +1,10 @@
-"""Stress fields of a solved body and their export to VTU (meshio)."""
+"""Stress fields of a solved body and their export to VTU (meshio).
+
+The fields are SI inside (:func:`stress_at_nodes`: Pa); the VTU is written in millimetres
+and megapascals like every other file of toothfem, each field's unit in its name:
+points [mm], ``displacement_mm``, ``sxx_MPa``, ``syy_MPa``, ``sxy_MPa``, ``szz_MPa``,
+``von_mises_MPa``.
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -6,6 +12,11 @@ from pathlib import Path
 import numpy as np
 
 from .elastic import lame_parameters
+
+#: Millimetres per metre: the VTU's points and displacement are in mm.
+VTU_MM_PER_M = 1e3
+#: Megapascals per pascal: the VTU's stresses are in MPa.
+VTU_MPA_PER_PA = 1e-6
 
 
 def stress_at_nodes(body, u):
@@ -44,21 +55,24 @@ def stress_at_nodes(body, u):
 
 
 def to_meshio(body, u, extra_point_data=None):
-    """meshio.Mesh of the body's triangles with displacement (m) and stresses (Pa).
+    """meshio.Mesh of the body's triangles in mm with displacement [mm] and stresses [MPa],
+    each field's unit in its name (module docstring).
 
     Parameters
     ----------
     body : toothfem.fem.elastic.Body
-        The solved body.
+        The solved body [m].
     u : numpy.ndarray, shape (N_dofs,)
         Displacement [m].
     extra_point_data : dict of str to numpy.ndarray, optional
-        More vertex fields, each (N_vertices, ...).
+        More vertex fields, each (N_vertices, ...), written as given: name each with its
+        unit.
 
     Returns
     -------
     meshio.Mesh
-        Triangles (the P2 mesh's vertices, z = 0) with the point data.
+        Triangles (the P2 mesh's vertices [mm], z = 0) with ``displacement_mm`` and the
+        stresses ``sxx_MPa``, ``syy_MPa``, ``sxy_MPa``, ``szz_MPa``, ``von_mises_MPa``.
     """
     import meshio
 
@@ -67,14 +81,15 @@ def to_meshio(body, u, extra_point_data=None):
     disp = np.zeros_like(pts)
     disp[:, 0] = u[body.basis.nodal_dofs[0]]
     disp[:, 1] = u[body.basis.nodal_dofs[1]]
-    data = {"displacement": disp}
-    data.update(stress_at_nodes(body, u))
+    data = {"displacement_mm": disp * VTU_MM_PER_M}
+    data.update({f"{k}_MPa": v * VTU_MPA_PER_PA for k, v in stress_at_nodes(body, u).items()})
     data.update(extra_point_data or {})
-    return meshio.Mesh(pts, [("triangle", mesh.t.T.copy())], point_data=data)
+    return meshio.Mesh(pts * VTU_MM_PER_M, [("triangle", mesh.t.T.copy())], point_data=data)
 
 
 def write_vtu(path, body, u, extra_point_data=None) -> Path:
-    """Write the body's mesh, displacement and stresses as a VTU file (:func:`to_meshio`).
+    """Write the body's mesh [mm], displacement [mm] and stresses [MPa] as a VTU file, each
+    field's unit in its name (:func:`to_meshio`).
 
     Parameters
     ----------

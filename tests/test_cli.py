@@ -102,8 +102,9 @@ def test_contact_command_writes_results(cases_dir, tmp_path, capsys):
         assert key in s
     assert s["pins_in_contact_max"] == 20 and 240 < s["max_force_N"] < 270
     assert s["torque_equilibrium_max_rel_error"] < 1e-8
-    vtu = meshio.read(out / "disc_worst_position.vtu")
-    assert {"displacement", "von_mises"} <= set(vtu.point_data)
+    vtu = meshio.read(out / "disc_worst_position.vtu")       # mm and MPa, named so
+    assert {"displacement_mm", "von_mises_MPa"} <= set(vtu.point_data)
+    assert 98.0 < np.hypot(*vtu.points[:, :2].T).max() < 100.0    # the disc's tips [mm]
     for png in ("load_per_pin.png", "load_around_ring.png", "transmission_error.png",
                 "von_mises.png", "von_mises_contact.png"):
         assert (out / png).stat().st_size > 5_000

@@ -53,6 +53,11 @@ class GeometryError(ToothfemError):
     """Geometry parameters that give a looped, cusped, undercut or interfering profile."""
 
 
+class MissingExtra(ToothfemError, ImportError):
+    """An optional extra of the package (``pip install 'toothfem[NAME]'``) that a writer
+    needs is not installed (an ImportError too, so ``except ImportError`` still sees it)."""
+
+
 class Terminated(BaseException):
     """SIGTERM, raised in the main thread by the CLI's handler so that ``with`` blocks
     unwind (a BaseException, like KeyboardInterrupt: ``except Exception`` in library code

@@ -410,8 +410,10 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         (tmp / "geometry").mkdir()
         write_geometry(case, tmp / "geometry")
         report += ["## Geometry", "", "![drawing](geometry/drawing.png)", "",
-                   "Profiles: `geometry/*.csv` (x_mm, y_mm); checks: "
-                   "`geometry/check.json`.", ""]
+                   "Profiles: `geometry/*.csv` (x_mm, y_mm); the parts (disc or planet "
+                   "with its holes, pins, housing or ring): `geometry/drawing.dxf` and "
+                   "`geometry/drawing.svg` (mm, one layer or group per body; STEP of each "
+                   "part with the extra `[cad]`); checks: `geometry/check.json`.", ""]
         # 2. contact
         if fem:
             contact = contact_analysis(case, positions=positions, field=field,
@@ -425,7 +427,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
             report += [f"![{png}](contact/{png})\n" for png in summ["files"]
                        if png.endswith(".png")]
             report += [f"Per {labels.contact} and position: `contact/load_sharing.csv`; "
-                       "fields: `contact/*.vtu`.", ""]
+                       "fields: `contact/*.vtu` (mm and MPa, the unit in each field's "
+                       "name).", ""]
             # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
             (tmp / "stiffness").mkdir()
             datasheet = stiffness_analysis(case, positions=positions)

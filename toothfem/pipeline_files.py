@@ -1,7 +1,8 @@
 """The files of the pipeline: a contact result, a case's geometry and its efficiency charts.
 
 :func:`write_contact` (load_sharing.csv, pictures, the VTU field, summary.json),
-:func:`write_geometry` (profiles as CSV, DXF and SVG, drawing.png, check.json) and the
+:func:`write_geometry` (profiles as CSV, DXF and SVG, the parts' drawing as DXF and SVG,
+STEP with the extra ``[cad]``, drawing.png, check.json) and the
 efficiency curves and maps of a run; the analyses that produce what they write are
 :mod:`toothfem.pipeline`, which calls them.
 """
@@ -15,6 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from . import cad
+from .cad_parts import part_drawing
 from .case import Case
 from .derived import derived
 from .efficiency import evaluate
@@ -167,11 +169,17 @@ def _write_xy(path: Path, pts):
 
 
 def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict:
-    """Profiles, drawing.png and check.json of a case into ``folder``.
+    """Profiles, the full drawing (DXF, SVG; STEP with the extra ``[cad]``), drawing.png
+    and check.json of a case into ``folder``.
 
     Each profile (the disc's ``profile``; the sine pair's ``planet`` and ``ring``, each
     about its own centre) as CSV (x_mm,y_mm), DXF (one closed LWPOLYLINE, mm) and SVG
-    (one closed path, mm).
+    (one closed path, mm). The drive's parts (:func:`toothfem.cad_parts.part_drawing`: the
+    disc or planet with every hole, the pins, the housing or ring) as ``drawing.dxf`` (one
+    layer per body, mm) and ``drawing.svg`` (one group per body, mm); with the extra
+    ``[cad]`` installed each part as ``NAME.step`` (``disc`` and ``housing``; ``planet`` and
+    ``ring``), its centre at the origin. ``check.json`` holds under ``cad`` the layers, the
+    dimensions [mm], what is assumed and the STEP files (or why there are none).
 
     Parameters
     ----------
@@ -205,6 +213,19 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
         cad.write_svg(folder / f"{name}.svg", pts)
         files += [f"{name}.{ext}" for ext in ("csv", "dxf", "svg")]
     summary.update(checks)
+    parts = part_drawing(case, points_per_tooth, drive=drive)
+    cad.write_drawing_dxf(folder / "drawing.dxf", parts)
+    cad.write_drawing_svg(folder / "drawing.svg", parts)
+    files += ["drawing.dxf", "drawing.svg"]
+    if cad.step_available():
+        step = [cad.write_step(folder / f"{r.name}.step", r).name for r in parts.regions]
+        files += step
+    else:
+        step = f"not written: the optional extra [{cad.CAD_EXTRA}] is not installed " \
+               f"({cad.CAD_EXTRA_INSTALL})"
+    summary["cad"] = {"layers": {b.layer: b.description for b in parts.bodies},
+                      "dimensions_mm": parts.dimensions_mm, "assumed": parts.assumed,
+                      "step": step}
     summary["files"] = files + ["drawing.png", "check.json"]
     save(plots.drawing(drive, case_name=case.name), folder / "drawing.png")
     (folder / "check.json").write_text(json.dumps(summary, indent=2))

@@ -1,5 +1,5 @@
-"""`toothfem geometry CASE --out DIR`: profiles as CSV, DXF and SVG (mm), a drawing and a
-check summary."""
+"""`toothfem geometry CASE --out DIR`: profiles as CSV, DXF and SVG (mm), the parts' drawing
+as DXF and SVG (mm; STEP with the extra [cad]), a drawing (PNG) and a check summary."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -17,8 +17,10 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("geometry", help="write the tooth profiles (CSV, DXF, SVG in mm), a "
-                       "drawing (PNG) and a check summary (JSON)")
+    p = sub.add_parser("geometry", help="write the tooth profiles (CSV, DXF, SVG in mm), the "
+                       "parts' drawing (drawing.dxf, drawing.svg in mm: the disc or planet "
+                       "with its holes, the pins, the housing or ring; STEP of each part with "
+                       "the extra [cad]), a drawing (PNG) and a check summary (JSON)")
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--points-per-tooth", type=int, default=96,

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import ToothfemError
 from ..fem.datasheet.twist import ARCSEC
 from . import pyplot, save, wrap
 
@@ -253,7 +254,22 @@ def transmission_error(ls, labels: ContactLabels):
     return fig
 
 
-def field_png(vtu_path, png_path, *, title, scalar="von_mises", outlines=(),
+def _field_mm_MPa(mesh, scalar: str):
+    """(x [mm], y [mm], values [MPa]) of a VTU's stress field ``scalar`` (named with its
+    unit, ``_MPa``, the points in mm: :mod:`toothfem.fem.export`); a file written before
+    the units went into the names holds ``von_mises`` in Pa on points in m."""
+    points = np.asarray(mesh.points, float)
+    if scalar in mesh.point_data:
+        return points[:, 0], points[:, 1], np.asarray(mesh.point_data[scalar], float)
+    legacy = scalar.removesuffix("_MPa")
+    if legacy != scalar and legacy in mesh.point_data:
+        return (points[:, 0] * 1e3, points[:, 1] * 1e3,
+                np.asarray(mesh.point_data[legacy], float) / 1e6)
+    raise ToothfemError(f"scalar = {scalar!r} is not a field of the VTU (its fields: "
+                        f"{sorted(mesh.point_data)})")
+
+
+def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
               zoom_centre=None, zoom_radius=None, mark=None):
     """A nodal field of a VTU file as a PNG: filled triangles in the member's frame [mm],
     with a colour bar and the fixed member's outlines.
@@ -264,7 +280,7 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises", outlines=(),
     title : str
         Says which field this is (structural or contact-resolved) and for which load.
     scalar : str
-        Point-data name [Pa] (drawn in MPa).
+        Point-data name of a stress [MPa] (:mod:`toothfem.fem.export`: ``von_mises_MPa``).
     outlines : sequence of (2, N) arrays
         Closed outlines [m] in the member's frame drawn over the field (pins, ring teeth).
     zoom_centre : (2,) array, optional
@@ -282,9 +298,8 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises", outlines=(),
 
     plt = pyplot()
     mesh = meshio.read(str(vtu_path))
-    tri = Triangulation(mesh.points[:, 0] * 1e3, mesh.points[:, 1] * 1e3,
-                        mesh.cells_dict["triangle"])
-    value = np.asarray(mesh.point_data[scalar], float) / 1e6
+    x_mm, y_mm, value = _field_mm_MPa(mesh, scalar)
+    tri = Triangulation(x_mm, y_mm, mesh.cells_dict["triangle"])
     fig, ax = plt.subplots(figsize=(8.5, 7.5), layout="constrained")
     if zoom_centre is not None:
         x0, y0 = np.asarray(zoom_centre, float) * 1e3
@@ -314,7 +329,7 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises", outlines=(),
     ax.set_xlabel("x [mm] (member frame)")
     ax.set_ylabel("y [mm]")
     bar = fig.colorbar(art, ax=ax, shrink=0.85)
-    bar.set_label(f"{scalar.replace('_', ' ')} stress [MPa]"
+    bar.set_label(f"{scalar.removesuffix('_MPa').replace('_', ' ')} stress [MPa]"
                   + (" (colour scale of this view)" if zoom_centre is not None else ""))
     ax.set_title(wrap(title, FIELD_TITLE_CHARS), loc="left", fontsize=9)
     return save(fig, png_path)
