@@ -12,9 +12,10 @@ import pytest
 
 from toothfem import cli
 from toothfem.case import load_case
-from toothfem.case_new import new_case, write_case_file
+from toothfem.case_new import new_case
 from toothfem.derived import derived
-from toothfem.errors import CaseError
+from toothfem.errors import ToothfemError
+from toothfem.output import write_new_file
 
 #: The three drives of issue 25's "must show", by their key numbers (the shipped cases'
 #: sizes: the K-H-V robot joint, RV-40E, the sine paper's prototype).
@@ -137,8 +138,8 @@ def test_existing_file_is_not_overwritten(tmp_path, capsys):
     text = new_case("rv", pins=40, pin_circle_radius_mm=64, eccentricity_mm=1.3,
                     sun_teeth=12, planet_teeth=36, torque_Nm=412,
                     input_speed_rpm=1815).text
-    with pytest.raises(CaseError, match="exists"):
-        write_case_file(text, mine)
+    with pytest.raises(ToothfemError, match="exists"):
+        write_new_file(text, mine)
     assert mine.read_text() == "# my own notes\n"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mine.toml"]
     assert cli.main(args + ["--force"]) == 0

@@ -28,9 +28,9 @@ import numpy as np
 from . import effects as fx
 from .measured import sensor_sigma
 
-#: Values per axis of the operating grid searched (4 axes: 7^4 = 2401 points, a few model
+#: Values per axis of the operating grid searched (4 axes: 5^4 = 625 points, a few model
 #: evaluations of that size per member).
-GRID_PER_AXIS = 7
+GRID_PER_AXIS = 5
 #: Points proposed per group, and their least spacing on the grid's unit cube (so they do
 #: not all sit in one corner).
 PROPOSED_POINTS = 4

@@ -6,8 +6,8 @@ import argparse
 import json
 import textwrap
 
-from ..case_new import (DRIVE_LABELS, KEY_NUMBERS, OPTIONS, SINE_SIZE, check_new_file,
-                        new_case, write_case_file)
+from ..case_new import DRIVE_LABELS, KEY_NUMBERS, OPTIONS, SINE_SIZE, new_case
+from ..output import check_new_file, write_new_file
 
 
 def add_parser(sub):
@@ -78,7 +78,7 @@ def run(args) -> int:
     """
     check_new_file(args.out, force=args.force)      # refused before any work
     new = new_case(args.drive, name=args.name, **{k: getattr(args, k) for k in OPTIONS})
-    path = write_case_file(new.text, args.out, force=args.force).resolve()
+    path = write_new_file(new.text, args.out, force=args.force).resolve()
     if args.json:
         print(json.dumps({"file": str(path), "drive": new.drive, "ratio": new.ratio,
                           "peak_ph_MPa": new.peak_ph_MPa, "efficiency": new.efficiency,
