@@ -34,7 +34,13 @@ from .settings import Settings
 FD_STEP = 1e-3          # relative finite-difference step of the Jacobian, on parameters
                         # scaled by their typical value (the model is smooth there; the
                         # clearance tables are PCHIP-interpolated)
-FIT_TOL = 1e-10         # tolerances of the fit (cost, step, gradient)
+EXACT_TOL = 1e-12       # tolerances of a fit that should meet its points exactly (a
+                        # candidate's closing value on fewer points than parameters can
+                        # tell apart: its residual goes to 0, where 1e-6 stops short)
+FIT_TOL = 1e-6          # tolerances of the fit (cost, step, gradient): the parameters'
+                        # standard errors are percents, so a relative change of 1e-6 is
+                        # converged; 1e-10 took 28 % more model evaluations for the same
+                        # values to 4 digits (four scenarios of tests/test_loop*.py)
 AT_BOUND_REL = 1e-4     # a value within this fraction of its parameter's typical value of
                         # a bound is at it
 WRSS_FLOOR = 1e-300     # floor of the weighted residual sum of squares in BIC and AIC:
@@ -251,7 +257,7 @@ class Problem:
         return misfit + k * math.log(n), misfit + 2 * k
 
     # -- fit
-    def fit(self, names, start=None, train=None, max_nfev=None) -> tuple:
+    def fit(self, names, start=None, train=None, max_nfev=None, tol=FIT_TOL) -> tuple:
         """Bounded least squares of the effects ``names``.
 
         Parameters
@@ -265,6 +271,8 @@ class Problem:
             (M,) points to fit on (default all).
         max_nfev : int, optional
             Function evaluations allowed (default :attr:`Settings.max_nfev`).
+        tol : float
+            Tolerances of the fit (cost, step, gradient; default :data:`FIT_TOL`).
 
         Returns
         -------
@@ -289,8 +297,8 @@ class Problem:
 
         x0 = self._start(names, start, fun, typ)
         res = least_squares(fun, np.clip(x0 / typ, lo, hi), bounds=(lo, hi), method="trf",
-                            diff_step=FD_STEP, x_scale=1.0, ftol=FIT_TOL, xtol=FIT_TOL,
-                            gtol=FIT_TOL, max_nfev=max_nfev or self.settings.max_nfev)
+                            diff_step=FD_STEP, x_scale=1.0, ftol=tol, xtol=tol, gtol=tol,
+                            max_nfev=max_nfev or self.settings.max_nfev)
         return res.x * typ, res.jac, res.fun, res.nfev
 
     def _start(self, names, start, fun, typ):

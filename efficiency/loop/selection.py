@@ -37,7 +37,7 @@ import numpy as np
 from ...errors import MeasuredDataError, ToothfemError
 from . import effects as fx
 from .binning import bin_rows
-from .fit import Fit, Problem, at_bound, fold_count
+from .fit import EXACT_TOL, Fit, Problem, at_bound, fold_count
 from .measured import MeasuredData, require_distinct
 from .report import Candidate, Closing, EffectFit, LoopReport, Step
 from .separation import AliasGroup, alias_group
@@ -368,7 +368,7 @@ def _closing(prob: Problem, cands) -> tuple:
     out = []
     for name in cands:
         try:
-            x, _, _, _ = prob.fit((name,))
+            x, _, _, _ = prob.fit((name,), tol=EXACT_TOL)
         except ToothfemError as exc:
             out.append(Closing(name=name, values=(), rmse=float("nan"), at_bound=False,
                                note=f"failed: {exc}"))
