@@ -1,7 +1,7 @@
 """The measured-data loop: effect catalog, synthetic rig data with an undeclared effect,
 selection, residual analysis, report and CLI.
 
-Synthetic data (efficiency/loop/synthetic.py): 200 operating points of the case plus one catalog
+Synthetic data (efficiency/loop/synthetic.py): 120 operating points of the case plus one catalog
 effect the case does not declare, torques read with the sine rig's sensor classes (0.1 % and
 0.2 % of range as one sigma, ranges matched to the reducer). The effect sizes are chosen so
 that the effect is clearly there (its RMS change of efficiency is several times the noise):
@@ -37,6 +37,10 @@ TOLERANCE = {"drag_torque": 0.10, "churning": 0.10, "viscosity_temperature": 0.1
              "load_sharing_clearance": 0.20, "thermal": 0.10}
 #: Held-out RMSE must fall at least this many times when the effect is found (the issue).
 RMSE_CUT = 3.0
+#: Rows of each scenario (120 since the catalog holds 16 effects, issue 23: each loop weighs
+#: all of them): the parameters are recovered within 2.4 % on 120 rows, the clearance 7.3 %
+#: (its tolerance 20 %), the held-out error cut 4.6-24x.
+N_POINTS = 120
 
 
 def _friction(case, **kw):
@@ -193,7 +197,8 @@ def test_loop_finds_each_catalog_effect(cases, name):
     or in their alias group: tests/test_loop_effects.py)."""
     case, truth, kw = scenario(cases, name)
     assert fx.by_name(name, CATALOG).declared(case) is None
-    data = sy.generate(case, {name: truth}, n_points=200, seed=1, catalog=CATALOG, **kw)
+    data = sy.generate(case, {name: truth}, n_points=N_POINTS, seed=1, catalog=CATALOG,
+                       **kw)
     rep = lp.run_loop(case, data, CATALOG)
     assert [e.name for e in rep.effects] == [name], rep.stop_reason
     (param,) = rep.effects[0].parameters.values()
