@@ -135,11 +135,15 @@ def _say(line: str):
 
 @contextlib.contextmanager
 def _one_line_warnings(name: str):
-    """Warnings (a cache that cannot be written, say) as one line each on stderr."""
+    """Warnings (a cache that cannot be written, say) as one line each on stderr, each
+    also kept for the command's report.html (:func:`toothfem.report.html.warnings_kept`)."""
+    from .report.html import warnings_kept
+
     with warnings.catch_warnings():
         warnings.showwarning = lambda message, category, *rest, **kw: _say(
             f"{name}: warning: {message}")
-        yield
+        with warnings_kept():       # and kept for the report.html of the command's folder
+            yield
 
 
 @contextlib.contextmanager

@@ -161,12 +161,24 @@ _MARKER_HEAD = "written by toothfem"
 _UNFINISHED = re.compile(r"; unfinished run ([0-9a-f]+)")
 
 
-def _marker_head(unfinished: str | None = None) -> str:
+def command_line() -> str:
+    """The command line of this process as the marker and report.html name it: the
+    program's name (not its path) and its arguments, on one line.
+
+    Returns
+    -------
+    str
+        E.g. ``toothfem run cases/rv40e.toml --out out/rv``.
+    """
     argv = sys.argv or ["python"]
-    command = " ".join([Path(argv[0]).name, *argv[1:]])[:200]
+    return " ".join(" ".join([Path(argv[0]).name, *argv[1:]]).split())
+
+
+def _marker_head(unfinished: str | None = None) -> str:
+    command = command_line()[:200]
     state = (f"; unfinished run {unfinished}: the same command resumes it"
              if unfinished else "")
-    return (f"{_MARKER_HEAD} {__version__} ({' '.join(command.split())}){state}; a later "
+    return (f"{_MARKER_HEAD} {__version__} ({command}){state}; a later "
             "run may replace this folder")
 
 

@@ -25,7 +25,8 @@ from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir, target
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
-from .report import durability as report_durability, plots, save, summary as report_summary
+from .report import durability as report_durability, html as report_html, plots, save, \
+    summary as report_summary
 
 MODES = ("cycle", "detailed")
 FIELDS = ("detailed", "structural", "none")
@@ -397,10 +398,12 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     -------
     RunResult
         Contact result, efficiency at the operating point, and the report's path
-        (``out/report.md`` with its PNGs, CSV tables and VTU fields).
+        (``out/report.md`` with its PNGs, CSV tables and VTU fields; the same with every
+        input, assumption and warning as one self-contained page: ``out/report.html``).
     """
 
-    label = str(case) if not isinstance(case, Case) else "(in memory)"
+    case_file = None if isinstance(case, Case) else case
+    label = str(case_file) if case_file is not None else "(in memory)"
     case = as_case(case)
     out = target(out)
     report = [f"# {case.name}", "", f"Case file: `{label}`; source: {case.source}", ""]
@@ -482,6 +485,9 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         said = run_warnings(None if contact is None else contact.summary, results, dur)
         report += ["## Warnings", "", *([f"- {w}" for w in said] or ["None."]), ""]
         (tmp / "report.md").write_text("\n".join(report) + "\n")
+        report_html.write_report(tmp, case, command="run", case_file=case_file, compared=(
+            report_summary.efficiency_rows(results, case.published) + ([] if contact is None
+            else report_summary.contact_rows(summ, labels, case.published))))
     return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
                      speed_rpm=float(speed), output_torque_Nm=float(torque), case=case,
                      durability=dur)

@@ -56,6 +56,7 @@ from .fem.drives import drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 from .output import atomic_dir, resumable_dir, target
+from .report import html as report_html
 
 
 #: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
@@ -156,6 +157,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     from .bars import bar as progress_bar
 
 
+    case_file = None if isinstance(case, Case) else case
     case = as_case(case)
     target(out)                                  # a bad out refused before any work
     plan = _plan(case, vary, torques_Nm, positions, pins, sine_loads)
@@ -212,6 +214,8 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
             writer.writeheader()
             writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
         (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
+        report_html.write_report(tmp, case, command="sweep", case_file=case_file, tables=[
+            report_html.Table.of_csv("one row per design and load case", tmp / "sweep.csv")])
     out = Path(out)
     return SweepResult(out, out / "sweep.csv", tuple(rows), failed, len(finished),
                        summary["wall_s"])

@@ -10,7 +10,7 @@ from ..errors import CaseError, check_range
 from ..output import atomic_dir
 from ..pipeline import contact_analysis
 from ..pipeline_files import contact_labels, write_contact
-from ..report import summary as report_summary
+from ..report import html as report_html, summary as report_summary
 
 
 def add_parser(sub):
@@ -80,6 +80,11 @@ def run(args) -> int:
                                   mode=args.mode, pins=args.pins, field=args.field,
                                   progress=progress)
         summary = write_contact(result, tmp)
+        report_html.write_report(tmp, case, command="contact", case_file=args.case, tables=[
+            report_html.Table.of_summary(f"{result.mode} mode, {summary['positions']} "
+                                         "positions over one period",
+                                         report_summary.contact_rows(
+                                             summary, contact_labels(result), case.published))])
     if args.json:
         print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
         return 0

@@ -9,6 +9,7 @@ from ..case import load_case
 from ..design import design_analysis, write_design
 from ..errors import decode_text
 from ..output import atomic_dir
+from ..report import html as report_html
 
 
 def add_parser(sub):
@@ -54,6 +55,7 @@ def run(args) -> int:
     with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
         result = design_analysis(case, positions=args.positions)
         summary = write_design(result, tmp, source)
+        report_html.write_report(tmp, case, command="design", case_file=args.case)
     print(json.dumps({"case": summary["case"], "best": summary["best"],
                       "check_with_own_tables": summary["check_with_own_tables"],
                       "datasheet": summary["datasheet"]}, indent=2))

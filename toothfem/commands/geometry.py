@@ -7,6 +7,7 @@ from ..case import load_case
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
 from ..pipeline_files import write_geometry
+from ..report import html as report_html
 
 
 def add_parser(sub):
@@ -51,6 +52,9 @@ def run(args) -> int:
     case = load_case(args.case)
     with atomic_dir(args.out) as tmp:
         summary = write_geometry(case, tmp, args.points_per_tooth)
+        report_html.write_report(tmp, case, command="geometry", case_file=args.case, tables=[
+            report_html.Table.of_mapping("derived quantities and checks (check.json)", {
+                k: v for k, v in summary.items() if k not in ("cad", "files", "warnings")})])
     print(f"wrote {', '.join(summary['files'])} to {Path(args.out).resolve()}")
     for w in summary.get("warnings", ()):
         print(f"warning: {w}")

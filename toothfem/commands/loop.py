@@ -10,7 +10,7 @@ from ..efficiency import loop as lp
 from ..efficiency.loop import effects as fx, measured as ms
 from ..errors import ToothfemError
 from ..output import atomic_dir
-from ..report import loop as rl, save
+from ..report import html as report_html, loop as rl, save
 
 
 def add_parser(sub):
@@ -88,6 +88,7 @@ def run(args) -> int:
         for stage in ("before", "after"):
             save(rl.plot_residuals(report, stage), tmp / f"residuals_{stage}.png", dpi=110)
         (tmp / "report.md").write_text(rl.markdown(report, effects=effects))
+        report_html.write_report(tmp, case, command="loop", case_file=args.case)
     b, f = report.baseline, report.final
     error = (f"held-out RMSE {100 * b.rmse:.3f} -> {100 * f.rmse:.3f} points"
              if report.selection else

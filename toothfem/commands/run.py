@@ -80,4 +80,6 @@ def run(args) -> int:
     for w in res.warnings:
         print(f"warning: {w}")
     print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")
+    print(f"one page with every input, assumption, warning and figure: "
+          f"{report.with_name('report.html')}")
     return 0

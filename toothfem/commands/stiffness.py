@@ -7,7 +7,8 @@ from __future__ import annotations
 import json
 from ..case import load_case
 from ..output import atomic_dir
-from ..datasheet import stiffness_analysis, write_stiffness
+from ..datasheet import datasheet_rows, stiffness_analysis, write_stiffness
+from ..report import html as report_html
 
 
 def add_parser(sub):
@@ -65,6 +66,8 @@ def run(args) -> int:
                                     te_samples=args.te_samples,
                                     te_positions=args.te_positions, friction=args.friction)
         summary = write_stiffness(result, tmp)
+        report_html.write_report(tmp, case, command="stiffness", case_file=args.case, tables=[
+            report_html.Table.of_summary("datasheet", datasheet_rows(summary))])
     keep = ("rated_torque_Nm", "rated_torque_assumed", "torsional_rigidity_Nm_per_arcmin",
             "lost_motion_arcmin", "backlash_arcmin", "hysteresis_loss_arcmin",
             "compliance_shares", "te_mean_arcsec", "te_peak_to_peak_arcsec", "te_rms_arcsec",

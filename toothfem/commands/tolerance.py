@@ -7,6 +7,7 @@ import json
 from ..case import load_case
 from ..fem.cache import content_key
 from ..output import atomic_dir, resumable_dir
+from ..report import html as report_html
 from ..tolerance import tolerance_analysis, write_tolerance
 
 
@@ -70,6 +71,7 @@ def run(args) -> int:
                                     share_samples=args.share_samples, points=points)
     with atomic_dir(args.out) as tmp:
         summary = write_tolerance(result, tmp)
+        report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
     print(json.dumps({"case": summary["case"], "samples": summary["samples"],
                       "nominal": summary["nominal"],
                       "percentiles": summary["percentiles"]}, indent=2))
