@@ -227,6 +227,8 @@ class PinMesh(Mesh):
         if self.pin_spring is not None:
             base, local = np.eye(q.pins.size) * self.pin_spring, None
         else:
+            if tables is None and s.cache is not None and s.equal_springs is None:
+                s.tables()      # from the disk cache, else computed and stored (as s.solve)
             base = (s.influence(p, side) if tables is None else
                     tables.table(p, int(pitch), side)) / w
             law = s.local_law(q, q_load)
