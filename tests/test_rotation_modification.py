@@ -172,23 +172,37 @@ def test_check_reports_the_clearance_before_load(cases_dir):
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
+@pytest.fixture(scope="module")
+def unmodified_cycle(base, drive):
+    """The unmodified disc at two positions, per flank layout (both sides' tables, one set
+    of both flanks): its tables and its solutions at +-T, the reference of every rotation
+    below (built once for them all)."""
+    phis = drive.positions(36)[[0, 13]]
+    torque = drive.member_torque(167.0)
+    ref = {}
+    for sides in ((1, -1), (0,)):
+        solver = cf.CycleSolver(base, phis, sides=sides)
+        tables = solver.tables()
+        ref[sides] = tables, {t: solver.solve(t) for t in (torque, -torque)}
+    return phis, torque, ref
+
+
 @pytest.mark.parametrize("deg", [0.05, 0.1])
-def test_cycle_mode_rotation_is_a_rigid_turn(base, drive, deg):
+def test_cycle_mode_rotation_is_a_rigid_turn(base, unmodified_cycle, deg):
     """Rotation alone: the unmodified load sharing and the transmission error shifted by
     Delta delta, for both torque signs and for the solver of both flanks at once. The
     tables are the same; the forces differ only through the pin at the tooth tip (3-4 N
     unmodified), which the corner of the two turned flanks leaves 1.2 um (0.05 deg) or
     4.8 um (0.1 deg) off: the other pins within 1e-3 of the largest force, the TE within
     0.01 arcsec."""
-    phis = drive.positions(36)[[0, 13]]
-    torque = drive.member_torque(167.0)
+    phis, torque, ref = unmodified_cycle
     mod = _with(base, rotation_rad=math.radians(deg))
     for sides in ((1, -1), (0,)):
-        ref = cf.CycleSolver(base, phis, sides=sides)
+        tables, solved = ref[sides]
         new = cf.CycleSolver(mod, phis, sides=sides)
-        new.adopt(ref.tables())
+        new.adopt(tables)
         for t in (torque, -torque):
-            a, b = ref.solve(t), new.solve(t)
+            a, b = solved[t], new.solve(t)
             flank = np.abs(a.moment_arm) > 0.1 * base.geometry.disc_pitch_radius_m
             np.testing.assert_allclose(b.force[flank], a.force[flank], rtol=0,
                                        atol=1e-3 * a.force.max())
