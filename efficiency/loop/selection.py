@@ -9,8 +9,12 @@ catalog one at a time while they help:
    effects already added (:meth:`.fit.Problem.make_fit`), scored by its k-fold held-out
    error and by BIC; the candidate with the lowest held-out error among those that lower BIC
    by at least :attr:`Settings.delta_bic` and the held-out error by at least
-   :attr:`Settings.min_cv_gain` is added. Candidates within :attr:`Settings.alias_bic` of the
-   added one are named as aliases: the data cannot tell them apart.
+   :attr:`Settings.min_cv_gain` is added (of candidates within :data:`TIE_BIC` of each other,
+   the one first in the catalog). A candidate that would pass only with a parameter at its
+   physical bound is not added: the data ask for more than it can give. Candidates within
+   :attr:`Settings.alias_bic` of the added one are named as aliases, an alias group with the
+   measurement that would separate them (:mod:`.separation`). After each step the covariate
+   the residual follows most is recorded.
 3. Backward: any earlier effect whose removal now costs less than :data:`PRUNE_FRACTION` of
    the BIC threshold is dropped again (an effect taken on the way can be made redundant by a
    later one); repeat from 2. When no candidate passes, the loop stops and says which came
