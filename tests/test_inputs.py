@@ -727,3 +727,29 @@ def test_a_misspelled_published_figure_is_refused_and_the_read_names_are_complet
         parse_case(doc)
     doc["published"] = {"loss_share_mesh": 0.4, "a_note_of_mine": 1.0}
     assert parse_case(doc).published["a_note_of_mine"] == 1.0
+
+
+def test_a_signal_during_a_deferred_block_is_raised_after_it():
+    """signals.deferred: a SIGTERM inside the block (the STEP library's import, where a
+    handler's raise fails the import as 'initialization failed' and the run ended 'needs
+    the extra [cad]', exit 2) is only noted there and raised once the block is done;
+    Python's handler is put back."""
+    import signal
+
+    from toothfem import signals
+    from toothfem.errors import Terminated
+
+    def raising(signum, frame):
+        raise Terminated(signum)
+
+    old = signal.signal(signal.SIGTERM, raising)
+    done = []
+    try:
+        with pytest.raises(Terminated):
+            with signals.deferred():
+                signal.raise_signal(signal.SIGTERM)
+                done.append("the block ran to its end")
+        assert done and signal.getsignal(signal.SIGTERM) is raising
+    finally:
+        signals.note(None)
+        signal.signal(signal.SIGTERM, old)

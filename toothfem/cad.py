@@ -20,6 +20,7 @@ from xml.sax.saxutils import escape
 
 import numpy as np
 
+from . import signals
 from .errors import MissingExtra, ToothfemError
 
 #: Millimetres per metre: profiles are SI (m) inside, CAD files in mm.
@@ -272,8 +273,12 @@ def _ocp():
     """The OCP modules the STEP writer needs (their trace printing silenced), or the
     one-line error naming the extra."""
     try:
-        from OCP import (BRepBuilderAPI, BRepPrimAPI, GeomAPI, IFSelect, Interface, Message,
-                         STEPControl, gp)
+        # a signal during the extension's initialisation fails the import as an ImportError
+        # (the probe: SIGTERM at 1.3 s of `run` ended "needs the extra", exit 2): only
+        # noted until the import is done, then raised
+        with signals.deferred():
+            from OCP import (BRepBuilderAPI, BRepPrimAPI, GeomAPI, IFSelect, Interface,
+                             Message, STEPControl, gp)
     except ImportError:
         raise MissingExtra(f"STEP needs the optional extra [{CAD_EXTRA}] (OCP, the "
                            f"cadquery-ocp-novtk wheel): {CAD_EXTRA_INSTALL}") from None

@@ -71,6 +71,34 @@ def handlers_kept():
                     signal.signal(s, handler)
 
 
+@contextlib.contextmanager
+def deferred():
+    """STOP_SIGNALS only noted during the block, then Python's handlers put back and a
+    noted signal raised (:func:`stop_if_noted`): for a C extension's initialisation, which
+    fails its import as an ImportError ("initialization failed") when a handler raises
+    inside it. Holding the signal back (:func:`held`) is not enough there: it masks the
+    main thread only, and a signal that reaches another thread still runs the handler in
+    the main thread. Only the main thread has handlers; elsewhere nothing changes.
+
+    Yields
+    ------
+    None
+    """
+    if not _main_thread():
+        yield
+        return
+    handlers = {s: signal.getsignal(s) for s in STOP_SIGNALS}
+    for s in STOP_SIGNALS:
+        signal.signal(s, lambda signum, frame: note(signum))
+    try:
+        yield
+    finally:
+        for s, handler in handlers.items():
+            if handler is not None:
+                signal.signal(s, handler)
+    stop_if_noted()
+
+
 def note(signum) -> None:
     """Note the signal the running command was sent (the CLI's handlers), or clear it.
 
