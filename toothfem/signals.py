@@ -61,14 +61,8 @@ def handlers_kept():
     if not _main_thread():
         yield
         return
-    handlers = {s: signal.getsignal(s) for s in STOP_SIGNALS}
-    with held():
-        try:
-            yield
-        finally:
-            for s, handler in handlers.items():
-                if handler is not None:
-                    signal.signal(s, handler)
+    with held(), _handlers_restored():
+        yield
 
 
 @contextlib.contextmanager
@@ -87,16 +81,24 @@ def deferred():
     if not _main_thread():
         yield
         return
+    with _handlers_restored():
+        for s in STOP_SIGNALS:
+            signal.signal(s, lambda signum, frame: note(signum))
+        yield
+    stop_if_noted()
+
+
+@contextlib.contextmanager
+def _handlers_restored():
+    """Python's handlers of STOP_SIGNALS as they were before the block, put back after it
+    (main thread only)."""
     handlers = {s: signal.getsignal(s) for s in STOP_SIGNALS}
-    for s in STOP_SIGNALS:
-        signal.signal(s, lambda signum, frame: note(signum))
     try:
         yield
     finally:
         for s, handler in handlers.items():
             if handler is not None:
                 signal.signal(s, handler)
-    stop_if_noted()
 
 
 def note(signum) -> None:
