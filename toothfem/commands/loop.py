@@ -29,7 +29,8 @@ def add_parser(sub):
                         "<name>.json beside it); default: the case's [[measured]] points")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--effects", default=None,
-                   help="comma-separated catalog effects to consider (default: all)")
+                   help="comma-separated catalog effects to consider (default: all: "
+                        + ", ".join(fx.NAMES) + ")")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
     p.add_argument("--loads", choices=("analytic", "fem"), default="analytic",
                    help="load sharing of the model (fem: FE cycle mode, slow)")
