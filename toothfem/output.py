@@ -389,8 +389,11 @@ def resumable_dir(out, key: str):
     try:
         yield points
     except BaseException as exc:
-        if points.done:
-            exc.toothfem_kept = (f"{len(points.done)} finished points kept in {out} "
+        # what the journal on disk holds: a signal between a point's sync and its entry
+        # in ``done`` left the line saying "no output written" with a point kept
+        kept = _journal(out, key) or points.done
+        if kept:
+            exc.toothfem_kept = (f"{len(kept)} finished points kept in {out} "
                                  "(the same command resumes)")
         raise
     finally:
