@@ -43,17 +43,20 @@ def test_shipped_demo_data_is_what_the_script_writes(name, cases_dir):
     assert len(shipped) == GEN.ROWS and shipped.sigma is not None    # the sensors' sigma
 
 
-def test_readme_demo_command(tmp_path):
+def test_readme_demo_command(tmp_path, capsys):
     """The README's `toothfem loop` on the sine demo: the windage named, the held-out error
-    cut as the README says (its figures rounded as printed there)."""
+    cut as the README says (its figures rounded as printed there); with --json the
+    command prints report.json's content, alias groups included, and nothing else."""
     from toothfem import cli
 
     readme = (ROOT / "README.md").read_text()
     line = re.search(r"toothfem loop (cases/sine_prototype.toml \S+) --out", readme)
     case, csv = line.group(1).split()
     out = tmp_path / "loop_sine"
-    assert cli.main(["loop", str(ROOT / case), str(ROOT / csv), "--out", str(out)]) == 0
+    assert cli.main(["loop", str(ROOT / case), str(ROOT / csv), "--out", str(out),
+                     "--json"]) == 0
     rep = json.loads((out / "report.json").read_text())
+    assert json.loads(capsys.readouterr().out) == rep and "alias_groups" in rep
     assert [e["name"] for e in rep["effects"]] == ["windage"]
     before, after = (float(x) for x in re.search(
         r"held-out\s+error from ([\d.]+) to ([\d.]+) points", readme).groups())

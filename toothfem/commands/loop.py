@@ -4,6 +4,7 @@ add the physical effects the data ask for, and report the error before and after
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 from ..case import load_case
 from ..efficiency import loop as lp
@@ -32,6 +33,10 @@ def add_parser(sub):
                    help="comma-separated catalog effects to consider (default: all: "
                         + ", ".join(fx.NAMES) + ")")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
+    p.add_argument("--json", action="store_true",
+                   help="print report.json's content (errors, effects, alias groups with "
+                        "their proposed measurements, steps, trends) instead of the summary "
+                        "lines")
     p.add_argument("--loads", choices=("analytic", "fem"), default="analytic",
                    help="load sharing of the model (fem: FE cycle mode, slow)")
     p.add_argument("--strict", action="store_true",
@@ -65,10 +70,11 @@ def run(args) -> int:
         data = ms.load_measured(args.measured, ratio=case.ratio(), strict=args.strict)
     else:
         data = ms.from_case(case)
+    say = (lambda msg: print(msg, file=sys.stderr)) if args.json else print
     for r in data.rejected:
-        print(f"refused {args.measured}: {r}")
+        say(f"refused {args.measured}: {r}")
     for note in data.notes:
-        print(f"note {args.measured}: {note}")
+        say(f"note {args.measured}: {note}")
     effects = fx.catalog()
     if args.effects:
         names = [n.strip() for n in args.effects.split(",") if n.strip()]
@@ -77,7 +83,7 @@ def run(args) -> int:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
     settings = lp.Settings(folds=args.folds)
     report = lp.run_loop(case, data, effects, settings=settings, loads=args.loads,
-                         progress=lambda msg: print(f"  {msg}"))
+                         progress=lambda msg: say(f"  {msg}"))
     with atomic_dir(args.out) as tmp:
         out = report.to_dict()
         out["case_file"] = str(args.case)
@@ -90,6 +96,9 @@ def run(args) -> int:
             save(rl.plot_residuals(report, stage), tmp / f"residuals_{stage}.png", dpi=110)
         (tmp / "report.md").write_text(rl.markdown(report, effects=effects))
         report_html.write_report(tmp, case, command="loop", case_file=args.case)
+    if args.json:
+        print(json.dumps(out, indent=2, default=_json))
+        return 0
     b, f = report.baseline, report.final
     error = (f"held-out RMSE {100 * b.rmse:.3f} -> {100 * f.rmse:.3f} points"
              if report.selection else
@@ -101,6 +110,8 @@ def run(args) -> int:
           f"{', '.join(e.name for e in report.effects) or 'none'}; unexplained: "
           f"{', '.join(report.unexplained) or 'nothing'}")
     print(f"  {report.stop_reason}")
+    for g in report.alias_groups:
+        print(f"  step {g.step}: {g.note}")
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
     return 0
 
