@@ -237,10 +237,14 @@ def test_cli_sweep(cases_dir, scheduler, cache_dir, tmp_path, capsys):
     args = ap.parse_args(["sweep", str(cases_dir / "cycloid_pinhousing.toml"), "--vary",
                           f"{ECC}=1.0", "--torque-Nm", "100,200", "--positions", "2",
                           "--pins", "rigid", "--scheduler", scheduler, "--cache-dir",
-                          str(cache_dir), "--out", str(out)])
+                          str(cache_dir), "--out", str(out), "--json"])
     assert args.func(args) == 0
     printed = json.loads(capsys.readouterr().out)
     assert printed["rows"] == 2 and printed["failed"] == 0
+    args.json = False                   # without --json: a table and the folder's name
+    assert args.func(args) == 0
+    table = capsys.readouterr().out
+    assert "points resumed" in table and f"wrote {out.resolve()}" in table
     assert [r["status"] for r in _read(out / "sweep.csv")] == ["ok", "ok"]
     assert sweep_cmd.parse_vary("cycloid.pin_structure=integral,conventional") == (
         "cycloid.pin_structure", ["integral", "conventional"])

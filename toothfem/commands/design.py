@@ -9,7 +9,8 @@ from ..case import load_case
 from ..design import design_analysis, write_design
 from ..errors import decode_text
 from ..output import atomic_dir
-from ..report import html as report_html
+from ..report import design as report_design, html as report_html
+from ..report import summary as report_summary
 
 
 def add_parser(sub):
@@ -27,6 +28,8 @@ def add_parser(sub):
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--positions", type=int, default=18,
                    help="meshing positions over one period per candidate (default 18)")
+    p.add_argument("--json", action="store_true",
+                   help="print the key figures as JSON instead of a table")
     p.set_defaults(func=run)
 
 
@@ -56,7 +59,13 @@ def run(args) -> int:
         result = design_analysis(case, positions=args.positions)
         summary = write_design(result, tmp, source)
         report_html.write_report(tmp, case, command="design", case_file=args.case)
-    print(json.dumps({"case": summary["case"], "best": summary["best"],
-                      "check_with_own_tables": summary["check_with_own_tables"],
-                      "datasheet": summary["datasheet"]}, indent=2))
+    if args.json:
+        print(json.dumps({"case": summary["case"], "best": summary["best"],
+                          "check_with_own_tables": summary["check_with_own_tables"],
+                          "datasheet": summary["datasheet"]}, indent=2))
+        return 0
+    print(report_summary.text(report_design.summary_rows(summary),
+                              f"{case.name}: the best modification"))
+    print(f"wrote {Path(args.out).resolve()} (best_case.toml, candidates.csv, report.html, "
+          "pictures)")
     return 0

@@ -5,10 +5,12 @@ discs (docs/stiffness.md)."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
+
 from ..case import load_case
 from ..output import atomic_dir
 from ..datasheet import datasheet_rows, stiffness_analysis, write_stiffness
-from ..report import html as report_html
+from ..report import html as report_html, summary as report_summary
 
 
 def add_parser(sub):
@@ -41,6 +43,8 @@ def add_parser(sub):
     p.add_argument("--no-friction", action="store_false", dest="friction",
                    help="leave friction out of the quasi-static path: the elastic curve "
                         "(the loop's only width is then the backlash)")
+    p.add_argument("--json", action="store_true",
+                   help="print the key figures as JSON instead of a table")
     p.set_defaults(func=run)
 
 
@@ -73,5 +77,11 @@ def run(args) -> int:
             "compliance_shares", "te_mean_arcsec", "te_peak_to_peak_arcsec", "te_rms_arcsec",
             "te_definition", "member_share_max",
             "member_load_factor_fe")
-    print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
+    if args.json:
+        print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
+        return 0
+    print(report_summary.text([(what, "", {"value": value})
+                               for what, value in datasheet_rows(summary)],
+                              f"{case.name}: datasheet"))
+    print(f"wrote {Path(args.out).resolve()} (summary.json, report.html, pictures)")
     return 0

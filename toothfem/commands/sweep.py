@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import json
 from ..errors import CaseError, IncompleteRun
+from ..report import summary as report_summary
 from ..sweep import sweep
 
 
@@ -44,6 +45,8 @@ def add_parser(sub):
                    help="output folder: finished_points.jsonl as points finish, sweep.csv "
                         "and sweep.json at the end; the same command resumes an unfinished "
                         "sweep there")
+    p.add_argument("--json", action="store_true",
+                   help="print the key figures as JSON instead of a table")
     p.set_defaults(func=run)
 
 
@@ -86,7 +89,17 @@ def run(args) -> int:
                    out=args.out, cache_dir=False if args.no_cache else args.cache_dir,
                    sine_loads=args.sine_loads, progress=True)
     summary = json.loads((result.out / "sweep.json").read_text())
-    print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    if args.json:
+        print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
+    else:
+        print(report_summary.text([
+            ("designs x load cases", "",
+             {"value": summary["designs"] * summary["load_cases"]}),
+            ("points computed", "", {"value": summary["rows"] - summary["resumed"]}),
+            ("points resumed", "", {"value": summary["resumed"]}),
+            ("points failed", "", {"value": summary["failed"]}),
+            ("wall time", "s", {"value": summary["wall_s"]})], f"{summary['case']}: sweep"))
+        print(f"wrote {result.out.resolve()} (sweep.csv, sweep.json, report.html)")
     if result.failed:
         raise IncompleteRun(f"{result.failed} of {len(result.rows)} points failed (the "
                             f"error column of {result.table} says why)")

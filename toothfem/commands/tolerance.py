@@ -3,12 +3,14 @@ ADDR]`: the tolerance Monte Carlo through the elastic contact model (docs/tolera
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from ..case import load_case
 from ..fem.cache import content_key
 from ..output import atomic_dir, resumable_dir
-from ..report import html as report_html
-from ..tolerance import tolerance_analysis, write_tolerance
+from ..report import html as report_html, summary as report_summary
+from ..report import tolerance as report_tolerance
+from ..tolerance import OUTPUTS, tolerance_analysis, write_tolerance
 
 
 def add_parser(sub):
@@ -39,6 +41,8 @@ def add_parser(sub):
                    help="processes (a Dask LocalCluster above 1; default 1)")
     p.add_argument("--scheduler", default=None,
                    help="address of a running Dask scheduler to use instead")
+    p.add_argument("--json", action="store_true",
+                   help="print the key figures as JSON instead of a table")
     p.set_defaults(func=run)
 
 
@@ -72,7 +76,13 @@ def run(args) -> int:
     with atomic_dir(args.out) as tmp:
         summary = write_tolerance(result, tmp)
         report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
-    print(json.dumps({"case": summary["case"], "samples": summary["samples"],
-                      "nominal": summary["nominal"],
-                      "percentiles": summary["percentiles"]}, indent=2))
+    if args.json:
+        print(json.dumps({"case": summary["case"], "samples": summary["samples"],
+                          "nominal": summary["nominal"],
+                          "percentiles": summary["percentiles"]}, indent=2))
+        return 0
+    print(report_summary.text(report_tolerance.summary_rows(summary, OUTPUTS),
+                              f"{case.name}: {summary['samples']} built reducers"))
+    print(f"wrote {Path(args.out).resolve()} (samples.csv, summary.json, report.html, "
+          "pictures)")
     return 0

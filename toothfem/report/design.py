@@ -99,3 +99,29 @@ def markdown(summary: dict) -> str:
               "Files: best_case.toml (the case with these modifications), candidates.csv, "
               "tradeoff.png, summary.json.", ""]
     return "\n".join(lines)
+
+
+def summary_rows(summary: dict) -> list:
+    """The search's best design as rows of :func:`toothfem.report.summary.text`: its
+    modifications and what it gives (with its own FE tables).
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`toothfem.design.DesignResult.summary`.
+
+    Returns
+    -------
+    list of (str, str, dict)
+        (quantity, unit, {"best": value}).
+    """
+    b, c, d = summary["best"], summary["check_with_own_tables"], summary["datasheet"]
+    rows = [(k, k.rsplit("_", 1)[-1] if k.endswith(("_mm", "_deg")) else "", {"best": v})
+            for k, v in b["modification"].items()]
+    rows += [("backlash", "arcmin", {"best": c["backlash_arcmin"]}),
+             ("max P_h", "MPa", {"best": c["max_ph_MPa"]}),
+             ("fewest contacts", "", {"best": c["contacts_min"]}),
+             ("torsional rigidity", "N m/arcmin",
+              {"best": d.get("torsional_rigidity_Nm_per_arcmin")}),
+             ("lost motion", "arcmin", {"best": d.get("lost_motion_arcmin")})]
+    return rows

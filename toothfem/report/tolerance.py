@@ -136,3 +136,25 @@ def markdown(summary: dict, outputs: dict) -> str:
     lines += ["", "Files: samples.csv (one row per reducer), summary.json, histograms.png, "
               "shares.png.", ""]
     return "\n".join(lines)
+
+
+def summary_rows(summary: dict, outputs: dict) -> list:
+    """The ensemble's key figures as rows of :func:`toothfem.report.summary.text`: each
+    output's nominal value and percentiles.
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+    outputs : dict
+        Column -> (label, unit) (:data:`toothfem.tolerance.OUTPUTS`).
+
+    Returns
+    -------
+    list of (str, str, dict)
+        (label, unit, {"nominal", "P50", "P90", "P99"}).
+    """
+    quantiles = ("P50", "P90", "P99")
+    return [(label, unit, {"nominal": summary["nominal"][k],
+                           **{q: summary["percentiles"][k].get(q) for q in quantiles}})
+            for k, (label, unit) in outputs.items() if k in summary["percentiles"]]
