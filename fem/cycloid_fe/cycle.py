@@ -391,7 +391,8 @@ class CycleSolver:
     def modified_gaps(self, geometry, side: int) -> list:
         """Initial gaps of another modification of the disc at this solver's candidates,
         per position (a pin the other profile cannot reach: MODIFIED_GAP_FAR); the last
-        one kept (a design candidate is solved at several torques and deviations).
+        geometry's kept, both flanks (a design candidate is solved at several torques and
+        deviations, and its backlash closes each position's two flanks in turn).
 
         Parameters
         ----------
@@ -410,10 +411,9 @@ class CycleSolver:
         ToothfemError
             For a geometry that differs in more than its modifications.
         """
-        key = (geometry, side)
         kept = self.__dict__.get("_modified")
-        if kept is not None and kept[0] == key:
-            return kept[1]
+        if kept is not None and kept[0] == geometry and side in kept[1]:
+            return kept[1][side]
         g = self.model.geometry
         if (geometry.pin_count, geometry.pin_circle_radius_m, geometry.eccentricity_m,
                 geometry.pin_radius_m) != (g.pin_count, g.pin_circle_radius_m,
@@ -423,7 +423,9 @@ class CycleSolver:
         gaps = cy.clearance_exact(geometry, self.positions_rad, side)
         gaps = np.where(np.isfinite(gaps), gaps, MODIFIED_GAP_FAR)
         out = [gaps[p, q.pins] for p, q in enumerate(self._candidates(side))]
-        self.__dict__["_modified"] = (key, out)
+        if kept is None or kept[0] != geometry:     # another geometry: its flanks go
+            kept = self.__dict__["_modified"] = (geometry, {})
+        kept[1][side] = out
         return out
 
     def _solve_one(self, p, q, q_load, side, deviation, pitch, force, gap, beta):
