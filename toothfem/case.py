@@ -401,13 +401,33 @@ def load_case(path) -> Case:
     except OSError as exc:
         raise CaseError(f"{path}: cannot be read ({exc.strerror or exc})") from None
     try:
-        data = tomllib.loads(decode_text(raw, path, CaseError))
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"{path}: not valid TOML: {exc}") from None
-    try:
-        return parse_case(data)
+        return parse_case_text(decode_text(raw, path, CaseError))
     except CaseError as exc:
         raise CaseError(f"{path}: {exc}") from None
+
+
+def parse_case_text(text: str) -> Case:
+    """A case file's text, read as TOML and validated (:func:`parse_case`).
+
+    Parameters
+    ----------
+    text : str
+        The file's text.
+
+    Returns
+    -------
+    Case
+
+    Raises
+    ------
+    CaseError
+        For text that is not TOML, then as :func:`parse_case`.
+    """
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseError(f"not valid TOML: {exc}") from None
+    return parse_case(data)
 
 
 def case_to_dict(case: Case) -> dict:

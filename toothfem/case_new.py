@@ -29,12 +29,11 @@ import json
 import math
 import numbers
 import re
-import sys
 import textwrap
 from dataclasses import dataclass
 
 from . import __version__
-from .case import Case, parse_case
+from .case import Case, parse_case, parse_case_text
 from .case_checks import PIN_RADIUS_MM
 from .case_sections import CycloidStage, Material, Operating, RVTrain, SineStage, SpurStage
 from .errors import CaseError, GeometryError, ToothfemError, check_range
@@ -44,11 +43,6 @@ from .efficiency.bearing_set import ISO15_SERIES_0
 from .fem.drives import DEFAULT_POSITIONS, drive_for
 from .geometry import sine
 from .geometry.cycloid import CycloidGeometry, min_convex_curvature_radius
-
-if sys.version_info >= (3, 11):
-    import tomllib
-else:  # pragma: no cover
-    import tomli as tomllib
 
 # -- the key numbers ------------------------------------------------------------------------
 #: Keyword of :func:`new_case` -> the command-line option that gives it (messages name it).
@@ -751,7 +745,7 @@ def new_case(drive: str, *, torque_Nm: float | None = None,
              f"{given['torque_Nm']:g} N m", "follows", "")
     text = _render(s, drive, given, ratio, notes)
     try:
-        case = loads_back(text)           # the file as written, through the normal loader
+        case = parse_case_text(text)      # the file as written, through the normal loader
     except ToothfemError as exc:
         raise _restated(exc, drive, given) from None
     shown = derived(case)                 # what `check` prints: the operating point too
@@ -836,25 +830,3 @@ def _render(s: dict, drive: str, given: dict, ratio: float, notes: list) -> str:
 
 
 # -- writing -------------------------------------------------------------------------------------
-def loads_back(text: str) -> Case:
-    """The case a text loads to (the normal loader's TOML reading and checks).
-
-    Parameters
-    ----------
-    text : str
-        A case file's text.
-
-    Returns
-    -------
-    Case
-
-    Raises
-    ------
-    CaseError
-        As :func:`toothfem.case.parse_case`, or for text that is not TOML.
-    """
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseError(f"not valid TOML: {exc}") from None
-    return parse_case(data)
