@@ -66,6 +66,9 @@ TIMEOUT = 120                     # s, any subprocess; killed (and judged bad) b
 CLASSES = ("filesystem", "signals", "cache", "sweeps", "dask", "api", "misc")
 OK_ROW = re.compile(r"\bok\b")    # a finished sweep row, in CSV or JSON
 KEEP = False                      # --keep: leave the temporary folders
+#: How toothfem's progress line of a finished stage begins off a terminal (toothfem/bars.py;
+#: not imported: the probe judges the installed command from outside).
+PROGRESS_PREFIX = "progress: "
 
 
 # --- running ---------------------------------------------------------------------------
@@ -79,7 +82,9 @@ class Outcome:
 
     @property
     def lines(self):
-        return [ln for ln in self.err.splitlines() if ln.strip()]
+        """stderr's lines but the progress lines of finished stages (toothfem.bars)."""
+        return [ln for ln in self.err.splitlines()
+                if ln.strip() and not ln.startswith(PROGRESS_PREFIX)]
 
     def describe(self):
         head = "timed out" if self.rc is None else f"exit {self.rc}"

@@ -69,11 +69,12 @@ def ours(case, positions):
 
     from toothfem.fem.datasheet.sheet import datasheet
     from toothfem.fem.datasheet.twist import ARCSEC, TwistModel
+    from toothfem.efficiency import rated_output_torque
     from toothfem.fem.drives import drive_for
 
     base = drive_for(case)
     supports = base.supports(case.to_si().supports)
-    rated, _ = case.to_si().rated_output_torque_Nm()
+    rated, _ = rated_output_torque(case)
     out = {}
     for mod in MODIFICATIONS_MM:
         g = replace(base.geometry, equidistant_m=mod * 1e-3)
@@ -101,9 +102,10 @@ def pinhousing_case(peer_python):
                  "docstring says")
     sys.path.insert(0, str(ROOT))
     from toothfem import load_case
+    from toothfem.efficiency import rated_output_torque
 
     case = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")
-    return case, case.to_si().rated_output_torque_Nm()[0]
+    return case, rated_output_torque(case)[0]
 
 
 def main(argv=None):

@@ -463,6 +463,7 @@ def ours(case_path, positions=POSITIONS, force_pitches=FORCE_PITCHES, progress=p
     from dataclasses import replace
 
     from toothfem.case import load_case
+    from toothfem.efficiency import rated_output_torque
     from toothfem.fem.drives import drive_for
 
     base = load_case(case_path)
@@ -474,7 +475,7 @@ def ours(case_path, positions=POSITIONS, force_pitches=FORCE_PITCHES, progress=p
         drive = drive_for(case)
         si = case.to_si()
         supports = drive.supports(si.supports)
-        rated, rated_assumed = si.rated_output_torque_Nm()
+        rated, rated_assumed = rated_output_torque(si)
         full_twist, full = _sheet(drive.system_model(supports, positions), rated)
         rigid = _rigid_all()
         _, bent = _sheet(drive.system_model(supports, positions, rigid=rigid), rated)
@@ -557,6 +558,7 @@ def bore_diagnostic(case_path, positions=12):
     from dataclasses import replace
 
     from toothfem.case import load_case
+    from toothfem.efficiency import rated_output_torque
     from toothfem.fem.drives import drive_for
 
     base = load_case(case_path)
@@ -567,7 +569,7 @@ def bore_diagnostic(case_path, positions=12):
                                              equidistant_modification_mm=0.0))
         drive = drive_for(case)
         si = case.to_si()
-        rated, _ = si.rated_output_torque_Nm()
+        rated, _ = rated_output_torque(si)
         system = _unbend_output_pins(drive.system_model(
             drive.supports(si.supports), positions, rigid=_rigid_all()))
         _, sheet = _sheet(system, rated)

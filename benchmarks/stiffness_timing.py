@@ -17,6 +17,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
+from toothfem.efficiency import rated_output_torque  # noqa: E402
 from toothfem.fem.datasheet.sheet import datasheet, loop_torques  # noqa: E402
 from toothfem.fem.datasheet.twist import TwistModel  # noqa: E402
 from toothfem.fem.drives import drive_for  # noqa: E402
@@ -30,7 +31,7 @@ def main(argv=None):
     args = ap.parse_args(argv)
     case = load_case(args.case)
     drive = drive_for(case)
-    rated, _ = case.to_si().rated_output_torque_Nm()
+    rated, _ = rated_output_torque(case)
     supports = drive.supports(case.to_si().supports)
     t0 = time.perf_counter()
     solver = drive.cycle_solver(args.positions, solver_options=drive.both_sides_options)

@@ -28,6 +28,7 @@ LOOP = r"""
 import sys, time, json
 t0 = time.perf_counter()
 from toothfem import load_case
+from toothfem.efficiency import rated_output_torque
 from toothfem.datasheet import path_friction
 from toothfem.fem.datasheet.sheet import datasheet
 from toothfem.fem.datasheet.twist import TwistModel
@@ -35,7 +36,7 @@ from toothfem.fem.drives import drive_for
 from toothfem.fem.system.datasheet import SystemTwist
 case = load_case(sys.argv[1]); steps = int(sys.argv[2]); which = sys.argv[3]
 drive = drive_for(case); si = case.to_si()
-rated, _ = si.rated_output_torque_Nm(); supports = drive.supports(si.supports)
+rated, _ = rated_output_torque(si); supports = drive.supports(si.supports)
 t1 = time.perf_counter()
 if which == "system":
     system = drive.system_model(supports, 36)

@@ -24,6 +24,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
+from toothfem.efficiency import rated_output_torque  # noqa: E402
 from toothfem import tolerance as tl  # noqa: E402
 from toothfem.cluster import dask_client  # noqa: E402
 from toothfem.fem.cache import DiskCache  # noqa: E402
@@ -94,7 +95,7 @@ def main(argv=None):
                       pitches=(np.arange(args.positions) * drive.pairing_period_pitches)
                       // args.positions, speed_rpm=case.operating.input_speed_rpm,
                       output_torque_Nm=case.to_si().declared_output_torque_Nm(),
-                      rated_torque_Nm=case.to_si().rated_output_torque_Nm()[0],
+                      rated_torque_Nm=rated_output_torque(case)[0],
                       cache_dir=str(cache.directory))
     state = drive.meshing(solver.positions_rad)
     t0 = time.perf_counter()

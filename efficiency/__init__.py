@@ -6,4 +6,5 @@
 (the loaded contacts of a period), contact_friction (mu per contact, sliding loss),
 drive_losses (every component of each drive), spur (the first stage), rv_paper (the RV
 paper's method), friction (the laws), loop/ (measured data)."""
-from .evaluation import Efficiency, evaluate, operating_point, predict  # noqa: F401
+from .evaluation import (Efficiency, evaluate, operating_point, predict,  # noqa: F401
+                         rated_output_torque)

@@ -243,3 +243,38 @@ def _output_torque_root(si, t_lossless, kw) -> float:
         raise CaseError(f"operating.{key} = {value!r} does not overcome the load-independent "
                         f"losses at {speed:g} rpm: no output torque")
     return float(brentq(residual, lo, t_lossless, rtol=OPERATING_RTOL))
+
+
+def rated_output_torque(case, **kw) -> tuple[float, bool]:
+    """The reducer's rated output torque, else the operating output torque taken as it.
+
+    A case without ``operating.rated_torque_Nm`` is rated at the output torque its
+    operating point gives (:func:`operating_point`: the declared output torque, or the
+    declared input through the model's efficiency), the same figure ``run`` reports, never
+    the lossless ``|i| T1``.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or toothfem.si.CaseSI
+    **kw
+        As :func:`operating_point`.
+
+    Returns
+    -------
+    torque_Nm : float
+        [N m].
+    assumed : bool
+        True when the case names no rating.
+
+    Raises
+    ------
+    CaseError
+        When the case declares neither a rating nor an operating torque or power.
+    """
+    si = si_of(case)
+    if si.operating.rated_torque_Nm:
+        return float(si.operating.rated_torque_Nm), False
+    if si.declared_output_torque_Nm() is None:
+        raise CaseError("operating.rated_torque_Nm is required (the case declares no "
+                        "operating torque or power either)")
+    return float(operating_point(si, **kw)[1]), True

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from toothfem import cli
+from toothfem.pipeline_files import TORQUE_GRID
 
 
 def test_check_prints_derived_quantities(cases_dir, capsys):
@@ -164,7 +165,7 @@ def test_run_command_writes_report(cases_dir, tmp_path, capsys):
     d = json.loads((out / "efficiency.json").read_text())
     assert 0.5 < d["analytic"]["efficiency"] < 1
     rows = (out / "efficiency_vs_torque.csv").read_text().splitlines()
-    assert rows[0] == "output_torque_Nm,efficiency_analytic" and len(rows) == 51
+    assert rows[0] == "output_torque_Nm,efficiency_analytic" and len(rows) == 1 + len(TORQUE_GRID)
     printed = capsys.readouterr().out          # a table on screen, the folder by its name
     assert re.search(r"^efficiency +% +[\d.]+ +83\.72$", printed, re.M)  # the paper beside
     assert f"wrote the report to {(out / 'report.md').resolve()}" in printed

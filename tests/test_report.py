@@ -134,3 +134,75 @@ def test_contact_pictures_name_the_users_torque(cases_dir, name):
         assert re.search(r"\[(N|MPa|arcsec)\]", labels_y)
         assert drive.contact_name in labels_y or draw is rc.transmission_error
         pyplot().close(fig)
+
+
+def test_titles_never_break_a_quantity():
+    from toothfem.report import wrap
+
+    title = ("von Mises stress of the disc, structural field (contact loads spread over "
+             "strips: the Hertz stress, P_h 623.3 MPa at pin 2, is not resolved); 1524 N m "
+             "output, 736.6 N m on each of 2 discs")
+    for width in range(30, 120, 7):
+        lines = wrap(title, width).splitlines()
+        text = "\n".join(lines)
+        for quantity in ("P_h 623.3 MPa", "1524 N m", "736.6 N m"):
+            assert quantity in text, (width, lines)
+        assert "\u00a0" not in text
+
+
+def test_a_field_scale_ends_at_its_99th_percentile_by_area():
+    """A field of 1 MPa with a 1000 MPa spike on a few small triangles: the colour scale
+    ends near 1 MPa (the body readable), not at the spike."""
+    from matplotlib.tri import Triangulation
+
+    from toothfem.report.contact import robust_max
+
+    x, y = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41))
+    tri = Triangulation(x.ravel(), y.ravel())
+    value = np.ones(x.size)
+    value[np.argmin(np.hypot(x.ravel() - 0.5, y.ravel() - 0.5))] = 1000.0
+    assert robust_max(tri, value) < 2.0
+    assert robust_max(tri, np.zeros(x.size)) == 0.0
+
+
+def test_marked_points_lie_inside_the_axes():
+    from toothfem.report import plots
+
+    marked = [plots.Marked(x=1500.0, y=0.87, kind="operating", label="operating"),
+              plots.Marked(x=412.0, y=0.40, label="measured")]
+    fig = plots.efficiency_vs_torque(np.linspace(30, 1500, 20), {"a": np.full(20, 0.8)},
+                                     marked)
+    ax = fig.axes[0]
+    for m in marked:
+        (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+        assert x0 < m.x < x1 and x1 - m.x > 0.03 * (x1 - x0)
+        assert y0 < 100 * m.y < y1 and 100 * m.y - y0 > 0.03 * (y1 - y0)
+
+
+def test_the_loaded_contacts_are_told_apart():
+    """The contacts named in a per-contact picture have distinct colours, none grey; the
+    rest are grey; the largest force's contact is named."""
+    from toothfem.report.contact import MAX_LEGEND_SERIES, OTHER_CONTACTS, _highlighted
+
+    rng = np.random.default_rng(1)
+    numbers = np.arange(20)
+    force = rng.uniform(0, 100, size=(36, 20))
+    force[:, 17] = 500.0
+    colour = _highlighted(numbers, force, force)
+    named = [n for n in numbers if colour[n] != OTHER_CONTACTS]
+    assert len(named) == MAX_LEGEND_SERIES and 17 in named
+    assert len({colour[n] for n in named}) == len(named)
+    assert all(len(set(colour[n][:3])) > 1 for n in named)       # no grey among them
+
+
+def test_a_case_without_a_rating_is_rated_at_its_operating_output_torque(cases_dir):
+    """The sine prototype declares an input torque: its datasheet's rating is the output
+    torque `run` reports (|i| T1 eta), not the lossless |i| T1; a declared rating wins."""
+    from toothfem.efficiency import operating_point, rated_output_torque
+
+    sine = load_case(cases_dir / "sine_prototype.toml")
+    rated, assumed = rated_output_torque(sine)
+    assert assumed and rated == pytest.approx(operating_point(sine)[1], rel=1e-12)
+    assert rated < 0.9 * 0.4 * 79
+    rv = load_case(cases_dir / "rv_paper_example.toml")
+    assert rated_output_torque(rv) == (412.0, False)

@@ -376,3 +376,47 @@ def test_each_tolerance_may_have_its_own_distribution(pinhousing):
     assert np.max(reach) > 0.45 * tol.pin_position_m          # the zone is filled
     profile = np.concatenate([d.profile.ravel() for d in devs])
     assert np.max(np.abs(profile)) > tol.disc_profile_m
+
+
+def test_percentile_intervals_cover_and_refuse_too_few_rings():
+    """The distribution-free interval of a percentile holds the true value at least about
+    95 % of the time (400 normal samples of 100: the binomial's discreteness makes it
+    conservative; below 91 % would be 4 sigma off); P99 is not given from 200 rings (it
+    needs 368), P10/P90 need 36."""
+    from scipy.stats import norm
+
+    from toothfem.tolerance import percentile_ci, rings_needed
+
+    assert (rings_needed(0.5), rings_needed(0.9), rings_needed(0.1), rings_needed(0.99)) == \
+        (6, 36, 36, 368)
+    rng = np.random.default_rng(3)
+    truth = norm.ppf(0.9)
+    hits = 0
+    for _ in range(400):
+        lo, hi = percentile_ci(rng.normal(size=100), 0.9)["ci"]
+        hits += lo <= truth <= hi
+    assert hits / 400 > 0.91
+    few = percentile_ci(rng.normal(size=200), 0.99)
+    assert few["value"] is None and few["ci"] is None and few["rings_needed"] == 368
+
+
+def test_percentiles_on_the_unfavourable_side():
+    """Fewest contacts and efficiencies by P10/P1 (low is worse), the rest by P90/P99."""
+    from toothfem.report.tolerance import TAIL_COLUMNS, summary_rows
+    from toothfem.tolerance import OUTPUTS, ToleranceResult
+
+    rng = np.random.default_rng(0)
+    samples = {k: rng.normal(10, 1, size=50) for k in OUTPUTS}
+    result = ToleranceResult(case_name="c", drive="cycloid", contact_name="pin",
+                             contacts_name="pins", samples=samples,
+                             nominal={k: 10.0 for k in OUTPUTS}, shares={}, settings={})
+    pct = result.percentiles()
+    assert list(pct["contacts_min"]) == ["P50", "P10", "P1"]
+    assert list(pct["total_efficiency_pct"]) == ["P50", "P10", "P1"]
+    assert list(pct["max_force_N"]) == ["P50", "P90", "P99"]
+    assert pct["max_force_N"]["P90"]["value"] > pct["max_force_N"]["P50"]["value"]
+    assert pct["contacts_min"]["P10"]["value"] < pct["contacts_min"]["P50"]["value"]
+    rows = dict((label, cells) for label, _, cells in summary_rows(result.summary(), OUTPUTS))
+    force = rows[OUTPUTS["max_force_N"][0]]
+    assert force[TAIL_COLUMNS[1]].startswith("P90 ") and "[" in force[TAIL_COLUMNS[1]]
+    assert force[TAIL_COLUMNS[2]] == "P99: needs 368 reducers"

@@ -1,25 +1,95 @@
-"""Progress bars of the long runs, on stderr: shown on a terminal, silent where stderr is a
-file or a pipe (a log or CI output is not flooded with redraws)."""
+"""Progress of the long runs, on stderr: a bar on a terminal; elsewhere (a log, a pipe, CI)
+one line per finished stage, ``progress: <stage>: <count> <unit>s in <time> s``, so a log
+says what ran and how long without being flooded with redraws."""
 from __future__ import annotations
+
+import sys
+import time
+
+#: How a stage line begins (a reader of stderr tells progress from a refusal by it).
+PROGRESS_PREFIX = "progress: "
 
 
 def bar(iterable=None, *, enabled: bool = True, **kwargs):
-    """A tqdm bar that shows only on a terminal.
+    """A tqdm bar on a terminal, else a :class:`StageLine`.
 
     Parameters
     ----------
     iterable : iterable, optional
         What to wrap.
     enabled : bool
-        False: no bar at all.
+        False: nothing shown at all.
     **kwargs
-        Go to :class:`tqdm.tqdm` (``total``, ``desc``, ``unit``).
+        Go to :class:`tqdm.tqdm` (``total``, ``desc``, ``unit``, ``initial``).
 
     Returns
     -------
-    tqdm.tqdm
-        Disabled off a terminal (tqdm's ``disable=None``) or when not ``enabled``.
+    tqdm.tqdm or StageLine
+        Either iterates ``iterable`` and has ``update``, ``close`` and the context manager.
     """
+    stream = kwargs.get("file") or sys.stderr
+    if enabled and not _is_terminal(stream):
+        return StageLine(iterable, stream=stream, **kwargs)
     from tqdm import tqdm
 
-    return tqdm(iterable, disable=None if enabled else True, **kwargs)
+    return tqdm(iterable, disable=not enabled, **kwargs)
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return bool(stream.isatty())
+    except (AttributeError, ValueError):       # closed or not a file
+        return False
+
+
+class StageLine:
+    """A stage's progress off a terminal: counts silently, and writes one line when the
+    stage ends (its iterable exhausted, or ``close``); nothing when it is left by an
+    exception (the error says what happened)."""
+
+    def __init__(self, iterable=None, *, stream=None, desc: str = "", unit: str = "it",
+                 total=None, initial: int = 0, **_ignored):
+        self.iterable = iterable
+        self.stream = stream or sys.stderr
+        self.desc, self.unit, self.total = desc or "stage", unit, total
+        self.n = int(initial)
+        self._start = time.perf_counter()
+        self._closed = False
+
+    def __iter__(self):
+        for item in self.iterable:
+            yield item
+            self.n += 1
+        self.close()
+
+    def update(self, n: int = 1) -> None:
+        """Count ``n`` more done.
+
+        Parameters
+        ----------
+        n : int
+        """
+        self.n += n
+
+    def close(self) -> None:
+        """Write the stage's line (once)."""
+        if self._closed:
+            return
+        self._closed = True
+        of = f" of {self.total}" if self.total is not None and self.total != self.n else ""
+        unit = self.unit if self.n == 1 else self.unit + "s"
+        try:
+            print(f"{PROGRESS_PREFIX}{self.desc}: {self.n}{of} {unit} in "
+                  f"{time.perf_counter() - self._start:.1f} s", file=self.stream, flush=True)
+        except (OSError, ValueError):           # a closed or broken stderr: progress only
+            pass
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, value, tb):
+        if kind is None:
+            self.close()
+        else:
+            self._closed = True
+        return False

@@ -16,6 +16,7 @@ from .fem.datasheet.sheet import datasheet, loop_torques, plural
 from .fem.datasheet.transmission import loaded_te
 from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
+from .efficiency import rated_output_torque
 from .efficiency.no_load import output_friction_torque
 from .fem.system.cycloid import PathFriction
 from .fem.system.datasheet import SystemTwist, system_te
@@ -106,10 +107,7 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     loop_torques(1.0, steps)                   # steps refused before any work
     drive = drive_for(case)
     si = case.to_si()
-    rated, assumed = si.rated_output_torque_Nm()
-    if rated is None:
-        raise CaseError("operating.rated_torque_Nm is required (the case declares no "
-                        "operating torque either)")
+    rated, assumed = rated_output_torque(si)
     if torque_max_Nm is not None:
         check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
     supports = drive.supports(si.supports)
@@ -198,7 +196,8 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
                                                result.case_name), folder / "split.png", dpi=120)
             files.append("split.png")
     title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
-             + (" (operating torque, assumed)" if sheet.rated_torque_assumed else "")
+             + (" (the operating output torque: no rating named)"
+                if sheet.rated_torque_assumed else "")
              + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
     save(report_stiffness.hysteresis(sheet, title=title), folder / "hysteresis.png", dpi=120)
     which = ("the reducer's TE (system model, input held)"
@@ -224,13 +223,19 @@ def datasheet_rows(summary: dict) -> list:
         Quantity with its unit, and the formatted value.
     """
     rows = [("rated torque [N m]", f"{summary['rated_torque_Nm']:.4g}"
-             + (" (operating torque, assumed)" if summary["rated_torque_assumed"] else "")),
+             + (" (the operating output torque: no rating named)"
+                if summary["rated_torque_assumed"] else "")),
             ("torsional rigidity 50-100 % [N m/arcmin]",
              f"{summary['torsional_rigidity_Nm_per_arcmin']:.4g}"),
             ("lost motion ±3 % [arcmin]", f"{summary['lost_motion_arcmin']:.4g}"),
             ("backlash [arcmin]", f"{summary['backlash_arcmin']:.4g}"),
             ("hysteresis loss [arcmin]", f"{summary['hysteresis_loss_arcmin']:.4g}"),
-            ("loaded TE peak-to-peak [arcsec]", f"{summary['te_peak_to_peak_arcsec']:.4g}")]
+            (f"transmission error of the reducer at {summary['te_torque_Nm']:.4g} N m, mean "
+             "[arcsec]", f"{summary['te_mean_arcsec']:.4g}"),
+            (f"  its peak to peak over the full period ({summary['te_full_period_pitches']} "
+             f"pitch{'' if summary['te_full_period_pitches'] == 1 else 'es'}, "
+             f"{summary['te_positions_per_pitch']} positions each) [arcsec]",
+             f"{summary['te_peak_to_peak_arcsec']:.4g}")]
     if "member_share_max" in summary:
         rows.append(("largest member share of the torque (FE; case's factor)",
                      f"{summary['member_share_max']:.4f} "

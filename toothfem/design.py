@@ -25,6 +25,7 @@ import numpy as np
 from .case import Case, as_case
 from .errors import CaseError, check_range
 from .datasheet import path_friction
+from .efficiency import rated_output_torque
 from .fem.datasheet.sheet import datasheet
 from .fem.drives import drive_for
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
@@ -259,7 +260,7 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
     for the same nominal geometry (the error of solving a candidate on the case's tables)."""
     drive = drive_for(case)
     si = case.to_si()
-    rated, assumed = si.rated_output_torque_Nm()
+    rated, assumed = rated_output_torque(si)
     solver = drive.cycle_solver(positions, solver_options=drive.both_flanks_options)
     supports = drive.supports(si.supports)
     sheet = datasheet(SystemTwist(drive.system_model(supports, positions),

@@ -144,8 +144,9 @@ def worst(found) -> tuple:
 
 
 def rated_torque(si, torque_Nm) -> list:
-    """The output torque against the case's rated torque (``operating.rated_torque_Nm``),
-    else against its operating torque (what the datasheet takes as the rating then).
+    """The output torque against the case's rated torque (``operating.rated_torque_Nm``)
+    and its start/stop and momentary limits; a case that names no rating has no rated
+    limit (its operating torque, which the datasheet then rates at, is not one).
 
     Parameters
     ----------
@@ -158,11 +159,9 @@ def rated_torque(si, torque_Nm) -> list:
     list of Exceeded
     """
     t = float(np.max(np.abs(np.atleast_1d(torque_Nm))))
-    rated, assumed = si.rated_output_torque_Nm()
-    source = ("the case's operating torque, taken as the rating: operating.rated_torque_Nm "
-              "not given" if assumed else "operating.rated_torque_Nm, the reducer's rating")
     op = si.operating
-    found = [above("output torque", t, rated, "N m", source),
+    found = [above("output torque", t, op.rated_torque_Nm, "N m",
+                   "operating.rated_torque_Nm, the reducer's rating"),
              above("output torque", t, op.start_stop_torque_Nm, "N m",
                    "operating.start_stop_torque_Nm, allowed only while starting and stopping"),
              above("output torque", t, op.momentary_torque_Nm, "N m",

@@ -232,8 +232,9 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     return summary
 
 #: Output torques of the efficiency curves and maps, as fractions of the largest torque of
-#: the case (its operating point or a measured point): from near no load to full load.
-TORQUE_GRID = np.linspace(0.02, 1.0, 50)
+#: the case (its operating point or a measured point): from near no load to 10 % beyond it,
+#: so every marked point sits inside the chart, not on its edge.
+TORQUE_GRID = np.linspace(0.02, 1.1, 55)
 #: Input speeds of the speed map, as fractions of the operating speed.
 SPEED_GRID = np.linspace(0.1, 2.0, 60)
 #: Oil temperatures of the temperature map [deg C].
@@ -267,9 +268,14 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
     marked = [Marked(x=torque, y=eta_op, kind="operating",
                      label=f"operating point: {speed:g} rpm, {torque:.4g} N m, "
                            f"{100 * eta_op:.2f} % (analytic)")]
-    marked += [Marked(x=m.output_torque_Nm, y=m.efficiency,
-                      label=f"measured {100 * m.efficiency:.2f} % ({m.input_speed_rpm:g} rpm, "
-                            f"{m.output_torque_Nm:g} N m)") for m in case.measured]
+    for m in case.measured:            # each with its gap to the model, never left silent
+        model = float(evaluate(case, m.input_speed_rpm, m.output_torque_Nm).efficiency[0])
+        marked.append(Marked(
+            x=m.output_torque_Nm, y=m.efficiency,
+            label=f"measured {100 * m.efficiency:.2f} % ({m.input_speed_rpm:g} rpm, "
+                  f"{m.output_torque_Nm:g} N m): {100 * (m.efficiency - model):+.1f} points "
+                  "from the model (analytic);\n`toothfem loop` says what each effect would "
+                  "need to close it"))
     pub = case.published
     if "efficiency_computed" in pub and "rig_output_torque_max_Nm" in pub:
         rig = pub.get("rig_input_speed_rpm")

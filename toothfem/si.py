@@ -317,19 +317,6 @@ class CaseSI:
             return op.input_power_W / op.input_speed_rad_s * abs(self.ratio)
         return None
 
-    def rated_output_torque_Nm(self) -> tuple[float | None, bool]:
-        """The rated output torque, else the declared one.
-
-        Returns
-        -------
-        torque : float or None
-            [N m]; None if the case declares neither.
-        assumed : bool
-            True when the case names no rating.
-        """
-        if self.operating.rated_torque_Nm:
-            return float(self.operating.rated_torque_Nm), False
-        return self.declared_output_torque_Nm(), True
 
 _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
 #: Face width of a spur first stage that declares none, in modules: ASSUMPTION, the middle

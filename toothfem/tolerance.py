@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import dataclasses
+import functools
 import hashlib
 import math
 import pickle
@@ -26,7 +27,7 @@ import numpy as np
 from .case import Case, as_case
 from .case_checks import check_type
 from .cluster import as_finished, dask_client
-from .efficiency import evaluate, operating_point
+from .efficiency import evaluate, operating_point, rated_output_torque
 from .efficiency.mesh_table import table_from_records
 from .errors import CaseError, IncompleteRun, check_range
 from .fem.cache import DiskCache
@@ -45,12 +46,25 @@ OUTPUTS = {
     "contacts_min": ("fewest contacts at a position", "-"),
     "lost_motion_arcmin": ("lost motion, elastic curve (no friction)", "arcmin"),
     "backlash_arcmin": ("backlash (< 0: the flanks interfere, preloaded)", "arcmin"),
-    "te_mean_arcsec": ("transmission error of the reducer, mean", "arcsec"),
-    "te_pp_arcsec": ("transmission error of the reducer, peak to peak", "arcsec"),
+    "te_mean_arcsec": ("transmission error of the reducer at the operating torque, mean",
+                       "arcsec"),
+    "te_pp_arcsec": ("transmission error of the reducer, peak to peak over the ring's "
+                     "positions", "arcsec"),
     "mesh_efficiency_pct": ("mesh efficiency", "%"),
     "total_efficiency_pct": ("total efficiency", "%"),
 }
-PERCENTILES = (50, 90, 99)
+#: Outputs where low is worse (the rest: high is worse); their tail percentiles are taken
+#: on that side: P10/P1 of the fewest contacts and the efficiencies, P90/P99 of forces,
+#: pressures, lost motion, backlash and TE.
+LOW_IS_WORSE = frozenset({"contacts_min", "mesh_efficiency_pct", "total_efficiency_pct"})
+#: Percentiles of each output, the median and the unfavourable tail (1 in 10 and 1 in
+#: 100 of the built reducers worse than it), by the side that is worse.
+PERCENTILES = {"high": (50, 90, 99), "low": (50, 10, 1)}
+#: Confidence of a percentile's interval (distribution-free, from the order statistics:
+#: the ranks a binomial(n, q) count of samples below the q-quantile reaches at its
+#: (1 - c)/2 and (1 + c)/2 quantiles). A percentile whose interval runs past the sample
+#: (too few reducers for it: P99 needs 368) is not given; the summary says how many it needs.
+CONFIDENCE = 0.95
 #: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
 MAX_SAMPLES = 100_000
 #: What a ring's forces and TE are, by the model that solves it (the summary says which).
@@ -86,14 +100,19 @@ class ToleranceResult:
     settings: dict
 
     def percentiles(self) -> dict:
-        """The ensemble's percentiles (PERCENTILES) of each output.
+        """The ensemble's percentiles of each output on its unfavourable side
+        (PERCENTILES, LOW_IS_WORSE), each with its CONFIDENCE interval.
 
         Returns
         -------
         dict
-            {output: {"P50": .., "P90": .., "P99": ..}}, in the output's unit (OUTPUTS).
+            {output: {"P50": {"value", "ci", "rings_needed"}, "P90" or "P10": ..,
+            "P99" or "P1": ..}} in the output's unit (OUTPUTS): ``value`` and ``ci``
+            ([low, high]) None where the sample is too small for the percentile, which
+            then needs ``rings_needed`` reducers.
         """
-        return {k: {f"P{q}": float(np.percentile(v, q)) for q in PERCENTILES}
+        return {k: {f"P{q}": percentile_ci(v, q / 100)
+                    for q in PERCENTILES["low" if k in LOW_IS_WORSE else "high"]}
                 for k, v in self.samples.items()}
 
     def summary(self) -> dict:
@@ -109,6 +128,66 @@ class ToleranceResult:
                 "nominal": self.nominal, "percentiles": self.percentiles(),
                 "mean": {k: float(np.mean(v)) for k, v in self.samples.items()},
                 "variance_shares": self.shares}
+
+
+def percentile_ci(values, q: float, confidence: float = CONFIDENCE) -> dict:
+    """A percentile of a sample with its distribution-free confidence interval.
+
+    The interval is [x_(l), x_(u)] of the sorted sample (1-based ranks), l and u - 1 the
+    binomial(n, q) count's (1 - c)/2 and (1 + c)/2 quantiles: it holds the true
+    q-quantile with probability at least about c whatever the distribution.
+
+    Parameters
+    ----------
+    values : array_like
+        The sample, (n,).
+    q : float
+        The quantile, in (0, 1).
+    confidence : float
+        c, in (0, 1).
+
+    Returns
+    -------
+    dict
+        ``value`` (numpy's interpolated percentile) and ``ci`` ([low, high]), both None
+        when the interval's ranks pass the sample's ends; ``rings_needed``: the fewest
+        samples whose interval stays inside.
+    """
+    from scipy.stats import binom
+
+    x = np.sort(np.asarray(values, float))
+    n = x.size
+    needed = rings_needed(q, confidence)
+    if n < needed:
+        return {"value": None, "ci": None, "rings_needed": needed}
+    lo = int(binom.ppf((1 - confidence) / 2, n, q))
+    hi = int(binom.ppf((1 + confidence) / 2, n, q)) + 1
+    return {"value": float(np.percentile(x, 100 * q)), "ci": [float(x[lo - 1]),
+                                                              float(x[hi - 1])],
+            "rings_needed": needed}
+
+
+@functools.lru_cache(maxsize=None)
+def rings_needed(q: float, confidence: float = CONFIDENCE) -> int:
+    """The fewest samples whose :func:`percentile_ci` interval of the q-quantile lies
+    inside the sample (rank 1 to n): 6 for the median, 36 for P90 or P10, 368 for P99 or
+    P1 at 95 %.
+
+    Parameters
+    ----------
+    q, confidence : float
+        As :func:`percentile_ci`.
+
+    Returns
+    -------
+    int
+    """
+    from scipy.stats import binom
+
+    n = np.arange(1, MAX_SAMPLES + 1)
+    ok = ((binom.ppf((1 - confidence) / 2, n, q) >= 1)
+          & (binom.ppf((1 + confidence) / 2, n, q) + 1 <= n))
+    return int(n[np.argmax(ok)]) if ok.any() else MAX_SAMPLES + 1
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -187,14 +266,14 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
         raise CaseError("[tolerances] has no nonzero zone: nothing to sample (e.g. "
                         "pin_position_mm = 0.005)")
     drive = drive_for(case)
-    rated, _ = si.rated_output_torque_Nm()
     speed, t_out = operating_point(case)
+    rated, _ = rated_output_torque(si)
     n = int(positions)
     cache_obj = DiskCache() if cache is True else (cache or None)
     setup = _Setup(case=case, positions=n,
                    pitches=(np.arange(n) * drive.pairing_period_pitches) // n,
                    speed_rpm=float(speed), output_torque_Nm=float(t_out),
-                   rated_torque_Nm=float(rated or t_out),
+                   rated_torque_Nm=float(rated),
                    cache_dir=None if cache_obj is None else str(cache_obj.directory),
                    pitch_samples=PITCH_SAMPLES)
     rng = np.random.default_rng(seed)

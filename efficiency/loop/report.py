@@ -100,6 +100,25 @@ class LoopReport:
     binning: dict | None = None    # binning.Binning.to_dict(), None when not binned
     alias_groups: tuple = ()       # separation.AliasGroup of the steps that found one
 
+    def unexplained_text(self) -> str:
+        """What the final residual still holds, in words: the covariates it follows; or,
+        where no trend test could be made, that nothing was analysed and the mean residual
+        that remains (a residual no test looked at is never "nothing").
+
+        Returns
+        -------
+        str
+        """
+        if self.unexplained:
+            return (", ".join(self.unexplained) + " (the final residual still follows these "
+                    "covariates; no catalog effect accounts for it)")
+        if not any(math.isfinite(t.r2) for t in self.trends_after):
+            mean = 100 * float(np.mean(self.final_fit.residual))
+            return (f"not analysed: {self.n_points} point(s), too few for a trend test; the "
+                    f"final residual, {mean:+.3g} points on average (measured - model), "
+                    "remains unexplained")
+        return "nothing (the final residual follows none of the covariates)"
+
     def to_dict(self) -> dict:
         """The JSON of the report (report.json).
 
@@ -132,6 +151,7 @@ class LoopReport:
                          "case_fields": list(e.case_fields), "citation": e.citation,
                          "equation": e.equation} for e in self.effects],
             "unexplained": list(self.unexplained),
+            "unexplained_text": self.unexplained_text(),
             "stop_reason": self.stop_reason,
             "steps": [{"index": s.index, "added": s.added, "reason": s.reason,
                        "aliased": list(s.aliased), "removed": list(s.removed),

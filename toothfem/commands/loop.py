@@ -108,7 +108,7 @@ def run(args) -> int:
             if report.n_rows != report.n_points else f"{report.n_points} points")
     print(f"{case.name}: {size}; {error}; effects: "
           f"{', '.join(e.name for e in report.effects) or 'none'}; unexplained: "
-          f"{', '.join(report.unexplained) or 'nothing'}")
+          f"{report.unexplained_text()}")
     print(f"  {report.stop_reason}")
     for g in report.alias_groups:
         print(f"  step {g.step}: {g.note}")

@@ -11,6 +11,7 @@ inside the functions that draw (Agg backend, off-screen: no display, no VTK wind
 Every picture's title names the case and the user's quantities with units; legends sit
 outside the data.
 """
+import re
 
 
 def pyplot():
@@ -79,4 +80,18 @@ def wrap(text: str, width: int) -> str:
     """
     import textwrap
 
-    return "\n".join(textwrap.fill(line, width) for line in text.split("\n"))
+    return "\n".join(textwrap.fill(_QUANTITY.sub(_glued, line), width).replace(NBSP, " ")
+                     for line in text.split("\n"))
+
+
+#: A quantity a title must not break: an optional symbol (``P_h``, ``T``, ``x =``), a number
+#: and its unit; its spaces become no-break spaces (textwrap breaks at ASCII whitespace only).
+_QUANTITY = re.compile(
+    r"(?:\b(?:[A-Za-z]\w*_\w+|[A-Za-z]{1,2}\d?)\s(?:[=<>≤≥]\s)?)?[-+]?\d[\d.,]*(?:e[-+]?\d+)?"
+    r"\s(?:N\sm(?:/arcmin)?|N\smm|MPa|GPa|kN|N|mm|um|µm|m|deg|arcmin|arcsec|rpm|kW|W|C|K|%|h|s)"
+    r"(?![\w/])")
+NBSP = "\u00a0"
+
+
+def _glued(match) -> str:
+    return match.group(0).replace(" ", NBSP)

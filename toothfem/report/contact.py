@@ -16,17 +16,28 @@ from ..errors import ToothfemError
 from ..fem.datasheet.twist import ARCSEC
 from . import pyplot, save, wrap
 
-#: Colour map of the per-contact series (many lines: a continuous map keyed by contact
-#: number, with a colour bar instead of a legend).
-SERIES_CMAP = "viridis"
+#: Colour of the contacts a per-contact picture does not name (light grey: there, not
+#: competing with the named ones).
+OTHER_CONTACTS = "0.72"
 #: Colour map of stress fields (perceptually ordered, unlike jet).
 FIELD_CMAP = "turbo"
+#: The whole member's colour scale ends at this percentile of the field by area, the rest
+#: saturated (marked on the colour bar): the body's stress readable beside the contact peaks.
+FIELD_PERCENTILE = 99.0
+#: The polar view of the load around the ring shows only the sector of the loaded contacts
+#: when they span less than this [deg] (the sine pair's three teeth within 10 deg), at least
+#: +- the half-width below around their middle.
+POLAR_SECTOR_BELOW_DEG = 120.0
+POLAR_SECTOR_MIN_HALF_DEG = 20.0
 #: Most tick labels of contact numbers along an axis before they are thinned.
 MAX_CONTACT_TICKS = 20
-#: Most contacts named one by one in a legend; more get a colour map and a colour bar.
+#: Most contacts named one by one (a qualitative palette and a legend entry each: the ones
+#: carrying most); the others are drawn grey.
 MAX_LEGEND_SERIES = 8
-#: Characters per title line of a field picture (8.5 in wide at 9 pt).
+#: Characters per title line of a field picture (8.5 in wide at 9 pt) and of the
+#: mesh-rotation picture (9 in at 10 pt).
 FIELD_TITLE_CHARS = 105
+TE_TITLE_CHARS = 112
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -85,22 +96,19 @@ def _pressure_label(ls) -> str:
     return "Hertz pressure P_h [MPa]"
 
 
-def _colours(fig, axes, numbers, labels: ContactLabels) -> dict:
-    """A colour per contact number: a categorical palette named in the legend for a few
-    contacts, else a continuous map with a colour bar beside ``axes`` (outside the data)."""
-    plt = pyplot()
-    if len(numbers) <= MAX_LEGEND_SERIES:
-        palette = plt.get_cmap("tab10")
-        return {n: palette(i) for i, n in enumerate(numbers)}
-    lo, hi = int(numbers.min()), int(numbers.max())
-    norm = plt.Normalize(lo - 0.5, hi + 0.5)
-    cmap = plt.get_cmap(SERIES_CMAP)
-    bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes, pad=0.02,
-                       fraction=0.04)
-    bar.set_label(f"{labels.contact} number (contact_id in load_sharing.csv)")
-    step = max(1, math.ceil((hi - lo + 1) / MAX_CONTACT_TICKS))
-    bar.set_ticks(range(lo, hi + 1, step))
-    return {n: cmap(norm(n)) for n in numbers}
+def _highlighted(numbers, force, ph) -> dict:
+    """A colour per contact number: up to MAX_LEGEND_SERIES named in a qualitative palette
+    (first those that are the largest force or pressure at some position, then by their
+    largest force), the others grey (one legend entry for all of them)."""
+    palette = pyplot().get_cmap("tab10")
+    colours = [palette(i) for i in range(10) if i != 7]        # tab10 less its grey
+    first = list(dict.fromkeys(np.concatenate([np.argmax(force, axis=1),
+                                               np.argmax(ph, axis=1)]).tolist()))
+    by_force = np.argsort(-force.max(axis=0), kind="stable").tolist()
+    top = list(dict.fromkeys(first + by_force))[:MAX_LEGEND_SERIES]
+    named = sorted(int(numbers[k]) for k in top)
+    return {int(n): colours[named.index(int(n))] if int(n) in named else OTHER_CONTACTS
+            for n in numbers}
 
 
 def load_per_contact(ls, labels: ContactLabels):
@@ -116,28 +124,36 @@ def load_per_contact(ls, labels: ContactLabels):
     Returns
     -------
     matplotlib.figure.Figure
-        Two panels (force [N], P_h [MPa]) against crank angle [deg], one line per contact
-        told apart by its number (legend for a few, colour bar for many), the largest over
-        the contacts dashed.
+        Two panels (force [N], P_h [MPa]) against crank angle [deg], one line per contact:
+        the MAX_LEGEND_SERIES carrying most in a qualitative palette named in the legend,
+        the others grey; the largest over the contacts dashed.
     """
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True, layout="constrained")
     deg = np.degrees(ls.position_rad)
     numbers, force, ph = _series(ls)
-    colour = _colours(fig, [a1, a2], numbers, labels)
-    few = len(numbers) <= MAX_LEGEND_SERIES
-    for k, n in enumerate(numbers):
-        a1.plot(deg, force[:, k], lw=1.3, color=colour[n],
-                label=f"{labels.contact} {n}" if few else None)
-        a2.plot(deg, ph[:, k] / 1e6, lw=1.3, color=colour[n])
-    a1.plot(deg, ls.force.max(axis=1), "k--", lw=1.5,
+    colour = _highlighted(numbers, force, ph)
+    others = [n for n in numbers if colour[n] == OTHER_CONTACTS]
+    for grey in (True, False):          # the grey ones below, the named ones on top
+        for k, n in enumerate(numbers):
+            if (colour[n] == OTHER_CONTACTS) != grey:
+                continue
+            label = (None if grey else f"{labels.contact} {n}")
+            if grey and n == others[0]:
+                label = f"the other {len(others)} loaded {labels.contacts}"
+            a1.plot(deg, force[:, k], lw=0.8 if grey else 1.6, color=colour[n], label=label,
+                    zorder=1 if grey else 2)
+            a2.plot(deg, ph[:, k] / 1e6, lw=0.8 if grey else 1.6, color=colour[n],
+                    zorder=1 if grey else 2)
+    a1.plot(deg, ls.force.max(axis=1), "k--", lw=1.5, zorder=3,
             label=f"largest over the {labels.contacts}")
-    a2.plot(deg, ls.ph.max(axis=1) / 1e6, "k--", lw=1.5)
+    a2.plot(deg, ls.ph.max(axis=1) / 1e6, "k--", lw=1.5, zorder=3)
     a1.set_ylabel(f"normal force per {labels.contact} [N]")
     a2.set_ylabel(_pressure_label(ls))
     a2.set_xlabel("crank angle [deg]")
-    fig.legend(loc="outside lower center", frameon=False, fontsize=8,
-               ncol=min(len(numbers) + 1, MAX_LEGEND_SERIES + 1))
+    handles, names = a1.get_legend_handles_labels()
+    fig.legend(handles, names, loc="outside lower center", frameon=False, fontsize=8,
+               ncol=min(len(names), 6))
     a1.set_title(labels.title(f"Force and contact pressure per {labels.contact} over one "
                               "meshing period"), loc="left", fontsize=10)
     for a in (a1, a2):
@@ -201,9 +217,19 @@ def load_around_ring(ls, labels: ContactLabels):
               label="largest over the period")
     polar.bar(th, fw, width=width * 0.6, color="#d62728", label=f"at the worst position "
               f"({worst_deg:.2f} deg crank)")
-    polar.set_title(f"normal force per {labels.contact} [N] around the ring", fontsize=9)
+    span = float(np.ptp(ang)) if len(ang) > 1 else 0.0
+    sector = span < POLAR_SECTOR_BELOW_DEG
+    if sector:      # the loaded contacts in a narrow arc: show that sector, not the circle
+        mid = 0.5 * (float(ang.min()) + float(ang.max()))
+        half = max(0.5 * span + 2 * math.degrees(width), POLAR_SECTOR_MIN_HALF_DEG)
+        polar.set_thetamin(mid - half)
+        polar.set_thetamax(mid + half)
+    polar.set_title(f"normal force per {labels.contact} [N] around the ring"
+                    + (f"\n(the {2 * half:.0f} deg sector where they carry)" if sector else ""),
+                    fontsize=9)
     polar.tick_params(labelsize=7)
-    polar.set_rlabel_position(float(ang[np.argmax(fmax)]) + 180.0)   # away from the load
+    if not sector:
+        polar.set_rlabel_position(float(ang[np.argmax(fmax)]) + 180.0)   # away from the load
     polar.legend(loc="upper center", bbox_to_anchor=(0.5, -0.06), fontsize=8, frameon=False)
     a1.bar(ang, fmax, width=width * 180 / math.pi, color="#c6dbef", edgecolor="#6baed6",
            lw=0.5, label="largest over the period")
@@ -225,32 +251,39 @@ def load_around_ring(ls, labels: ContactLabels):
 
 
 def transmission_error(ls, labels: ContactLabels):
-    """Transmission error [arcsec] over one meshing period.
+    """The mesh's rotation of one member held at its bearing seats over one meshing period
+    [arcsec]: the mesh's part of the reducer's transmission error (the whole TE, supports
+    and output mechanism included, is the system model's: docs/stiffness.md).
 
     Parameters
     ----------
     ls : toothfem.fem.load_sharing.LoadSharing
-        ``transmission_error`` in rad (the lag of the output member under load).
+        ``transmission_error`` in rad (the member's rotation under load, held at its
+        bearing seats).
     labels : ContactLabels
 
     Returns
     -------
     matplotlib.figure.Figure
-        TE against crank angle, its mean dashed; title with mean and peak-to-peak ripple.
+        The rotation against crank angle, its mean dashed; the title says which part of
+        the TE it is, with its mean and peak-to-peak ripple.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(9, 4.8), layout="constrained")
     deg = np.degrees(ls.position_rad)
     te = ls.transmission_error / ARCSEC
-    ax.plot(deg, te, "o-", ms=3, lw=1.4, color="#08519c", label="transmission error")
+    ax.plot(deg, te, "o-", ms=3, lw=1.4, color="#08519c",
+            label=f"mesh rotation of one {labels.member}")
     ax.axhline(float(te.mean()), color="k", ls="--", lw=1, label=f"mean {te.mean():.3g} arcsec")
     ax.set_xlabel("crank angle [deg]")
-    ax.set_ylabel(f"lag of the {labels.member} under load [arcsec]")
+    ax.set_ylabel(f"rotation of the {labels.member} under load [arcsec]")
     ax.grid(alpha=0.3)
     fig.legend(loc="outside lower center", fontsize=8, frameon=False, ncol=2)
-    ax.set_title(labels.title(f"Transmission error under load: mean {te.mean():.3g} arcsec, "
-                              f"ripple {np.ptp(te):.3g} arcsec peak to peak"),
-                 loc="left", fontsize=10)
+    ax.set_title(wrap(labels.title(
+        f"The mesh's part of the TE (one {labels.member} held at its bearing seats): mean "
+        f"{te.mean():.3g} arcsec, ripple {np.ptp(te):.3g} arcsec peak to peak; the reducer's "
+        "TE is the summary's system-model row"),
+        TE_TITLE_CHARS), loc="left", fontsize=10)
     return fig
 
 
@@ -267,6 +300,34 @@ def _field_mm_MPa(mesh, scalar: str):
                 np.asarray(mesh.point_data[legacy], float) / 1e6)
     raise ToothfemError(f"scalar = {scalar!r} is not a field of the VTU (its fields: "
                         f"{sorted(mesh.point_data)})")
+
+
+def robust_max(tri, value) -> float:
+    """The colour scale's top of a whole-member field: the FIELD_PERCENTILE-th percentile
+    of the triangles' mean values weighted by their area (the contact spots' peaks, a
+    small area on a fine mesh, would otherwise darken the whole body).
+
+    Parameters
+    ----------
+    tri : matplotlib.tri.Triangulation
+    value : numpy.ndarray
+        Nodal values.
+
+    Returns
+    -------
+    float
+        The percentile (the largest value where it is not positive).
+    """
+    t = tri.triangles
+    x, y = tri.x[t], tri.y[t]
+    area = 0.5 * np.abs((x[:, 1] - x[:, 0]) * (y[:, 2] - y[:, 0])
+                        - (x[:, 2] - x[:, 0]) * (y[:, 1] - y[:, 0]))
+    mean = value[t].mean(axis=1)
+    order = np.argsort(mean)
+    cum = np.cumsum(area[order])
+    at = np.searchsorted(cum, FIELD_PERCENTILE / 100 * cum[-1])
+    top = float(mean[order][min(at, mean.size - 1)])
+    return top if top > 0 else float(value.max())
 
 
 def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
@@ -307,7 +368,9 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
         inside = ((np.abs(tri.x - x0) < r) & (np.abs(tri.y - y0) < r))
         vmax = float(value[inside].max()) if np.any(inside) else float(value.max())
     else:
-        vmax = float(value.max())
+        vmax = robust_max(tri, value)
+    peak = float(value.max())
+    saturated = peak > vmax * (1 + 1e-9)
     art = ax.tripcolor(tri, value, shading="gouraud", cmap=FIELD_CMAP, vmin=0.0, vmax=vmax)
     if zoom_centre is not None:
         ax.triplot(tri, color="k", lw=0.15, alpha=0.5)
@@ -328,9 +391,11 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (member frame)")
     ax.set_ylabel("y [mm]")
-    bar = fig.colorbar(art, ax=ax, shrink=0.85)
+    bar = fig.colorbar(art, ax=ax, shrink=0.85, extend="max" if saturated else "neither")
     bar.set_label(f"{scalar.removesuffix('_MPa').replace('_', ' ')} stress [MPa]"
-                  + (" (colour scale of this view)" if zoom_centre is not None else ""))
+                  + (" (colour scale of this view)" if zoom_centre is not None else "")
+                  + (f"\nsaturated above {vmax:.4g} MPa ({FIELD_PERCENTILE:g}th percentile "
+                     f"by area); largest {peak:.4g} MPa" if saturated else ""))
     ax.set_title(wrap(title, FIELD_TITLE_CHARS), loc="left", fontsize=9)
     return save(fig, png_path)
 

@@ -328,6 +328,4 @@ def _trends(report: LoopReport) -> list:
         out.append(f"| {t.covariate} | {t.r2:.3f} | {t.p_value:.2g} | "
                    f"{a.r2 if a else float('nan'):.3f} | {a.p_value if a else float('nan'):.2g} | "
                    f"{'yes' if a and a.follows else 'no'} |")
-    return out + ["", f"Unexplained: {', '.join(report.unexplained) or 'nothing'}"
-                  + (" (the final residual still follows these covariates; no catalog effect "
-                     "accounts for it)" if report.unexplained else ""), ""]
+    return out + ["", f"Unexplained: {report.unexplained_text()}", ""]

@@ -156,6 +156,22 @@ MARKERS = {"measured": dict(marker="o", color="k", ms=7, ls="none"),
            "operating": dict(marker="*", color="#ff7f0e", mec="k", ms=13, ls="none")}
 
 
+#: Margin kept between a marked point and the axes' edge, a fraction of the axis span.
+MARK_MARGIN = 0.04
+
+
+def _include(ax, points) -> None:
+    """Widen the axes' limits (never narrow them) so each point lies inside, MARK_MARGIN
+    of the span from the edge: a marked point is never cut by the frame."""
+    for axis, get, put in ((0, ax.get_xlim, ax.set_xlim), (1, ax.get_ylim, ax.set_ylim)):
+        lo, hi = get()
+        vals = [p[axis] for p in points if np.isfinite(p[axis])]
+        if not vals:
+            continue
+        pad = MARK_MARGIN * (max(hi, *vals) - min(lo, *vals))
+        put(min(lo, min(vals) - pad), max(hi, max(vals) + pad))
+
+
 def efficiency_vs_torque(torque, curves: dict, marked=(), title="", dashed=()):
     """Efficiency [%] against output torque [N m].
 
@@ -186,6 +202,7 @@ def efficiency_vs_torque(torque, curves: dict, marked=(), title="", dashed=()):
     ax.set_xlabel("output torque [N m]")
     ax.set_ylabel("efficiency [%]")
     ax.set_xlim(left=0)
+    _include(ax, [(m.x, 100 * m.y) for m in marked])
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_title(title, loc="left", fontsize=10)
@@ -238,7 +255,8 @@ def efficiency_map(x, y, eta, xlabel, ylabel, title="", marked=()):
               inline_spacing=4)
     fig.colorbar(cs, ax=ax, label="efficiency [%]", pad=0.02)
     for m in marked:
-        ax.plot(m.x, m.y, label=m.label, clip_on=False, **MARKERS[m.kind])
+        ax.plot(m.x, m.y, label=m.label, **MARKERS[m.kind])
+    _include(ax, [(m.x, m.y) for m in marked])
     if marked:
         fig.legend(loc="outside lower center", fontsize=8, frameon=False, ncol=len(marked))
     ax.set_xlabel(xlabel)

@@ -64,6 +64,13 @@ def hysteresis(sheet, title: str = ""):
     mid = 0.5 * (w["rising_arcmin"] + w["falling_arcmin"])
     zoom.plot(w["torque_Nm"][[0, 2]], mid[[0, 2]], "ks", ms=6,
               label=f"lost motion (midpoints at ±3 %): {sheet.lost_motion_arcmin:.3g} arcmin")
+    x_lm = 1.3 * t_lm                  # the lost motion as a span between the midpoints
+    for y in mid[[0, 2]]:
+        zoom.plot([w["torque_Nm"][2], x_lm], [y, y], ":", color="k", lw=0.8)
+    zoom.annotate("", xy=(x_lm, mid[2]), xytext=(x_lm, mid[0]),
+                  arrowprops=dict(arrowstyle="<->", color="k", lw=1.2))
+    zoom.text(x_lm, 0.5 * (mid[0] + mid[2]), " lost\n motion", fontsize=8, va="center",
+              ha="left")
     zoom.plot([0, 0], [w["rising_arcmin"][1], w["falling_arcmin"][1]], color="tab:purple",
               lw=4, alpha=0.7, label=f"hysteresis loss (width at 0): "
                                      f"{sheet.hysteresis_loss_arcmin:.3g} arcmin")
@@ -75,7 +82,8 @@ def hysteresis(sheet, title: str = ""):
     zoom.set_ylim(lo - pad, hi + 2.5 * pad)
     zoom.legend(fontsize=8, loc="upper left")
     zoom.set_title("near zero torque (±3 % of rated)", fontsize=10)
-    assumed = " (rated = operating torque, assumed)" if sheet.rated_torque_assumed else ""
+    assumed = (" (rated = the operating output torque: no rating named)"
+               if sheet.rated_torque_assumed else "")
     fig.suptitle(title or f"torsional stiffness: rated torque {rated:.4g} N m{assumed}",
                  fontsize=10)
     fig.tight_layout()

@@ -21,9 +21,9 @@ CONTACT_QUANTITIES = (
     ("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing seats",
      "MPa"),
     ("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
-     "model), mean", "arcsec"),
-    ("transmission_error_reducer_ripple_arcsec", "  its peak to peak over the pitch",
-     "arcsec"),
+     "model) at the output torque, mean", "arcsec"),
+    ("transmission_error_reducer_ripple_arcsec", "  its peak to peak over one pitch at the "
+     "run's positions (the full period: toothfem stiffness)", "arcsec"),
     ("transmission_error_reducer_mesh_arcsec", "  of it the mesh ({contact} contacts), mean",
      "arcsec"),
     ("transmission_error_arcsec", "mesh rotation of one {member} held at its bearing seats, "

@@ -11,7 +11,9 @@ from . import pyplot, wrap
 
 def histograms(result, outputs: dict, title: str):
     """One histogram per output over the sampled reducers, the nominal design (black) and
-    P50/P90/P99 (dashed) marked.
+    the median and the unfavourable tail's percentiles (P90/P99, or P10/P1 where low is
+    worse; dashed, their 95 % interval shaded) marked; a percentile the sample is too small
+    for is named with the reducers it needs.
 
     Parameters
     ----------
@@ -38,8 +40,14 @@ def histograms(result, outputs: dict, title: str):
                 label=f"{v.size} built reducers")
         ax.axvline(result.nominal[k], color="k", lw=1.5,
                    label=f"nominal {result.nominal[k]:{fmt}}")
-        for (q, x), colour in zip(pct[k].items(), ("tab:green", "tab:orange", "tab:red")):
-            ax.axvline(x, color=colour, ls="--", lw=1.2, label=f"{q} {x:{fmt}}")
+        for (q, p), colour in zip(pct[k].items(), ("tab:green", "tab:orange", "tab:red")):
+            if p["value"] is None:
+                ax.plot([], [], " ", label=f"{q}: needs {p['rings_needed']} reducers")
+                continue
+            lo, hi = p["ci"]
+            ax.axvspan(lo, hi, color=colour, alpha=0.15, lw=0)
+            ax.axvline(p["value"], color=colour, ls="--", lw=1.2,
+                       label=f"{q} {p['value']:{fmt}} [{lo:{fmt}}, {hi:{fmt}}]")
         ax.ticklabel_format(axis="x", useOffset=False)     # values, not offsets from them
         ax.set_xlabel(f"{label} [{unit}]")
         ax.set_ylabel("reducers")
@@ -112,12 +120,16 @@ def markdown(summary: dict, outputs: dict) -> str:
              f"+-3 % of {summary['rated_torque_Nm']:.6g} N m.", "",
              "Tolerances [mm]: " + ", ".join(f"{k} = {v:g}" for k, v in
                                              summary["tolerances_mm"].items()), "",
-             "| output | nominal | P50 | P90 | P99 |", "|---|---|---|---|---|"]
-    for k, (label, unit) in outputs.items():
-        p = summary["percentiles"][k]
-        fmt = ".3f" if unit == "%" else ".4g"      # efficiencies near 100 %: decimals
-        lines.append(f"| {label} [{unit}] | {summary['nominal'][k]:{fmt}} | "
-                     f"{p['P50']:{fmt}} | {p['P90']:{fmt}} | {p['P99']:{fmt}} |")
+             "Percentiles on each output's unfavourable side (1 in 10 and 1 in 100 of the "
+             "built reducers worse than the value: P90 and P99 where high is worse, P10 and "
+             "P1 where low is), each with its 95 % confidence interval from the sample "
+             "count (distribution-free, order statistics); a percentile the sample is too "
+             "small for is not given.", "",
+             "| output | nominal | " + " | ".join(TAIL_COLUMNS) + " |",
+             "|---|---|---|---|---|"]
+    for label, unit, cells in summary_rows(summary, outputs):
+        lines.append(f"| {label} [{unit}] | {_md_number(cells['nominal'], unit)} | "
+                     + " | ".join(cells[c] for c in TAIL_COLUMNS) + " |")
     shares = summary["variance_shares"]
     names = [n for n in shares if n != ALONE_OVER_ALL]
     if len(names) > 1:
@@ -152,9 +164,32 @@ def summary_rows(summary: dict, outputs: dict) -> list:
     Returns
     -------
     list of (str, str, dict)
-        (label, unit, {"nominal", "P50", "P90", "P99"}).
+        (label, unit, {"nominal": float, and per TAIL_COLUMNS the percentile's text with
+        its 95 % interval, or the reducers it needs}).
     """
-    quantiles = ("P50", "P90", "P99")
-    return [(label, unit, {"nominal": summary["nominal"][k],
-                           **{q: summary["percentiles"][k].get(q) for q in quantiles}})
-            for k, (label, unit) in outputs.items() if k in summary["percentiles"]]
+    rows = []
+    for k, (label, unit) in outputs.items():
+        if k not in summary["percentiles"]:
+            continue
+        cells = {"nominal": summary["nominal"][k]}
+        for column, (q, p) in zip(TAIL_COLUMNS, summary["percentiles"][k].items()):
+            cells[column] = _percentile_text(q, p, unit)
+        rows.append((label, unit, cells))
+    return rows
+
+
+#: The columns of the percentile table: the median and the unfavourable tail.
+TAIL_COLUMNS = ("median", "1 in 10 worse than", "1 in 100 worse than")
+
+
+def _md_number(value, unit: str) -> str:
+    return f"{value:{'.3f' if unit == '%' else '.4g'}}"     # efficiencies: decimals
+
+
+def _percentile_text(q: str, p: dict, unit: str) -> str:
+    """'P90 1234 [1200, 1260]', or 'P99: needs 368 reducers'."""
+    if p["value"] is None:
+        return f"{q}: needs {p['rings_needed']} reducers"
+    lo, hi = p["ci"]
+    return (f"{q} {_md_number(p['value'], unit)} [{_md_number(lo, unit)}, "
+            f"{_md_number(hi, unit)}]")
