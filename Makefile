@@ -21,7 +21,7 @@ demo: $(VENV)/.installed
 	$(BIN)/toothfem run $(CASE) --out $(OUT)
 
 test: $(VENV)/.installed
-	$(BIN)/python -m pytest -q tests
+	$(BIN)/python -m pytest -q -rs tests
 
 test-fast: $(VENV)/.installed
 	$(BIN)/python -m pytest -q -m "not slow" tests

@@ -23,7 +23,10 @@ effects from the catalog one at a time while they help. One job per module:
   selection by BIC and held-out gain (:func:`run_loop`); an effect that helps only at its
   parameter's physical bound is not added;
 * :mod:`.report`: the :class:`LoopReport` record and its JSON;
-* :mod:`.settings`: the thresholds of all of the above.
+* :mod:`.settings`: the thresholds of all of the above;
+* :mod:`.te` (a subpackage, imported on its own): TE and hysteresis rig recordings read
+  file by file, the TE spectrum in orders named by the drive's orders, and the model-free
+  rigidity, lost motion, hysteresis loss and width (docs/te_rig.md).
 
 Pictures and the Markdown text of a report are the reporting layer's
 (``toothfem.report.loop``): this package computes, it does not draw.

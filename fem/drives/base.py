@@ -200,6 +200,33 @@ class Drive(abc.ABC):
         """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
         return False
 
+    def te_orders(self) -> dict:
+        """Orders per output revolution at which a transmission-error ripple is expected
+        (the naming of a measured TE spectrum, toothfem.efficiency.loop.te.spectrum).
+
+        The generic orders, from :meth:`speeds` and :attr:`period_rad` only: the output
+        revolution (1), the input revolution (|i|), the crank revolution (each fixed tooth
+        meets the loaded zone once per crank turn against the fixed member: the fixed
+        teeth's errors), the crank against the moving member (each moving tooth meets the
+        loaded zone once per such turn: the moving teeth's errors), and the mesh (one
+        meshing period per :attr:`period_rad` of crank). A drive names them in its own
+        terms.
+
+        Returns
+        -------
+        dict of str to float
+            name -> order [per output revolution]; names of equal orders are joined by
+            " = " into one entry.
+        """
+        w = self.speeds()
+        out = abs(w["output"])
+        crank = abs(w["crank"]) / out
+        return _merged_orders([
+            ("output revolution", 1.0), ("input revolution", abs(w["input"]) / out),
+            ("crank revolution", crank),
+            (f"crank against the {self.member_name}", abs(w["crank"] - w["member"]) / out),
+            ("mesh", 2 * np.pi / self.period_rad * crank)])
+
     @abc.abstractmethod
     def supports(self, declared):
         """The supports in series with the mesh.
@@ -506,6 +533,20 @@ class Drive(abc.ABC):
                 _SOLVERS.pop(next(iter(_SOLVERS)))
             _SOLVERS[key] = solver
         return solver
+
+
+def _merged_orders(pairs) -> dict:
+    """{name: order} of (name, order) pairs, rounded to 1e-9; the names of equal orders
+    joined by " = " in one entry (a K-H-V drive's crank is its input)."""
+    names, orders = [], []
+    for name, q in pairs:
+        q = round(float(q), 9)
+        if q in orders:
+            names[orders.index(q)] += f" = {name}"
+        else:
+            names.append(name)
+            orders.append(q)
+    return dict(zip(names, orders))
 
 
 #: Cycle solvers kept in memory per process (each holds its influence tables, tens of MB):

@@ -16,7 +16,7 @@ from .. import deviations as dv
 from ..datasheet import supports as sp
 from ..system.cycloid import CycloidSystem
 from ..system.mesh import PinMesh
-from .base import Drive
+from .base import Drive, _merged_orders
 from ...geometry.disc import disc_polygon
 
 
@@ -145,6 +145,39 @@ class CycloidDrive(Drive):
                     "output": w["carrier"]}
         w = khv_speeds(z4, z5)
         return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
+
+    def te_orders(self) -> dict:
+        """Orders per output revolution at which a TE ripple is expected, in the cycloid's
+        terms (:meth:`Drive.te_orders`; from :meth:`speeds`, the pins fixed):
+
+        - ``output revolution`` (1): the output's runout, the encoders' eccentricity;
+        - ``input revolution`` (|i|);
+        - ``crank revolution`` and ``lobe passing (Zc)``: each pin meets the loaded zone
+          once per crank turn against the pins and sees the Zc lobes go by in an output
+          turn (the pins' errors; Zc for one pin more than lobes);
+        - ``pin passing (Zp)``: each lobe meets the loaded zone once per turn of the crank
+          against the disc, meeting the Zp pins in an output turn (the lobes' errors);
+        - ``pin mesh``: the meshing period, Zp per crank turn;
+        - 2K-V: ``first-stage mesh``, the sun's teeth per turn of the input against the
+          carrier.
+
+        Returns
+        -------
+        dict of str to float
+            name -> order [per output revolution]; equal orders share one entry, their
+            names joined by " = " (a K-H-V drive's crank is its input).
+        """
+        w = self.speeds()
+        out = abs(w["output"])
+        crank = abs(w["crank"]) / out
+        pairs = [("output revolution", 1.0), ("input revolution", abs(w["input"]) / out),
+                 ("crank revolution", crank), ("lobe passing (Zc)", crank),
+                 ("pin passing (Zp)", abs(w["crank"] - w["member"]) / out),
+                 ("pin mesh", self.geometry.pin_count * crank)]
+        if self.first_teeth is not None:
+            pairs.append(("first-stage mesh",
+                          self.first_teeth[0] * abs(w["input"] - w["output"]) / out))
+        return _merged_orders(pairs)
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
         """:func:`toothfem.geometry.cycloid.meshing` with the pins fixed.

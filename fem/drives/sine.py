@@ -14,7 +14,7 @@ from .. import sine_fe as sf
 from ..datasheet import supports as sp
 from ..system.cycloid import CycloidSystem
 from ..system.mesh import ToothMesh
-from .base import Drive
+from .base import Drive, _merged_orders
 
 #: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
 #: the planet's pitch radius (ASSUMPTION; the prototype's 10 mm is 0.28 of its 35.55 mm).
@@ -103,6 +103,34 @@ class SineDrive(Drive):
         """
         w = khv_speeds(self.pair.planet_teeth, self.pair.ring_teeth)
         return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
+
+    def te_orders(self) -> dict:
+        """Orders per output revolution at which a TE ripple is expected, in the sine
+        pair's terms (:meth:`Drive.te_orders`; from :meth:`speeds`, the ring fixed):
+
+        - ``output revolution`` (1);
+        - ``input revolution`` = ``crank revolution`` = ``planet-tooth passing (Z1)``: each
+          ring tooth meets the loaded zone once per crank turn and sees the Z1 planet teeth
+          go by in an output turn (the ring's tooth errors);
+        - ``ring-tooth passing (Z2)``: each planet tooth meets the loaded zone once per turn
+          of the crank against the planet, meeting the Z2 ring teeth in an output turn (the
+          planet's tooth errors);
+        - ``tooth mesh``: the meshing period, one per ring tooth pitch of crank.
+
+        Returns
+        -------
+        dict of str to float
+            name -> order [per output revolution]; equal orders share one entry, their
+            names joined by " = ".
+        """
+        w = self.speeds()
+        out = abs(w["output"])
+        crank = abs(w["crank"]) / out
+        return _merged_orders([
+            ("output revolution", 1.0), ("input revolution", abs(w["input"]) / out),
+            ("crank revolution", crank), ("planet-tooth passing (Z1)", crank),
+            ("ring-tooth passing (Z2)", abs(w["crank"] - w["member"]) / out),
+            ("tooth mesh", 2 * np.pi / self.period_rad * crank)])
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
         """:func:`toothfem.geometry.sine.meshing` of the pair.
