@@ -100,12 +100,22 @@ class CycloidDeviation:
     pin's radius change; ``profile`` (Za, 2) material added along the normal of each lobe's
     flank that carries a positive (column 0) or negative (column 1) torque;
     ``member_offset`` (2,) the disc's profile off its crank bore(s) (disc frame);
-    ``eccentricity`` the crank's eccentricity error."""
+    ``eccentricity`` the crank's eccentricity error (every crank alike: the pins' gaps
+    shifted by the discs' move);
+    ``crank_eccentricity_m`` (cranks,) each crank's own eccentricity error [m] and
+    ``crank_phase_rad`` (cranks,) its direction from the eccentric's [rad] (crank k's
+    eccentric at disc j stands at e u(phi_j) + de_k u(phi_j + theta_k); a K-H-V drive has
+    one crank, its input shaft), or (cranks, discs) each eccentric's own: the system
+    model's crank bearings take them
+    (:class:`toothfem.fem.system.cycloid.CycloidSystem`); empty: none (a zero phase where
+    only the errors are given)."""
     pin_offset: np.ndarray
     pin_radius: np.ndarray
     profile: np.ndarray
     member_offset: np.ndarray
     eccentricity: float = 0.0
+    crank_eccentricity_m: tuple = ()
+    crank_phase_rad: tuple = ()
 
     @classmethod
     def zero(cls, pins: int, lobes: int) -> "CycloidDeviation":
@@ -131,10 +141,14 @@ class CycloidDeviation:
 class SineDeviation:
     """Deviations of a sine pair [m]: material added along the normal of each flank of the
     planet (Zp, 2) and of the ring (Zr, 2) (column 0, 1: the two flanks of a tooth), and
-    the eccentricity error of the crank."""
+    the eccentricity error of the crank; ``crank_eccentricity_m`` and ``crank_phase_rad``
+    (one value each: the input shaft) as :class:`CycloidDeviation`'s, taken by the system
+    model's eccentric bearing."""
     planet_profile: np.ndarray
     ring_profile: np.ndarray
     eccentricity: float = 0.0
+    crank_eccentricity_m: tuple = ()
+    crank_phase_rad: tuple = ()
 
     @classmethod
     def zero(cls, planet_teeth: int, ring_teeth: int) -> "SineDeviation":

@@ -45,7 +45,21 @@ def _is_terminal(stream) -> bool:
 class StageLine:
     """A stage's progress off a terminal: counts silently, and writes one line when the
     stage ends (its iterable exhausted, or ``close``); nothing when it is left by an
-    exception (the error says what happened)."""
+    exception (the error says what happened).
+
+    Parameters
+    ----------
+    iterable : iterable, optional
+        What to wrap.
+    stream : file, optional
+        Where the line goes (default stderr).
+    desc, unit : str
+        The stage's name and what it counts.
+    total : int, optional
+        How many there are to do.
+    initial : int
+        How many are done already (a resumed run).
+    """
 
     def __init__(self, iterable=None, *, stream=None, desc: str = "", unit: str = "it",
                  total=None, initial: int = 0, **_ignored):

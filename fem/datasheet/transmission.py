@@ -311,7 +311,8 @@ def check_te_inputs(output_torque_Nm, samples, per_pitch) -> None:
     check_range("te_positions", per_pitch, 1, 400, error=CaseError)
 
 
-def loaded_record(drive, output_torque_Nm: float, te, mesh, pitches, per_pitch: int):
+def loaded_record(drive, output_torque_Nm: float, te, mesh, pitches, per_pitch: int, *,
+                  full_period: int | None = None):
     """The LoadedTE of a TE filled over the full period: its crank and output angles and its
     harmonics per output revolution.
 
@@ -326,12 +327,15 @@ def loaded_record(drive, output_torque_Nm: float, te, mesh, pitches, per_pitch: 
         The sampled pitches.
     per_pitch : int
         Positions per pitch.
+    full_period : int, optional
+        Pitches of the period the TE covers (default ``drive.full_period_pitches``; a built
+        stage's may be longer).
 
     Returns
     -------
     LoadedTE
     """
-    k = drive.full_period_pitches
+    k = drive.full_period_pitches if full_period is None else int(full_period)
     crank = np.arange(np.size(te)) * (drive.period_rad / per_pitch)
     speeds = drive.speeds()
     out_per_crank = abs(speeds["output"] / speeds["crank"])

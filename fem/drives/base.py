@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import abc
+import math
 from functools import cached_property
 
 import numpy as np
@@ -318,6 +319,66 @@ class Drive(abc.ABC):
     def full_period_pitches(self) -> int:
         """Meshing periods after which the whole model repeats (disc holes included)."""
         return 1
+
+    @abc.abstractmethod
+    def nominal_deviation(self):
+        """The drive's record of :mod:`toothfem.fem.deviations` with every deviation zero
+        (the stage as drawn), to put chosen deviations into (``dataclasses.replace``).
+
+        Returns
+        -------
+        object
+        """
+
+    def crank_period_pitches(self) -> int:
+        """Meshing periods per turn of the crank against the output (carrier): a crank's
+        own errors (its eccentricity, its bearing) repeat after these.
+
+        Returns
+        -------
+        int
+            2 pi / period_rad x |w_crank| / |w_crank - w_output| (a 2K-V drive: Za pin
+            pitches).
+
+        Raises
+        ------
+        CaseError
+            If it is not a whole number of periods.
+        """
+        w = self.speeds()
+        n = 2 * math.pi / self.period_rad * abs(w["crank"]) / abs(w["crank"] - w["output"])
+        if abs(n - round(n)) > 1e-6:
+            raise CaseError(f"the crank turns against the output in {n:.6g} meshing "
+                            "periods, not a whole number")
+        return int(round(n))
+
+    def deviation_period_pitches(self, deviation) -> int:
+        """Meshing periods after which a built stage's model repeats: the full period
+        (:attr:`full_period_pitches`) without deviation or with deviations that are alike
+        at every tooth (an eccentricity error); the pairing period with any other; with
+        crank eccentricity errors on cranks off the axis (2K-V), also a whole number of
+        the crank's turns against the carrier (:meth:`crank_period_pitches`).
+
+        Parameters
+        ----------
+        deviation : object or None
+            The drive's record of :mod:`toothfem.fem.deviations`.
+
+        Returns
+        -------
+        int
+        """
+        k = self.full_period_pitches
+        if deviation is None:
+            return k
+        crank = np.asarray(getattr(deviation, "crank_eccentricity_m", ()), float)
+        if self.two_stage and np.any(crank):
+            k = math.lcm(k, self.crank_period_pitches())
+        uniform = {"eccentricity", "crank_eccentricity_m", "crank_phase_rad"}
+        for name, value in vars(deviation).items():
+            if name not in uniform and np.any(np.asarray(value, float)):
+                return math.lcm(k, self.pairing_period_pitches)
+        return k
 
     def member_offsets(self, per_pitch: int, turns=None) -> tuple:
         """Where each member's configuration stands on the full-period grid.

@@ -484,6 +484,45 @@ class CycloidDrive(Drive):
             eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
                                             dist("eccentricity"))[0]))
 
+    def nominal_deviation(self) -> dv.CycloidDeviation:
+        """The stage as drawn (:meth:`CycloidDeviation.zero`).
+
+        Returns
+        -------
+        toothfem.fem.deviations.CycloidDeviation
+        """
+        return dv.CycloidDeviation.zero(self.geometry.pin_count, self.stage.lobe_count)
+
+    def deviation_period_pitches(self, deviation) -> int:
+        """Pin pitches after which a built stage's model repeats: at pitch m pin j + m and
+        lobe l + m take the places of pin j and lobe l, so pins that differ repeat after Zb
+        pitches, lobes (or the disc's profile off its bore) after Za, a 2K-V crank's own
+        errors after its turn against the carrier (Za); each with the full period of the
+        holes. Deviations alike at every pin or lobe (an eccentricity error, one radius
+        change of every pin, one flank's material on every lobe) change nothing.
+
+        Parameters
+        ----------
+        deviation : toothfem.fem.deviations.CycloidDeviation or None
+
+        Returns
+        -------
+        int
+        """
+        k = self.full_period_pitches
+        if deviation is None:
+            return k
+        d = deviation
+        pr = np.asarray(d.pin_radius, float)
+        if np.any(d.pin_offset) or (pr.size and np.ptp(pr) > 0):
+            k = math.lcm(k, self.geometry.pin_count)
+        prof = np.asarray(d.profile, float)
+        if np.any(d.member_offset) or (prof.size and np.any(np.ptp(prof, axis=0) > 0)):
+            k = math.lcm(k, self.stage.lobe_count)
+        if self.two_stage and np.any(np.asarray(d.crank_eccentricity_m, float)):
+            k = math.lcm(k, self.crank_period_pitches())
+        return k
+
     @property
     def pairing_period_pitches(self) -> int:
         """Zb Za: at pitch m pin j + m meets lobe l + m, so pin and lobe indices return

@@ -333,6 +333,15 @@ class SineDrive(Drive):
             eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
                                             tolerances.distribution_of("eccentricity"))[0]))
 
+    def nominal_deviation(self) -> dv.SineDeviation:
+        """The pair as drawn (:meth:`SineDeviation.zero`).
+
+        Returns
+        -------
+        toothfem.fem.deviations.SineDeviation
+        """
+        return dv.SineDeviation.zero(self.pair.planet_teeth, self.pair.ring_teeth)
+
     @property
     def pairing_period_pitches(self) -> int:
         """Z1 Z2: every planet tooth in every ring gap."""

@@ -53,8 +53,9 @@ the bore); friction is not in the solve.
 """
 from __future__ import annotations
 
+import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -64,7 +65,7 @@ from ..datasheet import supports as sp
 from . import elements as el
 from ..contact import ContactError
 from .mesh import MeshSolution
-from .solve import ContactSet, Element, Linear, closing_motion, solve
+from .solve import ContactSet, Element, Linear, closing_motion, rest, solve
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
 #: ~ 20 N/(mm um) per mm of face width [N/m per m].
@@ -82,6 +83,10 @@ GROUPS = ("crank bearings", "support bearings", "crankshaft bending", "crankshaf
 KHV_NAMES = {"crank bearings": "eccentric bearings", "support bearings": "input bearings",
              "crankshaft bending": "input shaft bending",
              "crankshaft torsion": "input shaft torsion"}
+#: The parts whose stiffness ``stiffness_scale`` may scale: the element groups, the
+#: members' contacts with the fixed teeth ("mesh": the FE tables and the local approach
+#: together), a K-H-V drive's output pins, and a declared carrier stiffness.
+SCALABLE = GROUPS + ("mesh", "output pins", "carrier")
 #: The output pins' secant flexibility is taken at no less than this fraction of a typical
 #: pin load (Palmgren's approach ~ Q^0.9 has an infinite secant compliance at zero load).
 OUTPUT_LOAD_FLOOR = 1e-3
@@ -239,25 +244,44 @@ class CycloidSystem:
         many sampled pitches (:class:`toothfem.fem.system.tables.PitchTables`; a mesh
         whose tables cover every tooth needs none); None: the tables of the positions'
         own pitch (``pitch`` above) at every pitch.
+    stiffness_scale : dict of str to float, optional
+        Part (any of SCALABLE) -> factor on its stiffness (its compliance divided by it):
+        a part stiffer or softer than its model, e.g. fitted to a rig. A part made
+        ``rigid`` stays rigid.
+
+    Notes
+    -----
+    A built stage's crank eccentricity errors (``deviation.crank_eccentricity_m`` and
+    ``crank_phase_rad``, one per crank or per crank and disc,
+    :class:`toothfem.fem.deviations.CycloidDeviation`) enter where the eccentric does:
+    crank k's eccentric at disc j stands at E_j + de_k u(phi_j + theta_k), so the bearing
+    between it and the disc's seat is deformed by de_k u(phi_j + theta_k) with every body
+    at rest (``Element.offset``). Unequal cranks force each disc to a compromise pose
+    through the crank bearings' play and stiffness; the cranks turn against the carrier,
+    so the pose goes round at that order. An error of one eccentric alone turns the
+    output: the TE ripples at that order. A crank's error on both its eccentrics pushes
+    discs at 180 deg opposite ways: their turns cancel in the TE's first harmonic and the
+    split between the discs ripples instead. Equal errors on every crank (one phase) move
+    each disc by de u(phi_j + theta) with no bearing deformed: the deviation's
+    ``eccentricity`` (the pins' gaps shifted) on a 2K-V drive; a K-H-V drive's output pins
+    see the disc's move too (their holes' clearance closes by de), which ``eccentricity``
+    leaves out. The error's lever in the crank's rotation (psi x (E + dE) instead of
+    psi x E) is second order and left out, as ``eccentricity`` does.
     """
 
     def __init__(self, drive, supports, n_positions: int = 36, *, cache=True, pitch: int = 0,
                  phases_rad=None, pitch_samples: int | None = None,
                  pin_spring_m_per_N: float | None = None, rigid: tuple = (),
                  crank_bearing_play_m: float = 0.0,
-                 crank_bearing_stiffness_N_per_m: float | None = None):
+                 crank_bearing_stiffness_N_per_m: float | None = None,
+                 stiffness_scale: dict | None = None):
         self.khv = not drive.two_stage
         if self.khv and drive.output is None:
             raise CaseError("a K-H-V drive needs [output_mechanism]: its output pins are "
                             "the path of the torque")
         self.mesh = drive.system_mesh(pin_spring_m_per_N)
-        unknown = set(rigid) - set(GROUPS)
-        if unknown:
-            raise CaseError(f"rigid = {sorted(unknown)!r}: not parts of the model "
-                            f"({list(GROUPS)})")
         self.drive, self.supports = drive, supports
         self.n_positions = int(n_positions)
-        self.rigid = tuple(rigid)
         self.zb = self.mesh.labels
         if self.khv:
             self.cranks, self.r_c, self.sun_over_planet = 1, 0.0, 0.0
@@ -295,6 +319,48 @@ class CycloidSystem:
             tables = tuple(filled.setdefault(s.offset, self.mesh.pitch_tables(
                 self.n_positions, s.offset, cache, int(pitch_samples))) for s in slots)
             self.pitch_tables = None if None in tables else tables
+        m = drive.material_si
+        span = supports.crankshaft_span_m
+        d = supports.crankshaft_diameter_m
+        if self.khv:
+            om = drive.output
+            self.output_pin_bending = sp.simply_supported_influence(
+                axial[:, None], axial[None, :], span, 2 * om.pin_radius_m,
+                m.youngs_modulus_Pa, m.poisson_ratio)
+        self._bending_base = np.kron(np.linalg.inv(sp.simply_supported_influence(
+            axial[:, None], axial[None, :], span, d, m.youngs_modulus_Pa, m.poisson_ratio)),
+            np.eye(2))
+        self._torsion_base = 1.0 / sp.torsion_compliance(0.5 * span, d, m.youngs_modulus_Pa,
+                                                         m.poisson_ratio)
+        self._set_laws(rigid=tuple(rigid), crank_bearing_play_m=crank_bearing_play_m,
+                       crank_bearing_stiffness_N_per_m=crank_bearing_stiffness_N_per_m,
+                       stiffness_scale=stiffness_scale)
+        self._coords = self._coordinates()
+
+    def _set_laws(self, *, rigid, crank_bearing_play_m, crank_bearing_stiffness_N_per_m,
+                  stiffness_scale) -> None:
+        """The elements' laws from the options (the constructor's and :meth:`variant`'s);
+        the elements kept per crank angle are dropped."""
+        unknown = set(rigid) - set(GROUPS)
+        if unknown:
+            raise CaseError(f"rigid = {sorted(unknown)!r}: not parts of the model "
+                            f"({list(GROUPS)})")
+        scale = dict(stiffness_scale or {})
+        unknown = set(scale) - set(SCALABLE)
+        if unknown:
+            raise CaseError(f"stiffness_scale = {sorted(unknown)!r}: not parts of the model "
+                            f"({list(SCALABLE)})")
+        for name, f in scale.items():
+            if not (math.isfinite(f) and f > 0):
+                raise CaseError(f"stiffness_scale[{name!r}] = {f!r}: > 0 and finite")
+        if not math.isfinite(crank_bearing_play_m):
+            raise CaseError(f"crank_bearing_play_m = {crank_bearing_play_m!r}: finite")
+        self._rigid_asked = tuple(rigid)
+        self.rigid = tuple(rigid)
+        self.stiffness_scale = scale
+        self.crank_bearing_play_m = float(crank_bearing_play_m)
+        self.crank_bearing_stiffness_N_per_m = crank_bearing_stiffness_N_per_m
+        supports, drive = self.supports, self.drive
         self.crank_bearing = el.RollerBearing(supports.bearing_roller_count,
                                               supports.bearing_roller_length_m,
                                               play_m=crank_bearing_play_m) \
@@ -304,14 +370,8 @@ class CycloidSystem:
         self.support_bearing = el.RollerBearing(
             SUPPORT_ROLLERS, SUPPORT_LENGTH_REL * d,
             contact_angle_rad=math.radians(SUPPORT_ANGLE_DEG))
-        m = drive.material_si
-        span = supports.crankshaft_span_m
-        self.bending_stiffness = np.kron(np.linalg.inv(sp.simply_supported_influence(
-            axial[:, None], axial[None, :], span, d, m.youngs_modulus_Pa, m.poisson_ratio)),
-            np.eye(2))
-        self.torsion_stiffness = 1.0 / sp.torsion_compliance(0.5 * span, d,
-                                                             m.youngs_modulus_Pa,
-                                                             m.poisson_ratio)
+        self.bending_stiffness = self._bending_base
+        self.torsion_stiffness = self._torsion_base
         fs = None if self.khv else drive.first_stage
         if fs is None:               # no spur stage, or no module: the mesh taken rigid
             self.rigid = self.rigid + ("spur mesh",)
@@ -321,13 +381,34 @@ class CycloidSystem:
                 math.cos(fs.pressure_angle_rad)
             self.spur_stiffness = SPUR_MESH_STIFFNESS_N_PER_M2 * fs.face_width_m
         self.carrier_stiffness = supports.carrier_stiffness_Nm_per_rad
-        if self.khv:
-            om = drive.output
-            self.output_pin_bending = sp.simply_supported_influence(
-                axial[:, None], axial[None, :], span, 2 * om.pin_radius_m,
-                m.youngs_modulus_Pa, m.poisson_ratio)
-        self._coords = self._coordinates()
         self._kept_elements = {}
+        self._laws = {}              # part -> its (scaled) law, one object per part
+
+    def variant(self, *, rigid: tuple | None = None, crank_bearing_play_m: float | None = None,
+                crank_bearing_stiffness_N_per_m: float | None = None,
+                stiffness_scale: dict | None = None) -> "CycloidSystem":
+        """This system with other element options, on the same discs, tables and positions
+        (no table is read again: what a fit that varies the parts calls many times).
+
+        Parameters
+        ----------
+        rigid, crank_bearing_play_m, crank_bearing_stiffness_N_per_m, stiffness_scale
+            As the constructor's; None keeps this system's (``stiffness_scale={}``: none).
+
+        Returns
+        -------
+        CycloidSystem
+        """
+        out = copy.copy(self)
+        out._set_laws(
+            rigid=self._rigid_asked if rigid is None else tuple(rigid),
+            crank_bearing_play_m=self.crank_bearing_play_m if crank_bearing_play_m is None
+            else crank_bearing_play_m,
+            crank_bearing_stiffness_N_per_m=self.crank_bearing_stiffness_N_per_m
+            if crank_bearing_stiffness_N_per_m is None else crank_bearing_stiffness_N_per_m,
+            stiffness_scale=self.stiffness_scale if stiffness_scale is None
+            else stiffness_scale)
+        return out
 
     def group(self, part: str) -> str:
         """The outputs' name of a part of GROUPS in this layout.
@@ -383,6 +464,56 @@ class CycloidSystem:
             kept = self._kept_elements[phi] = self._build_elements(phi)
         return kept
 
+    def _with_crank_errors(self, elements, phi: float, deviation, pitch: int = 0) -> list:
+        """``elements`` with a built stage's crank eccentricity errors as the crank
+        bearings' forced deformations: crank k's eccentric at disc j off its place by
+        de_kj u(phi_j + theta_kj) (the class's Notes; errors (cranks,) or (cranks, discs));
+        the elements themselves where the deviation has none.
+
+        ``pitch`` m: the state m meshing periods on, solved in pitch 0's frame (the stage
+        turned back by m periods): the errors' directions are pitch 0's, and the cranks
+        stand where pitch 0's did, each moved on by the carrier's turn against that frame,
+        (turn ratio - 1) m period; that must be a whole number of crank spacings (the
+        crank at place k is then crank k - that number).
+
+        Raises
+        ------
+        CaseError
+            For errors of another shape, or a pitch that does not bring the cranks back
+            onto the cranks' places.
+        """
+        de = np.asarray(getattr(deviation, "crank_eccentricity_m", ()), float)
+        if de.size == 0 or not np.any(de):
+            return elements
+        theta = np.asarray(getattr(deviation, "crank_phase_rad", ()), float)
+        theta = np.zeros(de.shape) if theta.size == 0 else theta
+        shape = (self.cranks, self.discs)
+        try:
+            de = np.broadcast_to(de.reshape(de.shape + (1,) * (2 - de.ndim)), shape)
+            theta = np.broadcast_to(theta.reshape(theta.shape + (1,) * (2 - theta.ndim)),
+                                    shape)
+        except ValueError:
+            raise CaseError(f"crank_eccentricity_m {np.shape(deviation.crank_eccentricity_m)}"
+                            f" and crank_phase_rad {np.shape(deviation.crank_phase_rad)}: "
+                            f"one value per crank ({self.cranks}) or per crank and "
+                            f"{self.drive.member_name} {shape}") from None
+        turn = (self.mesh.turn_ratio - 1.0) * int(pitch) * self.drive.period_rad
+        moved = turn * self.cranks / (2 * math.pi)
+        if self.cranks > 1 and abs(moved - round(moved)) > 1e-9:
+            raise CaseError(f"pitch {int(pitch)}: the carrier turns {math.degrees(turn):.6g} "
+                            "deg against pitch 0's frame, not a whole number of crank "
+                            "spacings; solve crank errors at the positions' own pitch")
+        moved = int(round(moved)) if self.cranks > 1 else 0
+        offsets = {}
+        for k in range(self.cranks):
+            c = (k - moved) % self.cranks           # the crank standing at place k
+            for s in self.slots:
+                a = phi + s.phase_rad + theta[c, s.index]
+                offsets[self._bearing_name(k, s.index)] = de[c, s.index] * np.array(
+                    [math.cos(a), math.sin(a)])
+        return [replace(e, offset=offsets[e.name]) if e.name in offsets else e
+                for e in elements]
+
     def _build_elements(self, phi: float) -> list:
         c, out = self._coords, []
         n = c.n
@@ -406,37 +537,43 @@ class CycloidSystem:
                 b[:, dj.start + 2] -= perp(a_k)
                 out.append(Element(self._bearing_name(k, s.index),
                                    self.group("crank bearings"), b,
-                                   self._maybe_rigid("crank bearings", self.crank_bearing, 2)))
+                                   self._law("crank bearings", self.crank_bearing, 2)))
             for name in ("s1", "s2"):
                 b = np.zeros((2, n))
                 b[:, c.index[f"{name}_{k}"]] = np.eye(2)
                 out.append(Element(self._support_name(k, "ab"[name == "s2"]),
                                    self.group("support bearings"), b,
-                                   self._maybe_rigid("support bearings",
-                                                     self.support_bearing, 2)))
+                                   self._law("support bearings", self.support_bearing, 2)))
             b = np.zeros((2 * self.discs, n))
             b[:, c.index[f"w{k}"]] = np.eye(2 * self.discs)
             shaft = "input shaft" if self.khv else f"crankshaft {k + 1}"
             out.append(Element(f"{shaft} bending", self.group("crankshaft bending"), b,
-                               self._maybe_rigid("crankshaft bending",
-                                                 el.linear(self.bending_stiffness),
-                                                 2 * self.discs)))
+                               self._law("crankshaft bending",
+                                         el.linear(self.bending_stiffness), 2 * self.discs)))
             twist = {f"psi_e{k}": 1.0} if self.khv else {f"psi_e{k}": 1.0, f"psi_g{k}": -1.0}
             out.append(Element(f"{shaft} torsion", self.group("crankshaft torsion"),
                                c.row(twist)[None, :],
-                               self._maybe_rigid("crankshaft torsion",
-                                                 el.linear(self.torsion_stiffness), 1)))
+                               self._law("crankshaft torsion",
+                                         el.linear(self.torsion_stiffness), 1)))
             if not self.khv:
                 r_b = self.planet_base_radius
                 out.append(Element(f"spur mesh {k + 1}", "spur mesh",
                                    c.row({f"psi_g{k}": r_b,
                                           "carrier": -r_b * self.sun_over_planet})[None, :],
-                                   self._maybe_rigid("spur mesh",
-                                                     el.linear(self.spur_stiffness), 1)))
+                                   self._law("spur mesh", el.linear(self.spur_stiffness), 1)))
         if self.carrier_stiffness:
             out.append(Element("carrier", "carrier", c.row({"out": 1.0, "carrier": -1.0})[None],
-                               el.linear(self.carrier_stiffness)))
+                               self._law("carrier", el.linear(self.carrier_stiffness), 1)))
         return out
+
+    def _law(self, part: str, law, size: int):
+        """The law of a part: ``law`` scaled by its ``stiffness_scale``, or rigid
+        (:meth:`_maybe_rigid`); one object per part (the solver evaluates the elements of
+        one law together)."""
+        if part not in self._laws:
+            self._laws[part] = self._maybe_rigid(
+                part, el.scaled(law, self.stiffness_scale.get(part, 1.0)), size)
+        return self._laws[part]
 
     def _maybe_rigid(self, group, law, size: int):
         """``law``, or a rigid one of ``size`` where ``group`` is made rigid: a linear law
@@ -463,8 +600,9 @@ class CycloidSystem:
             dj = c.index[f"disc{s.index}"]
             gmat[:, dj.start:dj.start + 2] = -mc.normal.T
             gmat[:, dj.start + 2] = mc.arm
+            base, local = _softened(mc.base, mc.local, self.stiffness_scale.get("mesh", 1.0))
             out.append((ContactSet(f"mesh {self.drive.member_name} {s.index + 1}", "mesh", mc.g0,
-                                   gmat, mc.base, mc.local), mc))
+                                   gmat, base, local), mc))
         return out
 
     def _output_pins(self, phi: float, torque: float) -> ContactSet:
@@ -504,6 +642,7 @@ class CycloidSystem:
         def local(lam):             # Palmgren's secant, per contact
             q = np.maximum(np.abs(np.asarray(lam, float)), OUTPUT_LOAD_FLOOR * mean)
             return contacts * sp.roller_approach(q, width) / q
+        bending, local = _softened(bending, local, self.stiffness_scale.get("output pins", 1.0))
         return ContactSet("output pins", "output pins", np.array(g0), np.array(rows),
                           bending, local)
 
@@ -538,14 +677,17 @@ class CycloidSystem:
             sets.append(self._output_pins(phi, side))
         q = np.zeros(c.n)
         q[c.index["out"]] = side
-        _, motion = closing_motion(c.n, self._elements(phi),
-                                   np.concatenate([cs.g for cs in sets]),
-                                   np.concatenate([cs.g0 for cs in sets]), q, signed=True)
-        return float(motion[c.index["out"]][0])
+        elements = self._with_crank_errors(self._elements(phi), phi, deviation, pitch)
+        # the rigid parts' pose with the cranks' errors (none: at rest)
+        u0 = rest(c.n, elements)
+        _, motion = closing_motion(c.n, elements, np.concatenate([cs.g for cs in sets]),
+                                   np.concatenate([cs.g0 for cs in sets]), q, u=u0,
+                                   signed=True)
+        return float(motion[c.index["out"]][0] + u0[c.index["out"]][0])
 
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
               start=None, friction: PathFriction | None = None, deviation=None,
-              pitch: int = 0) -> SystemState:
+              pitch: int = 0, geometry=None) -> SystemState:
         """The system at position p under an output torque (input held).
 
         Parameters
@@ -566,6 +708,9 @@ class CycloidSystem:
         pitch : int
             The built stage's pin pitches on from the position (a deviation's pins and
             lobes meet there).
+        geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+            The disc with other modifications (micrometres from the tables' disc: its
+            initial gaps on these tables, as the design search takes them).
 
         Returns
         -------
@@ -584,11 +729,11 @@ class CycloidSystem:
         side = int(math.copysign(1, t)) if side is None else side
         phi = float(self.slots[0].solver.positions_rad[p])
         c = self._coords
-        elements = self._elements(phi)
+        elements = self._with_crank_errors(self._elements(phi), phi, deviation, pitch)
         q = np.zeros(c.n)
         q[c.index["out"]] = t
         while True:
-            pins = self._pins(p, side, t, deviation, pitch)
+            pins = self._pins(p, side, t, deviation, pitch, geometry)
             sets = [cs for cs, _ in pins]
             if self.khv:
                 sets.append(self._output_pins(phi, t))
@@ -728,6 +873,20 @@ class CycloidSystem:
         om = self.drive.output
         angle = 2 * math.pi * np.arange(om.pin_count) / om.pin_count + self.mesh.turn_ratio * phi
         return om.pin_hole_circle_radius_m * np.stack([np.cos(angle), np.sin(angle)])
+
+
+def _softened(base, local, factor: float):
+    """(base, local) of a contact set ``factor`` times as stiff: its flexibility over the
+    factor (the FE tables and the local law alike); themselves for a factor of 1."""
+    if factor == 1.0:
+        return base, local
+    base = None if base is None else base / factor
+    if local is None:
+        return base, None
+
+    def scaled(lam):
+        return local(lam) / factor
+    return base, scaled
 
 
 #: The stiffness of a part made rigid for a limit case [N/m or N m/rad]: 1e5 times the

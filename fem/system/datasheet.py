@@ -113,13 +113,17 @@ class SystemTwist:
         A twist of the same system and positions (the nominal design of a built ring):
         each torque's solve starts from its states at that torque (a few um away: the
         contacts that carry mostly the same).
+    geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+        The disc with other modifications on the system's tables
+        (:meth:`CycloidSystem.solve`).
     """
 
     def __init__(self, system: CycloidSystem, progress=None, friction=None, deviation=None,
-                 pitches=None, reference: SystemTwist | None = None):
+                 pitches=None, reference: SystemTwist | None = None, geometry=None):
         self.system = system
         self.friction = friction
         self.deviation = deviation
+        self.geometry = geometry
         self.pitches = None if pitches is None else np.asarray(pitches, int)
         self.drive = system.drive
         self.supports = system.supports
@@ -154,7 +158,7 @@ class SystemTwist:
             it = it if self.progress is None else self.progress(it)
             self._memo[t] = [self.system.solve(
                 t, p, start=None if last is None else last[p], friction=self.friction,
-                deviation=self.deviation,
+                deviation=self.deviation, geometry=self.geometry,
                 pitch=0 if self.pitches is None else int(self.pitches[p])) for p in it]
             self._last[flank] = self._memo[t]
         return self._memo[t]
@@ -242,7 +246,8 @@ class SystemTwist:
 
 
 def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pitch: int,
-              cache=True, progress=None, **options):
+              cache=True, progress=None, deviation=None, geometry=None,
+              full_period: int | None = None, **options):
     """The transmission error over the full period and the split between the discs, from
     the system model at ``samples`` pitches spread over the period (each a system over one
     pitch, its discs' FE tables at their true configurations) filled by a Fourier series in
@@ -260,6 +265,14 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
         The FE tables' disk cache.
     progress : callable, optional
         Wraps the iterator over the sampled pitches.
+    deviation : toothfem.fem.deviations.CycloidDeviation, optional
+        A built stage, solved at each sampled pitch's true positions
+        (:meth:`CycloidSystem.solve`); its period may be longer than the drive's
+        (``full_period``, :meth:`toothfem.fem.drives.base.Drive.deviation_period_pitches`).
+    geometry : toothfem.geometry.cycloid.CycloidGeometry, optional
+        The disc with other modifications on the tables (:meth:`CycloidSystem.solve`).
+    full_period : int, optional
+        Pitches after which the TE repeats (default ``drive.full_period_pitches``).
     **options
         Go to :class:`CycloidSystem`.
 
@@ -271,15 +284,55 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
         bearing's load over the full period.
     """
     check_te_inputs(output_torque_Nm, samples, per_pitch)
-    t = float(output_torque_Nm)
-    k = drive.full_period_pitches
+    k = drive.full_period_pitches if full_period is None else int(full_period)
     pitches = sampled_pitches(k, samples)
+    # one system at a time (its tables read as it is solved; a bar steps per pitch)
+    systems = (CycloidSystem(drive, supports, per_pitch, cache=cache, pitch=m, **options)
+               for m in (pitches if progress is None else progress(pitches)))
+    return period_te(systems, pitches, output_torque_Nm, full_period=k, deviation=deviation,
+                     geometry=geometry)
+
+
+def period_te(systems, pitches, output_torque_Nm: float, *, full_period: int,
+              deviation=None, geometry=None, solve_pitches=None):
+    """:func:`system_te` from its systems, one per sampled pitch (built at that pitch, on
+    one grid of positions): each position solved from its neighbour's state, the pitches
+    filled over the period.
+
+    Parameters
+    ----------
+    systems : iterable of CycloidSystem
+        One per pitch of ``pitches``, in their order, ``CycloidSystem(..., pitch=m)`` (or
+        its variants), all on one grid; taken one at a time.
+    pitches : sequence of int
+        The sampled pitches, distinct, in [0, full_period).
+    output_torque_Nm : float
+        [N m], nonzero.
+    full_period : int
+        Pitches after which the TE repeats.
+    deviation, geometry
+        As :func:`system_te`.
+    solve_pitches : sequence of int, optional
+        Per system, the pitches on from its own that its positions are solved at
+        (:meth:`CycloidSystem.solve`'s ``pitch``: a period longer than the tables' full
+        period reuses the systems of the pitch modulo that period, solved whole full
+        periods on); default 0 each.
+
+    Returns
+    -------
+    (LoadedTE, MemberSplit or None, BearingLoads)
+        As :func:`system_te`.
+    """
+    t = float(output_torque_Nm)
+    k = int(full_period)
     twist, mesh, shares, bearings = [], [], [], []
-    for m in (pitches if progress is None else progress(pitches)):
-        system = CycloidSystem(drive, supports, per_pitch, cache=cache, pitch=m, **options)
+    solve_pitches = [0] * len(pitches) if solve_pitches is None else list(solve_pitches)
+    for system, on in zip(systems, solve_pitches):
+        drive, per_pitch = system.drive, system.n_positions
         sts, last = [], None
         for p in range(per_pitch):
-            last = system.solve(t, p, start=last)
+            last = system.solve(t, p, start=last, deviation=deviation, geometry=geometry,
+                                pitch=int(on))
             sts.append(last)
         twist.append([s.twist_rad for s in sts])
         mesh.append(_paths(sts)["mesh"])
@@ -292,7 +345,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
     te, mesh_full = fill(twist).ravel(), fill(mesh).ravel()
     m = drive.members
     share = fill(shares).reshape(k, m, per_pitch).transpose(1, 0, 2).reshape(m, -1)
-    loaded = loaded_record(drive, t, te, mesh_full, pitches, per_pitch)
+    loaded = loaded_record(drive, t, te, mesh_full, pitches, per_pitch, full_period=k)
     crank = loaded.crank_angle_rad
     load = fill(bearings).reshape(k, len(names), per_pitch).transpose(1, 0, 2)
     loads = BearingLoads(names=tuple(names), load_N=load.reshape(len(names), -1),

@@ -38,6 +38,64 @@ def linear(stiffness):
     return Linear(stiffness)
 
 
+class Scaled:
+    """A law with its force and tangent scaled: f = s f_law(delta), K = s K_law(delta)
+    (a part stiffer or softer than its model by the factor s, e.g. fitted to a rig); the
+    law's ``homogeneity`` kept.
+
+    Parameters
+    ----------
+    law : callable
+        delta -> (f, K), batched over leading axes as the law is.
+    factor : float
+        s, > 0.
+    """
+
+    def __init__(self, law, factor: float):
+        if not (math.isfinite(factor) and factor > 0):
+            raise ValueError(f"factor = {factor!r}: > 0 and finite")
+        self.law, self.factor = law, float(factor)
+        self.homogeneity = getattr(law, "homogeneity", 1.0)
+
+    def __call__(self, delta):
+        """(s f, s K) at the deformation.
+
+        Parameters
+        ----------
+        delta : array_like
+            As the law takes it.
+
+        Returns
+        -------
+        force, tangent : numpy.ndarray
+        """
+        f, k = self.law(delta)
+        return self.factor * f, self.factor * k
+
+
+def scaled(law, factor: float):
+    """A law ``factor`` times as stiff: a linear law stays linear (the solver assembles it
+    once), any other is wrapped (:class:`Scaled`); a factor of 1 returns the law itself.
+
+    Parameters
+    ----------
+    law : Linear or callable
+    factor : float
+        > 0.
+
+    Returns
+    -------
+    Linear or Scaled or the law
+    """
+    if factor == 1.0:
+        return law
+    if isinstance(law, Linear):
+        if not (math.isfinite(factor) and factor > 0):
+            raise ValueError(f"factor = {factor!r}: > 0 and finite")
+        return Linear(law.k * factor)
+    return Scaled(law, factor)
+
+
 def roller_constant(length_m: float) -> float:
     """K_n [N/m^(10/9)] of one roller between two raceways, Q = K_n delta^(10/9): Palmgren's
     approach delta = 3.84e-5 Q^0.9 / l^0.8 [mm, N] on each raceway (Harris & Kotzalas,

@@ -25,11 +25,13 @@ linearised at each step). H depends on lambda only through each contact's own lo
 tangent, H + diag(lambda_i dH_ii/dlambda_i), so it is Newton's in the forces as well.
 
 Work balance. Taking the solution itself as the virtual displacement,
-``Q . u = sum_e f_e . delta_e + lambda . H lambda + lambda . g0`` exactly (the gaps of the
+``Q . u = sum_e f_e . B_e u + lambda . H lambda + lambda . g0`` exactly (the gaps of the
 carrying contacts are zero): the output's twist times its torque is the sum of each
 element's force times its deformation, the contacts' elastic approach and the clearance
 they closed. :attr:`Equilibrium.work` keeps these terms, so the twist splits into parts
-that add up to it at any load, linear or not.
+that add up to it at any load, linear or not. An element with a forced deformation
+(``Element.offset``: a part off its drawing) counts its force times the bodies' part of
+its deformation, B_e u, so the parts still add up to the twist exactly.
 """
 from __future__ import annotations
 
@@ -75,12 +77,30 @@ MECHANISM_RTOL = 1e-10
 
 @dataclass(frozen=True)
 class Element:
-    """An elastic element: deformation ``B @ u`` (d,), law ``law(delta) -> (f (d,),
-    K (d, d))``, ``group`` the compliance it is reported under."""
+    """An elastic element: deformation ``B @ u + offset`` (d,), law ``law(delta) -> (f (d,),
+    K (d, d))``, ``group`` the compliance it is reported under. ``offset`` (d,) is a
+    deformation forced on the element with every body at rest (a part off its drawing: an
+    eccentric off its place pushes its bearing's rings against each other by that much);
+    None: none."""
     name: str
     group: str
     b: np.ndarray
     law: object
+    offset: np.ndarray | None = None
+
+    def deformation(self, u) -> np.ndarray:
+        """delta = B u + offset at the coordinates u.
+
+        Parameters
+        ----------
+        u : numpy.ndarray, shape (n,)
+
+        Returns
+        -------
+        numpy.ndarray, shape (d,)
+        """
+        d = self.b @ u
+        return d if self.offset is None else d + self.offset
 
 
 @dataclass(frozen=True)
@@ -147,7 +167,7 @@ def _each_element(elements, u) -> dict:
         groups.setdefault(id(e.law), []).append(e)
     out = {}
     for same in groups.values():
-        d = np.stack([e.b @ u for e in same])            # (G, d)
+        d = np.stack([e.deformation(u) for e in same])   # (G, d)
         f = same[0].law(d)[0] if not isinstance(same[0].law, Linear) else \
             np.einsum("ij,gj->gi", same[0].law.k, d)
         out.update({e.name: (f[i], d[i]) for i, e in enumerate(same)})
@@ -196,7 +216,9 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         [np.asarray(lam0[c.name], float) for c in contacts])
     active = None if active0 is None else np.concatenate(
         [np.asarray(active0[c.name], bool) for c in contacts])
-    linear, nonlinear = _split_linear(elements, n)
+    linear, forced, nonlinear = _split_linear(elements, n)
+    if u0 is None:
+        u = rest(n, elements)
     last = np.inf
     with one_blas_thread():
         h, d = _flexibility(contacts, lam, sizes)
@@ -205,7 +227,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         secant = u0 is None
         last_rel = (np.inf, np.inf)
         for it in range(1, MAX_NEWTON + 1):
-            f_int, kt = _internal(linear, nonlinear, u, n, secant)
+            f_int, kt = _internal(linear, forced, nonlinear, u, n, secant)
             # the contacts' approach H(lam) lam linearised at lam: H + D, D its diagonal's
             # own-force derivative lam_i dH_ii/dlam_i (the Hertz and Palmgren laws), so the
             # step is Newton's in the forces too
@@ -236,7 +258,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         else:
             raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
     if rate:
-        _, kt = _internal(linear, nonlinear, u, n)
+        _, kt = _internal(linear, forced, nonlinear, u, n)
         tangent = h + np.diag(d)
         rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)],
                      q / np.linalg.norm(q))
@@ -247,8 +269,8 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
     gap = np.where(active, 0.0, gap)
     work = {}
     for e in elements:
-        f, d = per[e.name]
-        work[e.group] = work.get(e.group, 0.0) + float(f @ d)
+        f = per[e.name][0]
+        work[e.group] = work.get(e.group, 0.0) + float(f @ (e.b @ u))
     for k, c in enumerate(contacts):
         sl = slice(sizes[k], sizes[k + 1])
         work[c.group] = work.get(c.group, 0.0) + float(lam[sl] @ (h[sl, sl] @ lam[sl]))
@@ -375,27 +397,60 @@ def closing_motion(n, elements, gmat, g0, q, u=None, signed=False):
     return active, motion
 
 
+def rest(n: int, elements) -> np.ndarray:
+    """The coordinates where no element is deformed: zero, or with forced deformations
+    (``Element.offset``) the least-squares (smallest) u with B_e u = -offset_e for every
+    element (where the offsets are not compatible, e.g. cranks of unequal eccentricity on
+    rigid bearings, the compromise the least squares make). The solve's start from rest.
+
+    Parameters
+    ----------
+    n : int
+        Number of coordinates.
+    elements : sequence of Element
+
+    Returns
+    -------
+    numpy.ndarray, shape (n,)
+    """
+    if all(e.offset is None for e in elements):
+        return np.zeros(n)
+    rows = np.concatenate([e.b for e in elements], axis=0)
+    rhs = np.concatenate([-(np.zeros(e.b.shape[0]) if e.offset is None else e.offset)
+                          for e in elements])
+    return np.linalg.lstsq(rows, rhs, rcond=None)[0]
+
+
 def _split_linear(elements, n):
-    """(K of the linear elements summed (n, n), the other elements grouped by their law:
-    [(law, B stacked (G, d, n))], evaluated together)."""
+    """(K of the linear elements summed (n, n), the constant force of their forced
+    deformations sum B^T K offset (n,), the other elements grouped by their law:
+    [(law, B stacked (G, d, n), offsets stacked (G, d))], evaluated together)."""
     k = np.zeros((n, n))
+    forced = np.zeros(n)
     groups = {}
     for e in elements:
+        off = np.zeros(e.b.shape[0]) if e.offset is None else np.asarray(e.offset, float)
         if isinstance(e.law, Linear):
             k += e.b.T @ e.law.k @ e.b
+            if e.offset is not None:
+                forced += e.b.T @ (e.law.k @ off)
         else:
-            groups.setdefault(id(e.law), (e.law, []))[1].append(e.b)
-    return k, [(law, np.stack(bs)) for law, bs in groups.values()]
+            g = groups.setdefault(id(e.law), (e.law, [], []))
+            g[1].append(e.b)
+            g[2].append(off)
+    return k, forced, [(law, np.stack(bs), np.stack(offs))
+                       for law, bs, offs in groups.values()]
 
 
-def _internal(k_linear, nonlinear, u, n, secant=False):
-    """(F(u), K(u)) of every element: the linear ones' sum, the others by law, batched;
-    ``secant``: each law's tangent over its ``homogeneity`` a (a law f(t delta) = t^a
-    f(delta) has K delta = a f: K / a is its secant)."""
-    force = k_linear @ u
+def _internal(k_linear, forced, nonlinear, u, n, secant=False):
+    """(F(u), K(u)) of every element: the linear ones' sum (and their forced deformations'
+    constant force), the others by law at B u + offset, batched; ``secant``: each law's
+    tangent over its ``homogeneity`` a (a law f(t delta) = t^a f(delta) has K delta = a f:
+    K / a is its secant)."""
+    force = k_linear @ u + forced
     stiff = k_linear.copy()
-    for law, b in nonlinear:
-        f, k = law(b @ u)                               # (G, d), (G, d, d)
+    for law, b, off in nonlinear:
+        f, k = law(b @ u + off)                         # (G, d), (G, d, d)
         if secant:
             k = k / getattr(law, "homogeneity", 1.0)
         flat = b.reshape(-1, n)
