@@ -129,3 +129,24 @@ def test_a_pressure_beyond_the_static_capacity_says_the_model_does_not_hold(case
     fatigue, static = limits.contact_pressure("the pins", 51_000.0, material)
     assert static.limit == 4000.0 and "ISO 76" in static.source
     assert "does not hold" in str(static)
+
+
+def test_the_design_checks_its_best_as_drawn_and_at_its_percentile(cases_dir):
+    """`toothfem design`'s best design goes through the same contact_pressure: its P90 of
+    1564 MPa is above the 1500 MPa allowable (said with the percentile and its missing
+    interval), its 986 MPa as drawn is not."""
+    from toothfem.design import Candidate, check_limits
+
+    si = load_case(cases_dir / "cycloid_pinhousing.toml").to_si()
+    best = Candidate(modification={}, backlash_arcmin=0.73, max_ph_MPa=1564.0,
+                     contacts_min=4.0, feasible=True)
+    found, drawn = check_limits(si, {"percentile": 90.0, "samples": 8}, best,
+                                {"max_ph_MPa": 986.0}, 167.0)
+    assert [w.value for w in found] == [1564.0]
+    assert "P90 of 8 built reducers (no 95 % interval: a P90 needs 36)" in found[0].quantity
+    assert found[0].source.startswith("material.allowable_contact_stress_MPa")
+    assert drawn["max_ph_MPa"][0]["value"] == pytest.approx(1500.0)
+    nominal_hot, _ = check_limits(si, {"percentile": None}, best, {"max_ph_MPa": 1600.0},
+                                  167.0)
+    assert [w.value for w in nominal_hot] == [1600.0]
+    assert "as drawn (nominal)" in nominal_hot[0].quantity

@@ -206,3 +206,237 @@ def test_a_case_without_a_rating_is_rated_at_its_operating_output_torque(cases_d
     assert rated < 0.9 * 0.4 * 79
     rv = load_case(cases_dir / "rv_paper_example.toml")
     assert rated_output_torque(rv) == (412.0, False)
+
+
+# --- picture faults of the audit: titles, named series, markers, sectors, labels ---------
+
+
+def test_wrap_keeps_peak_to_peak_and_the_mode_whole():
+    """A ripple's "1.89 arcsec peak to peak" and "(cycle mode)" are never broken, at any
+    width; a glued phrase longer than the width stays whole."""
+    from toothfem.report import wrap
+
+    title = ("The mesh's part of the TE (one disc held at its bearing seats): mean 48.5 "
+             "arcsec, ripple 0.0582 arcsec peak to peak; the reducer's TE is the summary's "
+             "system-model row\nRV-40E, the RV paper's worked example (Wang, 2.27 kW): 1524 N "
+             "m output, 736.6 N m on each of 2 discs (cycle mode)")
+    for width in range(10, 130, 3):
+        text = wrap(title, width)
+        for phrase in ("0.0582 arcsec peak to peak", "(cycle mode)", "1524 N m"):
+            assert phrase in text, (width, text)
+        assert "\u00a0" not in text
+
+
+def _labels(**kw):
+    from toothfem.report.contact import ContactLabels
+
+    return ContactLabels(**{**dict(case_name="c", contact="pin", contacts="pins",
+                                   member="disc", members=2, output_torque_Nm=100.0,
+                                   member_torque_Nm=55.0, mode="cycle"), **kw})
+
+
+def test_contact_titles_say_the_model_and_the_reducers_figures():
+    """Titles of the contact pictures say they show one member held at its bearing seats
+    and, where the summary has them, the reducer-wide figures for comparison."""
+    from types import SimpleNamespace
+
+    from toothfem.pipeline_files import contact_labels
+
+    summary = {"output_torque_Nm": 100.0, "disc_torque_Nm": 55.0,
+               "max_force_reducer_N": 2648.5, "max_ph_reducer_MPa": 2483.46}
+    result = SimpleNamespace(case_name="c", contact_name="pin", contacts_name="pins",
+                             member_name="disc", members=2, mode="cycle", summary=summary)
+    labels = contact_labels(result)
+    assert labels.reducer_max_force_N == 2648.5 and labels.reducer_max_ph_MPa == 2483.46
+    title = labels.title(f"Load per pin: {labels.model_text}", reducer=True)
+    assert "one disc held at its bearing seats" in title
+    assert "every disc free on its supports" in title
+    assert "largest force 2648 N" in title and "P_h 2483 MPa" in title
+    assert "force" not in labels.reducer(force=False).split(":")[-1]
+    assert _labels().reducer_text == "" and len(_labels().title("x", reducer=True)
+                                                .splitlines()) == 2
+    assert "the planet free" in _labels(member="planet", members=1,
+                                        reducer_max_ph_MPa=1.0).reducer_text
+
+
+def test_the_named_pins_include_the_largest_ph():
+    """Force and P_h peak on different pins (a pin's curvature, not its force): the pins
+    named in colour are the union of the top ones by force and by P_h."""
+    from toothfem.report.contact import MAX_LEGEND_SERIES, OTHER_CONTACTS, _highlighted
+
+    numbers = np.arange(20)
+    position = np.linspace(0, 1, 12)[:, None]
+    force = np.tile(np.linspace(1000, 50, 20), (12, 1)) * (1 + 0.01 * position)
+    ph = np.tile(np.r_[np.linspace(100, 400, 12), np.linspace(2000, 1500, 8)], (12, 1))
+    colour = _highlighted(numbers, force, ph)
+    named = {n for n in numbers if colour[n] != OTHER_CONTACTS}
+    assert len(named) == MAX_LEGEND_SERIES
+    assert {0, 1, 2} <= named                 # the top ones by force
+    assert {12, 13, 14} <= named              # the top ones by P_h
+
+
+def test_the_envelope_is_drawn_behind_the_series():
+    from toothfem.report import contact as rc, pyplot
+    from toothfem.fem.load_sharing import LoadSharing
+
+    p, c = 6, 3
+    force = np.array([[300.0, 200.0, 0.0]] * p)
+    ls = LoadSharing(method="cycle", position_rad=np.linspace(0, 0.1, p),
+                     contact_id=np.tile(np.arange(c), (p, 1)), force=force,
+                     point=np.tile([[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0]], (p, 1, 1)),
+                     moment_arm=np.full((p, c), -0.01), half_width=np.full((p, c), 1e-4),
+                     ph=force * 1e6, gap=np.zeros((p, c)), transmission_error=np.zeros(p),
+                     torque=5.0, face_width=0.01, pressure_from_fe=np.zeros((p, c), bool),
+                     equivalent_radius=np.full((p, c), 0.01),
+                     hertz_invalid=np.zeros((p, c), bool))
+    fig = rc.load_per_contact(ls, _labels())
+    ax = fig.axes[0]
+    band = next(li for li in ax.lines if "largest over" in li.get_label())
+    series = [li for li in ax.lines if li.get_label().startswith("pin ")]
+    assert series and all(band.get_zorder() < li.get_zorder() for li in series)
+    assert band.get_linestyle() == "-" and band.get_linewidth() > series[0].get_linewidth()
+    assert "one disc held at its bearing seats" in ax.get_title(loc="left")
+    pyplot().close(fig)
+    fig = rc.load_around_ring(ls, _labels())           # a point at 0 N above the frame
+    assert all(a.get_ylim()[0] < 0 for a in fig.axes[1:3])
+    pyplot().close(fig)
+
+
+def test_a_polar_sector_is_just_wider_than_the_loaded_span():
+    """The sine pair's teeth at -5.1..6.8 deg: the sector is their span and one pitch
+    either side on whole degrees, with round ticks; a half-ring load gets the circle."""
+    from toothfem.report.contact import POLAR_MAX_TICKS, polar_sector
+
+    start, end, ticks = polar_sector([-5.1, 0.0, 4.1, 6.8])
+    assert (start, end) == (-10.0, 11.0)
+    assert start <= -5.1 - 4.1 and end >= 6.8 + 4.1 and end - start < 25
+    inner = ticks[(ticks > start) & (ticks < end)]
+    assert np.allclose(np.diff(inner), inner[1] - inner[0]) and inner[1] - inner[0] in (
+        1, 2, 5, 10, 15, 20, 30, 45) and len(ticks) <= POLAR_MAX_TICKS + 2
+    assert polar_sector(np.arange(0.0, 181.0, 12.0)) is None
+
+
+def test_a_marked_points_colour_differs_from_every_lines():
+    """The operating star, a published square and a measured dot in colours no curve has;
+    a curve lying on an earlier one is dashed over it (both seen)."""
+    from matplotlib.colors import to_rgba
+
+    from toothfem.report import plots, pyplot
+
+    t = np.linspace(1, 40, 30)
+    base = 0.8 - 0.3 / t
+    curves = {f"curve {i}": base + 0.02 * i for i in range(5)}
+    curves["on curve 0"] = base + 1e-5
+    marked = [plots.Marked(x=20.0, y=0.79, kind=k, label=k)
+              for k in ("operating", "published", "measured")]
+    fig = plots.efficiency_vs_torque(t, curves, marked)
+    ax = fig.axes[0]
+    lines = [li for li in ax.lines if li.get_label() in curves]
+    points = [li for li in ax.lines if li.get_label() in ("operating", "published",
+                                                           "measured")]
+    line_colours = {to_rgba(li.get_color()) for li in lines}
+    for p in points:
+        for c in (p.get_markerfacecolor(), p.get_markeredgecolor()):
+            if to_rgba(c)[3] > 0 and to_rgba(c) != to_rgba("k"):
+                assert to_rgba(c) not in line_colours, p.get_label()
+    assert to_rgba(points[0].get_markerfacecolor()) not in line_colours
+    style = {li.get_label(): li.get_linestyle() for li in lines}
+    assert style["curve 0"] == "-" and style["on curve 0"] == "--"
+    assert style["curve 1"] == "-"
+    pyplot().close(fig)
+
+
+def test_loss_share_labels_are_exact_enough_and_never_overlap():
+    """11.49 and 11.51 % read alike (not 11 and 12), 20.5 and 19.9 apart; the value
+    labels of neighbouring bars do not overlap; published shares are one more group."""
+    from toothfem.report import plots, pyplot
+
+    text = plots.share_text
+    assert text(11.49) == text(11.51) == "11.5"
+    assert (text(20.5), text(19.9)) == ("20.5", "19.9")
+    assert (text(0.0503), text(0.0510), text(3.55), text(0.0), text(np.nan)) == (
+        "0.0503", "0.0510", "3.55", "0", "")
+    names = ["mesh", "main_bearings", "seals"]
+    shares = {"analytic": {"mesh": 0.1149, "main_bearings": 0.000503, "seals": 0.0074},
+              "fem": {"mesh": 0.1151, "main_bearings": 0.000510, "seals": 0.0075}}
+    fig = plots.loss_shares(names, shares, published={"mesh": 0.0355, "bearings": 0.0227})
+    ax = fig.axes[0]
+    fig.canvas.draw()
+    boxes = [t.get_window_extent() for t in ax.texts if t.get_text()]
+    assert len(boxes) == 8                        # 3 x 2 of ours, 2 published
+    for i, a in enumerate(boxes):
+        for b in boxes[i + 1:]:
+            assert not a.overlaps(b)
+    assert any("published" in t.get_text() for t in ax.get_legend().get_texts())
+    assert "bearings\n(published only)" in [t.get_text() for t in ax.get_xticklabels()]
+    pyplot().close(fig)
+
+
+def test_the_whole_members_view_takes_in_the_outlines_and_a_close_up_its_own_max():
+    from matplotlib.tri import Triangulation
+
+    from toothfem.report.contact import field_limits, view_max
+
+    x, y = np.meshgrid(np.linspace(-10, 10, 21), np.linspace(-10, 10, 21))
+    tri = Triangulation(x.ravel(), y.ravel())
+    pin = np.array([[-0.012, -0.011, -0.012, -0.013], [0.0, 0.001, 0.002, 0.001]])  # [m]
+    (x0, x1), (y0, y1) = field_limits(tri, [pin])
+    assert x0 < -13.0 and x1 > 10.0 and y0 < -10.0 and y1 > 10.0
+    value = np.hypot(x.ravel(), y.ravel())
+    top, at = view_max(tri, value, (-2.0, 2.0), (-2.0, 2.0))
+    assert top == pytest.approx(np.hypot(2, 2)) and abs(at[0]) == 2.0
+    assert view_max(tri, value, (50, 60), (50, 60)) == (None, None)
+
+
+def test_the_largest_ph_contact_is_found_in_the_members_frame():
+    """The member frame from the largest-force contact and the fixed member's outlines
+    (pins evenly about the housing's centre): any housing point maps as the rigid
+    motion does."""
+    from types import SimpleNamespace
+
+    from toothfem.pipeline_files import member_frame
+
+    turn, shift = 0.3, np.array([0.001, -0.002])
+    rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
+    to_member = lambda p: (np.asarray(p) - shift) @ rot.T          # noqa: E731
+    t = np.linspace(0, 2 * np.pi, 16, endpoint=False)
+    pins = [0.05 * np.array([np.cos(a), np.sin(a)])[:, None]
+            + 0.003 * np.array([np.cos(t), np.sin(t)]) for a in np.linspace(0, 2 * np.pi, 12,
+                                                                              endpoint=False)]
+    outlines = tuple(to_member(o.T).T for o in pins)
+    point = np.array([[[0.047, 0.0], [0.0, 0.047]]])               # (P, C, 2) housing
+    ls = SimpleNamespace(force=np.array([[900.0, 100.0]]), point=point)
+    result = SimpleNamespace(outlines=outlines, load_sharing=ls, worst=0,
+                             member_point=to_member(point[0, 0]))
+    assert np.allclose(member_frame(result, point[0, 1]), to_member(point[0, 1]), atol=1e-12)
+    assert member_frame(SimpleNamespace(outlines=()), point[0, 1]) is None
+
+
+def test_the_oil_temperature_map_takes_in_the_operating_oil():
+    from types import SimpleNamespace
+
+    from toothfem.pipeline_files import OIL_TEMPERATURE_GRID_C, oil_temperature_grid
+
+    oil = SimpleNamespace(pour_point_C=-30.0, max_temperature_C=150.0)
+    assert oil_temperature_grid(60.0, oil) is OIL_TEMPERATURE_GRID_C
+    hot = oil_temperature_grid(145.7, oil)
+    assert hot[0] == 20.0 and 145.7 < hot[-1] <= 150.0
+    cold = oil_temperature_grid(5.0, oil)
+    assert cold[0] < 5.0 and cold[-1] == 100.0
+
+
+def test_the_drawing_shows_the_pitch_point_it_names(cases_dir):
+    """The pitch point (+) lies inside the panel that marks it; the close-up's title does
+    not promise it."""
+    from toothfem.report import plots, pyplot
+
+    case = load_case(cases_dir / "cycloid_pinhousing.toml")
+    fig = plots.drawing(drive_for(case), case_name=case.name)
+    left, right = fig.axes
+    plus = [li for ax in fig.axes for li in ax.lines if li.get_marker() == "+"]
+    assert len(plus) == 1 and plus[0].axes is left
+    (x,), (y,) = plus[0].get_data()
+    assert left.get_xlim()[0] < x < left.get_xlim()[1]
+    assert left.get_ylim()[0] < y < left.get_ylim()[1]
+    assert "outside" not in left.get_title() and "left" in right.get_title()
+    pyplot().close(fig)

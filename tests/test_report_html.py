@@ -44,7 +44,8 @@ addEventListener('load', () => {
     images: document.images.length,
     broken: [...document.images].filter(i => !i.complete || i.naturalWidth === 0)
                                 .map(i => i.alt),
-    empty: empty, height: document.documentElement.scrollHeight});
+    empty: empty, height: document.documentElement.scrollHeight,
+    none: document.body.innerText.match(/\\bNone\\b[^\\n]{0,60}/g) || []});
   document.body.appendChild(out);
 });
 </script>"""
@@ -212,9 +213,9 @@ def _headless(browser, profile: Path, *args) -> subprocess.CompletedProcess:
 def test_report_opens_in_a_headless_browser(folders, tmp_path):
     """Chromium opens the run's page from the file system: a screenshot is taken, the
     console says nothing (nothing refused or missing), no picture is broken (naturalWidth
-    0) and no section is empty. The page is opened as a copy with a test-time probe
-    (PROBE: the page itself has no script, and its policy would refuse one) whose findings
-    the dumped DOM carries out."""
+    0), no section is empty and the text a reader sees never says Python's None. The page
+    is opened as a copy with a test-time probe (PROBE: the page itself has no script, and
+    its policy would refuse one) whose findings the dumped DOM carries out."""
     browser = _browser()
     if browser is None:
         pytest.skip("no headless browser: chromium, chromium-browser or google-chrome "
@@ -241,4 +242,66 @@ def test_report_opens_in_a_headless_browser(folders, tmp_path):
     probe = json.loads(found.group(1).replace("&quot;", '"').replace("&amp;", "&"))
     assert probe["images"] == len(list(folders["run"].rglob("*.png")))
     assert probe["broken"] == [] and probe["empty"] == []
+    assert probe["none"] == []                       # never Python's None on the page
     assert probe["height"] > 4000                    # the whole report, not a stub
+
+
+#: Python's None as a page's text would show it (an unset value printed as is).
+PY_NONE = re.compile(r"\bNone\b")
+
+
+def _page_text(path: Path) -> str:
+    page = _parse(path)
+    return "\n".join(s["text"] for s in page.sections.values())
+
+
+@pytest.mark.parametrize("command", ["run", "geometry"])
+def test_no_python_none_on_the_page(folders, command):
+    """An unset value reads as what it means, never as Python's None (the schema's
+    "(None: bare pins)", an assumed record's value None, an empty warnings list)."""
+    text = _page_text(folders[command] / "report.html")
+    assert not PY_NONE.findall(text), [line for line in text.splitlines()
+                                       if PY_NONE.search(line)][:5]
+
+
+def test_unset_values_read_as_what_they_mean():
+    assert report_html.spoken("a roller sleeve on each pin (None: bare pins)") == \
+        "a roller sleeve on each pin (not set: bare pins)"
+    assert report_html.spoken("none: minimised") == "none: minimised"     # English, kept
+    assert report_html.missing("supports.carrier_stiffness_Nm_per_arcmin") == \
+        "not set (a rigid carrier)"
+    assert report_html.missing("output_mechanism.roller_radius_mm") == "not set (bare pins)"
+    assert report_html.missing("x.anything_mm") == "not set"
+    said = report_html.folder_assumptions({"stiffness.json": {"supports": {
+        "carrier_stiffness_Nm_per_arcmin": {"value": None, "assumed": True}}}})
+    assert said == [("stiffness.json › supports › carrier_stiffness_Nm_per_arcmin",
+                     "assumed (not in the case): value = not set (a rigid carrier)")]
+    assert "None" not in report_html._warnings_html({}, [])
+
+
+def test_a_tolerance_page_lists_the_limits_its_percentiles_pass(cases_dir, tmp_path):
+    """The tolerance ensemble's page: each limit its nominal or a percentile passes is in
+    the warnings (P90 above the allowable contact stress, with its source), the limits
+    checked are in its results, and no Python None anywhere (bare pins, preload, holes)."""
+    import dataclasses
+
+    from tests.test_tolerance_report import synthetic
+    from toothfem.case import load_case
+    from toothfem.tolerance import check_limits, write_tolerance
+
+    case_file = cases_dir / "cycloid_khv.toml"
+    case = load_case(case_file)
+    r = synthetic()
+    found, drawn = check_limits(r, case.to_si())
+    write_tolerance(dataclasses.replace(r, warnings=tuple(found), limits=drawn), tmp_path)
+    path = report_html.write_report(tmp_path, case, command="tolerance", case_file=case_file)
+    page = _parse(path)
+    warned = page.sections["warnings"]["text"]
+    assert "P90 of 40 built reducers" in warned and "above the limit 1500 MPa" in warned
+    assert "material.allowable_contact_stress_MPa" in warned
+    assert any("against the allowable 1500 MPa" in s["text"] for s in page.sections.values())
+    text = _page_text(path)
+    assert not PY_NONE.findall(text), [line for line in text.splitlines()
+                                       if PY_NONE.search(line)][:5]
+    assert "bearings.main_preload_N = not set (ASSUMPTION 2 % of the row's C0) (default)" \
+        in page.sections["assumptions"]["text"]

@@ -267,7 +267,11 @@ def test_tolerance_command_writes_its_folder(cases_dir, tmp_path, capsys):
     assert all((out / f).stat().st_size > 0 for f in summary["files"])
     rows = (out / "samples.csv").read_text().splitlines()
     assert len(rows) == 9 and rows[0].startswith("sample,max_force_N")
-    assert "| maximum pin force [N] |" in (out / "report.md").read_text()
+    md = (out / "report.md").read_text()
+    assert ("| largest pin force on any disc (system model, positions over the pairing "
+            "period) [N] |") in md
+    assert "## Limits checked" in md
+    assert isinstance(summary["warnings"], list)
 
 
 def test_tolerance_command_refuses_bad_samples(cases_dir, tmp_path, capsys):
@@ -420,3 +424,84 @@ def test_percentiles_on_the_unfavourable_side():
     force = rows[OUTPUTS["max_force_N"][0]]
     assert force[TAIL_COLUMNS[1]].startswith("P90 ") and "[" in force[TAIL_COLUMNS[1]]
     assert force[TAIL_COLUMNS[2]] == "P99: needs 368 reducers"
+
+
+# -- the design report: nominal and percentile told apart ------------------------------------
+
+def _search(percentile=90.0, samples=8):
+    """A made-up search: 34 candidates that meet the targets around 1565 MPa, one far
+    point at 2236 MPa, the best at P90 0.73 arcmin / 1564 MPa, as drawn 0.58 / 986."""
+    from toothfem.design import Candidate, DesignResult
+
+    rng = np.random.default_rng(0)
+    mod = {"equidistant_modification_mm": 0.0118, "move_distance_modification_mm": -0.0032,
+           "rotation_modification_deg": -0.0166}
+    cands = [Candidate(modification=mod, backlash_arcmin=float(b), max_ph_MPa=float(p),
+                       contacts_min=4.0, feasible=True)
+             for b, p in zip(rng.uniform(0.1, 0.98, 34), rng.uniform(1564, 1600, 34))]
+    cands += [Candidate(modification=mod, backlash_arcmin=-1.3, max_ph_MPa=2236.0,
+                        contacts_min=6.0, feasible=False),
+              Candidate(modification=mod, backlash_arcmin=5.0, max_ph_MPa=1600.0,
+                        contacts_min=4.0, feasible=False)]
+    best = Candidate(modification=mod, backlash_arcmin=0.7312, max_ph_MPa=1563.9,
+                     contacts_min=4.0, feasible=True)
+    cands.append(best)
+    targets = {"max_backlash_arcmin": 1.0, "min_contacts": 4, "max_ph_MPa": None,
+               "percentile": percentile, "samples": samples}
+    check = {"max_ph_MPa": 986.0, "contacts_min": 6.0, "backlash_arcmin": 0.5824,
+             "search_tables_max_ph_MPa": 985.6, "search_tables_contacts_min": 6.0,
+             "search_tables_backlash_arcmin": 0.5824}
+    return DesignResult(case_name="c", targets=targets, candidates=cands, best=best,
+                        datasheet={"rated_torque_Nm": 167.0}, check=check, case=None,
+                        output_torque_Nm=167.0, member_torque_Nm=88.8,
+                        limits={"max_ph_MPa": [{"name": "allowable", "value": 1500.0,
+                                                "unit": "MPa", "source": "s"}]})
+
+
+def test_design_percentile_says_when_it_has_no_interval():
+    from toothfem.design import percentile_interval
+
+    few = percentile_interval({"percentile": 90.0, "samples": 8})
+    assert not few["has_interval"] and few["rings_needed"] == 36
+    assert few["text"].startswith("P90 of 8 built reducers: no 95 % interval (a P90 needs 36")
+    assert percentile_interval({"percentile": 90.0, "samples": 40})["has_interval"]
+    assert percentile_interval({"percentile": None, "samples": 8}) is None
+
+
+def test_design_report_tells_nominal_from_percentile():
+    """The printed table and report.md put the design as drawn (nominal) beside its P90,
+    the P90's column saying it has no 95 % interval from 8 reducers."""
+    from toothfem.report import design as report
+
+    summary = {**_search().summary(), "evaluations": 37}
+    rows = {what: cols for what, _, cols in report.summary_rows(summary)}
+    pc = "P90 of 8 reducers (no 95 % interval: needs 36)"
+    assert rows["backlash"] == {report.NOMINAL_COLUMN: 0.5824, pc: 0.7312}
+    assert rows["max P_h"] == {report.NOMINAL_COLUMN: 986.0, pc: 1563.9}
+    md = report.markdown(summary)
+    assert "**The percentile has no 95 % confidence interval**" in md
+    assert "| the same design as drawn (nominal, its own FE tables) |" in md
+    assert "| best, P90 of 8 built reducers: no 95 % interval" in md
+
+
+def test_tradeoff_zooms_on_the_feasible_and_marks_the_rest():
+    """The right panel is the window of the candidates that meet the targets (not the
+    2236 MPa outlier's scale); the points outside it are counted in its title; the star's
+    legend entry has the P90 figures and the nominal's its own."""
+    from toothfem.report import design as report, pyplot
+
+    fig = report.tradeoff(_search())
+    try:
+        full, zoom = fig.axes[:2]
+        lo, hi = zoom.get_ylim()
+        assert 1500 < lo < 1564 and 1600 < hi < 1700
+        assert full.get_ylim()[1] > 2236
+        title = zoom.get_title().replace("\n", " ")
+        assert "1 above (to 2236 MPa)" in title and "the best as drawn below" in title
+        labels = [t.get_text().replace("\n", " ") for t in zoom.get_legend().get_texts()]
+        assert any(x.startswith("best, P90 of 8 built reducers: no 95 % interval")
+                   and "backlash 0.731 arcmin, P_h 1564 MPa" in x for x in labels)
+        assert any("as drawn (nominal" in x and "P_h 986 MPa" in x for x in labels)
+        assert any(x.startswith("allowable P_h 1500 MPa") for x in labels)
+    finally:
+        pyplot().close(fig)

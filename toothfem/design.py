@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import limits
 from .case import Case, as_case
 from .errors import CaseError, check_range
 from .datasheet import path_friction
@@ -63,6 +64,10 @@ class DesignResult:
     datasheet: dict
     check: dict
     case: Case
+    output_torque_Nm: float | None = None      # the declared output torque searched at
+    member_torque_Nm: float | None = None      # its peak member torque (one disc held)
+    warnings: tuple = ()                       # toothfem.limits.Exceeded: the best's
+    limits: dict = dataclasses.field(default_factory=dict)   # {"max_ph_MPa": [...]} drawn
 
     def pareto(self) -> list:
         """The trade-off between backlash and pressure.
@@ -92,9 +97,90 @@ class DesignResult:
             evaluations and the Pareto front.
         """
         return {"case": self.case_name, "targets": self.targets,
+                "output_torque_Nm": self.output_torque_Nm,
+                "member_torque_Nm": self.member_torque_Nm,
+                "percentile_interval": percentile_interval(self.targets),
                 "best": dataclasses.asdict(self.best), "datasheet": self.datasheet,
                 "check_with_own_tables": self.check, "evaluations": len(self.candidates),
-                "pareto": [dataclasses.asdict(c) for c in self.pareto()]}
+                "pareto": [dataclasses.asdict(c) for c in self.pareto()],
+                "limits": self.limits, "warnings": [w.as_dict() for w in self.warnings]}
+
+
+def check_limits(si, targets: dict, best: Candidate, check: dict,
+                 output_torque_Nm: float) -> tuple:
+    """The best design against the case's limits (:mod:`toothfem.limits`, each check done
+    there): its largest Hertz pressure as drawn (its own FE tables) and at the search's
+    percentile (:func:`toothfem.limits.contact_pressure`), and the output torque against
+    the rating (:func:`toothfem.limits.rated_torque`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        The case: its material and ratings.
+    targets : dict
+        The [design] section as a dict (its ``percentile``, ``samples``).
+    best : Candidate
+        The best candidate (at the percentile, with one).
+    check : dict
+        Its figures as drawn with its own tables (``max_ph_MPa``).
+    output_torque_Nm : float
+        The output torque searched at [N m].
+
+    Returns
+    -------
+    found : list of toothfem.limits.Exceeded
+    drawn : dict
+        {"max_ph_MPa": [{"name", "value", "unit", "source"}]}: the contact stress limits
+        for the picture.
+    """
+    where = "the pin contacts of one disc held at the peak member torque, the best design"
+    found = list(limits.rated_torque(si, output_torque_Nm))
+    found += limits.contact_pressure(f"{where} as drawn (nominal)", check["max_ph_MPa"],
+                                     si.material)
+    iv = percentile_interval(targets)
+    if iv is not None:
+        at = f"P{iv['percentile']:g} of {iv['samples']} built reducers" + (
+            "" if iv["has_interval"] else
+            f" (no 95 % interval: a P{iv['percentile']:g} needs {iv['rings_needed']})")
+        found += limits.contact_pressure(f"{where} at {at}", best.max_ph_MPa, si.material)
+    mat = si.material
+    drawn = {"max_ph_MPa": [
+        {"name": "allowable", "value": mat.allowable_contact_stress_Pa * 1e-6, "unit": "MPa",
+         "source": "material.allowable_contact_stress_MPa"},
+        {"name": "static capacity", "value": mat.static_contact_stress_Pa * 1e-6,
+         "unit": "MPa", "source": "material.static_contact_stress_MPa"}]}
+    return found, drawn
+
+
+def percentile_interval(targets: dict) -> dict | None:
+    """Whether the search's percentile, taken of ``samples`` reducers per candidate, has a
+    95 % confidence interval (:func:`toothfem.tolerance.rings_needed`: a P90 needs 36
+    reducers, as its contacts' P10), and the words that say so.
+
+    Parameters
+    ----------
+    targets : dict
+        The [design] section as a dict (``percentile``, ``samples``).
+
+    Returns
+    -------
+    dict or None
+        None without a percentile; else ``percentile``, ``samples``, ``rings_needed``,
+        ``has_interval`` and ``text`` ("P90 of 8 built reducers: no 95 % interval (a P90
+        needs 36)").
+    """
+    from .tolerance import rings_needed
+
+    q = targets.get("percentile")
+    if q is None:
+        return None
+    n = int(targets.get("samples") or 0)
+    needed = max(rings_needed(q / 100), rings_needed(1 - q / 100))
+    head = f"P{q:g} of {n} built reducers"
+    text = (f"{head}: no 95 % interval (a P{q:g} needs {needed}; design.samples sets them)"
+            if n < needed else f"{head} (a 95 % interval needs {needed}: met)")
+    return {"percentile": q, "samples": n, "rings_needed": needed,
+            "has_interval": n >= needed, "text": text}
 
 
 def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -> DesignResult:
@@ -210,9 +296,13 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     best_case = _with_modification(case, best.modification)
     nominal = evaluate([best.modification[k] for k in names], devs=[None], record=False)
     sheet, check = _verify(best_case, nominal, positions, torque)
-    return DesignResult(case_name=case.name, targets=dataclasses.asdict(target),
+    targets = dataclasses.asdict(target)
+    t_out = float(si.declared_output_torque_Nm())
+    found, drawn = check_limits(si, targets, best, check, t_out)
+    return DesignResult(case_name=case.name, targets=targets,
                         candidates=evaluated, best=best, datasheet=sheet, check=check,
-                        case=best_case)
+                        case=best_case, output_torque_Nm=t_out,
+                        member_torque_Nm=float(torque), warnings=tuple(found), limits=drawn)
 
 
 def _misses(c: Candidate, target) -> dict:

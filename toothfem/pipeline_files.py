@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -56,7 +57,9 @@ def contact_labels(result: ContactResult):
     Returns
     -------
     toothfem.report.contact.ContactLabels
-        Names of the case, contacts and member, the torques [N m] and the mode.
+        Names of the case, contacts and member, the torques [N m], the mode, and the
+        reducer-wide largest force [N] and P_h [MPa] of the system model where the summary
+        has them (the pictures show one member held, and say so beside these).
     """
 
     s = result.summary
@@ -64,7 +67,9 @@ def contact_labels(result: ContactResult):
                          contacts=result.contacts_name, member=result.member_name,
                          members=result.members, output_torque_Nm=s["output_torque_Nm"],
                          member_torque_Nm=s[f"{result.member_name}_torque_Nm"],
-                         mode=result.mode)
+                         mode=result.mode,
+                         reducer_max_force_N=s.get("max_force_reducer_N"),
+                         reducer_max_ph_MPa=s.get("max_ph_reducer_MPa"))
 
 
 def write_contact(result: ContactResult, folder: Path) -> dict:
@@ -111,10 +116,46 @@ def write_contact(result: ContactResult, folder: Path) -> dict:
     return summary
 
 
+def member_frame(result: ContactResult, points) -> np.ndarray | None:
+    """Housing-frame points of the worst position in the member's frame, from the one
+    contact whose member-frame point the result holds (``member_point``, the largest force)
+    and the fixed member's outlines: pins or ring teeth evenly around the housing's centre,
+    the mean of their (evenly sampled) outlines is that centre in the member's frame. The
+    frames differ by a rotation and a shift, so these two points give both.
+
+    Parameters
+    ----------
+    result : ContactResult
+        With its outlines (a result with a field).
+    points : array_like, shape (..., 2)
+        Housing frame [m].
+
+    Returns
+    -------
+    numpy.ndarray or None
+        Member frame [m], the input's shape; None without outlines, or where the two
+        points disagree (the largest-force contact not at its distance from the centre).
+    """
+    if not result.outlines:
+        return None
+    ls, worst = result.load_sharing, result.worst
+    k = int(np.argmax(ls.force[worst]))
+    centre = np.concatenate([np.asarray(o, float) for o in result.outlines], axis=1)
+    centre = centre.mean(axis=1)
+    housing = np.asarray(ls.point[worst, k], float)
+    member = np.asarray(result.member_point, float) - centre
+    if abs(np.hypot(*member) - np.hypot(*housing)) > 1e-6 * max(np.hypot(*housing), 1e-3):
+        return None
+    turn = math.atan2(member[1], member[0]) - math.atan2(housing[1], housing[0])
+    rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+    return centre + np.asarray(points, float) @ rot.T
+
+
 def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
-    """von_mises.png (the whole member) and von_mises_contact.png (close-up of the most
-    loaded contact) of the member's field ``vtu``, labelled structural or
-    contact-resolved.
+    """von_mises.png (the whole member) and von_mises_contact.png (close-up of the
+    contact with the largest P_h at the worst position) of the member's field ``vtu``,
+    labelled structural or contact-resolved, the model (one member held) and the case
+    named.
 
     Parameters
     ----------
@@ -133,33 +174,47 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
 
     labels = contact_labels(result)
     ls, worst = result.load_sharing, result.worst
-    k = int(np.argmax(ls.force[worst]))
-    number = int(ls.contact_id[worst, k])
+    kf = int(np.argmax(ls.force[worst]))                 # the largest force
+    k = int(np.argmax(ls.ph[worst]))                     # the largest P_h: the close-up's
+    at = member_frame(result, ls.point[worst, k]) if k != kf else None
+    if at is None:                                       # one contact, or no frame known
+        k, at = kf, np.asarray(result.member_point, float)
+    number, force_number = int(ls.contact_id[worst, k]), int(ls.contact_id[worst, kf])
     ph = float(ls.ph[worst, k] / 1e6)
     b = max(float(ls.half_width[worst, k]), CLOSE_UP_MIN_HALF_WIDTH_M)
-    where = (f"{result.member_name} frame at the worst position "
-             f"({np.degrees(result.positions_rad[worst]):.2f} deg crank); "
-             f"{labels.torque_text}")
+    case_line = f"{labels.case_name}: {labels.torque_text} ({labels.mode} mode)"
+    where = (f"{labels.model_text}, at the worst position "
+             f"({np.degrees(result.positions_rad[worst]):.2f} deg crank, the largest force); "
+             f"{result.member_name} frame")
+    compare = f"\n{labels.reducer(force=False)}" if labels.reducer(force=False) else ""
+    if k == kf:
+        marked = (f"x: {labels.contact} {number}, the largest force "
+                  f"({float(ls.force[worst, kf]):.4g} N) and P_h ({ph:.4g} MPa) here")
+        marks = [(at, "x")]
+    else:
+        marked = (f"x: {labels.contact} {number}, the largest P_h here ({ph:.4g} MPa); "
+                  f"+: {labels.contact} {force_number}, the largest force "
+                  f"({float(ls.force[worst, kf]):.4g} N)")
+        marks = [(at, "x"), (result.member_point, "+")]
     if result.detail is not None:
         kind = "contact-resolved field (two-body FE, contact zones refined)"
         radius = CLOSE_UP_HALF_WIDTHS * b
-        zone = (f"of the contact zone of {labels.contact} {number}: P_h {ph:.4g} MPa, "
-                f"half-width b = {b * 1e6:.3g} um")
+        zone = (f"of the contact zone of {labels.contact} {number}, the largest P_h at this "
+                f"position: P_h {ph:.4g} MPa, half-width b = {b * 1e6:.3g} um")
     else:
-        kind = (f"structural field (contact loads spread over strips: the Hertz stress, "
-                f"P_h {ph:.4g} MPa at {labels.contact} {number}, is not resolved)")
+        kind = "structural field (contact loads spread over strips: Hertz stress not resolved)"
         radius = STRUCTURAL_CLOSE_UP_M
-        zone = (f"near {labels.contact} {number}, structural field: the Hertz stress "
-                f"(P_h {ph:.4g} MPa) is not resolved")
-    draw = dict(outlines=result.outlines, mark=result.member_point)
+        zone = (f"near {labels.contact} {number}, the largest P_h at this position "
+                f"({ph:.4g} MPa); structural field, Hertz stress not resolved")
     report_contact.field_png(
         vtu, folder / "von_mises.png",
-        title=f"von Mises stress of the {result.member_name}, {kind}\n{where}\n"
-              f"lines: the fixed member's {labels.contacts}; x: the most loaded {labels.contact}",
-        **draw)
+        title=f"von Mises stress of the {result.member_name}, {kind}\n{case_line}\n{where}\n"
+              f"lines: the fixed {labels.contacts}; {marked}{compare}",
+        outlines=result.outlines, marks=marks)
     report_contact.field_png(
-        vtu, folder / "von_mises_contact.png", zoom_centre=result.member_point,
-        zoom_radius=radius, title=f"Close-up {zone}\n{where}", **draw)
+        vtu, folder / "von_mises_contact.png", zoom_centre=at, zoom_radius=radius,
+        title=f"Close-up {zone}\n{case_line}\n{where}\n{marked}{compare}",
+        outlines=result.outlines, marks=marks)
     return ["von_mises.png", "von_mises_contact.png"]
 
 
@@ -237,15 +292,103 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
 TORQUE_GRID = np.linspace(0.02, 1.1, 55)
 #: Input speeds of the speed map, as fractions of the operating speed.
 SPEED_GRID = np.linspace(0.1, 2.0, 60)
-#: Oil temperatures of the temperature map [deg C].
+#: Oil temperatures of the temperature map [deg C]; widened in OIL_TEMPERATURE_STEP_C steps
+#: to take in the operating point's oil temperature (within the lubricant's range).
 OIL_TEMPERATURE_GRID_C = np.linspace(20.0, 100.0, 41)
+OIL_TEMPERATURE_STEP_C = 2.0
+
+
+def oil_temperature_grid(oil_C: float, lubricant) -> np.ndarray:
+    """The oil temperatures [deg C] of the temperature map: OIL_TEMPERATURE_GRID_C, widened
+    to take in ``oil_C`` with a margin of one tenth of the range, within the lubricant's
+    pour point and largest temperature.
+
+    Parameters
+    ----------
+    oil_C : float
+        The operating point's oil temperature [deg C].
+    lubricant : toothfem.case_sections.Lubricant
+        Its ``pour_point_C`` and ``max_temperature_C`` bound the grid.
+
+    Returns
+    -------
+    numpy.ndarray
+        Ascending [deg C].
+    """
+    lo, hi = float(OIL_TEMPERATURE_GRID_C[0]), float(OIL_TEMPERATURE_GRID_C[-1])
+    if lo <= oil_C <= hi:
+        return OIL_TEMPERATURE_GRID_C
+    margin = 0.1 * (max(hi, oil_C) - min(lo, oil_C))
+    step = OIL_TEMPERATURE_STEP_C
+    lo = max(min(lo, math.floor((oil_C - margin) / step) * step), lubricant.pour_point_C)
+    hi = min(max(hi, math.ceil((oil_C + margin) / step) * step), lubricant.max_temperature_C)
+    return np.linspace(lo, hi, int(round((hi - lo) / step)) + 1)
+
+
+def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
+    """The oil temperature [deg C] of the operating point and what it is: the heat
+    balance's equilibrium with the run's loads (the report's heat balance), else the
+    lubricant's reference temperature, said so.
+
+    Parameters
+    ----------
+    case : Case
+    speed, torque : float
+        Input speed [rpm] and output torque [N m].
+    loads : {"analytic", "fem"}
+        The loads of the run's heat balance.
+
+    Returns
+    -------
+    (float, str)
+        The temperature [deg C] and its words for a label.
+    """
+    from .efficiency.thermal import heat_balance
+
+    try:
+        oil = float(heat_balance(case, speed, torque, loads=loads).temperature_C[0])
+    except CaseError as e:          # no balance below the oil's largest temperature
+        ref = case.lubricant.reference_temperature_C
+        return ref, (f"oil at {ref:g} deg C, the lubricant's reference (no heat balance: "
+                     f"{str(e).split(':')[0]})")
+    return oil, f"oil at {oil:.1f} deg C, the heat balance's equilibrium ({loads} loads)"
+
+
+def loss_shares_chart(case: Case, results: dict, speed: float, torque: float):
+    """The loss shares at the operating point (:func:`toothfem.report.plots.loss_shares`)
+    with the case's published shares (``[published]`` keys ``loss_share_<component>``).
+
+    Parameters
+    ----------
+    case : Case
+    results : dict
+        {source: efficiency summary} at the operating point (``efficiency.json``).
+    speed, torque : float
+        Input speed [rpm] and output torque [N m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    names = list(dict.fromkeys(k for r in results.values() for k in r["loss_shares"]))
+    published = {k.removeprefix("loss_share_"): float(v) for k, v in case.published.items()
+                 if k.startswith("loss_share_")}
+    point = f"{speed:g} rpm input, {torque:.4g} N m output"
+    return plots.loss_shares(names, {s: r["loss_shares"] for s, r in results.items()},
+                             title=f"Loss shares at the operating point ({point})\n"
+                                   f"{case.name}", published=published or None)
 
 
 def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sources) -> list:
     """Efficiency against torque (with the measured and published points) and the two
-    catalogue maps into ``tmp``; returns the report's lines."""
+    catalogue maps into ``tmp``; the loss shares again with the case's published ones,
+    where it has them (from ``tmp/efficiency.json``); returns the report's lines."""
     import csv
 
+    if (tmp / "efficiency.json").exists() and any(k.startswith("loss_share_")
+                                                  for k in case.published):
+        results = json.loads((tmp / "efficiency.json").read_text())
+        save(loss_shares_chart(case, results, speed, torque), tmp / "loss_shares.png")
 
     t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
     speed_curve = case.measured[0].input_speed_rpm if case.measured else speed
@@ -277,6 +420,10 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
                   "from the model (analytic);\n`toothfem loop` says what each effect would "
                   "need to close it"))
     pub = case.published
+    if isinstance(pub.get("efficiency"), (int, float)):    # the paper's, at the operating point
+        marked.append(Marked(x=torque, y=float(pub["efficiency"]), kind="published",
+                             label=f"published {100 * pub['efficiency']:.2f} % at the operating "
+                                   f"point ({speed:g} rpm, {torque:.4g} N m)"))
     if "efficiency_computed" in pub and "rig_output_torque_max_Nm" in pub:
         rig = pub.get("rig_input_speed_rpm")
         marked.append(Marked(x=pub["rig_output_torque_max_Nm"], y=pub["efficiency_computed"],
@@ -297,12 +444,20 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
         + [Marked(x=m.output_torque_Nm, y=m.input_speed_rpm, label="measured")
            for m in case.measured[:1]]),
         tmp / "efficiency_map.png")
-    tt2, th = np.meshgrid(t_grid, OIL_TEMPERATURE_GRID_C)
-    eta_t = evaluate(case, speed_curve, tt2, th).efficiency.reshape(th.shape)
+    # at the operating point's speed, like the speed map; the point at its oil temperature
+    oil_op, oil_words = operating_oil(case, speed, torque,
+                                      "fem" if "fem" in sources else "analytic")
+    tt2, th = np.meshgrid(t_grid, oil_temperature_grid(oil_op, case.lubricant))
+    eta_t = evaluate(case, speed, tt2, th).efficiency.reshape(th.shape)
+    eta_oil = float(evaluate(case, speed, torque, oil_op).efficiency[0])
     save(plots.efficiency_map(
         tt2, th, eta_t, "output torque [N m]", "oil temperature [deg C]",
-        f"Efficiency [%] over output torque and oil temperature at {speed_curve:g} rpm "
-        f"input (analytic loads)\n{case.name}"), tmp / "efficiency_temperature.png")
+        f"Efficiency [%] over output torque and oil temperature at {speed:g} rpm input (the "
+        f"operating point's speed; analytic loads)\n{case.name}",
+        marked=[Marked(x=torque, y=oil_op, kind="operating",
+                       label=f"operating point: {torque:.4g} N m, {oil_words}: "
+                             f"{100 * eta_oil:.2f} % (analytic)")]),
+        tmp / "efficiency_temperature.png")
     np.savetxt(tmp / "efficiency_map.csv",
                np.column_stack([tt.ravel(), nn.ravel(), eta.ravel()]), delimiter=",",
                header="output_torque_Nm,input_speed_rpm,efficiency", comments="", fmt="%.6g")

@@ -5,10 +5,16 @@ Each sample is one reducer as built: its deviations are drawn from the case's
 the candidates' initial gaps and solved with the nominal design's influence tables (no
 mesh, no factorisation: docs/tolerance.md). The positions of one meshing period are put
 over the stage's whole pairing period (``pitches``), so that every pin and lobe of the
-built stage takes part. Per sample: the maximum pin (tooth) force, the maximum Hertz
-pressure and the fewest contacts at the peak member torque; lost motion (+-3 % of the
-rated torque); the loaded transmission error and the mesh and total efficiency at the
-operating point. The share of each tolerance in each output's variance comes from runs
+built stage takes part. Each ring is solved through the drive's system model where it has
+one (the whole reducer at the operating torque: every disc free on its pins and bearings,
+the split between the discs solved), else along the chained load paths of one member at
+the case's peak member torque; the labels (:func:`output_labels`) say which. Per sample:
+the largest pin (tooth) force, the largest Hertz pressure and the fewest contacts on one
+member at a position; lost motion (+-3 % of the rated torque); the loaded transmission
+error and the mesh and total efficiency at the operating point (with the first member's
+loads), and the lowest film ratio the efficiency model finds. The nominal design and the
+percentiles are checked against the case's limits (:func:`check_limits`, through
+:mod:`toothfem.limits`). The share of each tolerance in each output's variance comes from runs
 with that tolerance alone (normalised over the tolerances: a ranking; the model is not
 additive, so the one-tolerance variances need not sum to the whole ensemble's).
 """
@@ -36,30 +42,102 @@ from .fem.datasheet.twist import ARCSEC, TwistModel
 from .fem.deviations import only
 from .fem.drives import drive_for
 from .fem.linsolve import one_blas_thread
+from . import limits
 from .datasheet import TE_DEFINITION
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 
-#: The outputs of a sample: column -> (label, unit) for tables and pictures.
-OUTPUTS = {
-    "max_force_N": ("maximum contact force", "N"),
-    "max_ph_MPa": ("maximum Hertz pressure", "MPa"),
-    "contacts_min": ("fewest contacts at a position", "-"),
-    "lost_motion_arcmin": ("lost motion, elastic curve (no friction)", "arcmin"),
-    "backlash_arcmin": ("backlash (< 0: the flanks interfere, preloaded)", "arcmin"),
-    "te_mean_arcsec": ("transmission error of the reducer at the operating torque, mean",
-                       "arcsec"),
-    "te_pp_arcsec": ("transmission error of the reducer, peak to peak over the ring's "
-                     "positions", "arcsec"),
-    "mesh_efficiency_pct": ("mesh efficiency", "%"),
-    "total_efficiency_pct": ("total efficiency", "%"),
-}
+#: Where the outputs come from, by the model that solves a ring (the labels say it: the
+#: nominal design's figures differ from ``toothfem contact``'s, whose counts and forces are
+#: one disc held at its bearing seats over one pitch, and from ``toothfem run``'s efficiency,
+#: whose loads are the analytic split or that held disc's).
+SYSTEM_WHERE = "system model, positions over the pairing period"
+CHAINED_WHERE = "one {member} held at the peak member torque, positions over the pairing period"
+
+
+def output_labels(contact: str = "contact", contacts: str = "contacts", member: str = "disc",
+                  system: bool = True, members: int = 2) -> dict:
+    """The outputs of a ring, column -> (label, unit), each label naming the model and the
+    positions that gave it.
+
+    Parameters
+    ----------
+    contact, contacts, member : str
+        The drive's words for a contact, several, and the moving member ("pin", "pins",
+        "disc"; "tooth", "teeth", "planet").
+    system : bool
+        Solved through the drive's system model (every member free on its supports, the
+        split between them solved, at the operating torque); else along the chained load
+        paths of one member held at the case's peak member torque.
+    members : int
+        Moving members sharing the torque (one planet: no "any" or "first" of them).
+
+    Returns
+    -------
+    dict
+        {column: (label, unit)} in the order of the tables and pictures.
+    """
+    where = SYSTEM_WHERE if system else CHAINED_WHERE.format(member=member)
+    model = "system model" if system else "chained load paths"
+    several = system and members > 1
+    loads = (f"the system model's loads of the first {member}, every {member} taken alike"
+             if several else f"the system model's loads of the {member}" if system else
+             f"one {member}'s loads at the operating torque, chained load paths")
+    on = f"any {member}" if several else f"the {member}"
+    one = f"one {member}" if several else f"the {member}"
+    return {
+        "max_force_N": (f"largest {contact} force on {on} ({where})", "N"),
+        "max_ph_MPa": (f"largest Hertz pressure P_h on {on} ({where})", "MPa"),
+        "contacts_min": (f"fewest {contacts} in contact on {one} at a position "
+                         f"({where})", "-"),
+        "lost_motion_arcmin": (f"lost motion, elastic curve at +-3 % of the rated torque "
+                               f"({model}, no friction)", "arcmin"),
+        "backlash_arcmin": (f"backlash ({model}; < 0: the flanks interfere, preloaded; both "
+                            "tails: P10 the interference side, P90 the play side)", "arcmin"),
+        "te_mean_arcsec": (f"transmission error of the reducer at the operating torque, "
+                           f"mean ({where})", "arcsec"),
+        "te_pp_arcsec": (f"transmission error of the reducer, peak to peak ({where})",
+                         "arcsec"),
+        "mesh_efficiency_pct": (f"mesh efficiency ({loads})", "%"),
+        "total_efficiency_pct": (f"total efficiency ({loads})", "%"),
+    }
+
+
+#: The outputs of a sample: column -> (label, unit) for tables and pictures (the system
+#: model's words; :func:`output_labels` gives a drive's own).
+OUTPUTS = output_labels()
 #: Outputs where low is worse (the rest: high is worse); their tail percentiles are taken
 #: on that side: P10/P1 of the fewest contacts and the efficiencies, P90/P99 of forces,
-#: pressures, lost motion, backlash and TE.
+#: pressures, lost motion and TE.
 LOW_IS_WORSE = frozenset({"contacts_min", "mesh_efficiency_pct", "total_efficiency_pct"})
+#: Outputs bad on both sides, with both tails given: the backlash (above: play, lost
+#: motion at the output; below zero: the flanks interfere, the stage is preloaded, its
+#: friction and heat rise and it may not assemble). One tail alone would hide the other.
+TWO_SIDED = frozenset({"backlash_arcmin"})
+#: Outputs that are counts: their percentiles are sample values (an order statistic on the
+#: unfavourable side, COUNT_METHOD), never between two counts ("7.5 pins").
+COUNTS = frozenset({"contacts_min"})
+COUNT_METHOD = "lower"
 #: Percentiles of each output, the median and the unfavourable tail (1 in 10 and 1 in
-#: 100 of the built reducers worse than it), by the side that is worse.
-PERCENTILES = {"high": (50, 90, 99), "low": (50, 10, 1)}
+#: 100 of the built reducers worse than it), by the side that is worse; both sides for
+#: TWO_SIDED.
+PERCENTILES = {"high": (50, 90, 99), "low": (50, 10, 1), "both": (50, 10, 90, 1, 99)}
+
+
+def side_of(output: str) -> str:
+    """Which side of an output is worse: "high", "low" or "both" (PERCENTILES' keys).
+
+    Parameters
+    ----------
+    output : str
+        A column of OUTPUTS.
+
+    Returns
+    -------
+    str
+    """
+    return "both" if output in TWO_SIDED else "low" if output in LOW_IS_WORSE else "high"
+
+
 #: Confidence of a percentile's interval (distribution-free, from the order statistics:
 #: the ranks a binomial(n, q) count of samples below the q-quantile reaches at its
 #: (1 - c)/2 and (1 + c)/2 quantiles). A percentile whose interval runs past the sample
@@ -89,7 +167,12 @@ class ToleranceResult:
     """The ensemble: ``samples`` {output: (N,)}, the ``nominal`` design's outputs on the
     same positions, ``shares`` {tolerance: {output: share of the variance}} from the runs
     with one tolerance at a time (and ALONE_OVER_ALL: their variances summed over the
-    whole ensemble's), ``settings`` (samples, seed, positions, tolerances in mm)."""
+    whole ensemble's), ``settings`` (samples, seed, positions, tolerances in mm);
+    ``film_ratio`` {contacts: {"nominal": lowest or None, "samples": (N,)}}: the efficiency
+    model's lowest film ratio where it is below FILM_RATIO_BOUNDARY (inf in ``samples``,
+    None for the nominal: not below it); ``limits`` the limits the outputs are drawn
+    against ({output: [{name, value, unit, source}]}); ``warnings`` the limits passed
+    (:class:`toothfem.limits.Exceeded`, :func:`check_limits`)."""
     case_name: str
     drive: str
     contact_name: str
@@ -98,10 +181,16 @@ class ToleranceResult:
     nominal: dict
     shares: dict
     settings: dict
+    member_name: str = "disc"
+    members: int = 2
+    film_ratio: dict = dataclasses.field(default_factory=dict)
+    limits: dict = dataclasses.field(default_factory=dict)
+    warnings: tuple = ()
 
     def percentiles(self) -> dict:
         """The ensemble's percentiles of each output on its unfavourable side
-        (PERCENTILES, LOW_IS_WORSE), each with its CONFIDENCE interval.
+        (PERCENTILES, LOW_IS_WORSE; both tails of TWO_SIDED), each with its CONFIDENCE
+        interval.
 
         Returns
         -------
@@ -111,9 +200,54 @@ class ToleranceResult:
             ([low, high]) None where the sample is too small for the percentile, which
             then needs ``rings_needed`` reducers.
         """
-        return {k: {f"P{q}": percentile_ci(v, q / 100)
-                    for q in PERCENTILES["low" if k in LOW_IS_WORSE else "high"]}
+        return {k: {f"P{q}": percentile_ci(v, q / 100, method=COUNT_METHOD if k in COUNTS
+                                           else "linear")
+                    for q in PERCENTILES[side_of(k)]}
                 for k, v in self.samples.items()}
+
+    @property
+    def by_system(self) -> bool:
+        """Whether the rings were solved through the system model (the settings' loads)."""
+        return self.settings.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
+
+    def outputs(self) -> dict:
+        """The outputs in the drive's own words, each label naming its model and positions
+        (:func:`output_labels`).
+
+        Returns
+        -------
+        dict
+            {column: (label, unit)}.
+        """
+        return output_labels(self.contact_name, self.contacts_name, self.member_name,
+                             self.by_system, self.members)
+
+    def film_ratio_percentiles(self) -> dict:
+        """The lowest film ratio's low-side percentiles over the ensemble (P50, P10, P1)
+        that the sample is large enough for (``rings_needed``, as the outputs'), each
+        ``value`` None where it is not below FILM_RATIO_BOUNDARY.
+
+        Returns
+        -------
+        dict
+            {contacts: {"P50": {"value", "rings_needed"}, ...}}.
+        """
+        out = {}
+        for where, rec in self.film_ratio.items():
+            x = np.asarray(rec["samples"], float)
+            if x.size == 0 or np.any(np.isnan(x)):        # rings of an older run: not known
+                continue
+            out[where] = {}
+            for q in PERCENTILES["low"]:
+                needed = rings_needed(q / 100)
+                if x.size < needed:
+                    continue
+                # a ring not below the limit stands in as a huge value: a percentile that
+                # reaches one is not below the limit either
+                v = float(np.percentile(np.where(np.isfinite(x), x, _NOT_BELOW), q))
+                out[where][f"P{q}"] = {"value": v if v < limits.FILM_RATIO_BOUNDARY
+                                       else None, "rings_needed": needed}
+        return out
 
     def summary(self) -> dict:
         """The result as summary.json holds it.
@@ -121,16 +255,31 @@ class ToleranceResult:
         Returns
         -------
         dict
-            Case, drive, the settings, the nominal outputs, percentiles, means and the
-            variance shares.
+            Case, drive, the settings, the outputs' labels, the nominal outputs,
+            percentiles, means, the variance shares, the film ratio, the limits and the
+            ``warnings`` (the limits passed, :meth:`toothfem.limits.Exceeded.as_dict`).
         """
-        return {"case": self.case_name, "drive": self.drive, **self.settings,
+        return {"case": self.case_name, "drive": self.drive, "member": self.member_name,
+                "members": self.members, **self.settings,
+                "outputs": {k: list(v) for k, v in self.outputs().items()},
                 "nominal": self.nominal, "percentiles": self.percentiles(),
                 "mean": {k: float(np.mean(v)) for k, v in self.samples.items()},
-                "variance_shares": self.shares}
+                "variance_shares": self.shares,
+                "film_ratio_lowest": {
+                    where: {"nominal": rec["nominal"], **{
+                        q: p["value"] for q, p in
+                        self.film_ratio_percentiles().get(where, {}).items()}}
+                    for where, rec in self.film_ratio.items()},
+                "limits": self.limits,
+                "warnings": [w.as_dict() for w in self.warnings]}
 
 
-def percentile_ci(values, q: float, confidence: float = CONFIDENCE) -> dict:
+#: What a ring whose film ratio is not below the limit stands in as for the percentiles.
+_NOT_BELOW = 1e300
+
+
+def percentile_ci(values, q: float, confidence: float = CONFIDENCE,
+                  method: str = "linear") -> dict:
     """A percentile of a sample with its distribution-free confidence interval.
 
     The interval is [x_(l), x_(u)] of the sorted sample (1-based ranks), l and u - 1 the
@@ -145,11 +294,14 @@ def percentile_ci(values, q: float, confidence: float = CONFIDENCE) -> dict:
         The quantile, in (0, 1).
     confidence : float
         c, in (0, 1).
+    method : str
+        numpy's percentile method: "linear" interpolates, "lower" takes the sample value
+        at or below (a count's, on its low side).
 
     Returns
     -------
     dict
-        ``value`` (numpy's interpolated percentile) and ``ci`` ([low, high]), both None
+        ``value`` (numpy's percentile by ``method``) and ``ci`` ([low, high]), both None
         when the interval's ranks pass the sample's ends; ``rings_needed``: the fewest
         samples whose interval stays inside.
     """
@@ -162,9 +314,8 @@ def percentile_ci(values, q: float, confidence: float = CONFIDENCE) -> dict:
         return {"value": None, "ci": None, "rings_needed": needed}
     lo = int(binom.ppf((1 - confidence) / 2, n, q))
     hi = int(binom.ppf((1 + confidence) / 2, n, q)) + 1
-    return {"value": float(np.percentile(x, 100 * q)), "ci": [float(x[lo - 1]),
-                                                              float(x[hi - 1])],
-            "rings_needed": needed}
+    return {"value": float(np.percentile(x, 100 * q, method=method)),
+            "ci": [float(x[lo - 1]), float(x[hi - 1])], "rings_needed": needed}
 
 
 @functools.lru_cache(maxsize=None)
@@ -296,6 +447,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     table = {k: np.array([r[k] for r in rows], float) for k in OUTPUTS}
     ensemble = {k: v[labels == "all"] for k, v in table.items()}
     shares = _shares(table, labels, active) if n_share else {}
+    film = _film_ratios(nominal, [r for r, label in zip(rows, labels) if label == "all"])
     settings = {"samples": int(samples), "seed": int(seed), "positions": n,
                 "pairing_period_pitches": int(drive.pairing_period_pitches),
                 "share_samples": n_share if len(active) > 1 else 0,
@@ -306,11 +458,89 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                 "operating_speed_rpm": setup.speed_rpm,
                 "operating_output_torque_Nm": setup.output_torque_Nm,
                 "rated_torque_Nm": setup.rated_torque_Nm,
-                **(LOADS_SYSTEM if by_system else LOADS_CHAINED)}
-    return ToleranceResult(case_name=case.name, drive=drive.kind,
-                           contact_name=drive.contact_name,
-                           contacts_name=drive.contacts_name, samples=ensemble,
-                           nominal=nominal, shares=shares, settings=settings)
+                **(LOADS_SYSTEM if by_system else LOADS_CHAINED),
+                # the same operating point with the loads `toothfem run` takes (the
+                # analytic split): what the nominal's efficiency is told apart from
+                "nominal_total_efficiency_analytic_loads_pct": 100 * float(
+                    evaluate(si, setup.speed_rpm, setup.output_torque_Nm).efficiency[0])}
+    result = ToleranceResult(case_name=case.name, drive=drive.kind,
+                             contact_name=drive.contact_name,
+                             contacts_name=drive.contacts_name, member_name=drive.member_name,
+                             members=int(drive.members),
+                             samples=ensemble, nominal={k: nominal[k] for k in OUTPUTS},
+                             shares=shares, settings=settings, film_ratio=film)
+    found, drawn = check_limits(result, si)
+    return dataclasses.replace(result, limits=drawn, warnings=tuple(found))
+
+
+def _film_ratios(nominal: dict, rows: list) -> dict:
+    """{contacts: {"nominal": lowest or None, "samples": (N,) with inf where not below
+    FILM_RATIO_BOUNDARY}} over every contact set the nominal or a ring names; NaN for a
+    ring kept by an older run (no film ratio recorded)."""
+    names = dict.fromkeys(w for r in [nominal, *rows] for w in r.get("film_ratio", {}))
+    return {w: {"nominal": nominal.get("film_ratio", {}).get(w),
+                "samples": np.array([r["film_ratio"].get(w, math.inf) if "film_ratio" in r
+                                     else math.nan for r in rows], float)}
+            for w in names}
+
+
+def check_limits(result: ToleranceResult, si) -> tuple:
+    """The ensemble against the case's limits (:mod:`toothfem.limits`, each check done
+    there): the largest Hertz pressure of the nominal design and of each percentile given
+    (:func:`toothfem.limits.contact_pressure`), the lowest film ratio likewise
+    (:func:`toothfem.limits.film_ratio`, low side), and the operating output torque
+    against the rating (:func:`toothfem.limits.rated_torque`).
+
+    Parameters
+    ----------
+    result : ToleranceResult
+        Its nominal, samples and film ratios.
+    si : toothfem.si.CaseSI
+        The case: its material and operating limits.
+
+    Returns
+    -------
+    found : list of toothfem.limits.Exceeded
+        Each limit passed, its quantity naming the contacts, the model and which figure
+        (the nominal design, or "P90 of 200 built reducers" with its 95 % interval).
+    drawn : dict
+        {output: [{"name", "value", "unit", "source"}]}: the limits to mark on the
+        outputs' pictures (the allowable and static contact stress on the pressure's).
+    """
+    n = next((v.size for v in result.samples.values()), 0)
+    model = ("in the reducer (system model)" if result.by_system else
+             f"of one {result.member_name} held at the peak member torque")
+    where = f"the {result.contact_name} contacts {model}"
+
+    def at(q, p=None, unit=""):
+        if q is None:
+            return "the nominal design"
+        ci = "" if p is None or p.get("ci") is None else \
+            f" (95 % interval {p['ci'][0]:.4g} to {p['ci'][1]:.4g} {unit})"
+        return f"{q} of {n} built reducers{ci}"
+
+    found = list(limits.rated_torque(si, result.settings.get(
+        "operating_output_torque_Nm", 0.0)))
+    found += limits.contact_pressure(f"{where}, {at(None)}", result.nominal["max_ph_MPa"],
+                                     si.material)
+    for q, p in result.percentiles().get("max_ph_MPa", {}).items():
+        if p["value"] is not None:
+            found += limits.contact_pressure(f"{where}, {at(q, p, 'MPa')}", p["value"],
+                                             si.material)
+    pct = result.film_ratio_percentiles()
+    for contacts, rec in result.film_ratio.items():
+        if rec["nominal"] is not None:
+            found += limits.film_ratio(f"{contacts}, {at(None)}", rec["nominal"])
+        for q, p in pct.get(contacts, {}).items():
+            if p["value"] is not None:
+                found += limits.film_ratio(f"{contacts}, {at(q)}", p["value"])
+    mat = si.material
+    drawn = {"max_ph_MPa": [
+        {"name": "allowable", "value": mat.allowable_contact_stress_Pa * 1e-6, "unit": "MPa",
+         "source": "material.allowable_contact_stress_MPa"},
+        {"name": "static capacity", "value": mat.static_contact_stress_Pa * 1e-6,
+         "unit": "MPa", "source": "material.static_contact_stress_MPa"}]}
+    return found, drawn
 
 
 #: Key of the shares' last row: the one-tolerance variances summed, over the whole
@@ -376,7 +606,19 @@ def _outputs(setup: _Setup, solver, deviation, state=None, system=None,
             "te_mean_arcsec": float(np.mean(total) / ARCSEC),
             "te_pp_arcsec": float((np.max(total) - np.min(total)) / ARCSEC),
             "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
-            "total_efficiency_pct": 100 * float(eff.efficiency[0])}
+            "total_efficiency_pct": 100 * float(eff.efficiency[0]),
+            "film_ratio": _film_ratio(eff)}
+
+
+#: The quantity of :func:`toothfem.limits.film_ratio`'s records: "film ratio of <contacts>".
+_FILM = "film ratio of "
+
+
+def _film_ratio(eff) -> dict:
+    """{contacts: lowest film ratio} of the efficiency model's film-ratio records (those
+    below FILM_RATIO_BOUNDARY; contacts not named were not below it)."""
+    return {w.quantity[len(_FILM):]: float(w.value) for w in eff.warnings
+            if w.quantity.startswith(_FILM)}
 
 
 def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
@@ -404,7 +646,8 @@ def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
             "te_mean_arcsec": float(np.mean(total) / ARCSEC),
             "te_pp_arcsec": float(np.ptp(total) / ARCSEC),
             "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
-            "total_efficiency_pct": 100 * float(eff.efficiency[0])}
+            "total_efficiency_pct": 100 * float(eff.efficiency[0]),
+            "film_ratio": _film_ratio(eff)}
 
 
 def _system(setup: _Setup, prepare: bool = False):
@@ -528,16 +771,12 @@ def write_tolerance(result: ToleranceResult, folder) -> dict:
         for i in range(len(next(iter(result.samples.values())))):
             w.writerow([i, *(f"{result.samples[k][i]:.9g}" for k in outputs)])
     summary = result.summary()
-    zones = ", ".join(f"{k[:-3].replace('_', ' ')} {v:g} mm"
-                      for k, v in summary["tolerances_mm"].items())
-    title = (f"{result.case_name}: {summary['samples']} built reducers, {zones} "
-             f"({summary['distribution']})")
-    save(report.histograms(result, outputs, title), folder / "histograms.png")
+    save(report.histograms(result, outputs, report.histograms_title(summary)),
+         folder / "histograms.png")
     files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
     if len(result.shares) > 1:
-        save(report.shares(result, outputs, f"{result.case_name}: where the scatter comes "
-                                             f"from ({summary['share_samples']} reducers "
-                                             "per tolerance alone)"), folder / "shares.png")
+        save(report.shares(result, outputs, report.shares_title(summary)),
+             folder / "shares.png")
         files.insert(3, "shares.png")
     summary["files"] = files
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
@@ -546,8 +785,5 @@ def write_tolerance(result: ToleranceResult, folder) -> dict:
 
 
 def _labelled(result: ToleranceResult) -> dict:
-    """OUTPUTS with the drive's own word for a contact (pin, tooth)."""
-    out = dict(OUTPUTS)
-    out["max_force_N"] = (f"maximum {result.contact_name} force", "N")
-    out["contacts_min"] = (f"fewest {result.contacts_name} in contact", "-")
-    return out
+    """The outputs in the drive's own words (pin, tooth; disc, planet) and the model's."""
+    return result.outputs()

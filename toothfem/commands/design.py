@@ -62,10 +62,17 @@ def run(args) -> int:
     if args.json:
         print(json.dumps({"case": summary["case"], "best": summary["best"],
                           "check_with_own_tables": summary["check_with_own_tables"],
-                          "datasheet": summary["datasheet"]}, indent=2))
+                          "percentile_interval": summary["percentile_interval"],
+                          "datasheet": summary["datasheet"],
+                          "warnings": summary["warnings"]}, indent=2))
         return 0
     print(report_summary.text(report_design.summary_rows(summary),
                               f"{case.name}: the best modification"))
+    iv = summary.get("percentile_interval")
+    if iv is not None and not iv["has_interval"]:
+        print(f"note: the search judged each candidate at {iv['text']}")
+    for w in summary["warnings"]:
+        print(f"warning: {w['message']}")
     print(f"wrote {Path(args.out).resolve()} (best_case.toml, candidates.csv, report.html, "
           "pictures)")
     return 0

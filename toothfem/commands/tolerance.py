@@ -10,7 +10,7 @@ from ..fem.cache import content_key
 from ..output import atomic_dir, resumable_dir
 from ..report import html as report_html, summary as report_summary
 from ..report import tolerance as report_tolerance
-from ..tolerance import OUTPUTS, tolerance_analysis, write_tolerance
+from ..tolerance import tolerance_analysis, write_tolerance
 
 
 def add_parser(sub):
@@ -58,7 +58,8 @@ def run(args) -> int:
     Returns
     -------
     int
-        0 once the ensemble's files are written.
+        0 once the ensemble's files are written (the limits its nominal design and
+        percentiles pass printed as warnings: they are no error).
 
     Raises
     ------
@@ -78,11 +79,16 @@ def run(args) -> int:
         report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
     if args.json:
         print(json.dumps({"case": summary["case"], "samples": summary["samples"],
-                          "nominal": summary["nominal"],
-                          "percentiles": summary["percentiles"]}, indent=2))
+                          "outputs": summary["outputs"], "nominal": summary["nominal"],
+                          "percentiles": summary["percentiles"],
+                          "warnings": summary["warnings"]}, indent=2))
         return 0
-    print(report_summary.text(report_tolerance.summary_rows(summary, OUTPUTS),
-                              f"{case.name}: {summary['samples']} built reducers"))
+    print(report_summary.text(report_tolerance.summary_rows(summary, result.outputs()),
+                              f"{case.name}: {summary['samples']} built reducers; "
+                              f"{report_tolerance.operating_text(summary)}; "
+                              f"{report_tolerance.model_text(summary)}"))
+    for w in summary["warnings"]:
+        print(f"warning: {w['message']}")
     print(f"wrote {Path(args.out).resolve()} (samples.csv, summary.json, report.html, "
           "pictures)")
     return 0

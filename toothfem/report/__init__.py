@@ -66,6 +66,10 @@ def save(fig, path, dpi: int = DPI):
 def wrap(text: str, width: int) -> str:
     """``text`` with each of its lines wrapped at ``width`` characters (titles that fit).
 
+    A line is broken at spaces only: never inside a quantity (``P_h 623.3 MPa``), a ripple's
+    ``1.89 arcsec peak to peak`` or a ``(cycle mode)``, nor at a hyphen; a word longer than
+    ``width`` stays whole.
+
     Parameters
     ----------
     text : str
@@ -80,7 +84,9 @@ def wrap(text: str, width: int) -> str:
     """
     import textwrap
 
-    return "\n".join(textwrap.fill(_QUANTITY.sub(_glued, line), width).replace(NBSP, " ")
+    return "\n".join(textwrap.fill(_PHRASE.sub(_glued, _QUANTITY.sub(_glued, line)),
+                                   width, break_on_hyphens=False,
+                                   break_long_words=False).replace(NBSP, " ")
                      for line in text.split("\n"))
 
 
@@ -91,6 +97,11 @@ _QUANTITY = re.compile(
     r"\s(?:N\sm(?:/arcmin)?|N\smm|MPa|GPa|kN|N|mm|um|µm|m|deg|arcmin|arcsec|rpm|kW|W|C|K|%|h|s)"
     r"(?![\w/])")
 NBSP = "\u00a0"
+#: Phrases a title must not break either (their spaces become no-break spaces too): a
+#: ripple's "peak to peak" (with the unit before it: "1.89 arcsec peak to peak"), and a mode
+#: in parentheses ("(cycle mode)") that would otherwise leave "mode)" alone on a line.
+_PHRASE = re.compile(r"(?:(?<!\w)(?:arcsec|arcmin|um|µm|mm|MPa|N|%)\s+)?"
+                     r"\bpeak\s+to\s+peak\b|\((?:cycle|detailed|analytic)\s+mode\)")
 
 
 def _glued(match) -> str:

@@ -25,19 +25,30 @@ FIELD_CMAP = "turbo"
 #: saturated (marked on the colour bar): the body's stress readable beside the contact peaks.
 FIELD_PERCENTILE = 99.0
 #: The polar view of the load around the ring shows only the sector of the loaded contacts
-#: when they span less than this [deg] (the sine pair's three teeth within 10 deg), at least
-#: +- the half-width below around their middle.
+#: when they span less than this [deg] (the sine pair's three teeth within 10 deg): their
+#: span and one contact pitch either side, its ends on whole degrees, its ticks on a round
+#: step (POLAR_TICK_STEPS_DEG, at most POLAR_MAX_TICKS intervals).
 POLAR_SECTOR_BELOW_DEG = 120.0
-POLAR_SECTOR_MIN_HALF_DEG = 20.0
+POLAR_TICK_STEPS_DEG = (1.0, 2.0, 5.0, 10.0, 15.0, 20.0, 30.0, 45.0)
+POLAR_MAX_TICKS = 8
+#: Margin below zero of a force or pressure axis, a fraction of its top: a point at 0 N
+#: (a contact that carries nothing at the worst position) sits above the frame, not on it.
+ZERO_MARGIN = 0.04
 #: Most tick labels of contact numbers along an axis before they are thinned.
 MAX_CONTACT_TICKS = 20
 #: Most contacts named one by one (a qualitative palette and a legend entry each: the ones
 #: carrying most); the others are drawn grey.
 MAX_LEGEND_SERIES = 8
-#: Characters per title line of a field picture (8.5 in wide at 9 pt) and of the
-#: mesh-rotation picture (9 in at 10 pt).
-FIELD_TITLE_CHARS = 105
-TE_TITLE_CHARS = 112
+#: Characters per title line of a field picture (9 in wide at 9 pt), of the
+#: mesh-rotation and load-per-contact pictures (10 in at 10 pt) and of the load around the
+#: ring (13 in at 10 pt).
+FIELD_TITLE_CHARS = 112
+TE_TITLE_CHARS = 124
+PER_CONTACT_TITLE_CHARS = 124
+RING_TITLE_CHARS = 160
+#: The largest over the contacts in the load-per-contact picture: a light band behind the
+#: series (the named series it follows stay visible on top of it).
+ENVELOPE = dict(color="0.45", lw=7.0, alpha=0.3, solid_capstyle="butt", zorder=0.5)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -52,6 +63,11 @@ class ContactLabels:
     output_torque_Nm: float      # the reducer's output torque of the analysis
     member_torque_Nm: float      # the torque on one member (the load factor included)
     mode: str                    # "cycle" | "detailed" | "analytic"
+    # the reducer-wide largest force [N] and P_h [MPa] of the system model (every member
+    # free on its supports; the summary's max_force_reducer_N, max_ph_reducer_MPa), where
+    # the run has them: the pictures show one member held, and say so beside these
+    reducer_max_force_N: float | None = None
+    reducer_max_ph_MPa: float | None = None
 
     @property
     def torque_text(self) -> str:
@@ -61,20 +77,63 @@ class ContactLabels:
                       f"{self.member}s")
         return f"{self.output_torque_Nm:.4g} N m output, {share}"
 
-    def title(self, what: str) -> str:
-        """Two lines: what the picture shows, then the case with its load and mode.
+    @property
+    def model_text(self) -> str:
+        """'one disc held at its bearing seats': the model whose loads the contact pictures
+        show (the load sharing of one member, not the reducer's system model)."""
+        return f"one {self.member} held at its bearing seats"
+
+    @property
+    def reducer_text(self) -> str:
+        """The reducer-wide largest force and P_h of the system model, for comparison with
+        the one member held ('' where the run has none)."""
+        return self.reducer()
+
+    def reducer(self, *, force: bool = True) -> str:
+        """The reducer-wide largest P_h (and force) of the system model, for comparison
+        with the one member held.
+
+        Parameters
+        ----------
+        force : bool
+            Name the largest force as well as the largest P_h.
+
+        Returns
+        -------
+        str
+            'the reducer, every disc free on its supports (system model, the summary's
+            headline): largest force 2649 N, P_h 2483 MPa'; '' where the run has none.
+        """
+        parts = ([f"largest force {self.reducer_max_force_N:.4g} N"]
+                 if force and self.reducer_max_force_N is not None else [])
+        parts += ([f"{'P_h' if parts else 'largest P_h'} {self.reducer_max_ph_MPa:.4g} MPa"]
+                  if self.reducer_max_ph_MPa is not None else [])
+        if not parts:
+            return ""
+        every = (f"the {self.member}" if self.members == 1 else f"every {self.member}")
+        return (f"the reducer, {every} free on its supports (system model, the summary's "
+                f"headline): {', '.join(parts)}")
+
+    def title(self, what: str, *, reducer: bool = False) -> str:
+        """What the picture shows, then the case with its load and mode; with ``reducer``
+        a third line with the reducer-wide figures (:attr:`reducer_text`), where known.
 
         Parameters
         ----------
         what : str
             What the picture shows.
+        reducer : bool
+            Add the reducer-wide largest force and P_h for comparison.
 
         Returns
         -------
         str
             The title.
         """
-        return f"{what}\n{self.case_name}: {self.torque_text} ({self.mode} mode)"
+        lines = [what, f"{self.case_name}: {self.torque_text} ({self.mode} mode)"]
+        if reducer and self.reducer_text:
+            lines.append(self.reducer_text)
+        return "\n".join(lines)
 
 
 def _series(ls):
@@ -96,16 +155,26 @@ def _pressure_label(ls) -> str:
     return "Hertz pressure P_h [MPa]"
 
 
-def _highlighted(numbers, force, ph) -> dict:
-    """A colour per contact number: up to MAX_LEGEND_SERIES named in a qualitative palette
-    (first those that are the largest force or pressure at some position, then by their
-    largest force), the others grey (one legend entry for all of them)."""
-    palette = pyplot().get_cmap("tab10")
-    colours = [palette(i) for i in range(10) if i != 7]        # tab10 less its grey
+def _named(force, ph) -> list:
+    """Column indices of the contacts a per-contact picture names, at most
+    MAX_LEGEND_SERIES: first those that are the largest force or pressure at some
+    position, then the top ones by largest force and by largest P_h in turn (the union:
+    the pressure panel's highest contacts are named as well as the force panel's)."""
     first = list(dict.fromkeys(np.concatenate([np.argmax(force, axis=1),
                                                np.argmax(ph, axis=1)]).tolist()))
     by_force = np.argsort(-force.max(axis=0), kind="stable").tolist()
-    top = list(dict.fromkeys(first + by_force))[:MAX_LEGEND_SERIES]
+    by_ph = np.argsort(-ph.max(axis=0), kind="stable").tolist()
+    turns = [k for pair in zip(by_force, by_ph) for k in pair]
+    return list(dict.fromkeys(first + turns))[:MAX_LEGEND_SERIES]
+
+
+def _highlighted(numbers, force, ph) -> dict:
+    """A colour per contact number: up to MAX_LEGEND_SERIES named in a qualitative palette
+    (:func:`_named`: the largest at some position, then the top ones by force and by
+    pressure), the others grey (one legend entry for all of them)."""
+    palette = pyplot().get_cmap("tab10")
+    colours = [palette(i) for i in range(10) if i != 7]        # tab10 less its grey
+    top = _named(force, ph)
     named = sorted(int(numbers[k]) for k in top)
     return {int(n): colours[named.index(int(n))] if int(n) in named else OTHER_CONTACTS
             for n in numbers}
@@ -126,7 +195,8 @@ def load_per_contact(ls, labels: ContactLabels):
     matplotlib.figure.Figure
         Two panels (force [N], P_h [MPa]) against crank angle [deg], one line per contact:
         the MAX_LEGEND_SERIES carrying most in a qualitative palette named in the legend,
-        the others grey; the largest over the contacts dashed.
+        the others grey; the largest over the contacts a light band behind them. The
+        title says the model (one member held) and the reducer's figures beside.
     """
     plt = pyplot()
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(10, 7.5), sharex=True, layout="constrained")
@@ -145,17 +215,18 @@ def load_per_contact(ls, labels: ContactLabels):
                     zorder=1 if grey else 2)
             a2.plot(deg, ph[:, k] / 1e6, lw=0.8 if grey else 1.6, color=colour[n],
                     zorder=1 if grey else 2)
-    a1.plot(deg, ls.force.max(axis=1), "k--", lw=1.5, zorder=3,
-            label=f"largest over the {labels.contacts}")
-    a2.plot(deg, ls.ph.max(axis=1) / 1e6, "k--", lw=1.5, zorder=3)
+    a1.plot(deg, ls.force.max(axis=1), label=f"largest over the {labels.contacts} (band)",
+            **ENVELOPE)
+    a2.plot(deg, ls.ph.max(axis=1) / 1e6, **ENVELOPE)
     a1.set_ylabel(f"normal force per {labels.contact} [N]")
     a2.set_ylabel(_pressure_label(ls))
     a2.set_xlabel("crank angle [deg]")
     handles, names = a1.get_legend_handles_labels()
     fig.legend(handles, names, loc="outside lower center", frameon=False, fontsize=8,
                ncol=min(len(names), 6))
-    a1.set_title(labels.title(f"Force and contact pressure per {labels.contact} over one "
-                              "meshing period"), loc="left", fontsize=10)
+    a1.set_title(wrap(labels.title(f"Force and contact pressure per {labels.contact} over "
+                                   f"one meshing period: {labels.model_text}", reducer=True),
+                      PER_CONTACT_TITLE_CHARS), loc="left", fontsize=10)
     for a in (a1, a2):
         a.grid(alpha=0.3)
         a.set_ylim(bottom=0)
@@ -184,6 +255,36 @@ def _contact_axis(ax, angles, numbers, labels: ContactLabels):
     step = max(1, math.ceil(len(numbers) / MAX_CONTACT_TICKS))
     top.set_xticks(angles[::step], [str(n) for n in numbers[::step]], fontsize=7)
     top.set_xlabel(f"{labels.contact} number", fontsize=8)
+
+
+def polar_sector(angles_deg):
+    """The sector [deg] a polar view of the loaded contacts shows, or None for the whole
+    circle (they span POLAR_SECTOR_BELOW_DEG or more).
+
+    Parameters
+    ----------
+    angles_deg : array_like
+        The loaded contacts' angles around the ring [deg], unwrapped (one piece).
+
+    Returns
+    -------
+    tuple of (float, float, numpy.ndarray) or None
+        (start, end, ticks) [deg]: the contacts' span and one contact pitch (the median
+        spacing of neighbours) either side, widened to whole degrees; the ticks on the
+        smallest round step of POLAR_TICK_STEPS_DEG with at most POLAR_MAX_TICKS
+        intervals over the sector, the ends ticked too where no tick is near.
+    """
+    ang = np.sort(np.asarray(angles_deg, float))
+    if ang.size < 2 or float(np.ptp(ang)) >= POLAR_SECTOR_BELOW_DEG:
+        return None
+    pitch = float(np.median(np.diff(ang)))
+    start = float(math.floor(float(ang[0]) - pitch))
+    end = float(math.ceil(float(ang[-1]) + pitch))
+    step = next((st for st in POLAR_TICK_STEPS_DEG if (end - start) / st <= POLAR_MAX_TICKS),
+                POLAR_TICK_STEPS_DEG[-1])
+    ticks = np.arange(math.ceil(start / step), math.floor(end / step) + 1) * step
+    ends = [e for e in (start, end) if np.min(np.abs(ticks - e), initial=step) >= 0.5 * step]
+    return start, end, np.sort(np.concatenate([ticks, ends]))
 
 
 def load_around_ring(ls, labels: ContactLabels):
@@ -217,16 +318,15 @@ def load_around_ring(ls, labels: ContactLabels):
               label="largest over the period")
     polar.bar(th, fw, width=width * 0.6, color="#d62728", label=f"at the worst position "
               f"({worst_deg:.2f} deg crank)")
-    span = float(np.ptp(ang)) if len(ang) > 1 else 0.0
-    sector = span < POLAR_SECTOR_BELOW_DEG
+    sector = polar_sector(ang)
     if sector:      # the loaded contacts in a narrow arc: show that sector, not the circle
-        mid = 0.5 * (float(ang.min()) + float(ang.max()))
-        half = max(0.5 * span + 2 * math.degrees(width), POLAR_SECTOR_MIN_HALF_DEG)
-        polar.set_thetamin(mid - half)
-        polar.set_thetamax(mid + half)
+        start, end, ticks = sector
+        polar.set_thetamin(start)
+        polar.set_thetamax(end)
+        polar.set_thetagrids(ticks)
     polar.set_title(f"normal force per {labels.contact} [N] around the ring"
-                    + (f"\n(the {2 * half:.0f} deg sector where they carry)" if sector else ""),
-                    fontsize=9)
+                    + (f"\n(the {end - start:g} deg sector from {start:g} to {end:g} deg, "
+                       f"where they carry)" if sector else ""), fontsize=9)
     polar.tick_params(labelsize=7)
     if not sector:
         polar.set_rlabel_position(float(ang[np.argmax(fmax)]) + 180.0)   # away from the load
@@ -245,8 +345,12 @@ def load_around_ring(ls, labels: ContactLabels):
     for a in (a1, a2):
         a.grid(alpha=0.3)
         a.legend(loc="upper left", bbox_to_anchor=(1.01, 1.0), fontsize=8, frameon=False)
-    fig.suptitle(labels.title(f"Load per {labels.contact} around the ring"), fontsize=10,
-                 x=0.01, ha="left")
+        top = a.get_ylim()[1]
+        a.set_ylim(-ZERO_MARGIN * top, top)       # a point at 0 above the frame, not on it
+        a.axhline(0.0, color="0.3", lw=0.6, zorder=1)
+    fig.suptitle(wrap(labels.title(f"Load per {labels.contact} around the ring: "
+                                   f"{labels.model_text}", reducer=True), RING_TITLE_CHARS),
+                 fontsize=10, x=0.01, ha="left")
     return fig
 
 
@@ -269,7 +373,7 @@ def transmission_error(ls, labels: ContactLabels):
         the TE it is, with its mean and peak-to-peak ripple.
     """
     plt = pyplot()
-    fig, ax = plt.subplots(figsize=(9, 4.8), layout="constrained")
+    fig, ax = plt.subplots(figsize=(10, 4.8), layout="constrained")
     deg = np.degrees(ls.position_rad)
     te = ls.transmission_error / ARCSEC
     ax.plot(deg, te, "o-", ms=3, lw=1.4, color="#08519c",
@@ -280,9 +384,9 @@ def transmission_error(ls, labels: ContactLabels):
     ax.grid(alpha=0.3)
     fig.legend(loc="outside lower center", fontsize=8, frameon=False, ncol=2)
     ax.set_title(wrap(labels.title(
-        f"The mesh's part of the TE (one {labels.member} held at its bearing seats): mean "
-        f"{te.mean():.3g} arcsec, ripple {np.ptp(te):.3g} arcsec peak to peak; the reducer's "
-        "TE is the summary's system-model row"),
+        f"The mesh's part of the TE ({labels.model_text}): mean {te.mean():.3g} arcsec, "
+        f"ripple {np.ptp(te):.3g} arcsec peak to peak;\nthe reducer's TE is the summary's "
+        "system-model row"),
         TE_TITLE_CHARS), loc="left", fontsize=10)
     return fig
 
@@ -302,7 +406,7 @@ def _field_mm_MPa(mesh, scalar: str):
                         f"{sorted(mesh.point_data)})")
 
 
-def robust_max(tri, value) -> float:
+def robust_max(tri, value, percentile: float = FIELD_PERCENTILE) -> float:
     """The colour scale's top of a whole-member field: the FIELD_PERCENTILE-th percentile
     of the triangles' mean values weighted by their area (the contact spots' peaks, a
     small area on a fine mesh, would otherwise darken the whole body).
@@ -312,6 +416,8 @@ def robust_max(tri, value) -> float:
     tri : matplotlib.tri.Triangulation
     value : numpy.ndarray
         Nodal values.
+    percentile : float
+        The percentile [%] (a close-up's: CLOSE_UP_PERCENTILE).
 
     Returns
     -------
@@ -325,13 +431,79 @@ def robust_max(tri, value) -> float:
     mean = value[t].mean(axis=1)
     order = np.argsort(mean)
     cum = np.cumsum(area[order])
-    at = np.searchsorted(cum, FIELD_PERCENTILE / 100 * cum[-1])
+    at = np.searchsorted(cum, percentile / 100 * cum[-1])
     top = float(mean[order][min(at, mean.size - 1)])
     return top if top > 0 else float(value.max())
 
 
+#: Mesh edges of a close-up: thin and faint, so a densely refined contact zone shows its
+#: field, not a black patch.
+MESH_EDGES = dict(color="k", lw=0.1, alpha=0.22)
+#: Margin around a whole member's view, a fraction of its span (beyond the outlines).
+FIELD_MARGIN = 0.03
+#: A close-up's colour scale ends at this percentile by area of the triangles in its view:
+#: a peak on a few sub-pixel elements at the contact's edge is saturated (its value said on
+#: the colour bar and its place marked), not the top of a scale the view never shows.
+CLOSE_UP_PERCENTILE = 99.9
+#: Marker of the largest value in a close-up's view.
+VIEW_MAX_MARKER = dict(marker="^", ms=7, mfc="none", mec="w", mew=1.6, ls="none")
+
+
+def view_max(tri, value, xlim, ylim) -> tuple:
+    """The largest value at the triangles' nodes inside a view, and where it is.
+
+    Parameters
+    ----------
+    tri : matplotlib.tri.Triangulation
+    value : numpy.ndarray
+        Nodal values.
+    xlim, ylim : (float, float)
+        The view's limits.
+
+    Returns
+    -------
+    (float, (float, float)) or (None, None)
+        The largest value at the triangles' nodes inside the view (what the view shows:
+        nodes of no triangle are not drawn), and that node's (x, y); None where no node
+        is inside.
+    """
+    nodes = np.unique(tri.triangles)
+    x, y = tri.x[nodes], tri.y[nodes]
+    nodes = nodes[(x >= xlim[0]) & (x <= xlim[1]) & (y >= ylim[0]) & (y <= ylim[1])]
+    if nodes.size == 0:
+        return None, None
+    top = nodes[np.argmax(value[nodes])]
+    return float(value[top]), (float(tri.x[top]), float(tri.y[top]))
+
+
+def field_limits(tri, outlines=()) -> tuple:
+    """The limits [mm] of a whole member's view: the mesh and the outlines (a pin drawn
+    beyond the member is not cut), FIELD_MARGIN of the span around them.
+
+    Parameters
+    ----------
+    tri : matplotlib.tri.Triangulation
+        The member [mm].
+    outlines : sequence of (2, N) arrays
+        The fixed member's outlines [m].
+
+    Returns
+    -------
+    ((float, float), (float, float))
+        x and y limits [mm].
+    """
+    xs = [np.asarray(tri.x, float)] + [np.asarray(o, float)[0] * 1e3 for o in outlines]
+    ys = [np.asarray(tri.y, float)] + [np.asarray(o, float)[1] * 1e3 for o in outlines]
+    lims = []
+    for v in (np.concatenate(xs), np.concatenate(ys)):
+        lo, hi = float(v.min()), float(v.max())
+        pad = FIELD_MARGIN * (hi - lo)
+        lims.append((lo - pad, hi + pad))
+    return tuple(lims)
+
+
 def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
-              zoom_centre=None, zoom_radius=None, mark=None):
+              zoom_centre=None, zoom_radius=None, mark=None, marks=()):
     """A nodal field of a VTU file as a PNG: filled triangles in the member's frame [mm],
     with a colour bar and the fixed member's outlines.
 
@@ -348,11 +520,17 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
         Centre [m] of a close-up of half-width ``zoom_radius`` [m] (mesh edges drawn).
     mark : (2,) array, optional
         A point [m] marked with a cross (the most loaded contact).
+    marks : sequence of ((2,) array, str)
+        Further points [m], each with its marker ("x" or "+"), e.g. the contact with the
+        largest P_h and the one with the largest force.
 
     Returns
     -------
     path
-        ``png_path``.
+        ``png_path``. A whole member's view takes in the outlines; its colour scale ends
+        at FIELD_PERCENTILE by area. A close-up's ends at CLOSE_UP_PERCENTILE by area of
+        the triangles in its view, the view's largest value said and marked (open
+        triangle); its mesh edges faint.
     """
     import meshio
     from matplotlib.tri import Triangulation
@@ -361,41 +539,52 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
     mesh = meshio.read(str(vtu_path))
     x_mm, y_mm, value = _field_mm_MPa(mesh, scalar)
     tri = Triangulation(x_mm, y_mm, mesh.cells_dict["triangle"])
-    fig, ax = plt.subplots(figsize=(8.5, 7.5), layout="constrained")
+    fig, ax = plt.subplots(figsize=(9, 7.5), layout="constrained")
+    top_at = None
     if zoom_centre is not None:
         x0, y0 = np.asarray(zoom_centre, float) * 1e3
         r = float(zoom_radius) * 1e3
-        inside = ((np.abs(tri.x - x0) < r) & (np.abs(tri.y - y0) < r))
-        vmax = float(value[inside].max()) if np.any(inside) else float(value.max())
+        xlim, ylim = (x0 - r, x0 + r), (y0 - r, y0 + r)
+        peak, top_at = view_max(tri, value, xlim, ylim)
+        if peak is None or peak <= 0:
+            peak, top_at = float(value.max()), None
+        cx, cy = tri.x[tri.triangles].mean(axis=1), tri.y[tri.triangles].mean(axis=1)
+        shown = ((cx >= xlim[0]) & (cx <= xlim[1]) & (cy >= ylim[0]) & (cy <= ylim[1]))
+        vmax = (robust_max(Triangulation(x_mm, y_mm, tri.triangles[shown]), value,
+                           CLOSE_UP_PERCENTILE) if np.any(shown) else peak)
+        vmax = peak if not 0 < vmax <= peak else vmax
+        scale = f"this view's {CLOSE_UP_PERCENTILE:g}th percentile by area"
     else:
-        vmax = robust_max(tri, value)
-    peak = float(value.max())
+        xlim, ylim = field_limits(tri, outlines)
+        vmax, peak = robust_max(tri, value), float(value.max())
+        scale = f"{FIELD_PERCENTILE:g}th percentile by area"
     saturated = peak > vmax * (1 + 1e-9)
     art = ax.tripcolor(tri, value, shading="gouraud", cmap=FIELD_CMAP, vmin=0.0, vmax=vmax)
     if zoom_centre is not None:
-        ax.triplot(tri, color="k", lw=0.15, alpha=0.5)
+        ax.triplot(tri, **MESH_EDGES)
     for o in outlines:           # lines, not fills: a ring's outline encloses the member
         xy = np.asarray(o, float) * 1e3
         ax.plot(np.append(xy[0], xy[0, 0]), np.append(xy[1], xy[1, 0]), color="0.25",
                 lw=0.8)
-    if mark is not None:
-        x, y = np.asarray(mark, float) * 1e3
-        ax.plot(x, y, "x", color="w", ms=11, mew=3.5)
-        ax.plot(x, y, "x", color="k", ms=9, mew=1.5)
-    if zoom_centre is not None:
-        ax.set_xlim(x0 - r, x0 + r)
-        ax.set_ylim(y0 - r, y0 + r)
-    else:
-        ax.set_xlim(tri.x.min() * 1.08, tri.x.max() * 1.08)
-        ax.set_ylim(tri.y.min() * 1.08, tri.y.max() * 1.08)
+    for point, marker in ([(mark, "x")] if mark is not None else []) + list(marks):
+        x, y = np.asarray(point, float) * 1e3
+        ax.plot(x, y, marker, color="w", ms=11, mew=3.5)
+        ax.plot(x, y, marker, color="k", ms=9, mew=1.5)
+    if top_at is not None:
+        ax.plot(*top_at, **VIEW_MAX_MARKER)
+        ax.plot(*top_at, **{**VIEW_MAX_MARKER, "mec": "k", "mew": 0.8})
+    ax.set_xlim(*xlim)
+    ax.set_ylim(*ylim)
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (member frame)")
     ax.set_ylabel("y [mm]")
     bar = fig.colorbar(art, ax=ax, shrink=0.85, extend="max" if saturated else "neither")
+    largest = ("its largest" if zoom_centre is not None else "largest") + f" {peak:.4g} MPa" \
+        + (" (open triangle)" if top_at is not None else "")
     bar.set_label(f"{scalar.removesuffix('_MPa').replace('_', ' ')} stress [MPa]"
                   + (" (colour scale of this view)" if zoom_centre is not None else "")
-                  + (f"\nsaturated above {vmax:.4g} MPa ({FIELD_PERCENTILE:g}th percentile "
-                     f"by area); largest {peak:.4g} MPa" if saturated else ""))
+                  + (f"\nsaturated above {vmax:.4g} MPa ({scale})\n{largest}" if saturated
+                     else f"\n{largest}" if zoom_centre is not None else ""))
     ax.set_title(wrap(title, FIELD_TITLE_CHARS), loc="left", fontsize=9)
     return save(fig, png_path)
 

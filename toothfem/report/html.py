@@ -432,8 +432,8 @@ def _row(key: str, value, field, case_text, schema) -> InputRow:
             assumption = _reason(value) or "no reason stated in the case file"
         return InputRow(key, value, unit, True, note, assumption)
     bare = re.sub(r"\[\d+\]", "", key)
-    doc = (field.metadata.get("doc", "") if field is not None else "") or ""
-    default, source = (_plain(x) for x in schema.get(bare, ("", "")))
+    doc = spoken((field.metadata.get("doc", "") if field is not None else "") or "")
+    default, source = (spoken(_plain(x)) for x in schema.get(bare, ("", "")))
     note = "; ".join(x for x in (doc, source) if x) or "toothfem's default (no source recorded)"
     assumption = None
     if ASSUMPTION in note or ASSUMPTION in default:
@@ -529,21 +529,71 @@ def folder_assumptions(summaries: dict) -> list:
                 elif isinstance(value, list) and value:
                     out.append((where, ", ".join(map(str, value))))
                 elif value is True:          # a record that says it is assumed: its values
-                    out.append((" › ".join((name, *path)), _assumed(parent, "assumed")))
+                    out.append((" › ".join((name, *path)),
+                                _assumed(parent, "assumed", path[-1] if path else "")))
             elif str(key).endswith("_assumed") and value is True:
                 stem = str(key)[:-len("_assumed")]
                 out.append((where, _assumed({k: v for k, v in parent.items()
-                                             if k.startswith(stem)}, key)))
+                                             if k.startswith(stem)}, key, stem)))
             elif isinstance(value, str) and ASSUMPTION in value:
                 out.append((where, value))
     return out
 
 
-def _assumed(record: dict, flag: str) -> str:
-    """'assumed (not in the case): key = value, ...' of a record's other entries."""
-    values = ", ".join(f"{k} = {'none' if v is None else v}" for k, v in record.items()
-                      if k != flag and isinstance(v, (int, float, str, type(None))))
+def _assumed(record: dict, flag: str, name: str = "") -> str:
+    """'assumed (not in the case): key = value, ...' of a record's other entries, a
+    missing value said as what it means (:data:`NOT_SET`)."""
+    values = ", ".join(f"{k} = {missing(name) if v is None else v}"
+                       for k, v in record.items()
+                       if k != flag and isinstance(v, (int, float, str, type(None))))
     return "assumed (not in the case)" + (f": {values}" if values else "")
+
+
+#: What a value left unset means, by its key (the page never prints Python's None): the
+#: others read "not set".
+NOT_SET = {
+    "carrier_stiffness_Nm_per_arcmin": "not set (a rigid carrier)",
+    "carrier_stiffness_Nm_per_rad": "not set (a rigid carrier)",
+    "roller_radius_mm": "not set (bare pins)",
+    "hole_radius_mm": "not set (the pin's or roller's radius plus the eccentricity)",
+    "main_preload_N": "not set (ASSUMPTION 2 % of the row's C0)",
+    "crankshaft_diameter_mm": "not set (no crankshafts)",
+    "crankshaft_span_mm": "not set (no crankshafts)",
+}
+
+
+def missing(key: str) -> str:
+    """What a key left unset means ("not set", or :data:`NOT_SET`'s reading).
+
+    Parameters
+    ----------
+    key : str
+        The key, bare or dotted (``supports.carrier_stiffness_Nm_per_arcmin``).
+
+    Returns
+    -------
+    str
+    """
+    return NOT_SET.get(str(key).rsplit(".", 1)[-1].split(" › ")[-1], "not set")
+
+
+#: Python's None as the schema's texts write an unset value ("None: bare pins").
+_PY_NONE = re.compile(r"\bNone\b")
+
+
+def spoken(text: str) -> str:
+    """A schema text with Python's ``None`` said as "not set" ("a roller sleeve on each
+    pin (None: bare pins)" -> "... (not set: bare pins)").
+
+    Parameters
+    ----------
+    text : str
+
+    Returns
+    -------
+    str
+    """
+    return _PY_NONE.sub("not set", text)
 
 
 # ------------------------------------------------------------------------------------------
@@ -570,6 +620,11 @@ def _value(v) -> str:
     if isinstance(v, float):
         return repr(v)
     return str(v)
+
+
+def _shown(row) -> str:
+    """An input row's value as the page shows it: an unset one as what it means."""
+    return missing(row.key) if row.value is None else _value(row.value)
 
 
 def _png_uri(path: Path) -> str | None:
@@ -716,7 +771,7 @@ def _warnings_html(found: dict, kept: list) -> str:
     items += [(m, "shown while the command ran") for m in dict.fromkeys(kept)
               if m not in found]
     if not items:
-        return '<p class="none">None: no result passes a limit.</p>'
+        return '<p class="none">No warning: no result passes a limit.</p>'
     return '<ul class="warnings">' + "".join(
         f'<li>{_esc(m)} <span class="where">({_esc(w)})</span></li>' for m, w in items) + "</ul>"
 
@@ -792,10 +847,11 @@ def _assumptions_html(case_text, inputs, found) -> str:
         if r.declared and isinstance(r.value, str) and ASSUMPTION in r.value:
             items.append((r.key, r.value))
         if r.declared is False and r.assumption:
-            items.append((f"{r.key} = {_value(r.value)} (default)", r.assumption))
+            items.append((f"{r.key} = {_shown(r)} (default)", r.assumption))
     items += found
     if not items:
-        return '<p class="none">None recorded: the case file marks no value ASSUMPTION and ' \
+        return '<p class="none">No assumption recorded: the case file marks no value ' \
+               "ASSUMPTION and " \
                "no default taken is one.</p>"
     return ("<p>Values chosen where no source fixes them, each with its reason as stated "
             "(the case file's comments, the schema's defaults, the results' own "
@@ -828,7 +884,7 @@ def _inputs_html(inputs, case_text) -> str:
         note = r.note
         rows.append(f'<tr class="{"declared" if r.declared else "default"}">'
                     f"<td><code>{_esc(r.key.rsplit('.', 1)[1])}</code></td>"
-                    f"<td{_num(r.value)}>{_esc(_value(r.value))}</td><td>{_esc(r.unit)}</td>"
+                    f"<td{_num(r.value)}>{_esc(_shown(r))}</td><td>{_esc(r.unit)}</td>"
                     f"<td>{origin}</td><td>{_esc(note)}</td></tr>")
     head = ("<thead><tr><th>key</th><th>value</th><th>unit</th><th>from</th>"
             "<th>source, comment or reason</th></tr></thead>")

@@ -22,8 +22,9 @@ def _draw_polygon(ax, poly, scale=1e3, **kw):
 
 
 def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
-    """Disc with holes placed at a crank angle among its pins; right: close-up of the
-    loaded zone with the contact normals through the pitch point.
+    """Disc with holes placed at a crank angle among its pins, the loaded pins' contact
+    normals meeting at the pitch point (+); right: close-up of the pin circle 90 deg ahead
+    of the crank with those normals (the pitch point, inside the pin circle, is outside it).
 
     Parameters
     ----------
@@ -69,8 +70,9 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
                                                 math.sin(crank_angle_rad)])
     for j in np.flatnonzero(m.moment_arm[0] < 0):
         k = m.point[0, j]
-        axes[1].plot([k[0] * 1e3, pitch[0] * 1e3], [k[1] * 1e3, pitch[1] * 1e3], "k-", lw=0.4)
-    axes[1].plot(*pitch * 1e3, "k+", ms=10)
+        for ax in axes:
+            ax.plot([k[0] * 1e3, pitch[0] * 1e3], [k[1] * 1e3, pitch[1] * 1e3], "k-", lw=0.4)
+    axes[0].plot(*pitch * 1e3, "k+", ms=12, mew=1.6)
     r = geom.pin_circle_radius_m * 1e3
     a0 = crank_angle_rad + math.pi / 2
     cx, cy_ = r * math.cos(a0), r * math.sin(a0)
@@ -84,8 +86,10 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
         f"angle {math.degrees(crank_angle_rad):.1f} deg" + (f"\n{case_name}" if case_name
                                                             else "")),
         fontsize=10, x=0.01, ha="left")
-    axes[0].set_title("disc among its pins (red: pins whose normal carries load)", fontsize=9)
-    axes[1].set_title("close-up: contact normals through the pitch point (+)", fontsize=9)
+    axes[0].set_title("disc among its pins (red: loaded; lines: their normals, through the "
+                      "pitch point +)", fontsize=9)
+    axes[1].set_title("close-up 90 deg from the crank: loaded pins' normals, toward the pitch "
+                      "point (+, left)", fontsize=9)
     return fig
 
 
@@ -150,10 +154,19 @@ class Marked:
     kind: str = "measured"         # "measured" | "published" | "operating"
 
 
-#: Marker style of each kind of marked point (told apart in colour and shape).
-MARKERS = {"measured": dict(marker="o", color="k", ms=7, ls="none"),
-           "published": dict(marker="s", mfc="none", mec="#d62728", mew=1.8, ms=9, ls="none"),
-           "operating": dict(marker="*", color="#ff7f0e", mec="k", ms=13, ls="none")}
+#: Marker style of each kind of marked point (told apart in colour and shape; none of
+#: their colours is a line's, LINE_COLOURS).
+MARKERS = {"measured": dict(marker="o", color="k", ms=7, ls="none", zorder=5),
+           "published": dict(marker="s", mfc="none", mec="#d62728", mew=1.8, ms=9, ls="none",
+                             zorder=5),
+           "operating": dict(marker="*", color="#ffd700", mec="k", mew=1.4, ms=15, ls="none",
+                             zorder=6)}
+#: Colours of the curves of a chart with marked points, in order: none of them a marker's
+#: (black, red, gold) nor close to one (orange).
+LINE_COLOURS = ("#1f77b4", "#2ca02c", "#9467bd", "#17becf", "#8c564b", "#e377c2", "#7f7f7f")
+#: A curve within this fraction of the chart's span of an earlier one everywhere is drawn
+#: dashed on top of it (both seen where they coincide).
+OVERLAP_FRACTION = 0.01
 
 
 #: Margin kept between a marked point and the axes' edge, a fraction of the axis span.
@@ -185,18 +198,20 @@ def efficiency_vs_torque(torque, curves: dict, marked=(), title="", dashed=()):
         Measured points, a paper's figures and the operating point (efficiency as fractions).
     title : str
     dashed : sequence of str
-        Labels of ``curves`` drawn dashed (e.g. another speed).
+        Labels of ``curves`` drawn dash-dotted (e.g. another speed).
 
     Returns
     -------
     matplotlib.figure.Figure
-        The curves, the points told apart by marker, the legend beside the axes.
+        The curves (LINE_COLOURS; one that lies on an earlier one dashed on top of it), the
+        points told apart by marker, in colours no line has, the legend beside the axes.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(10, 5.2), layout="constrained")
-    for label, eta in curves.items():
-        ax.plot(torque, 100 * np.asarray(eta), lw=1.6, ls="--" if label in dashed else "-",
-                label=label)
+    pct = {label: 100 * np.asarray(eta, float) for label, eta in curves.items()}
+    for i, (label, style) in enumerate(curve_styles(pct, dashed).items()):
+        ax.plot(torque, pct[label], lw=1.8, color=LINE_COLOURS[i % len(LINE_COLOURS)],
+                zorder=2 + 0.1 * i, label=label, **style)
     for m in marked:
         ax.plot(m.x, 100 * m.y, label=m.label, **MARKERS[m.kind])
     ax.set_xlabel("output torque [N m]")
@@ -207,6 +222,35 @@ def efficiency_vs_torque(torque, curves: dict, marked=(), title="", dashed=()):
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
     ax.set_title(title, loc="left", fontsize=10)
     return fig
+
+
+def curve_styles(curves: dict, dashed=()) -> dict:
+    """The line style of each curve: solid; dash-dotted if named in ``dashed``; dashed
+    where it lies within OVERLAP_FRACTION of the chart's span of an earlier curve
+    everywhere (drawn on top of it, so both show where they coincide).
+
+    Parameters
+    ----------
+    curves : dict
+        Label -> (N,) values, on one grid.
+    dashed : sequence of str
+        Labels drawn dash-dotted.
+
+    Returns
+    -------
+    dict
+        Label -> {"ls": style}.
+    """
+    vals = [np.asarray(v, float) for v in curves.values()]
+    finite = np.concatenate([v[np.isfinite(v)] for v in vals]) if vals else np.array([])
+    span = float(np.ptp(finite)) if finite.size else 0.0
+    styles = {}
+    for i, (label, v) in enumerate(curves.items()):
+        lies_on = any(np.nanmax(np.abs(v - w)) <= OVERLAP_FRACTION * span
+                      for w in vals[:i]) if i else False
+        styles[label] = {"ls": "-." if label in dashed else (0, (5, 3)) if lies_on
+                         else "-"}
+    return styles
 
 
 #: Iso-efficiency lines of a map: at these quantiles of the map's values, so the lines
@@ -265,7 +309,35 @@ def efficiency_map(x, y, eta, xlabel, ylabel, title="", marked=()):
     return fig
 
 
-def loss_shares(labels, shares: dict, title=""):
+def share_text(pct: float) -> str:
+    """A loss share's value label [%]: three significant figures (11.5, 6.53, 0.0503; a
+    paper's 3.55 as it gives it), "0" for none, "" for a missing one.
+
+    Parameters
+    ----------
+    pct : float
+        The share [% of input power].
+
+    Returns
+    -------
+    str
+    """
+    if not np.isfinite(pct):
+        return ""
+    if pct == 0:
+        return "0"
+    # three figures move a share of 1 to 100 % by at most 0.05 points (11.49 and 11.51
+    # both 11.5, not 11 and 12), a smaller one by at most 0.5 % of itself
+    return f"{pct:#.3g}".rstrip(".")
+
+
+#: The published shares' bars: hatched and outlined (a paper's figures, not ours).
+PUBLISHED_BARS = dict(color="white", edgecolor="#d62728", hatch="///", lw=1.0)
+#: Headroom above the tallest bar, a fraction of it, for its upright value label.
+LABEL_HEADROOM = 0.16
+
+
+def loss_shares(labels, shares: dict, title="", published=None):
     """Grouped bars: loss shares [% of input power] per component, one group per source.
 
     Parameters
@@ -273,24 +345,42 @@ def loss_shares(labels, shares: dict, title=""):
     labels : sequence of str
         Loss components.
     shares : dict
-        Source (e.g. "analytic", "fem", a paper) -> {component: share of input power}.
+        Source (e.g. "analytic", "fem", a paper's method) -> {component: share of input
+        power}.
     title : str
+    published : dict, optional
+        The case's published shares {component: share} (its ``[published]`` keys
+        ``loss_share_<component>``): one more, hatched group; a component of ours not
+        among them has no bar there, one of theirs not among ours gets its own place.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The bars with their values upright above them (three significant figures):
+        labels of neighbouring bars never overlap.
     """
     plt = pyplot()
     fig, ax = plt.subplots(figsize=(10, 4.8), layout="constrained")
-    k = len(shares)
+    groups = dict(shares)
+    if published:
+        labels = list(labels) + [n for n in published if n not in labels]
+        groups["published (the case's paper)"] = dict(published)
+    k = len(groups)
     width = 0.8 / max(k, 1)
     x = np.arange(len(labels))
-    for i, (src, vals) in enumerate(shares.items()):
-        bars = ax.bar(x + (i - (k - 1) / 2) * width,
-                      [100 * vals.get(n, np.nan) for n in labels], width, label=src)
-        ax.bar_label(bars, fmt="%.2g", fontsize=7, padding=1)
-    ax.set_xticks(x, [n.replace("_", " ") for n in labels], rotation=20, ha="right",
-                  fontsize=8)
+    top = 0.0
+    for i, (src, vals) in enumerate(groups.items()):
+        pct = np.array([100 * vals.get(n, np.nan) for n in labels], float)
+        style = PUBLISHED_BARS if published and i == k - 1 else {}
+        bars = ax.bar(x + (i - (k - 1) / 2) * width, pct, width, label=src, **style)
+        ax.bar_label(bars, labels=[share_text(v) for v in pct], fontsize=7, padding=2,
+                     rotation=90)
+        if np.any(np.isfinite(pct)):
+            top = max(top, float(np.nanmax(pct)))
+    ax.set_ylim(0, (1 + LABEL_HEADROOM) * top if top > 0 else 1.0)
+    ours = {n for vals in shares.values() for n in vals}
+    ax.set_xticks(x, [n.replace("_", " ") + ("" if n in ours else "\n(published only)")
+                      for n in labels], rotation=20, ha="right", fontsize=8)
     ax.set_ylabel("loss [% of input power]")
     ax.grid(alpha=0.3, axis="y")
     ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False,
