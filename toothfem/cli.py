@@ -21,12 +21,12 @@ import warnings
 
 from . import __version__
 from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
-                       sweep, tolerance, new)
+                       sweep, te_loop, tolerance, new)
 from . import signals
 from .errors import IncompleteRun, Terminated, ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
-            sweep, new)
+            te_loop, sweep, new)
 #: Environment variable that lets an internal error show its traceback.
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).

@@ -385,10 +385,14 @@ class CycloidDrive(Drive):
         Returns
         -------
         dict
-            ``crankshafts``: (discs, discs) [rad/(N m)].
+            ``crankshafts``: (discs, discs) [rad/(N m)]; {} for K-H-V (no crank holes: the
+            discs' eccentrics sit on the one input shaft, whose bending is each disc's own
+            support path).
         """
         h = self.stage.holes
         n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+        if n == 0:
+            return {}
         a = self.member_axial_positions_m(supports)
         m = self.material_si
         w = sp.simply_supported_influence(a[:, None], a[None, :], supports.crankshaft_span_m,

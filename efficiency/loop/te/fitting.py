@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ....errors import ToothfemError
 from ..effect_base import Parameter
 from ..fit import at_bound, fold_count
 from ..settings import Settings
@@ -26,9 +27,16 @@ from ..settings import Settings
 #: value (the system model is smooth in a play or an error of micrometres at this step).
 FD_STEP = 1e-2
 #: Tolerances of a fit (cost, step, gradient): the parameters' standard errors are percents.
-FIT_TOL = 1e-6
+FIT_TOL = 1e-4
 #: Floor of the weighted residual sum of squares in BIC (an exact fit stays finite).
 WRSS_FLOOR = 1e-300
+#: Residual [sigma] of every row where the model does not settle: far worse than any fit.
+FAILED_SIGMA = 30.0
+#: Options equal to this many significant decimals (SI: 1e-15 m) are one model evaluation:
+#: the fits of one step start from the same values and revisit them.
+CACHE_DECIMALS = 15
+#: Model evaluations kept (each an (N,) array of a few hundred rows).
+CACHE_SIZE = 4096
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -186,6 +194,8 @@ class TeProblem:
         self.folds = np.array([self.fold_of_group[g] for g in observations.group])
         self.k = k
         self.evaluations = 0
+        self.failures: list = []        # the model's failures, one line each
+        self._cache: dict = {}
 
     def predict(self, names, values) -> np.ndarray:
         """The model's prediction with the effects ``names`` at ``values``.
@@ -202,15 +212,32 @@ class TeProblem:
         options: dict = {}
         for n, v in zip(names, values):
             options.update(self.catalog[n].model_options(v))
+        key = tuple(sorted((k, round(float(v), CACHE_DECIMALS)) for k, v in options.items()))
+        if key in self._cache:
+            return self._cache[key]
+        out = self._evaluate(options)
+        if len(self._cache) >= CACHE_SIZE:
+            self._cache.pop(next(iter(self._cache)))
+        self._cache[key] = out
+        return out
+
+    def _evaluate(self, options: dict) -> np.ndarray:
+        """One model evaluation, checked (the wall of FAILED_SIGMA where it fails)."""
         self.evaluations += 1
-        out = np.asarray(self.model(options), float)
+        try:
+            out = np.asarray(self.model(options), float)
+        except ToothfemError as exc:
+            # the model does not settle there (a contact's active set cycling at a corner
+            # of the parameters): a wall of FAILED_SIGMA on every row steers the fit away
+            self.failures.append(f"{exc} (at {options})")
+            return self.obs.values - FAILED_SIGMA * np.asarray(self.obs.sigma, float)
         if out.shape != self.obs.values.shape or not np.all(np.isfinite(out)):
             raise ValueError(f"the model returned {out.shape} values (finite: "
                              f"{bool(np.all(np.isfinite(out)))}) for {len(self.obs.values)} "
                              "observations")
         return out
 
-    def fit(self, names, start: dict | None = None) -> TeFit:
+    def fit(self, names, start: dict | None = None, free=None) -> TeFit:
         """Fit the effects ``names`` to every row (bounded least squares, each parameter
         scaled by its typical value, from each start the parameters list).
 
@@ -220,6 +247,11 @@ class TeProblem:
         start : dict, optional
             name -> values to start from (a previous fit's); the others start at their
             parameters' ``starts``.
+        free : collection of str, optional
+            The effects whose parameters vary (default all); the others stay at ``start``
+            (a candidate scored against the effects already fitted: one fit of its own
+            parameters, the joint refit kept for the one added). BIC counts every
+            parameter.
 
         Returns
         -------
@@ -233,43 +265,50 @@ class TeProblem:
         if not params:
             pred = self.predict((), ())
             return self._scored(names, {}, pred, np.zeros((len(y), 0)), (), 0)
+        start = start or {}
+        free = set(names if free is None else free)
         typical = np.array([p.typical for p in params])
         lo = np.array([p.lo for p in params]) / typical
         hi = np.array([p.hi for p in params]) / typical
         sizes = [len(self.catalog[n].parameters) for n in names]
+        moving = np.concatenate([np.full(k, n in free) for n, k in zip(names, sizes)])
+        full = np.concatenate([np.asarray(start[n], float) if n in start else
+                               np.array([p.starts[0] for p in self.catalog[n].parameters])
+                               for n in names]) / typical
 
         def split(x):
+            z = full.copy()
+            z[moving] = x
             vals, i = [], 0
-            for s in sizes:
-                vals.append(tuple(x[i:i + s] * typical[i:i + s]))
-                i += s
+            for k in sizes:
+                vals.append(tuple(z[i:i + k] * typical[i:i + k]))
+                i += k
             return vals
 
         def residual(x):
             return (y - self.predict(names, split(x))) * w
 
-        starts = []
-        start = start or {}
-        first = np.concatenate([np.asarray(start[n], float) if n in start else
-                                np.array([p.starts[0] for p in self.catalog[n].parameters])
-                                for n in names]) / typical
-        starts.append(first)
-        for j, p in enumerate(params):           # each parameter's other starts, the rest kept
-            for s in p.starts[1:]:
-                x = first.copy()
-                x[j] = s / typical[j]
+        lo_f, hi_f = lo[moving], hi[moving]
+        starts = [full[moving]]
+        for j, p in enumerate(np.array(params, dtype=object)[moving]):
+            for s0 in p.starts[1:]:              # each parameter's other starts, the rest kept
+                x = starts[0].copy()
+                x[j] = s0 / typical[moving][j]
                 starts.append(x)
         best, nfev = None, 0
-        for x0 in starts:
-            r = least_squares(residual, np.clip(x0, lo, hi), bounds=(lo, hi), method="trf",
-                              diff_step=FD_STEP, ftol=FIT_TOL, xtol=FIT_TOL, gtol=FIT_TOL,
-                              max_nfev=self.settings.max_nfev)
+        for x0 in starts:       # the other starts only while the best ends at a bound
+            if best is not None and not _at_any_bound(best.x, lo_f, hi_f):
+                break
+            r = least_squares(residual, np.clip(x0, lo_f, hi_f), bounds=(lo_f, hi_f),
+                              method="trf", diff_step=FD_STEP, ftol=FIT_TOL, xtol=FIT_TOL,
+                              gtol=FIT_TOL, max_nfev=self.settings.max_nfev)
             nfev += r.nfev
             if best is None or r.cost < best.cost:
                 best = r
         values = dict(zip(names, split(best.x)))
         pred = y - best.fun / w
-        jac = best.jac * (1.0 / typical)             # d(weighted residual)/d(value)
+        jac = np.zeros((len(y), len(params)))
+        jac[:, moving] = best.jac * (1.0 / typical[moving])   # d(weighted residual)/d(value)
         return self._scored(names, values, pred, jac, params, nfev)
 
     def _scored(self, names, values, pred, jac, params, nfev) -> TeFit:
@@ -348,7 +387,8 @@ class TeProblem:
             for name in pool:
                 if name in current.effects or name in excluded:
                     continue
-                f = self.fit(current.effects + (name,), start=current.values)
+                f = self.fit(current.effects + (name,), start=current.values,
+                             free=(name,))
                 scored.append((name, f))
             if not scored:
                 stop = "every candidate tried"
@@ -379,6 +419,10 @@ class TeProblem:
                                     reason=stop, bounded=bounded))
                 break
             name, best = usable[0]
+            if current.effects:     # the one added: every parameter refitted together
+                joint = self.fit(best.effects, start=best.values)
+                if joint.bic <= best.bic:
+                    best = joint
             gain_bic, gain_cv = gains(best)
             aliased = tuple(n for n, f in scored if n != name and not any(f.at_bound[n])
                             and f.bic - best.bic < s.alias_bic)
@@ -394,6 +438,11 @@ class TeProblem:
         return TeLoop(baseline=base, final=current, steps=tuple(steps),
                       added=current.effects, alias_groups=groups, stop_reason=stop,
                       observations=self.obs, catalog=self.catalog)
+
+
+def _at_any_bound(x, lo, hi) -> bool:
+    """Whether a scaled parameter vector touches a bound (within 1e-4 of its scale, 1)."""
+    return bool(np.any(x <= lo + 1e-4) or np.any(x >= hi - 1e-4))
 
 
 def parameter(name: str, unit: str, lo: float, hi: float, typical: float, starts=None,

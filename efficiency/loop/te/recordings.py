@@ -483,17 +483,18 @@ def recording_paths(paths) -> list:
     Parameters
     ----------
     paths : str, pathlib.Path or iterable of them
-        A folder (its ``*.csv`` files, sorted by name), one file, or several (in the
-        order given).
+        Folders (each its ``*.csv`` files, sorted by name) and files, in the order given.
 
     Returns
     -------
     list of pathlib.Path
     """
     if isinstance(paths, (str, Path)):
-        p = Path(paths)
-        return sorted(p.glob("*.csv")) if p.is_dir() else [p]
-    return [Path(p) for p in paths]
+        paths = [paths]
+    out = []
+    for p in map(Path, paths):
+        out += sorted(p.glob("*.csv")) if p.is_dir() else [p]
+    return out
 
 
 def each_file(paths, read, *, desc: str, progress: bool = True) -> tuple:

@@ -186,9 +186,13 @@ def te_spectrum(angle_rad, te_rad, *, max_order: float = DEFAULT_MAX_ORDER,
     if x.size < 4:
         raise MeasuredDataError(f"the sweep has {x.size} distinct angles; a spectrum needs 4")
     x0 = x[0]
-    turns = int(math.floor((x[-1] - x0) / (2 * math.pi) + 1e-9))
+    # a sweep sampled every step over whole turns ends a step short of them (0 to 359.9 deg
+    # at 0.1 deg is one revolution): its span plus one step is what it covers
+    step = float(np.median(np.diff(x)))
+    turns = int(math.floor((x[-1] - x0 + step) / (2 * math.pi) + 1e-9))
     if turns < MIN_REVOLUTIONS:
-        raise MeasuredDataError(f"the sweep covers {(x[-1] - x0) / (2 * math.pi):.3g} output "
+        raise MeasuredDataError(f"the sweep covers {(x[-1] - x0 + step) / (2 * math.pi):.3g} "
+                                f"output "
                                 f"revolutions; a spectrum needs {MIN_REVOLUTIONS} whole")
     inside = int(np.searchsorted(x, x0 + turns * 2 * math.pi, side="right"))
     per_rev = max(MIN_SAMPLES_PER_REVOLUTION, int(round(inside / turns)))

@@ -1,0 +1,158 @@
+"""The effects a TE/hysteresis loop fits (docs/te_rig.md, "The loop"): each a named set of
+bounded parameters, what it means, its source and the measurement that tells it apart,
+and the model options it sets (:class:`toothfem.efficiency.loop.te.model.Effects`).
+
+Options are flat keys so effects combine by a dict update: ``("play",)``,
+``("eccentric", k, j)``, ``("stiffness", part)``, ``("friction",)``,
+``("equidistant",)``; :func:`effects_of` turns them into an ``Effects``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ....fem.system.cycloid import SCALABLE
+from .fitting import TeEffect, parameter
+from .model import Effects
+
+UM = 1e-6
+#: Crank-bearing play [um]: 0 to 50, a needle or cylindrical bearing of 20-50 mm bore from
+#: group C2 to beyond C5 (ISO 5753-1:2009, radial internal clearance); typical 5 um.
+PLAY_BOUNDS_UM = (0.0, 50.0)
+#: An eccentric's eccentricity error [um]: up to 20, the order of IT6 on a 30-50 mm
+#: eccentric's diameter (16 um, ISO 286-1) that its grinding holds; typical 3 um.
+ECCENTRIC_BOUNDS_UM = (0.0, 20.0)
+#: A stiffness factor on one part: within 3x either way of the model's (a bearing's
+#: stiffness from its catalogue or a contact law is known to tens of percent, not a factor
+#: of 3).
+STIFFNESS_BOUNDS = (1 / 3, 3.0)
+#: The parts whose stiffness a fit may scale (the system model's names, model.Effects).
+STIFFNESS_PARTS = ("crank bearings", "support bearings", "mesh")
+#: A factor on the path friction's coefficients: 0 (none) to 5 (boundary friction of dry
+#: starts against the model's lubricated ones, mu about 0.1 against 0.02).
+FRICTION_BOUNDS = (0.0, 5.0)
+#: The disc's equidistant modification off the case's [um]: +-15, the span of the
+#: RV makers' modifications (Blanche & Yang 1989: 5-30 um) about a drawn value.
+CLEARANCE_SPAN_UM = 15.0
+
+
+def catalog(model) -> list:
+    """The effects for a case's model.
+
+    Parameters
+    ----------
+    model : toothfem.efficiency.loop.te.model.RecordingModel
+
+    Returns
+    -------
+    list of TeEffect
+        Crank-bearing play, each eccentric's eccentricity error (crank k, disc j), a
+        stiffness factor per part, the friction factor, and the profile clearance where
+        the drive has an equidistant modification.
+    """
+    system = model.system(0)
+    cranks, discs = system.cranks, system.discs
+    out = [TeEffect(
+        name="crank_bearing_play",
+        parameters=(parameter("crank_bearing_play_um", "um", *PLAY_BOUNDS_UM, 5.0,
+                              starts=(5.0, 20.0)),),
+        options=lambda v: {("play",): v[0] * UM},
+        summary="diametral play of the crank (eccentric) bearings: the disc floats in it "
+                "near zero torque (lost motion, hysteresis width at the knee)",
+        citation="ISO 5753-1:2009 radial internal clearance; the system model's roller "
+                 "bearings with play (docs/stiffness.md)",
+        direct_test="the crank bearing's radial play on a removed crank (dial gauge, ISO "
+                    "5753-1 measuring load), or the lost motion at +-3 % with the cranks "
+                    "locked against the discs")]
+    for k in range(cranks):
+        for j in range(discs):
+            where = (f"crank {k + 1}, disc {j + 1}" if cranks > 1 else f"disc {j + 1}")
+            out.append(TeEffect(
+                name=f"eccentric_error_{k + 1}_{j + 1}",
+                parameters=(parameter("eccentricity_error_um", "um", *ECCENTRIC_BOUNDS_UM,
+                                      3.0, starts=(3.0, 10.0)),),
+                options=lambda v, k=k, j=j: {("eccentric", k, j): v[0] * UM},
+                summary=f"the eccentricity of the eccentric under {where} off its drawing "
+                        "(radial, in the eccentric's direction): the disc is forced to a "
+                        "compromise pose, a TE ripple once per turn of the crank against "
+                        "the carrier and a ripple of the split between the discs",
+                citation="ISO 286-1 (IT6 on the eccentric's diameter); the system model's "
+                         "forced crank-bearing deformation (docs/te_model.md)",
+                direct_test=f"the eccentricity of the eccentric under {where} on a roundness "
+                            "tester (run-out of the eccentric about the crank's journals, "
+                            "ISO 1101)"))
+    for part in STIFFNESS_PARTS:
+        if part not in SCALABLE:
+            continue
+        out.append(TeEffect(
+            name=f"stiffness_{part.replace(' ', '_')}",
+            parameters=(parameter("stiffness_factor", "-", *STIFFNESS_BOUNDS, 1.0,
+                                  starts=(1.0, 0.6, 1.6)),),
+            options=lambda v, part=part: {("stiffness", part): v[0]},
+            summary=f"the {part}' stiffness off the model's by a factor: the loop's slope "
+                    "(rigidity) and the TE's mean",
+            citation="the system model's compliances in series (docs/stiffness.md)",
+            direct_test=f"the {part}' deflection under a known load on a press, apart from "
+                        "the reducer"))
+    out.append(TeEffect(
+        name="friction",
+        parameters=(parameter("friction_factor", "-", *FRICTION_BOUNDS, 1.0,
+                              starts=(1.0, 0.3, 3.0)),),
+        options=lambda v: {("friction",): v[0]},
+        summary="the path friction's coefficients off the case's by a factor: the "
+                "hysteresis loop's width at every torque",
+        citation="the path friction of the loop (toothfem.datasheet.path_friction, "
+                 "docs/stiffness.md)",
+        direct_test="the no-load starting torque at the output, both directions (the "
+                    "friction alone, no elastic twist)"))
+    g = getattr(model.drive, "geometry", None)
+    if g is not None and hasattr(g, "equidistant_m"):
+        e0 = float(g.equidistant_m) / UM
+        out.append(TeEffect(
+            name="profile_clearance",
+            parameters=(parameter("equidistant_modification_um", "um",
+                                  e0 - CLEARANCE_SPAN_UM, e0 + CLEARANCE_SPAN_UM,
+                                  max(abs(e0), 5.0), starts=(e0, e0 + 5.0)),),
+            options=lambda v: {("equidistant",): v[0] * UM},
+            summary="the disc's equidistant modification off the drawing's: the backlash "
+                    "and the lost motion, the contacts that carry near zero torque",
+            citation="the profile modification on the nominal FE tables (docs/te_model.md)",
+            direct_test="the disc's profile on a gear measuring machine (the lobes' normal "
+                        "deviation, ISO 1328-1 style)"))
+    return out
+
+
+def effects_of(options: dict, cranks: int, discs: int) -> Effects:
+    """The model's :class:`Effects` from the catalog's flat options.
+
+    Parameters
+    ----------
+    options : dict
+        Flat keys (module docstring) -> value in SI.
+    cranks, discs : int
+        The shape of the eccentric errors.
+
+    Returns
+    -------
+    Effects
+    """
+    ecc = np.zeros((cranks, discs))
+    stiffness = {}
+    kw = {}
+    for key, v in options.items():
+        if key[0] == "play":
+            kw["crank_bearing_play_m"] = float(v)
+        elif key[0] == "eccentric":
+            ecc[key[1], key[2]] = float(v)
+        elif key[0] == "stiffness":
+            stiffness[key[1]] = float(v)
+        elif key[0] == "friction":
+            kw["friction_scale"] = float(v)
+        elif key[0] == "equidistant":
+            kw["equidistant_modification_m"] = float(v)
+        else:
+            raise KeyError(f"not an option of the TE effects: {key!r}")
+    if np.any(ecc):
+        kw["crank_eccentricity_m"] = ecc
+    if stiffness:
+        kw["stiffness_scale"] = stiffness
+    return Effects(**kw)

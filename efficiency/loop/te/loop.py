@@ -1,0 +1,153 @@
+"""The TE/hysteresis loop (issue 24): recordings in, the effect the model lacks out, with
+the error before and after (docs/te_rig.md, "The loop").
+
+:func:`run_te_loop` reads the recordings (:mod:`.recordings`), takes their model-free
+figures (:mod:`.figures`), turns them into rows with their uncertainty
+(:mod:`.observations`), and fits the catalog's effects (:mod:`.effects`) to them by the
+measured-data loop's rules (:mod:`.fitting`) on the case's system model
+(:class:`~.model.RecordingModel`). Nothing here draws or writes: the reporting layer
+(``toothfem.report.te``) renders a :class:`TeLoopResult`.
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..settings import Settings
+from .effects import catalog, effects_of
+from .figures import hysteresis_figures, te_figures
+from .fitting import TeLoop, TeProblem
+from .model import ModelRecordings, RecordingModel
+from .observations import observations, model_rows
+from .recordings import read_hysteresis, read_te_recordings, recording_paths
+
+#: Named orders fitted: up to this multiple of the lowest named order above the output's
+#: own (the crank's or the pins' passing): the model's TE resolves its period's first three
+#: harmonics (docs/te_model.md, 7 sampled pitches); the mesh orders, Zb x the crank's, are
+#: beyond what its positions sample.
+MAX_ORDER_OVER_FIRST = 3.0
+#: The spectra's window: rectangular. Over whole output revolutions an integer order (every
+#: order of a reducer whose TE repeats each output turn) falls on its bin with no leakage;
+#: a Hann window would read half of order 40 at 39 in a one-revolution sweep, an amplitude
+#: the model (its exact harmonics) has no term for.
+SPECTRUM_WINDOW = "rect"
+
+
+@dataclass(frozen=True, kw_only=True)
+class TeLoopResult:
+    """The loop's outcome with what its report shows: the figures of the recordings, the
+    model's recordings before and after, the fit."""
+    case_name: str
+    loop: TeLoop
+    layout: object                     # observations.Layout: what each row is
+    te_figures: object | None          # figures.TeFigures
+    hysteresis: object | None          # figures.HysteresisFigures
+    before: ModelRecordings
+    after: ModelRecordings
+    rated_torque_Nm: float
+    orders: dict                       # the named orders fitted
+    refused: tuple                     # recordings.Refusal
+    elapsed_s: float
+    evaluations: int
+
+    def summary(self) -> dict:
+        """The loop's JSON (report.json).
+
+        Returns
+        -------
+        dict
+        """
+        d = self.loop.to_dict()
+        figs = {}
+        if self.hysteresis is not None:
+            figs = self.hysteresis.summary()
+        return {"case": self.case_name, "rated_torque_Nm": self.rated_torque_Nm,
+                "named_orders": self.orders, "measured_figures": figs,
+                "model_figures_before": self.before.loop.figures(),
+                "model_figures_after": self.after.loop.figures(),
+                "refused": [str(r) for r in self.refused],
+                "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
+
+
+def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=Settings(),
+                candidates=None, model: RecordingModel | None = None, progress=False):
+    """Fit the effects a case's model lacks to its TE and hysteresis recordings.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case or path
+    te : path or sequence of paths, optional
+        TE recordings (files or folders; :func:`~.recordings.read_te_recordings`).
+    hysteresis : path, optional
+        A hysteresis staircase recording.
+    name_pattern : str, optional
+        File-name pattern of the TE files' conditions.
+    settings : toothfem.efficiency.loop.settings.Settings
+        The loop's thresholds (the efficiency loop's).
+    candidates : sequence of str, optional
+        Effect names (default: the whole catalog for the drive).
+    model : RecordingModel, optional
+        The case's model already set up.
+    progress : bool
+        Progress over the TE files.
+
+    Returns
+    -------
+    TeLoopResult
+
+    Raises
+    ------
+    ValueError
+        Where neither recording is given or none gives a row.
+    """
+    t0 = time.perf_counter()
+    if te is None and hysteresis is None:
+        raise ValueError("te, hysteresis: give TE recordings, a hysteresis recording, or both")
+    model = model or RecordingModel(case)
+    rated = model.rated_torque_Nm
+    named = model.te_orders()
+    first = min([q for q in named.values() if q >= 2] or [1.0])
+    orders = {n: q for n, q in named.items() if q <= MAX_ORDER_OVER_FIRST * first}
+    refused = []
+    te_figs = loop_figs = None
+    if te is not None:
+        paths = recording_paths(te)
+        if hysteresis is not None:      # a folder holding both: the staircase is not TE
+            paths = [p for p in paths if p.resolve() != Path(hysteresis).resolve()]
+        rec = read_te_recordings(paths, name_pattern=name_pattern, progress=progress,
+                                 window=SPECTRUM_WINDOW)
+        refused += list(rec.refused)
+        te_figs = te_figures(rec, named_orders=orders)
+    if hysteresis is not None:
+        loop_figs = hysteresis_figures(read_hysteresis(hysteresis), rated)
+    obs, layout = observations(rated, loop=loop_figs, te=te_figs, orders=orders)
+    torque_max = None
+    if loop_figs is not None:
+        torque_max = max(float(np.max(np.abs(c.torque_Nm))) for c in loop_figs.curves)
+    system = model.system(0)
+    cranks, discs = system.cranks, system.discs
+
+    def recordings(options: dict) -> ModelRecordings:
+        eff = effects_of(options, cranks, discs)
+        loop = model.hysteresis(eff, torque_max_Nm=torque_max) if layout.loop_rows.size \
+            else None
+        te_runs = model.te(eff, layout.te_torques_Nm) if layout.te_torques_Nm else ()
+        return ModelRecordings(loop=loop, te=te_runs)
+
+    problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
+                        catalog(model), settings)
+    fitted = problem.run(candidates)
+    final_options: dict = {}
+    for name in fitted.final.effects:
+        final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))
+    return TeLoopResult(case_name=model.case.name, loop=fitted, layout=layout,
+                        te_figures=te_figs,
+                        hysteresis=loop_figs, before=recordings({}),
+                        after=recordings(final_options), rated_torque_Nm=rated,
+                        orders=orders, refused=tuple(refused),
+                        elapsed_s=time.perf_counter() - t0,
+                        evaluations=problem.evaluations)
+

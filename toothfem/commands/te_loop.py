@@ -1,0 +1,134 @@
+"""`toothfem te-loop CASE --te FILES... [--hysteresis FILE] --out DIR`: compare the model's
+transmission error and hysteresis with rig recordings, add the physical effects the
+recordings ask for, and report the error before and after (DIR/report.md, report.json,
+hysteresis.png, spectrum.png, report.html)."""
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from ..case import load_case
+from ..efficiency.loop.settings import Settings
+from ..errors import ToothfemError
+from ..output import atomic_dir
+from ..report import html as report_html, save, te as report_te
+
+
+def add_parser(sub):
+    """Add ``toothfem te-loop`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
+    p = sub.add_parser("te-loop", help="fit physical effects (crank-bearing play, eccentric "
+                       "errors, stiffness, friction, profile clearance) to transmission-error "
+                       "and hysteresis recordings; the error before and after")
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--te", nargs="*", default=None, metavar="PATH",
+                   help="TE recordings: CSV files or folders (output_angle_<unit> with "
+                        "te_forward_/te_backward_<unit>, or te_<unit> with a direction "
+                        "column; the torque from a column, a '# output_torque_Nm:' line or "
+                        "--name-pattern)")
+    p.add_argument("--hysteresis", default=None, metavar="CSV",
+                   help="a hysteresis staircase: output_torque_<unit>, twist_<unit> and "
+                        "optionally direction")
+    p.add_argument("--name-pattern", default=None,
+                   help="file-name pattern of the TE files' conditions, e.g. "
+                        "'te_{output_torque_Nm}Nm.csv'")
+    p.add_argument("--effects", default=None,
+                   help="comma-separated effects to consider (default: every effect of the "
+                        "drive; the names are in report.json)")
+    p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
+    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--json", action="store_true", help="print report.json instead of the "
+                   "summary lines")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """Fit the effects the recordings ask for and write the report into ``--out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``te``, ``hysteresis``, ``name_pattern``, ``effects``, ``folds``, ``out``,
+        ``json``.
+
+    Returns
+    -------
+    int
+        0 when the report is written.
+
+    Raises
+    ------
+    ToothfemError
+        Without any recording, for an unknown effect or ``--folds`` below 2.
+    """
+    from ..efficiency.loop.te.effects import catalog
+    from ..efficiency.loop.te.loop import run_te_loop
+    from ..efficiency.loop.te.model import RecordingModel
+
+    if not args.te and not args.hysteresis:
+        raise ToothfemError("--te, --hysteresis: give TE recordings, a hysteresis recording, "
+                            "or both")
+    if args.folds < 2:
+        raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
+    case = load_case(args.case)
+    model = RecordingModel(case)
+    names = [e.name for e in catalog(model)]
+    chosen = None
+    if args.effects:
+        chosen = [n.strip() for n in args.effects.split(",") if n.strip()]
+        unknown = [n for n in chosen if n not in names]
+        if unknown:
+            raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
+                                f"valid: {', '.join(names)}")
+    try:
+        result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
+                             name_pattern=args.name_pattern,
+                             settings=Settings(folds=args.folds), candidates=chosen,
+                             model=model, progress=not args.json)
+    except ValueError as exc:
+        raise ToothfemError(str(exc)) from exc
+    summary = result.summary()
+    summary["case_file"] = str(args.case)
+    with atomic_dir(args.out) as tmp:
+        files = []
+        if result.hysteresis is not None:
+            save(report_te.hysteresis(result), tmp / "hysteresis.png", dpi=110)
+            files.append("hysteresis.png")
+        if result.te_figures is not None:
+            save(report_te.spectrum(result), tmp / "spectrum.png", dpi=110)
+            files.append("spectrum.png")
+        (tmp / "report.json").write_text(json.dumps(summary, indent=2, default=_json) + "\n")
+        (tmp / "report.md").write_text(report_te.markdown(result, files=files))
+        report_html.write_report(tmp, case, command="te-loop", case_file=args.case)
+    if args.json:
+        print(json.dumps(summary, indent=2, default=_json))
+        return 0
+    loop = result.loop
+    print(f"{result.case_name}: {len(loop.observations.values)} observed figures; held-out "
+          f"error {loop.baseline.cv_wrmse:.3g} -> {loop.final.cv_wrmse:.3g} sigma; effects: "
+          + (", ".join(f"{n} ({', '.join(f'{v:.3g}' for v in loop.final.values[n])})"
+                       for n in loop.added) or "none"))
+    for name, group in loop.alias_groups.items():
+        if group:
+            print(f"  {name} is aliased with {', '.join(group)}: the report names the "
+                  "measurement that tells each apart")
+    print(f"  {loop.stop_reason}")
+    for r in result.refused:
+        print(f"  refused: {r}")
+    print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
+    return 0
+
+
+def _json(x):
+    import numpy as np
+
+    if isinstance(x, np.ndarray):
+        return x.tolist()
+    if isinstance(x, (np.floating, np.integer, np.bool_)):
+        return x.item()
+    return str(x)

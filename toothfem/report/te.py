@@ -1,0 +1,278 @@
+"""Pictures and text of the TE/hysteresis loop (``toothfem te-loop``): the measured loop
+beside the model before and after, the TE amplitudes at the named orders measured and
+modelled, and report.md (docs/te_rig.md, "The loop")."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import pyplot, wrap
+
+#: The figures compared, summary key -> (label, unit).
+FIGURES = {"torsional_rigidity_Nm_per_arcmin": ("torsional rigidity 50-100 %", "N m/arcmin"),
+           "lost_motion_arcmin": ("lost motion ±3 %", "arcmin"),
+           "hysteresis_loss_arcmin": ("hysteresis loss", "arcmin"),
+           "backlash_arcmin": ("backlash", "arcmin")}
+
+
+def _effects_text(result) -> str:
+    loop = result.loop
+    if not loop.added:
+        return "no effect added"
+    parts = []
+    for name in loop.added:
+        eff = loop.catalog[name]
+        vals = ", ".join(f"{p.name} = {v:.3g} {p.unit}"
+                         for p, v in zip(eff.parameters, loop.final.values[name]))
+        parts.append(f"{name} ({vals})")
+    return "added: " + "; ".join(parts)
+
+
+def hysteresis(result):
+    """The measured hysteresis loop (its binned branches) with the model's before and
+    after, the whole loop and the window of ±10 % of the rated torque.
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = pyplot()
+    fig, axes = plt.subplots(1, 2, figsize=(12.5, 5.4), layout="constrained",
+                             gridspec_kw={"width_ratios": [1.2, 1]})
+    rated = result.rated_torque_Nm
+    meas = result.hysteresis
+    shift = _offset(result)
+    for ax in axes:
+        for c in meas.curves:
+            ax.plot(c.torque_Nm, c.twist_arcmin - shift, "o", ms=4, mfc="none",
+                    color="tab:green" if c.branch > 0 else "tab:red",
+                    label=(f"measured, torque {'rising' if c.branch > 0 else 'falling'}"
+                           if c.flank > 0 else None))
+        for rec, style, label in ((result.before, "--", "model as declared"),
+                                  (result.after, "-", "model after the loop")):
+            lp = rec.loop
+            ax.plot(lp.rising_torque_Nm, lp.rising_twist_arcmin, style, color="k", lw=1.2,
+                    label=label)
+            ax.plot(lp.falling_torque_Nm, lp.falling_twist_arcmin, style, color="k", lw=1.2)
+        ax.axhline(0, color="0.5", lw=0.5)
+        ax.axvline(0, color="0.5", lw=0.5)
+        ax.set_xlabel("output torque [N m]")
+        ax.set_ylabel("output twist [arcmin]")
+        ax.grid(alpha=0.3)
+    window = 0.1 * rated
+    zoom = axes[1]
+    zoom.set_xlim(-window, window)
+    near = [c.twist_arcmin[np.abs(c.torque_Nm) <= window] - shift for c in meas.curves]
+    near = np.concatenate([n for n in near if n.size] or [np.zeros(1)])
+    pad = 0.15 * max(float(np.ptp(near)), 1e-3)
+    zoom.set_ylim(float(near.min()) - pad, float(near.max()) + pad)
+    zoom.set_title("near zero torque (±10 % of rated)", fontsize=10)
+    axes[0].set_title("the loop", fontsize=10)
+    axes[0].legend(fontsize=8, loc="upper left")
+    m = meas.summary()
+    b, a = result.before.loop.figures(), result.after.loop.figures()
+    lm = "lost_motion_arcmin"
+    fig.suptitle(wrap(f"{result.case_name}\nhysteresis measured (binned) against the model, "
+                      f"input held; rated {rated:.4g} N m\nlost motion ±3 %: measured "
+                      f"{m[lm]:.3g} arcmin, model {b[lm]:.3g} as declared, {a[lm]:.3g} after "
+                      f"the loop\n{_effects_text(result)}", 120), fontsize=10)
+    return fig
+
+
+def _offset(result) -> float:
+    """The measured loop's zero against the model after the loop [arcmin]: the mean
+    difference over the rows (an encoder's zero is arbitrary)."""
+    rows = result.loop.observations
+    kinds = np.array(rows.kinds)
+    if not np.any(kinds == "twist"):
+        return 0.0
+    # the rows were centred on their mean; the measured curves were not: the mean of the
+    # measured twist at the rows' torques less the model's there
+    from ..efficiency.loop.te.observations import LOOP_FRACTIONS
+
+    meas = result.hysteresis
+    lp = result.after.loop
+    diffs = []
+    for frac in LOOP_FRACTIONS:
+        for sign in (1, -1):
+            t = sign * frac * result.rated_torque_Nm
+            for c in meas.curves:
+                if c.flank != sign or not (c.torque_Nm.min() <= t <= c.torque_Nm.max()):
+                    continue
+                tt, th = ((lp.rising_torque_Nm, lp.rising_twist_arcmin) if c.branch > 0
+                          else (lp.falling_torque_Nm, lp.falling_twist_arcmin))
+                order = np.argsort(tt)
+                diffs.append(float(np.interp(t, c.torque_Nm, c.twist_arcmin))
+                             - float(np.interp(t, np.asarray(tt)[order],
+                                               np.asarray(th)[order])))
+    return float(np.mean(diffs)) if diffs else 0.0
+
+
+def spectrum(result):
+    """TE amplitudes at the named orders fitted: measured (bars, forward and backward) and
+    the model before and after (markers), one panel per torque level.
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = pyplot()
+    obs = result.loop.observations
+    rows = _amplitude_rows(result)
+    torques = sorted({r[0] for r in rows})
+    fig, axes = plt.subplots(len(torques), 1, figsize=(11, 2.8 * len(torques) + 1.2),
+                             layout="constrained", squeeze=False)
+    before = result.loop.baseline.prediction
+    after = result.loop.final.prediction
+    for ax, t in zip(axes[:, 0], torques):
+        mine = [r for r in rows if r[0] == t]
+        orders = sorted({r[1] for r in mine})
+        x = np.arange(len(orders))
+        for d, dx, colour in ((1, -0.2, "tab:blue"), (-1, 0.2, "tab:orange")):
+            vals = [next((obs.values[r[3]] for r in mine if r[1] == o and r[2] == d),
+                         np.nan) for o in orders]
+            ax.bar(x + dx, vals, width=0.38, color=colour, alpha=0.6,
+                   label=f"measured, {'forward' if d > 0 else 'backward'}")
+            for pred, marker, label in ((before, "x", "model as declared"),
+                                        (after, "o", "model after the loop")):
+                pv = [next((pred[r[3]] for r in mine if r[1] == o and r[2] == d), np.nan)
+                      for o in orders]
+                ax.plot(x + dx, pv, marker, color="k", mfc="none" if marker == "o" else None,
+                        ms=6, ls="none", label=label if d > 0 else None)
+        noise = [r[4] for r in mine]
+        ax.axhline(float(np.median(noise)) * math.sqrt(math.pi / 2), color="0.4", ls=":",
+                   lw=1, label="the spectrum's noise floor (mean amplitude of noise)")
+        ax.set_xticks(x, [f"{o:g}" for o in orders], fontsize=8)
+        ax.set_xlabel("order per output revolution", fontsize=8)
+        ax.set_ylabel("TE amplitude [arcsec]")
+        ax.set_title(f"at {t:.4g} N m output", fontsize=9, loc="left")
+        ax.grid(alpha=0.3, axis="y")
+        ax.set_ylim(bottom=0)
+    axes[0, 0].legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0), frameon=False)
+    named = "\n".join(f"{q:g}: {n}" for n, q in sorted(result.orders.items(),
+                                                        key=lambda nq: nq[1]))
+    axes[-1, 0].text(1.01, 0.0, "the drive's orders (and their doubles):\n" + named,
+                     transform=axes[-1, 0].transAxes, fontsize=8, va="bottom", ha="left")
+    fig.suptitle(wrap(f"{result.case_name}\nTE amplitude at the drive's named orders, "
+                      f"measured against the model\n{_effects_text(result)}", 120),
+                 fontsize=10)
+    return fig
+
+
+def _amplitude_rows(result) -> list:
+    """(torque, order, direction, row index, noise) of the amplitude rows, from the rows'
+    labels' layout (the loop's observations keep kinds; the orders and torques are parsed
+    from the observation layout the loop kept)."""
+    out = []
+    for i, row in enumerate(result.layout.rows):
+        if row.kind == "amplitude":
+            out.append((row.torque_Nm, row.order, row.direction, i, row.noise_arcsec))
+    return out
+
+
+def markdown(result, *, files=()) -> str:
+    """report.md of the TE/hysteresis loop.
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+    files : sequence of str
+        The pictures beside it.
+
+    Returns
+    -------
+    str
+    """
+    loop = result.loop
+    b, f = loop.baseline, loop.final
+    lines = [f"# TE and hysteresis loop: {result.case_name}", "",
+             f"Rated torque {result.rated_torque_Nm:.4g} N m; {len(loop.observations.values)} "
+             f"observed figures; {result.evaluations} model evaluations in "
+             f"{result.elapsed_s:.1f} s.", "",
+             "## Error before and after", "",
+             "| | model as declared | after the loop |", "|---|---|---|",
+             f"| held-out error, weighted RMS [sigma] | {b.cv_wrmse:.3g} | {f.cv_wrmse:.3g} |",
+             f"| fit error, weighted RMS [sigma] | {b.wrmse:.3g} | {f.wrmse:.3g} |", "",
+             f"Held-out error cut {b.cv_wrmse / max(f.cv_wrmse, 1e-300):.3g}x (k-fold over "
+             "the torque levels: a fold holds out whole torques). sigma: each row's own "
+             "uncertainty from the recordings (the spectrum's noise floor, the binned loop's "
+             "scatter).", "", "## Effects added", ""]
+    if loop.added:
+        lines += ["| effect | value | standard error | meaning | source |",
+                  "|---|---|---|---|---|"]
+        for name in loop.added:
+            eff = loop.catalog[name]
+            for p, v, s in zip(eff.parameters, f.values[name], f.stderr[name]):
+                lines.append(f"| {name} | {p.name} = {v:.4g} {p.unit} | "
+                             f"{s:.2g} {p.unit} | {eff.summary} | {eff.citation} |")
+        for name in loop.added:
+            group = loop.alias_groups.get(name, ())
+            if group:
+                lines += ["", f"**{name} cannot be told apart by these recordings from:** "
+                          + ", ".join(group) + ". The measurement that tells each apart:", ""]
+                for n in (name, *group):
+                    lines.append(f"- {n}: {loop.catalog[n].direct_test}")
+    else:
+        lines.append("None.")
+    lines += ["", f"Stop: {loop.stop_reason}", "", "## Steps", ""]
+    for s in loop.steps:
+        lines += [f"Step {s.index}: {s.added or 'nothing added'} ({s.reason})", "",
+                  "| candidate | BIC | held-out [sigma] | values | at a bound |",
+                  "|---|---|---|---|---|"]
+        for name, bic, cv, values, bound in s.scored:
+            lines.append(f"| {name} | {bic:.1f} | {cv:.3g} | "
+                         + ", ".join(f"{v:.4g}" for v in values)
+                         + f" | {'yes' if bound else 'no'} |")
+        lines.append("")
+    if result.hysteresis is not None:
+        m = result.hysteresis.summary()
+        before, after = result.before.loop.figures(), result.after.loop.figures()
+        lines += ["## The loop's figures (catalogue definitions, docs/stiffness.md)", "",
+                  "| figure | measured | model as declared | after the loop |",
+                  "|---|---|---|---|"]
+        for key, (label, unit) in FIGURES.items():
+            lines.append(f"| {label} [{unit}] | {m[key]:.4g} | {before[key]:.4g} | "
+                         f"{after[key]:.4g} |")
+        lines.append("")
+        if m["notes"]:
+            lines += ["Notes on the recording: " + "; ".join(m["notes"]), ""]
+    if result.te_figures is not None:
+        lines += ["## The TE recordings (model-free)", "",
+                  "| torque [N m] | forward mean [arcsec] | backward mean [arcsec] | "
+                  "width [arcsec] | named peaks (forward) |", "|---|---|---|---|---|"]
+        for c in result.te_figures.conditions:
+            peaks = "" if c.forward is None else ", ".join(
+                f"{p.order:.4g}: {p.amplitude_arcsec:.3g} arcsec"
+                + (f" ({p.name})" if p.names else "") for p in c.forward.peaks[:6])
+            lines.append(f"| {c.condition.output_torque_Nm:.4g} | "
+                         f"{_num(c.forward.mean_arcsec if c.forward else math.nan)} | "
+                         f"{_num(c.backward.mean_arcsec if c.backward else math.nan)} | "
+                         f"{_num(c.width_arcsec)} | {peaks} |")
+        lines += ["", "TE levels are relative (each file's zero offset fitted out, "
+                  "docs/te_rig.md)."]
+    obs = loop.observations
+    lines += ["", "## Every observed figure beside the model", "",
+              "Residual = measured - model, in the row's unit; sigma its uncertainty (the "
+              "twist rows are centred on their mean, an encoder's zero being arbitrary).", "",
+              "| figure | measured | model as declared | after the loop | sigma |",
+              "|---|---|---|---|---|"]
+    for i, label in enumerate(obs.labels):
+        lines.append(f"| {label} | {obs.values[i]:.4g} | {b.prediction[i]:.4g} | "
+                     f"{f.prediction[i]:.4g} | {obs.sigma[i]:.2g} |")
+    if result.refused:
+        lines += ["", "## Refused files", ""] + [f"- {r}" for r in result.refused]
+    lines += [""] + [f"![{n}]({n})" for n in files] + [""]
+    return "\n".join(lines)
+
+
+def _num(x) -> str:
+    return "–" if not math.isfinite(x) else f"{x:.4g}"
