@@ -220,10 +220,11 @@ def test_cycle_mode_rotation_is_a_rigid_turn(base, unmodified_cycle, deg):
 #: the transmission error within 0.3 arcsec.
 MODES_RTOL, TE_ATOL = 0.02, 0.3 * ARCSEC
 
-MODS_FE = [dict(), dict(rotation_rad=math.radians(0.05)), dict(rotation_rad=math.radians(0.1)),
-           dict(equidistant_m=10e-6), dict(equidistant_m=-5e-6, move_distance_m=-10e-6),
-           dict(move_distance_m=-10e-6), dict(equidistant_m=5e-6, move_distance_m=5e-6),
-           dict(equidistant_m=10e-6, rotation_rad=-math.radians(0.01)),
+#: Each kind of modification alone and all three together (the suite's time: the pairs
+#: equidistant + move-distance and equidistant + rotation, and the 0.05 deg rotation, agreed
+#: as well when issue 28 landed and are covered by the exact-gap tests above).
+MODS_FE = [dict(), dict(rotation_rad=math.radians(0.1)), dict(equidistant_m=10e-6),
+           dict(move_distance_m=-10e-6),
            dict(equidistant_m=10e-6, move_distance_m=-5e-6, rotation_rad=math.radians(0.02))]
 
 

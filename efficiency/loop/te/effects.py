@@ -4,7 +4,7 @@ and the model options it sets (:class:`toothfem.efficiency.loop.te.model.Effects
 
 Options are flat keys so effects combine by a dict update: ``("play",)``,
 ``("eccentric", k, j)``, ``("stiffness", part)``, ``("friction",)``,
-``("equidistant",)``; :func:`effects_of` turns them into an ``Effects``.
+``("equidistant",)``, ``("move_distance",)``, ``("pin_radius",)``; :func:`effects_of` turns them into an ``Effects``.
 """
 from __future__ import annotations
 
@@ -30,7 +30,10 @@ STIFFNESS_PARTS = ("crank bearings", "support bearings", "mesh")
 #: A factor on the path friction's coefficients: 0 (none) to 5 (boundary friction of dry
 #: starts against the model's lubricated ones, mu about 0.1 against 0.02).
 FRICTION_BOUNDS = (0.0, 5.0)
-#: The disc's equidistant modification off the case's [um]: +-15, the span of the
+#: Every pin's radius change [um]: +-10, twice the IT5 limit of a 5-10 mm pin (6 um,
+#: ISO 286-1) for a lot off its nominal.
+PIN_RADIUS_BOUNDS_UM = (-10.0, 10.0)
+#: The disc's equidistant and move-distance modifications off the case's [um]: +-15, the span of the
 #: RV makers' modifications (Blanche & Yang 1989: 5-30 um) about a drawn value.
 CLEARANCE_SPAN_UM = 15.0
 
@@ -46,8 +49,9 @@ def catalog(model) -> list:
     -------
     list of TeEffect
         Crank-bearing play, each eccentric's eccentricity error (crank k, disc j), a
-        stiffness factor per part, the friction factor, and the profile clearance where
-        the drive has an equidistant modification.
+        stiffness factor per part, the friction factor, every pin's radius change where
+        the drive has pins, and the profile clearance (move-distance, equidistant) where
+        the drive has those modifications.
     """
     system = model.system(0)
     cranks, discs = system.cranks, system.discs
@@ -104,7 +108,37 @@ def catalog(model) -> list:
                  "docs/stiffness.md)",
         direct_test="the no-load starting torque at the output, both directions (the "
                     "friction alone, no elastic twist)"))
+    nominal = model.drive.nominal_deviation()
+    if hasattr(nominal, "pin_radius"):
+        out.append(TeEffect(
+            name="pin_radius_error",
+            parameters=(parameter("pin_radius_change_um", "um", *PIN_RADIUS_BOUNDS_UM, 2.0,
+                                  starts=(2.0, -2.0)),),
+            options=lambda v: {("pin_radius",): v[0] * UM},
+            summary="every pin's radius off its drawing by one amount (a lot of pins): the "
+                    "clearance to the disc, so the backlash, the lost motion and the "
+                    "contacts that carry near zero torque",
+            citation="ISO 286-1 (IT5 on a 5-10 mm pin: 6 um); the built stage's pin "
+                     "radius change (fem/deviations.py)",
+            direct_test="the pins' diameter with a micrometer (or the pin lot's gauge "
+                        "certificate)"))
     g = getattr(model.drive, "geometry", None)
+    if g is not None and hasattr(g, "move_distance_m"):
+        m0 = float(g.move_distance_m) / UM
+        top = min(m0 + CLEARANCE_SPAN_UM, float(getattr(g, "equidistant_m", np.inf)) / UM)
+        out.append(TeEffect(
+            name="move_distance_clearance",
+            # at most the equidistant modification: beyond it the disc's tips and roots
+            # would interfere with the pins (geometry/cycloid.py refuses it)
+            parameters=(parameter("move_distance_modification_um", "um",
+                                  m0 - CLEARANCE_SPAN_UM, top, max(abs(m0), 5.0),
+                                  starts=(m0, m0 - 5.0)),),
+            options=lambda v: {("move_distance",): v[0] * UM},
+            summary="the disc's move-distance (radial) modification off the drawing's: "
+                    "the clearance at the lobes' tips and roots, the backlash",
+            citation="the profile modification on the nominal FE tables (docs/te_model.md)",
+            direct_test="the disc's profile on a gear measuring machine (the lobes' normal "
+                        "deviation at tip and root)"))
     if g is not None and hasattr(g, "equidistant_m"):
         e0 = float(g.equidistant_m) / UM
         out.append(TeEffect(
@@ -149,6 +183,10 @@ def effects_of(options: dict, cranks: int, discs: int) -> Effects:
             kw["friction_scale"] = float(v)
         elif key[0] == "equidistant":
             kw["equidistant_modification_m"] = float(v)
+        elif key[0] == "move_distance":
+            kw["move_distance_modification_m"] = float(v)
+        elif key[0] == "pin_radius":
+            kw["pin_radius_m"] = float(v)
         else:
             raise KeyError(f"not an option of the TE effects: {key!r}")
     if np.any(ecc):

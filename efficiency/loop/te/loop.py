@@ -66,8 +66,10 @@ class TeLoopResult:
             figs = self.hysteresis.summary()
         return {"case": self.case_name, "rated_torque_Nm": self.rated_torque_Nm,
                 "named_orders": self.orders, "measured_figures": figs,
-                "model_figures_before": self.before.loop.figures(),
-                "model_figures_after": self.after.loop.figures(),
+                "model_figures_before": (None if self.before.loop is None
+                                         else self.before.loop.figures()),
+                "model_figures_after": (None if self.after.loop is None
+                                        else self.after.loop.figures()),
                 "refused": [str(r) for r in self.refused],
                 "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
 
