@@ -10,8 +10,8 @@ Rows, each with its own uncertainty from the recordings themselves:
   zero torque), never below :data:`TWIST_SIGMA_FLOOR_ARCMIN`;
 - **the TE ripple**: at each torque level, the amplitude at each named order (the drive's
   :meth:`~toothfem.fem.drives.base.Drive.te_orders` and their multiples) of the forward
-  and backward spectra; the model's amplitude A is read as the expected amplitude of A in
-  the spectrum's noise, sqrt(A^2 + s^2 pi / 2 ...) (:func:`expected_amplitude`), sigma the
+  and backward spectra; the model's amplitude A is read as the amplitude a spectrum shows
+  for A in its noise, sqrt(A^2 + s^2 pi / 2) (:func:`expected_amplitude`), sigma the
   noise's s (the spectrum's median amplitude away from the named orders / sqrt(2 ln 2),
   Rayleigh);
 - **the hysteresis width** of the rotating TE at each torque level (forward less backward
