@@ -143,13 +143,7 @@ def check_limits(si, targets: dict, best: Candidate, check: dict,
             "" if iv["has_interval"] else
             f" (no 95 % interval: a P{iv['percentile']:g} needs {iv['rings_needed']})")
         found += limits.contact_pressure(f"{where} at {at}", best.max_ph_MPa, si.material)
-    mat = si.material
-    drawn = {"max_ph_MPa": [
-        {"name": "allowable", "value": mat.allowable_contact_stress_Pa * 1e-6, "unit": "MPa",
-         "source": "material.allowable_contact_stress_MPa"},
-        {"name": "static capacity", "value": mat.static_contact_stress_Pa * 1e-6,
-         "unit": "MPa", "source": "material.static_contact_stress_MPa"}]}
-    return found, drawn
+    return found, {"max_ph_MPa": limits.contact_pressure_lines(si.material)}
 
 
 def percentile_interval(targets: dict) -> dict | None:

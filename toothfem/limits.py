@@ -222,3 +222,22 @@ def case_temperature(si, drive, temperature_C) -> list:
                   "ASSUMPTION for this case (thermal.case_temperature_limit_C sets it)")
     hit = above("case (oil) temperature of the heat balance", t, limit, "C", source)
     return [hit] if hit else []
+
+
+def contact_pressure_lines(material) -> list:
+    """The contact-pressure limits a picture draws: the allowable (contact fatigue) and the
+    static capacity, each with its value [MPa] and its source.
+
+    Parameters
+    ----------
+    material : toothfem.si.MaterialSI
+
+    Returns
+    -------
+    list of dict
+        {"name", "value", "unit", "source"}.
+    """
+    return [{"name": "allowable", "value": material.allowable_contact_stress_Pa * 1e-6,
+             "unit": "MPa", "source": "material.allowable_contact_stress_MPa"},
+            {"name": "static capacity", "value": material.static_contact_stress_Pa * 1e-6,
+             "unit": "MPa", "source": "material.static_contact_stress_MPa"}]

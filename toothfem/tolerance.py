@@ -534,13 +534,7 @@ def check_limits(result: ToleranceResult, si) -> tuple:
         for q, p in pct.get(contacts, {}).items():
             if p["value"] is not None:
                 found += limits.film_ratio(f"{contacts}, {at(q)}", p["value"])
-    mat = si.material
-    drawn = {"max_ph_MPa": [
-        {"name": "allowable", "value": mat.allowable_contact_stress_Pa * 1e-6, "unit": "MPa",
-         "source": "material.allowable_contact_stress_MPa"},
-        {"name": "static capacity", "value": mat.static_contact_stress_Pa * 1e-6,
-         "unit": "MPa", "source": "material.static_contact_stress_MPa"}]}
-    return found, drawn
+    return found, {"max_ph_MPa": limits.contact_pressure_lines(si.material)}
 
 
 #: Key of the shares' last row: the one-tolerance variances summed, over the whole

@@ -11,6 +11,7 @@ from ..efficiency import loop as lp
 from ..efficiency.loop import effects as fx, measured as ms
 from ..errors import ToothfemError
 from ..output import atomic_dir
+from . import json_default
 from ..report import html as report_html, loop as rl, save
 
 
@@ -91,13 +92,13 @@ def run(args) -> int:
         final = lp.final_case(case, report, effects)
         out["final_case_fields"] = {
             f: _field(final, f) for e in report.effects for f in e.case_fields}
-        (tmp / "report.json").write_text(json.dumps(out, indent=2, default=_json) + "\n")
+        (tmp / "report.json").write_text(json.dumps(out, indent=2, default=json_default) + "\n")
         for stage in ("before", "after"):
             save(rl.plot_residuals(report, stage), tmp / f"residuals_{stage}.png", dpi=110)
         (tmp / "report.md").write_text(rl.markdown(report, effects=effects))
         report_html.write_report(tmp, case, command="loop", case_file=args.case)
     if args.json:
-        print(json.dumps(out, indent=2, default=_json))
+        print(json.dumps(out, indent=2, default=json_default))
         return 0
     b, f = report.baseline, report.final
     error = (f"held-out RMSE {100 * b.rmse:.3f} -> {100 * f.rmse:.3f} points"
@@ -120,12 +121,3 @@ def _field(case, dotted):
     section, name = dotted.split(".")
     return getattr(getattr(case, section), name)
 
-
-def _json(x):
-    import numpy as np
-
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    if isinstance(x, (np.floating, np.integer, np.bool_)):
-        return x.item()
-    return str(x)

@@ -11,6 +11,7 @@ from ..case import load_case
 from ..efficiency.loop.settings import Settings
 from ..errors import ToothfemError
 from ..output import atomic_dir
+from . import json_default
 from ..report import html as report_html, save, te as report_te
 
 
@@ -102,11 +103,11 @@ def run(args) -> int:
         if result.te_figures is not None:
             save(report_te.spectrum(result), tmp / "spectrum.png", dpi=110)
             files.append("spectrum.png")
-        (tmp / "report.json").write_text(json.dumps(summary, indent=2, default=_json) + "\n")
+        (tmp / "report.json").write_text(json.dumps(summary, indent=2, default=json_default) + "\n")
         (tmp / "report.md").write_text(report_te.markdown(result, files=files))
         report_html.write_report(tmp, case, command="te-loop", case_file=args.case)
     if args.json:
-        print(json.dumps(summary, indent=2, default=_json))
+        print(json.dumps(summary, indent=2, default=json_default))
         return 0
     loop = result.loop
     print(f"{result.case_name}: {len(loop.observations.values)} observed figures; held-out "
@@ -123,12 +124,3 @@ def run(args) -> int:
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
     return 0
 
-
-def _json(x):
-    import numpy as np
-
-    if isinstance(x, np.ndarray):
-        return x.tolist()
-    if isinstance(x, (np.floating, np.integer, np.bool_)):
-        return x.item()
-    return str(x)
