@@ -86,16 +86,16 @@ def run(args) -> int:
         if unknown:
             raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
                                 f"valid: {', '.join(names)}")
-    try:
-        result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
-                             name_pattern=args.name_pattern,
-                             settings=Settings(folds=args.folds), candidates=chosen,
-                             model=model, progress=not args.json)
-    except ValueError as exc:
-        raise ToothfemError(str(exc)) from exc
-    summary = result.summary()
-    summary["case_file"] = str(args.case)
-    with atomic_dir(args.out) as tmp:
+    with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
+        try:
+            result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
+                                 name_pattern=args.name_pattern,
+                                 settings=Settings(folds=args.folds), candidates=chosen,
+                                 model=model, progress=not args.json)
+        except ValueError as exc:
+            raise ToothfemError(str(exc)) from exc
+        summary = result.summary()
+        summary["case_file"] = str(args.case)
         files = []
         if result.hysteresis is not None:
             save(report_te.hysteresis(result), tmp / "hysteresis.png", dpi=110)
