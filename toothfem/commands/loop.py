@@ -83,9 +83,9 @@ def run(args) -> int:
     if args.folds < 2:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
     settings = lp.Settings(folds=args.folds)
-    report = lp.run_loop(case, data, effects, settings=settings, loads=args.loads,
-                         progress=lambda msg: say(f"  {msg}"))
-    with atomic_dir(args.out) as tmp:
+    with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
+        report = lp.run_loop(case, data, effects, settings=settings, loads=args.loads,
+                             progress=lambda msg: say(f"  {msg}"))
         out = report.to_dict()
         out["case_file"] = str(args.case)
         out["measured_file"] = args.measured
