@@ -147,7 +147,8 @@ def test_ripple_orders_recovered_and_named(tmp_path, rv_orders):
     """Known orders and amplitudes of an RV-40E TE come back from a long table with uneven
     angle steps and encoder noise, each named by the drive's orders (2x multiples too)."""
     assert rv_orders["crank revolution = lobe passing (Zc)"] == 39.0
-    assert rv_orders["pin passing (Zp)"] == 40.0 and rv_orders["input revolution"] == 121.0
+    assert rv_orders["pin passing (Zp) = eccentric against the disc"] == 40.0
+    assert rv_orders["input revolution"] == 121.0
     amps = {1: 6.0, 39: 8.0, 40: 5.0, 80: 2.0, 121: 3.0}
     rip = sy.Ripple(amplitudes_arcsec=amps, phases_rad={39: 1.0, 121: -0.5},
                     width_arcsec=24.0)
@@ -158,7 +159,8 @@ def test_ripple_orders_recovered_and_named(tmp_path, rv_orders):
     (cond,) = figs.conditions
     assert cond.condition.output_torque_Nm == 500.0
     names = {1: "output revolution", 39: "crank revolution = lobe passing (Zc)",
-             40: "pin passing (Zp)", 80: "2x pin passing (Zp)", 121: "input revolution"}
+             40: "pin passing (Zp) = eccentric against the disc",
+             80: "2x pin passing (Zp) = eccentric against the disc", 121: "input revolution"}
     for d in (cond.forward, cond.backward):
         assert d.spectrum.resolution_orders == 0.25
         found = {round(p.order): p for p in d.peaks}
@@ -349,7 +351,8 @@ def test_drive_te_orders():
     khv = drive_for(load_case("cases/cycloid_khv.toml")).te_orders()
     assert khv == {"output revolution": 1.0,
                    "input revolution = crank revolution = lobe passing (Zc)": 29.0,
-                   "pin passing (Zp)": 30.0, "pin mesh": 870.0}
+                   "pin passing (Zp) = eccentric against the disc": 30.0,
+                   "pin mesh": 870.0}
     rv = drive_for(load_case("cases/rv40e.toml")).te_orders()
     assert rv["input revolution"] == 121.0 and rv["pin mesh"] == 40 * 39
     assert rv["first-stage mesh"] == 12 * (121 - 1)

@@ -157,6 +157,8 @@ class CycloidDrive(Drive):
           turn (the pins' errors; Zc for one pin more than lobes);
         - ``pin passing (Zp)``: each lobe meets the loaded zone once per turn of the crank
           against the disc, meeting the Zp pins in an output turn (the lobes' errors);
+          ``eccentric against the disc``, the same order: an eccentric's own error (its
+          eccentricity off the drawing, in the disc's bore) repeats once per that turn;
         - ``pin mesh``: the meshing period, Zp per crank turn;
         - 2K-V: ``first-stage mesh``, the sun's teeth per turn of the input against the
           carrier.
@@ -173,6 +175,7 @@ class CycloidDrive(Drive):
         pairs = [("output revolution", 1.0), ("input revolution", abs(w["input"]) / out),
                  ("crank revolution", crank), ("lobe passing (Zc)", crank),
                  ("pin passing (Zp)", abs(w["crank"] - w["member"]) / out),
+                 ("eccentric against the disc", abs(w["crank"] - w["member"]) / out),
                  ("pin mesh", self.geometry.pin_count * crank)]
         if self.first_teeth is not None:
             pairs.append(("first-stage mesh",
