@@ -352,6 +352,26 @@ class Drive(abc.ABC):
                             "periods, not a whole number")
         return int(round(n))
 
+    def with_crank_period(self, pitches: int, deviation) -> int:
+        """``pitches`` made a whole number of the crank's turns against the carrier where
+        the deviation has crank eccentricity errors on cranks off the axis (2K-V: each
+        crank's own error repeats once per such turn, :meth:`crank_period_pitches`).
+
+        Parameters
+        ----------
+        pitches : int
+        deviation : object
+            The drive's record of :mod:`toothfem.fem.deviations`.
+
+        Returns
+        -------
+        int
+        """
+        crank = np.asarray(getattr(deviation, "crank_eccentricity_m", ()), float)
+        if self.two_stage and np.any(crank):
+            return math.lcm(pitches, self.crank_period_pitches())
+        return pitches
+
     def deviation_period_pitches(self, deviation) -> int:
         """Meshing periods after which a built stage's model repeats: the full period
         (:attr:`full_period_pitches`) without deviation or with deviations that are alike
@@ -371,9 +391,7 @@ class Drive(abc.ABC):
         k = self.full_period_pitches
         if deviation is None:
             return k
-        crank = np.asarray(getattr(deviation, "crank_eccentricity_m", ()), float)
-        if self.two_stage and np.any(crank):
-            k = math.lcm(k, self.crank_period_pitches())
+        k = self.with_crank_period(k, deviation)
         uniform = {"eccentricity", "crank_eccentricity_m", "crank_phase_rad"}
         for name, value in vars(deviation).items():
             if name not in uniform and np.any(np.asarray(value, float)):

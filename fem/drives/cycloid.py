@@ -526,9 +526,7 @@ class CycloidDrive(Drive):
         prof = np.asarray(d.profile, float)
         if np.any(d.member_offset) or (prof.size and np.any(np.ptp(prof, axis=0) > 0)):
             k = math.lcm(k, self.stage.lobe_count)
-        if self.two_stage and np.any(np.asarray(d.crank_eccentricity_m, float)):
-            k = math.lcm(k, self.crank_period_pitches())
-        return k
+        return self.with_crank_period(k, d)
 
     @property
     def pairing_period_pitches(self) -> int:

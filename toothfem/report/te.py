@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 
+from ..efficiency.loop.te.observations import model_rows
 from . import pyplot, wrap
 
 #: The figures compared, summary key -> (label, unit).
@@ -85,32 +86,13 @@ def hysteresis(result):
 
 
 def _offset(result) -> float:
-    """The measured loop's zero against the model after the loop [arcmin]: the mean
-    difference over the rows (an encoder's zero is arbitrary)."""
-    rows = result.loop.observations
-    kinds = np.array(rows.kinds)
-    if not np.any(kinds == "twist"):
+    """The measured loop's zero against the model after the loop [arcmin]: the measured
+    twist rows' mean less the model's on the same rows (an encoder's zero is arbitrary)."""
+    layout = result.layout
+    if not layout.loop_rows.size:
         return 0.0
-    # the rows were centred on their mean; the measured curves were not: the mean of the
-    # measured twist at the rows' torques less the model's there
-    from ..efficiency.loop.te.observations import LOOP_FRACTIONS
-
-    meas = result.hysteresis
-    lp = result.after.loop
-    diffs = []
-    for frac in LOOP_FRACTIONS:
-        for sign in (1, -1):
-            t = sign * frac * result.rated_torque_Nm
-            for c in meas.curves:
-                if c.flank != sign or not (c.torque_Nm.min() <= t <= c.torque_Nm.max()):
-                    continue
-                tt, th = ((lp.rising_torque_Nm, lp.rising_twist_arcmin) if c.branch > 0
-                          else (lp.falling_torque_Nm, lp.falling_twist_arcmin))
-                order = np.argsort(tt)
-                diffs.append(float(np.interp(t, c.torque_Nm, c.twist_arcmin))
-                             - float(np.interp(t, np.asarray(tt)[order],
-                                               np.asarray(th)[order])))
-    return float(np.mean(diffs)) if diffs else 0.0
+    model = model_rows(layout, result.after, centred=False)[layout.loop_rows]
+    return layout.loop_mean_arcmin - float(model.mean())
 
 
 def spectrum(result):
@@ -169,9 +151,8 @@ def spectrum(result):
 
 
 def _amplitude_rows(result) -> list:
-    """(torque, order, direction, row index, noise) of the amplitude rows, from the rows'
-    labels' layout (the loop's observations keep kinds; the orders and torques are parsed
-    from the observation layout the loop kept)."""
+    """(torque, order, direction, row index, noise) of the amplitude rows (the loop's
+    layout of its observations)."""
     out = []
     for i, row in enumerate(result.layout.rows):
         if row.kind == "amplitude":

@@ -67,6 +67,7 @@ class Layout:
     te_torques_Nm: tuple      # the TE's torque levels the model must compute
     rated_torque_Nm: float
     loop_rows: np.ndarray     # indices of the twist rows (centred together)
+    loop_mean_arcmin: float = 0.0   # the measured twist rows' mean, taken off them
 
 
 def expected_amplitude(a, s):
@@ -222,16 +223,17 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
                          "and hold no TE spectrum")
     loop_rows = np.array([i for i, r in enumerate(rows) if r.kind == "twist"], int)
     values = np.array(values, float)
-    if loop_rows.size:
-        values[loop_rows] -= values[loop_rows].mean()
+    loop_mean = float(values[loop_rows].mean()) if loop_rows.size else 0.0
+    values[loop_rows] -= loop_mean
     obs = Observations(values=values, sigma=np.array(sigma, float), group=np.array(group),
                        labels=tuple(labels), kinds=tuple(r.kind for r in rows))
     layout = Layout(rows=tuple(rows), te_torques_Nm=tuple(sorted(set(torques))),
-                    rated_torque_Nm=float(rated_torque_Nm), loop_rows=loop_rows)
+                    rated_torque_Nm=float(rated_torque_Nm), loop_rows=loop_rows,
+                    loop_mean_arcmin=loop_mean)
     return obs, layout
 
 
-def model_rows(layout: Layout, recordings) -> np.ndarray:
+def model_rows(layout: Layout, recordings, *, centred: bool = True) -> np.ndarray:
     """The model's values on the layout's rows.
 
     Parameters
@@ -241,10 +243,13 @@ def model_rows(layout: Layout, recordings) -> np.ndarray:
         Its loop (when the layout has twist rows) and its TE at ``layout.te_torques_Nm``
         in that order.
 
+    centred : bool
+        The twist rows centred as the measured ones are (False: the model's own zero).
+
     Returns
     -------
     numpy.ndarray
-        In the rows' units; the twist rows centred as the measured ones are.
+        In the rows' units.
     """
     te = {round(t, 9): m for t, m in zip(layout.te_torques_Nm, recordings.te or ())}
     out = np.empty(len(layout.rows))
@@ -263,6 +268,6 @@ def model_rows(layout: Layout, recordings) -> np.ndarray:
             out[i] = float(expected_amplitude(a, r.noise_arcsec))
         else:
             out[i] = te[round(r.torque_Nm, 9)].width_arcsec
-    if layout.loop_rows.size:
+    if centred and layout.loop_rows.size:
         out[layout.loop_rows] -= out[layout.loop_rows].mean()
     return out
