@@ -25,7 +25,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ToothfemError, check_range, checked_array as _array
+from ..errors import check_range, checked_array as _array
 from ..fem.hertz import float_or_array as _out
 
 __all__ = [

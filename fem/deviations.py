@@ -118,7 +118,7 @@ class CycloidDeviation:
     crank_phase_rad: tuple = ()
 
     @classmethod
-    def zero(cls, pins: int, lobes: int) -> "CycloidDeviation":
+    def zero(cls, pins: int, lobes: int) -> CycloidDeviation:
         """The stage as designed.
 
         Parameters
@@ -151,7 +151,7 @@ class SineDeviation:
     crank_phase_rad: tuple = ()
 
     @classmethod
-    def zero(cls, planet_teeth: int, ring_teeth: int) -> "SineDeviation":
+    def zero(cls, planet_teeth: int, ring_teeth: int) -> SineDeviation:
         """The pair as designed.
 
         Parameters

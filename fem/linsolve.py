@@ -137,7 +137,7 @@ def choose_backend(backend: str | None = None) -> str:
     return name
 
 
-def factorize(matrix, backend: str | None = None) -> "Factor":
+def factorize(matrix, backend: str | None = None) -> Factor:
     """Factorise an SPD sparse matrix with the chosen backend.
 
     Parameters

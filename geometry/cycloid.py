@@ -120,7 +120,7 @@ class CycloidGeometry:
     def modified(self) -> bool:
         return bool(self.equidistant_m or self.move_distance_m or self.rotation_rad)
 
-    def generating(self) -> "_Generating":
+    def generating(self) -> _Generating:
         """The parameters the grinding machine uses (with modifications applied).
 
         Returns
@@ -131,7 +131,7 @@ class CycloidGeometry:
         return _Generating(self.pin_count, self.pin_circle_radius_m + self.move_distance_m,
                            self.eccentricity_m, self.pin_radius_m + self.equidistant_m)
 
-    def nominal(self) -> "_Generating":
+    def nominal(self) -> _Generating:
         """The unmodified parameters (no equidistant, move-distance or rotation).
 
         Returns

@@ -18,7 +18,8 @@ import os
 import sys
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Mapping
+from typing import Any
+from collections.abc import Mapping
 
 from . import si
 from .case_checks import STATED_RATIO_MAX, check_type, expected_type

@@ -549,7 +549,7 @@ class DutyPoint(_Section):
 DUTY_SHARE_TOL = 1e-3
 
 
-def check_ambient(thermal: "Thermal", lubricant: "Lubricant") -> None:
+def check_ambient(thermal: Thermal, lubricant: Lubricant) -> None:
     """Refuse an ambient at which the oil is outside its range (below its pour point, at or
     above its upper limit).
 

@@ -289,7 +289,7 @@ class CaseSI:
     thermal: ThermalSI | None = None
     duty_cycle: tuple = ()
 
-    def to_si(self) -> "CaseSI":
+    def to_si(self) -> CaseSI:
         """Itself: analyses accept a case or its SI record alike.
 
         Returns

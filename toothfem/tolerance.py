@@ -318,7 +318,7 @@ def percentile_ci(values, q: float, confidence: float = CONFIDENCE,
             "ci": [float(x[lo - 1]), float(x[hi - 1])], "rings_needed": needed}
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def rings_needed(q: float, confidence: float = CONFIDENCE) -> int:
     """The fewest samples whose :func:`percentile_ci` interval of the q-quantile lies
     inside the sample (rank 1 to n): 6 for the median, 36 for P90 or P10, 368 for P99 or

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import Callable
+from collections.abc import Callable
 
 import numpy as np
 
@@ -44,7 +44,7 @@ class Points:
     time_h: np.ndarray | None = None
 
     @classmethod
-    def of(cls, data) -> "Points":
+    def of(cls, data) -> Points:
         """The operating points of a :class:`~toothfem.efficiency.measured.MeasuredData`.
 
         Parameters
@@ -222,7 +222,7 @@ class Effect:
         """
         return None if self.linear_in is None else self.linear_in(case)
 
-    def bound_to(self, case, points) -> "Effect":
+    def bound_to(self, case, points) -> Effect:
         """This effect with the bounds its physics puts on its parameters for this case and
         data (``bounds_for``; the effect itself where it has none).
 

@@ -100,7 +100,7 @@ class MeasuredData:
         out.update(self.extra)
         return out
 
-    def subset(self, index) -> "MeasuredData":
+    def subset(self, index) -> MeasuredData:
         """The rows ``index``.
 
         Parameters

@@ -70,7 +70,7 @@ class Rig:
                                   "accuracy": self.output_accuracy}}
 
     @classmethod
-    def matched(cls, case, max_output_torque_Nm, min_efficiency=0.5) -> "Rig":
+    def matched(cls, case, max_output_torque_Nm, min_efficiency=0.5) -> Rig:
         """Sensors of the paper's accuracy classes, ranged to the reducer.
 
         Parameters

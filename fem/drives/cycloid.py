@@ -41,7 +41,7 @@ class CycloidDrive(Drive):
     both_flanks_options = {"sides": (0,)}
 
     @classmethod
-    def from_case(cls, si) -> "CycloidDrive":
+    def from_case(cls, si) -> CycloidDrive:
         """The drive of a case.
 
         Parameters

@@ -41,7 +41,7 @@ class SineDrive(Drive):
     analytic_weight = "cos_pressure_angle"
 
     @classmethod
-    def from_case(cls, si) -> "SineDrive":
+    def from_case(cls, si) -> SineDrive:
         """The sine pair of a case, with its output mechanism if it has one.
 
         Parameters

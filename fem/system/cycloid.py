@@ -386,7 +386,7 @@ class CycloidSystem:
 
     def variant(self, *, rigid: tuple | None = None, crank_bearing_play_m: float | None = None,
                 crank_bearing_stiffness_N_per_m: float | None = None,
-                stiffness_scale: dict | None = None) -> "CycloidSystem":
+                stiffness_scale: dict | None = None) -> CycloidSystem:
         """This system with other element options, on the same discs, tables and positions
         (no table is read again: what a fit that varies the parts calls many times).
 

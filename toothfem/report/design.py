@@ -1,7 +1,6 @@
 """Pictures and text of the modification search (``toothfem design``)."""
 from __future__ import annotations
 
-import math
 
 from . import pyplot, wrap
 

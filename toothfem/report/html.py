@@ -119,7 +119,7 @@ class Table:
     note: str = ""
 
     @classmethod
-    def of_summary(cls, title: str, rows, note: str = "") -> "Table":
+    def of_summary(cls, title: str, rows, note: str = "") -> Table:
         """A table of summary rows ``(quantity, unit, {column: value})``
         (:mod:`toothfem.report.summary`) or ``(quantity, value)`` pairs.
 
@@ -146,7 +146,7 @@ class Table:
         return cls(title, ("quantity", "unit", *cols), body, note)
 
     @classmethod
-    def of_mapping(cls, title: str, mapping: dict, note: str = "") -> "Table":
+    def of_mapping(cls, title: str, mapping: dict, note: str = "") -> Table:
         """A two-column table of a JSON summary's values (nested ones as JSON text).
 
         Parameters
@@ -167,7 +167,7 @@ class Table:
         return cls(title, ("quantity", "value"), rows, note)
 
     @classmethod
-    def of_csv(cls, title: str, path) -> "Table":
+    def of_csv(cls, title: str, path) -> Table:
         """A table of a CSV file (its first line the header), at most MAX_TABLE_ROWS rows.
 
         Parameters

@@ -92,7 +92,7 @@ class Condition:
         return tuple((v is not None, v if v is not None else 0.0)
                      for v in self.values().values())
 
-    def matches(self, other: "Condition") -> bool:
+    def matches(self, other: Condition) -> bool:
         """Within :data:`CONDITION_RTOL` or :data:`CONDITION_ATOL` of ``other`` in every
         field (an unknown field matches only an unknown one).
 
