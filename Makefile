@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 CASE ?= cases/cycloid_pinhousing.toml
 OUT ?= out/demo
 
-.PHONY: demo test test-fast probe venv clean
+.PHONY: demo test test-fast lint probe venv clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -20,7 +20,13 @@ demo: $(VENV)/.installed
 	$(BIN)/toothfem check $(CASE)
 	$(BIN)/toothfem run $(CASE) --out $(OUT)
 
-test: $(VENV)/.installed
+# ruff (rules in pyproject.toml [tool.ruff]) on the four source folders (ruff does not
+# follow the toothfem/{geometry,fem,efficiency} symlinks), mypy on the package
+lint: $(VENV)/.installed
+	$(BIN)/ruff check toothfem geometry fem efficiency
+	$(BIN)/mypy
+
+test: lint
 	$(BIN)/python -m pytest -q -rs tests
 
 test-fast: $(VENV)/.installed

@@ -347,7 +347,7 @@ def peer(python=PEER_PYTHON, case_path=CASE_PATH) -> dict:
 
 
 # ---------------------------------------------------------------------------------------
-# toothfem's half: the system model's K-H-V layout (fem/system/cycloid.py)
+# toothfem's half: the system model's K-H-V layout (fem/drives/assembly.py)
 # ---------------------------------------------------------------------------------------
 #: Positions per pin pitch (the datasheet's default, `toothfem stiffness`).
 POSITIONS = 36
@@ -360,9 +360,9 @@ OUTPUT_PINS, MESH = "output pins", "mesh"
 
 
 def _rigid_all():
-    """Every element group of the system model (fem.system.cycloid.GROUPS): made rigid,
+    """Every element group of the system model (fem.drives.assembly.GROUPS): made rigid,
     only the contacts (ring pins through the FE tables, output pins) keep a compliance."""
-    from toothfem.fem.system.cycloid import GROUPS
+    from toothfem.fem.drives.assembly import GROUPS
     return tuple(GROUPS)
 
 

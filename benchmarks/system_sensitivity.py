@@ -1,5 +1,5 @@
 """Which assumed part holds how much of the compliance (issue 21): the sensitivity table of
-the system model (fem/system/cycloid.py) for the RV-40E case and the pin-housing drive.
+the system model (fem/drives/assembly.py) for the RV-40E case and the pin-housing drive.
 
 For each group of the model (the disc-pin mesh, the crank bearings, the crankshafts'
 support bearings, their bending and torsion, the spur mesh of the first stage):
@@ -63,13 +63,13 @@ from toothfem.datasheet import stiffness_analysis  # noqa: E402
 from toothfem.fem.datasheet.sheet import datasheet  # noqa: E402
 from toothfem.fem.contact import ContactError  # noqa: E402
 from toothfem.fem.drives import drive_for  # noqa: E402
-from toothfem.fem.system import cycloid as sc  # noqa: E402
+from toothfem.fem.drives import assembly as sc  # noqa: E402
 from toothfem.fem.system.datasheet import SystemTwist  # noqa: E402
 
 OUT_PATH = ROOT / "benchmarks" / "results" / "system_sensitivity.json"
 CASES = {"rv40e": ROOT / "cases" / "rv40e.toml",
          "cycloid_pinhousing": ROOT / "cases" / "cycloid_pinhousing.toml"}
-#: The groups in the order of the table: the mesh (the FE contact) and fem.system.cycloid.GROUPS.
+#: The groups in the order of the table: the mesh (the FE contact) and fem.drives.assembly.GROUPS.
 MESH = "mesh"
 #: Rigid pins on equal springs [m/N] (the mesh made rigid).
 RIGID_PIN_SPRING = 1e-14

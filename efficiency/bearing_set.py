@@ -36,10 +36,12 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TypedDict
 
 import numpy as np
 
 from ..errors import CaseError
+from ..fem.drives.registry import provide
 from .envelope import envelope
 from .no_load import palmgren_f0, palmgren_no_load_moment
 from .rating import dynamic_rating_N, static_rating_N
@@ -153,6 +155,15 @@ def _element_count(bearing_type, pitch_diameter_m, element_diameter_m) -> int:
     return max(int(math.pi * pitch_diameter_m / (spacing * element_diameter_m)), 3)
 
 
+class _RollingSet(TypedDict):
+    """A bearing's rolling set: the :class:`Bearing` fields :func:`_ratings` reads."""
+    elements: int
+    element_diameter_m: float
+    element_length_m: float | None
+    pitch_diameter_m: float
+    contact_angle_deg: float
+
+
 def rolling_set(bearing_type: str, bore_m: float, outer_m: float, width_m: float) -> dict:
     """The assumed rolling set of a bearing of these boundary dimensions (the rules of
     :data:`ELEMENT_PER_SECTION`, :data:`ELEMENT_PITCH`, :data:`ROLLER_LENGTH_PER_WIDTH`).
@@ -216,15 +227,14 @@ def _roller_bearing(si, supports, *, name, label, count, bore_m, outer_m, pitch_
                                  if n.startswith("bearing_roller")), **rolling)
 
 
-def _needles(si, drive, supports, two_stage):
-    """The crank (eccentric) bearings: the system model's needle rollers in the hole."""
-    h, g = si.cycloid.holes, si.cycloid.geometry
+def _needles(si, drive, supports, *, name, label, count, hole_m, hole_key):
+    """The crank (eccentric) bearings: the system model's needle rollers in the hole of
+    diameter ``hole_m`` (the case key ``hole_key`` holds its radius), ``count`` of them."""
+    g = si.cycloid.geometry
     b = si.bearings
-    hole = 2 * (h.crank_hole_radius_m if two_stage else h.centre_bore_radius_m)
+    hole = hole_m
     d_w = supports.bearing_roller_diameter_m
     journal = hole - 2 * d_w
-    hole_key = ("cycloid.disc_holes.crank_hole_radius_mm" if two_stage
-                else "cycloid.disc_holes.centre_bore_radius_mm")
     if journal <= 0:
         raise CaseError(f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g} does not fit "
                         f"{hole_key} = {hole * 500:.4g}: two rollers fill the hole")
@@ -250,10 +260,7 @@ def _needles(si, drive, supports, two_stage):
                         "of them")
     w = drive.speeds()
     return _roller_bearing(
-        si, supports, name="crank_bearings" if two_stage else "eccentric_bearing",
-        label="crank bearings (needle rollers in the discs' crank holes)" if two_stage
-        else "eccentric bearings (needle rollers in the centre bore)",
-        count=(h.crank_hole_count if two_stage else 1) * si.cycloid.disc_count,
+        si, supports, name=name, label=label, count=count,
         bore_m=journal, outer_m=hole, pitch_m=d_m, speed=abs(w["crank"] - w["member"]),
         space=f"{hole_key} = {hole * 500:.4g}")
 
@@ -320,7 +327,7 @@ def main_pair(si, drive) -> Bearing:
     t = "angular_ball" if b is None else b.main_type
     d_m = env.main_pitch_diameter_m
     d_w = MAIN_BALL_PER_PITCH * d_m
-    rolling = dict(elements=_element_count(t, d_m, d_w), element_diameter_m=d_w,
+    rolling: _RollingSet = dict(elements=_element_count(t, d_m, d_w), element_diameter_m=d_w,
                    element_length_m=None if "ball" in t else d_w,
                    pitch_diameter_m=d_m, contact_angle_deg=CONTACT_ANGLE_DEG[t])
     declared = None if b is None else b.main_dynamic_rating_N
@@ -335,35 +342,55 @@ def main_pair(si, drive) -> Bearing:
                    **rolling)
 
 
-def _cycloid_bearings(si, drive) -> tuple:
-    """A cycloid or RV reducer's bearings (module docstring)."""
-    supports = drive.supports(si.supports)
-    two = drive.two_stage
-    w = drive.speeds()
+def _cycloid_set(si, drive, *own) -> tuple:
+    """A cycloid or RV reducer's bearings (module docstring): the layout's ``own`` groups,
+    the main pair and the input shaft's ball bearings."""
     env = envelope(si, drive)
-    out = [_needles(si, drive, supports, two)]
-    if two:
-        h = si.cycloid.holes
-        k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-        # neighbouring cranks' bearings must not overlap, nor reach past the pins
-        room = min(2 * r_c * math.sin(math.pi / k) if k > 1 else math.inf,
-                   2 * (si.cycloid.geometry.pin_circle_radius_m
-                        - si.cycloid.geometry.pin_radius_m - r_c))
-        out.append(_sized(
-            "crank_support_bearings", "crank support bearings (tapered rollers in the "
-            "carrier)", "tapered", 2 * k, supports.crankshaft_diameter_m,
-            "supports.crankshaft_diameter_mm", abs(w["crank"] - w["output"]),
-            [f"supports.{n}" for n in supports.assumed if n.startswith("crankshaft")],
-            room=(room, f"the carrier ({room * 1e3:.4g} mm between the cranks at "
-                        f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * 1e3:.4g} "
-                        "and the pins)")))
-    out.append(main_pair(si, drive))
-    out.append(_sized("input_bearings", "input bearings (deep groove balls on the input "
-                      "shaft)", "ball", 2, env.input_seal_diameter_m,
-                      "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
-    return tuple(out)
+    return (*own, main_pair(si, drive),
+            _sized("input_bearings", "input bearings (deep groove balls on the input "
+                   "shaft)", "ball", 2, env.input_seal_diameter_m,
+                   "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
 
 
+@provide("bearing_set", "cycloid")
+def _khv_bearings(si, drive) -> tuple:
+    """K-H-V: needle rollers in each disc's centre bore on the input shaft's eccentrics."""
+    supports = drive.supports(si.supports)
+    return _cycloid_set(si, drive, _needles(
+        si, drive, supports, name="eccentric_bearing",
+        label="eccentric bearings (needle rollers in the centre bore)",
+        count=si.cycloid.disc_count, hole_m=2 * si.cycloid.holes.centre_bore_radius_m,
+        hole_key="cycloid.disc_holes.centre_bore_radius_mm"))
+
+
+@provide("bearing_set", "rv")
+def _rv_bearings(si, drive) -> tuple:
+    """2K-V: needle rollers in every disc's crank holes, the cranks' tapered roller
+    supports in the carrier."""
+    supports = drive.supports(si.supports)
+    w = drive.speeds()
+    h = si.cycloid.holes
+    k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+    needles = _needles(si, drive, supports, name="crank_bearings",
+                       label="crank bearings (needle rollers in the discs' crank holes)",
+                       count=k * si.cycloid.disc_count, hole_m=2 * h.crank_hole_radius_m,
+                       hole_key="cycloid.disc_holes.crank_hole_radius_mm")
+    # neighbouring cranks' bearings must not overlap, nor reach past the pins
+    room = min(2 * r_c * math.sin(math.pi / k) if k > 1 else math.inf,
+               2 * (si.cycloid.geometry.pin_circle_radius_m
+                    - si.cycloid.geometry.pin_radius_m - r_c))
+    support = _sized(
+        "crank_support_bearings", "crank support bearings (tapered rollers in the "
+        "carrier)", "tapered", 2 * k, supports.crankshaft_diameter_m,
+        "supports.crankshaft_diameter_mm", abs(w["crank"] - w["output"]),
+        [f"supports.{n}" for n in supports.assumed if n.startswith("crankshaft")],
+        room=(room, f"the carrier ({room * 1e3:.4g} mm between the cranks at "
+                    f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * 1e3:.4g} "
+                    "and the pins)"))
+    return _cycloid_set(si, drive, needles, support)
+
+
+@provide("bearing_set", "sine")
 def _sine_bearings(si, drive) -> tuple:
     """The sine reducer's bearings: the system model's rollers on the eccentric (inner
     raceway r_p, the output mechanism's ``eccentric_bearing_inner_radius``) in the
@@ -402,12 +429,8 @@ def _sine_bearings(si, drive) -> tuple:
                    ["input shaft diameter"]))
 
 
-#: The bearing set of each drive kind (toothfem.fem.drives.Drive.kind).
-BEARING_SETS = {"cycloid": _cycloid_bearings, "sine": _sine_bearings}
-
-
 def reducer_bearings(si, drive) -> tuple:
-    """Every bearing group of a reducer (module docstring; :data:`BEARING_SETS`).
+    """Every bearing group of a reducer (module docstring; the layout's ``bearing_set`` part).
 
     Parameters
     ----------
@@ -428,7 +451,7 @@ def reducer_bearings(si, drive) -> tuple:
         raise CaseError(f"bearings.eccentric_type = {declared!r}: the eccentric bearing is the "
                         "system model's roller set (supports.bearing_roller_*), a 'needle' "
                         "bearing; another type is not modelled")
-    return BEARING_SETS[drive.kind](si, drive)
+    return drive.part("bearing_set")(si, drive)
 
 
 def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication: str,
@@ -521,6 +544,9 @@ def main_tilt(si, drive) -> dict:
     span = (MAIN_ROW_SPACING_PER_BALL * b.element_diameter_m if declared is None
             else declared - cone)
     if span <= 0:
+        if declared is None:      # the assumed spacing of positive balls: never below 0
+            raise CaseError(f"the main bearings' assumed row span {span * 1e3:.4g} mm is "
+                            "not positive (ball diameter times MAIN_ROW_SPACING_PER_BALL)")
         raise CaseError(f"bearings.main_span_mm = {declared * 1e3:.4g} is below the pair's "
                         f"pressure-cone spread d_m tan(alpha) = {cone * 1e3:.4g} mm of a "
                         "back-to-back pair: the rows would overlap")

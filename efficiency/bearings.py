@@ -34,10 +34,12 @@ import numpy as np
 
 from ..errors import CaseError, check_range
 from ..fem.drives import drive_for
+from ..fem.drives.registry import provide
 from ..geometry import cycloid_mesh as cym
 from .envelope import envelope
 from .mesh_table import mesh_table
 from ..si import si_of
+from ..units import rad_s_to_rpm, rpm_to_rad_s
 
 #: Life exponent p of ISO 281 by bearing type (3 ball, 10/3 roller).
 LIFE_EXPONENT = {"ball": 3.0, "angular_ball": 3.0, "cylindrical": 10 / 3, "tapered": 10 / 3,
@@ -85,9 +87,47 @@ def _turning(a, b):
     return np.sqrt(np.maximum(a ** 2 + b ** 2 - 2 * a * b * np.cos(psi), 0.0))
 
 
-def _is_two_stage(drive) -> bool:
-    """A 2K-V train (a spur first stage drives cranks in the member's holes)."""
-    return bool(getattr(drive, "two_stage", False))
+@provide("eccentric_loads", "rv")
+def _crank_held(si, drive, table, r, t_member):
+    """2K-V: hole k of n (circle R_c) takes -F/n + T/(n R_c) t_k, the contact resultant F
+    and the member's torque T shared evenly; ((P, 2) load, (P, S) magnitudes over the
+    relative turn)."""
+    h = si.cycloid.holes
+    k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
+    b = t_member / (k * r_c)
+    _, rot = cym.disc_pose(si.cycloid.geometry, drive.positions(table.n_positions))
+    tangent = np.stack([-np.sin(rot), np.cos(rot)], axis=1)     # hole on +x
+    return -r / k + b * tangent, _turning(np.linalg.norm(r, axis=1) / k, np.full(len(r), b))
+
+
+@provide("eccentric_loads", "cycloid", "sine")
+def _pin_held(si, drive, table, r, t_member):
+    """Output pins in the member's holes (K-H-V, the sine planet): the eccentric bearing
+    takes the contact resultant less the pins' sum Q along the eccentricity (Lu & Xu 2024,
+    Eq. 26); ((P, 2) load, (P, 1) its magnitude)."""
+    om = si.output_mechanism
+    if om is None:
+        raise CaseError("a K-H-V drive needs [output_mechanism] (pins in holes) for the "
+                        "load on its eccentric bearing")
+    sum_q = 4 * t_member / (math.pi * om.pin_hole_circle_radius_m)      # Eq. 26
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
+    vec = r - sum_q * e_dir
+    return vec, np.linalg.norm(vec, axis=1)[:, None]
+
+
+@provide("main_row_force", "rv")
+def _carrier_force(si, drive, table, t_member):
+    """2K-V: the discs' pin resultants reach the carrier, (M, P, 2)."""
+    force, _ = table.at(t_member)
+    return -table.resultant(force)
+
+
+@provide("main_row_force", "cycloid", "sine")
+def _output_pin_force(si, drive, table, t_member):
+    """The pins-in-holes output takes sum Q along the eccentricity, (M, P, 2)."""
+    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
+    sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
+    return sum_q[:, None, None] * e_dir[None]
 
 
 def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
@@ -116,23 +156,7 @@ def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     force, _ = table.at(np.array([t_member]))
     r = table.resultant(force)[0]                                   # (P, 2)
     p = LIFE_EXPONENT[env.eccentric_type]
-    if _is_two_stage(drive):
-        h = si.cycloid.holes
-        k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-        b = t_member / (k * r_c)
-        _, rot = cym.disc_pose(si.cycloid.geometry, drive.positions(table.n_positions))
-        tangent = np.stack([-np.sin(rot), np.cos(rot)], axis=1)     # hole on +x
-        vec = -r / k + b * tangent
-        load = _turning(np.linalg.norm(r, axis=1) / k, np.full(len(r), b))
-    else:
-        om = si.output_mechanism
-        if om is None:
-            raise CaseError("a K-H-V drive needs [output_mechanism] (pins in holes) for the "
-                            "load on its eccentric bearing")
-        sum_q = 4 * t_member / (math.pi * om.pin_hole_circle_radius_m)      # Eq. 26
-        e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
-        vec = r - sum_q * e_dir
-        load = np.linalg.norm(vec, axis=1)[:, None]
+    vec, load = drive.part("eccentric_loads")(si, drive, table, r, t_member)
     return BearingLoads(name="eccentric", count=env.eccentric_count,
                         bearing_type=env.eccentric_type, force_N=vec, load_N=load,
                         equivalent_N=_pmean(load, p), max_N=float(load.max()))
@@ -171,13 +195,7 @@ def _main_rows(si, drive, table, output_torque_Nm):
     b = si.bearings
     env = envelope(si, drive)
     t_member = np.asarray(drive.member_torque(output_torque_Nm, peak=True), float)
-    e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
-    if _is_two_stage(drive):      # the discs' pin resultants reach the carrier
-        force, _ = table.at(t_member)
-        vec = -table.resultant(force)                                  # (M, P, 2)
-    else:                         # the pins-in-holes output takes sum Q along e
-        sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
-        vec = sum_q[:, None, None] * e_dir[None]
+    vec = drive.part("main_row_force")(si, drive, table, t_member)     # (M, P, 2)
     n = drive.members          # the members' forces, a 1/n turn apart (rounded: two
     turn = np.round(sum(       # discs half a turn apart cancel exactly)
         np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
@@ -312,7 +330,7 @@ def maker_rated_life_h(rated_life_h, rated_torque_Nm, rated_output_speed_rpm, ro
     return rated_life_h * (rated_output_speed_rpm / n_m) * (rated_torque_Nm / t_m) ** (10 / 3)
 
 
-#: The system model's bearing names (fem/system/cycloid.py) by the group they belong to.
+#: The system model's bearing names (fem/drives/assembly.py) by the group they belong to.
 SYSTEM_GROUPS = (("crank bearing", "crank_bearings"), ("eccentric bearing", "eccentric_bearing"),
                  ("support bearing", "crank_support_bearings"), ("input bearing", "input_bearings"))
 #: Sampled pitches over the full period, and positions per pitch, of the system model's
@@ -453,12 +471,13 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
     si = si_of(case)
     drive = drive_for(si)
     rows = (_duty(si) if duty is None else
-            [(float(t), float(n) * 2 * math.pi / 60, float(q)) for t, n, q in duty])
+            [(float(t), rpm_to_rad_s(float(n)), float(q)) for t, n, q in duty])
     if duty is not None:
         total = sum(q for *_, q in rows)
         check_range("duty time share sum", total, 1 - 1e-3, 1 + 1e-3, error=CaseError)
     bearings = {b.name: b for b in reducer_bearings(si, drive)}
-    per_group = {}                  # group -> {bearing: [(P_m, P_max) per duty row]}
+    # group -> {bearing: [(P_m, P_max) per duty row]}
+    per_group: dict[str, dict[str, list[tuple[float, float]]]] = {}
     table = mesh_table(drive, "analytic", 36, None)
     for t, _, _ in rows:
         loads = (dict(zip(known.names, known.load_N)) if known is not None
@@ -484,11 +503,11 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
                 name=g, label=b.label, bearing_type=b.bearing_type, count=b.count,
                 dynamic_rating_N=b.dynamic_rating_N, rating_source=b.rating_source,
                 equivalent_load_N=0.0, max_load_N=0.0,
-                speed_rpm=float(np.dot([n * b.speed_per_input * 60 / (2 * math.pi)
+                speed_rpm=float(np.dot([rad_s_to_rpm(n * b.speed_per_input)
                                         for _, n, _ in rows], shares)),
                 l10_h=math.inf, l10_set_h=math.inf))
             continue
-        speeds = [n * b.speed_per_input * 60 / (2 * math.pi) for _, n, _ in rows]
+        speeds = [rad_s_to_rpm(n * b.speed_per_input) for _, n, _ in rows]   # ISO 281: rpm
         n_m = float(np.dot(speeds, shares))
         lives, p_ms, a_isos = [], [], []
         for n in names:
@@ -515,6 +534,6 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
                              for x in groups], WEIBULL_SLOPE["needle"]))
     limiting = min(groups, key=lambda x: x.l10_set_h).name
     return ReducerLife(groups=tuple(groups), l10_h=unit, limiting=limiting,
-                       rows=tuple((t, n * 60 / (2 * math.pi), q) for t, n, q in rows),
+                       rows=tuple((t, rad_s_to_rpm(n), q) for t, n, q in rows),
                        source="system model (FE pin tables, every bearing's load over the "
                               "full period)", l10m_h=unit_m)

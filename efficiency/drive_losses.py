@@ -23,12 +23,15 @@ turns it into the efficiency record.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..errors import CaseError
 from ..fem.drives import drive_for
+from ..fem.drives.registry import provide
+from ..limits import Exceeded
 from . import spur as sp
 from .bearing_set import bearing_losses, main_preload_N
 from .bearings import main_bearing_load
@@ -177,11 +180,11 @@ def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     w_planet = crank * w["member"]
     rel = np.abs(crank - w_planet)                          # crank relative to the planet
     t2 = points.output_torque_Nm
-    notes = []
+    notes: list[str] = []
     table = _table(si, drive, points, t2, notes)
     force, ph = table.at(t2)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
-    limits = []
+    limits: list[Exceeded] = []
     mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes, limits)
     mesh = sliding_loss(table, force, mu, crank)
     if np.any(table.hertz_invalid):
@@ -358,21 +361,10 @@ def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
     return sp.mesh_efficiency(stage, t_sun, rel_sun, eta0, si.lubricant.roughness_Ra_m)
 
 
-def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of a cycloid drive (K-H-V) or of an RV-type drive (2K-V).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.CycloidDrive
-        Its ``two_stage`` picks the K-H-V or the 2K-V power flow.
-    points : OperatingPoints
-
-    Returns
-    -------
-    DriveLosses
-        Components as the module docstring lists them; the cycloid (and first-stage)
-        mesh efficiency.
+def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLosses:
+    """Losses of a cycloid stage with the layout's ``power_flow`` (:func:`_khv_flow`,
+    :func:`_rv_flow`): the pins' contact loss of every member, the flow's own loads and
+    losses, the main bearings' and the load-independent losses.
 
     Raises
     ------
@@ -386,65 +378,32 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
     crank = np.abs(w_in * w["crank"])
     disc_rel = np.abs(w_in * (w["crank"] - w["member"]))     # crank relative to the disc
     p_out = t2 * np.abs(w_in * w["output"])
-    notes = []
+    notes: list[str] = []
     t_disc = drive.member_torque(t2, peak=False)   # the even share
     table = _table(si, drive, points, t_disc, notes)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
     # every member's loss at its own loads: (label, table, torque (M,), members alike)
     members = _members(si, drive, points, table, t_disc, notes)
-    pins, f_bearing, limits = 0.0, [], []
+    pins: np.ndarray | float = 0.0
+    f_bearing: list[np.ndarray] = []
+    limits: list[Exceeded] = []
     for label, tab, t_j, count in members:
-        said = []
+        said: list[str] = []
         loss, f_b = disc_contact_losses(si, tab, t_j, crank, eta0, said, limits)
         notes.extend(f"{label}: {n}" if label else n for n in said)
         pins = pins + count * loss
         f_bearing.append(f_b)
     # disc-pin mesh in the crank frame: the loss over the discs' virtual power
     eta2 = 1 - pins / (drive.members_torque(t2) * disc_rel)
-    mesh_eff = {"cycloid": eta2}
-    if not drive.two_stage:
-        # K-H-V: the disc's torque leaves through pins in holes; its central eccentric
-        # bearing carries the pin resultant and the pins' load (as the sine planet); the
-        # energy balance with the contact loss itself (Chen & Angeles' closed form agrees
-        # to first order)
-        ecc = out_mech = 0.0
-        for _, tab, t_j, count in members:
-            f_r1, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j, cyc.geometry.eccentricity_m,
-                                  disc_rel)
-            ecc, out_mech = ecc + count * f_r1, out_mech + count * o
-        # one disc's eccentric load reaches the input shaft's two bearings; discs evenly
-        # phased balance there (their couple is left out)
-        loads = {"eccentric_bearing": ecc, "input_bearings": ecc if drive.members == 1 else 0}
-        losses = {"pin_contacts": pins, "output_mechanism": out_mech}
-    else:                      # 2K-V: the closed form of the general power flow
-        loads = {"crank_bearings": sum(count * crank_bearing_load(si, f_b, t_j)
-                                       for (_, _, t_j, count), f_b in zip(members, f_bearing)),
-                 "crank_support_bearings": crank_support_load(
-                     si, sum(count * t_j for _, _, t_j, count in members))}
-        losses = {}
-        ratio = abs(1 / w["output"])
-        eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), eta0)
-        zs, zp = drive.first_teeth
-        r, z4, z5 = zp / zs, cyc.lobe_count, cyc.geometry.pin_count
-        if np.any(z5 - z4 * eta2 <= 0):
-            raise CaseError(f"the disc-pin mesh efficiency {float(np.min(eta2)):.4g} in the "
-                            f"crank frame is at or below z4/z5 = {z4 / z5:.4g}: the train "
-                            "self-locks (friction too high for these operating points)")
-        eta_train = (1 + r * eta1 * z5 / (z5 - z4 * eta2)) / ratio
-        eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
-        p_in = p_out / eta_train
-        losses["first_stage"] = p_out / eta_lossless_1 - p_out
-        losses["pin_contacts"] = p_in - p_out - losses["first_stage"]
-        mesh_eff["first_stage"] = eta1
+    flow = power_flow(si, drive, points, _Stage(members=members, f_bearing=f_bearing,
+                                                pins_W=pins, eta2=eta2, disc_rel=disc_rel,
+                                                p_out=p_out, eta0=eta0))
+    loads, losses = flow.loads, flow.losses
     # each row's load term takes its preload beside the external loads' share
     loads["main_bearings"] = (main_bearing_load(si, drive, table, t2)
                               + envelope(si, drive).main_count * main_preload_N(si, drive))
     losses.update(bearing_losses(si, drive, loads, w_in, points.viscosity_factor))
-    stages = [(cyc.geometry.eccentricity_m, crank)]
-    if drive.two_stage and si.first_stage is not None:
-        fs = si.first_stage           # the spur stage churns too (a0, sun vs carrier)
-        stages.append((fs.module_m * (fs.sun_teeth + fs.planet_teeth) / 2,
-                       w_in * (1 - w["output"])))
+    stages = [(cyc.geometry.eccentricity_m, crank), *flow.churning_stages]
     losses.update(no_load_losses(si, drive, stages=stages, input_rad_s=w_in,
                                  output_rad_s=w_in * w["output"],
                                  viscosity_factor=points.viscosity_factor, bearings=False))
@@ -452,17 +411,124 @@ def cycloid_losses(si, drive, points: OperatingPoints) -> DriveLosses:
         notes.append("churning: Eq. 42 of Lu & Xu (2024), after Xu & Yang (1998), is the "
                      "sine paper's oil-bath law for the agitation, splashing and seals of its "
                      "one-tooth-difference stage, used by its source only there; on this "
-                     "drive's " + ("spur and cycloid stages" if drive.two_stage else
-                                   "cycloid stage")
-                     + " it is an estimate outside that use")
-    return DriveLosses(output_power_W=p_out, losses_W=losses,
-                       notes=tuple(notes), mesh_efficiency=mesh_eff, limits=tuple(limits))
+                     f"drive's {' and '.join(flow.stage_names)} it is an estimate outside "
+                     "that use")
+    return DriveLosses(output_power_W=p_out, losses_W=losses, notes=tuple(notes),
+                       mesh_efficiency={"cycloid": eta2, **flow.mesh_efficiency},
+                       limits=tuple(limits))
 
 
-#: The loss component proportional to ``friction.bearing_coefficient`` of each drive kind
-#: (the sine paper's Eq. 32); a cycloid or RV reducer has none: the coefficient is the load
-#: term of every bearing's Palmgren moment, beside its viscous M0 (:func:`bearing_losses`).
-BEARING_COEFFICIENT_COMPONENT = {"sine": "eccentric_bearing"}
+@dataclass(frozen=True)
+class _Stage:
+    """The cycloid stage's figures a power flow needs (:func:`_cycloid_losses`)."""
+    members: list            # (label, table, torque (M,), members alike)
+    f_bearing: list          # each member's bearing force (M,) [N]
+    pins_W: np.ndarray | float   # the pins' contact loss of all members (M,)
+    eta2: np.ndarray         # the disc-pin mesh efficiency in the crank frame (M,)
+    disc_rel: np.ndarray     # the crank's speed relative to the disc (M,) [rad/s]
+    p_out: np.ndarray        # the output power (M,) [W]
+    eta0: np.ndarray         # the oil's viscosity at the points (M,) [Pa s]
+
+
+@dataclass(frozen=True)
+class _Flow:
+    """A layout's power flow: bearing loads [N], losses [W], further mesh efficiencies,
+    further churning stages (centre distance [m], speed [rad/s]) and the stages' names."""
+    loads: dict
+    losses: dict
+    mesh_efficiency: dict
+    churning_stages: tuple
+    stage_names: tuple
+
+
+def _khv_flow(si, drive, points, st: _Stage) -> _Flow:
+    """K-H-V: the disc's torque leaves through pins in holes; its central eccentric bearing
+    carries the pin resultant and the pins' load (as the sine planet); the energy balance
+    with the contact loss itself (Chen & Angeles' closed form agrees to first order)."""
+    ecc = out_mech = 0.0
+    for _, tab, t_j, count in st.members:
+        f_r1, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j,
+                              si.cycloid.geometry.eccentricity_m, st.disc_rel)
+        ecc, out_mech = ecc + count * f_r1, out_mech + count * o
+    # one disc's eccentric load reaches the input shaft's two bearings; discs evenly
+    # phased balance there (their couple is left out)
+    loads = {"eccentric_bearing": ecc, "input_bearings": ecc if drive.members == 1 else 0}
+    return _Flow(loads=loads, losses={"pin_contacts": st.pins_W, "output_mechanism": out_mech},
+                 mesh_efficiency={}, churning_stages=(), stage_names=("cycloid stage",))
+
+
+def _rv_flow(si, drive, points, st: _Stage) -> _Flow:
+    """2K-V: the closed form of the general power flow (Chen & Angeles), the spur stage
+    first, the cranks carrying the discs."""
+    w, w_in, t2 = drive.speeds(), points.input_speed_rad_s, points.output_torque_Nm
+    loads = {"crank_bearings": sum(count * crank_bearing_load(si, f_b, t_j)
+                                   for (_, _, t_j, count), f_b in zip(st.members, st.f_bearing)),
+             "crank_support_bearings": crank_support_load(
+                 si, sum(count * t_j for _, _, t_j, count in st.members))}
+    ratio = abs(1 / w["output"])
+    eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), st.eta0)
+    zs, zp = drive.first_teeth
+    cyc = si.cycloid
+    r, z4, z5 = zp / zs, cyc.lobe_count, cyc.geometry.pin_count
+    if np.any(z5 - z4 * st.eta2 <= 0):
+        raise CaseError(f"the disc-pin mesh efficiency {float(np.min(st.eta2)):.4g} in the "
+                        f"crank frame is at or below z4/z5 = {z4 / z5:.4g}: the train "
+                        "self-locks (friction too high for these operating points)")
+    eta_train = (1 + r * eta1 * z5 / (z5 - z4 * st.eta2)) / ratio
+    eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
+    p_in = st.p_out / eta_train
+    first = st.p_out / eta_lossless_1 - st.p_out
+    losses = {"first_stage": first, "pin_contacts": p_in - st.p_out - first}
+    fs = si.first_stage           # the spur stage churns too (a0, sun vs carrier)
+    churn = () if fs is None else ((fs.module_m * (fs.sun_teeth + fs.planet_teeth) / 2,
+                                    w_in * (1 - w["output"])),)
+    return _Flow(loads=loads, losses=losses, mesh_efficiency={"first_stage": eta1},
+                 churning_stages=churn,
+                 stage_names=("spur", "cycloid stages") if churn else ("cycloid stage",))
+
+
+def khv_losses(si, drive, points: OperatingPoints) -> DriveLosses:
+    """Losses of a K-H-V cycloid drive (module docstring).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        Needs [output_mechanism] (the output pins in the discs' holes).
+    drive : toothfem.fem.drives.CycloidDrive
+    points : OperatingPoints
+
+    Returns
+    -------
+    DriveLosses
+        pin_contacts, eccentric_bearing, output_mechanism, the bearings' and the
+        load-independent losses; the cycloid mesh efficiency.
+    """
+    return _cycloid_losses(si, drive, points, _khv_flow)
+
+
+def rv_losses(si, drive, points: OperatingPoints) -> DriveLosses:
+    """Losses of an RV-type (2K-V) drive (module docstring).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+        Needs [first_stage] and the discs' crank holes.
+    drive : toothfem.fem.drives.CycloidDrive
+    points : OperatingPoints
+
+    Returns
+    -------
+    DriveLosses
+        first_stage, pin_contacts, crank_bearings, crank_support_bearings, the main
+        bearings' and the load-independent losses; the cycloid and first-stage mesh
+        efficiencies.
+
+    Raises
+    ------
+    CaseError
+        For a missing section, or a train that self-locks at these points.
+    """
+    return _cycloid_losses(si, drive, points, _rv_flow)
 
 
 def bearing_component(drive) -> str | None:
@@ -478,11 +544,11 @@ def bearing_component(drive) -> str | None:
         "eccentric_bearing" for the sine reducer (Eq. 32), None for a cycloid or RV
         reducer (the coefficient acts on every bearing's load term, not alone).
     """
-    return BEARING_COEFFICIENT_COMPONENT.get(drive.kind)
+    return drive.part("loss_model").bearing_coefficient_component
 
 
 #: The law and source of each loss component (docs/efficiency.md); a drive kind's own
-#: reading of a component in :data:`KIND_LOSS_SOURCES`.
+#: reading of a component in its loss model (:class:`LossModel` ``sources``).
 LOSS_SOURCES = {
     "mesh": "sliding friction of every loaded contact over the meshing period: EHL (Xu 2007) "
             "and asperity (boundary coefficient) shares of mixed lubrication",
@@ -515,10 +581,6 @@ LOSS_SOURCES = {
     "sun_planet_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
     "cycloid_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
 }
-KIND_LOSS_SOURCES = {"sine": {"eccentric_bearing": "f r_p F_R1 w_rel, F_R1 from the planet's "
-                                                   "equilibrium (Lu & Xu 2024, Eqs. 26-32)"}}
-
-
 def loss_sources(drive, names) -> dict:
     """The law and source of each named loss component of a drive.
 
@@ -533,9 +595,49 @@ def loss_sources(drive, names) -> dict:
     dict
         name -> source.
     """
-    own = KIND_LOSS_SOURCES.get(drive.kind, {})
+    own = drive.part("loss_model").sources
     return {n: own.get(n, LOSS_SOURCES.get(n, "")) for n in names}
 
 
-#: The loss model of each drive kind (toothfem.fem.drives.Drive.kind).
-LOSS_MODELS = {"cycloid": cycloid_losses, "sine": sine_losses}
+@dataclass(frozen=True)
+class LossModel:
+    """A layout's loss model (its ``loss_model`` part, toothfem.fem.drives.registry).
+
+    Attributes
+    ----------
+    losses : callable
+        (si, drive, points) -> :class:`DriveLosses`.
+    sources : dict
+        The layout's own reading of a component's law and source (beside
+        :data:`LOSS_SOURCES`).
+    bearing_coefficient_component : str or None
+        The component proportional to ``friction.bearing_coefficient`` alone (the sine
+        paper's Eq. 32); None where the coefficient is the load term of every bearing's
+        Palmgren moment (:func:`bearing_losses`).
+    """
+    losses: Callable[..., DriveLosses]
+    sources: Mapping[str, str] = field(default_factory=dict)
+    bearing_coefficient_component: str | None = None
+
+    def __call__(self, si, drive, points: OperatingPoints) -> DriveLosses:
+        """The losses at the points.
+
+        Parameters
+        ----------
+        si : toothfem.si.CaseSI
+        drive : toothfem.fem.drives.Drive
+        points : OperatingPoints
+
+        Returns
+        -------
+        DriveLosses
+        """
+        return self.losses(si, drive, points)
+
+
+provide("loss_model", "cycloid")(LossModel(khv_losses))
+provide("loss_model", "rv")(LossModel(rv_losses))
+provide("loss_model", "sine")(LossModel(
+    sine_losses, bearing_coefficient_component="eccentric_bearing",
+    sources={"eccentric_bearing": "f r_p F_R1 w_rel, F_R1 from the planet's equilibrium "
+                                  "(Lu & Xu 2024, Eqs. 26-32)"}))

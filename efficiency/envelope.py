@@ -4,7 +4,7 @@ Seals, bearings and the housing need sizes that the tooth geometry does not fix:
 diameter under each seal, the type, pitch diameter and number of the bearings on the
 eccentrics, the main bearing's pitch diameter, the housing's radius and length. A case
 declares them in ``[seals]``, ``[bearings]`` and ``[thermal]``; what it leaves out is taken
-from the drive's own geometry by the rule of :data:`ENVELOPES` (keyed by ``drive.kind``,
+from the drive's own geometry by its layout's rule (the ``envelope`` part of its registration,
 every rule an ASSUMPTION stated beside it and in docs/case_schema.md).
 """
 from __future__ import annotations
@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..errors import CaseError
+from ..fem.drives.registry import provide
 
 #: Pitch diameter of a light-series ball bearing per bore: 1.5 (a 6004 has d = 20 mm,
 #: D = 42 mm, d_m = 31 mm = 1.55 d; makers' catalogues). ASSUMPTION for the sine eccentric.
@@ -38,30 +39,47 @@ class Envelope:
     housing_length_m: float
 
 
-def _cycloid_envelope(si, drive) -> dict:
-    """Cycloid and RV drives: the input shaft runs through the discs' centre bore, the output
-    seal and the main bearing sit at the pin circle, the housing is the pin housing
-    (radius ``housing_outer_radius``, as long as its diameter), the eccentric bearings are
-    needle rollers (RV reducers' crank bearings) running in the crank holes (2K-V), or in
-    the centre bore (K-H-V). All ASSUMPTIONS."""
-    st = si.cycloid
-    g, h = st.geometry, st.holes
-    bore = 2 * h.centre_bore_radius_m
-    shaft = bore if bore > 0 else INPUT_SHAFT_PER_PIN_CIRCLE * g.pin_circle_radius_m
-    if drive.two_stage:
-        if h.crank_hole_count < 1:
-            raise CaseError("cycloid.disc_holes.crank_hole_count = 0: a 2K-V drive needs its "
-                            "crank holes for the crank bearings")
-        ecc_d, ecc_n = 2 * h.crank_hole_radius_m, h.crank_hole_count * st.disc_count
-    else:
-        ecc_d, ecc_n = (bore if bore > 0 else shaft * BALL_PITCH_PER_BORE), st.disc_count
-    r_h = st.housing_outer_radius_m
-    return dict(input_seal_diameter_m=shaft, output_seal_diameter_m=2 * g.pin_circle_radius_m,
-                eccentric_type="needle", eccentric_pitch_diameter_m=ecc_d,
-                eccentric_count=ecc_n, main_pitch_diameter_m=2 * g.pin_circle_radius_m,
+def _cycloid_envelope(si, eccentric_diameter_m, eccentric_count) -> dict:
+    """Cycloid and RV drives: the output seal and the main bearing sit at the pin circle,
+    the housing is the pin housing (radius ``housing_outer_radius``, as long as its
+    diameter), the eccentric bearings are needle rollers. All ASSUMPTIONS."""
+    g = si.cycloid.geometry
+    r_h = si.cycloid.housing_outer_radius_m
+    return dict(input_seal_diameter_m=_input_shaft_m(si),
+                output_seal_diameter_m=2 * g.pin_circle_radius_m,
+                eccentric_type="needle", eccentric_pitch_diameter_m=eccentric_diameter_m,
+                eccentric_count=eccentric_count, main_pitch_diameter_m=2 * g.pin_circle_radius_m,
                 main_count=2, housing_radius_m=r_h, housing_length_m=2 * r_h)
 
 
+def _input_shaft_m(si) -> float:
+    """The input shaft runs through the discs' centre bore (or is sized on the pin circle)."""
+    bore = 2 * si.cycloid.holes.centre_bore_radius_m
+    return bore if bore > 0 else INPUT_SHAFT_PER_PIN_CIRCLE * si.cycloid.geometry.pin_circle_radius_m
+
+
+@provide("envelope", "cycloid")
+def _khv_envelope(si, drive) -> dict:
+    """K-H-V: the eccentric bearings (RV reducers' needle rollers) run in the centre bore,
+    one per disc (:func:`_cycloid_envelope`)."""
+    bore = 2 * si.cycloid.holes.centre_bore_radius_m
+    d = bore if bore > 0 else _input_shaft_m(si) * BALL_PITCH_PER_BORE
+    return _cycloid_envelope(si, d, si.cycloid.disc_count)
+
+
+@provide("envelope", "rv")
+def _rv_envelope(si, drive) -> dict:
+    """2K-V: the crank bearings run in the crank holes, one per hole of every disc
+    (:func:`_cycloid_envelope`)."""
+    h = si.cycloid.holes
+    if h.crank_hole_count < 1:
+        raise CaseError("cycloid.disc_holes.crank_hole_count = 0: a 2K-V drive needs its "
+                        "crank holes for the crank bearings")
+    return _cycloid_envelope(si, 2 * h.crank_hole_radius_m,
+                             h.crank_hole_count * si.cycloid.disc_count)
+
+
+@provide("envelope", "sine")
 def _sine_envelope(si, drive) -> dict:
     """Sine reducer (Lu & Xu 2024, Fig. 1): the input shaft carries the eccentric bearing
     (bore 2 r_p), a deep-groove ball bearing of pitch 1.5 bores; the output seal and the
@@ -80,13 +98,10 @@ def _sine_envelope(si, drive) -> dict:
                 housing_radius_m=r_h, housing_length_m=2 * r_h)
 
 
-#: The envelope rule of each drive kind (toothfem.fem.drives.Drive.kind).
-ENVELOPES = {"cycloid": _cycloid_envelope, "sine": _sine_envelope}
-
 
 def envelope(si, drive) -> Envelope:
     """The parts around the meshing stage: the case's ``[seals]`` and ``[bearings]`` sizes,
-    and the drive's own rule (:data:`ENVELOPES`) for what the case leaves out.
+    and the layout's own rule (its ``envelope`` part) for what the case leaves out.
 
     Parameters
     ----------
@@ -97,7 +112,7 @@ def envelope(si, drive) -> Envelope:
     -------
     Envelope
     """
-    sizes = ENVELOPES[drive.kind](si, drive)
+    sizes = drive.part("envelope")(si, drive)
     seals, bearings = si.seals, si.bearings
     declared = {
         "input_seal_diameter_m": None if seals is None else seals.input_diameter_m,

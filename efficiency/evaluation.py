@@ -8,7 +8,6 @@ and checks.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -17,11 +16,12 @@ from ..case_checks import SPEED_RPM, TORQUE_NM
 from ..errors import CaseError, ToothfemError, check_range, checked_array
 from ..fem.drives import drive_for
 from . import rv_paper
-from .drive_losses import LOSS_MODELS, OperatingPoints
+from .drive_losses import OperatingPoints
 from .. import limits
 from .lubricant import viscosity_factor
 from .mesh_table import LOADS
 from ..si import si_of
+from ..units import rpm_to_rad_s
 
 METHODS = ("power_flow", "rv_split_power")
 #: Positions per meshing period the efficiency model accepts: at least 4 to see the load
@@ -137,17 +137,17 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
         if temp is not None or loads != "analytic":
             raise CaseError("method = 'rv_split_power' takes the declared mesh efficiency: "
                             "oil_temp_C and loads = 'fem' do not apply to it")
-        res = rv_paper.split_power_losses(si, n * 2 * math.pi / 60, t)
+        res = rv_paper.split_power_losses(si, rpm_to_rad_s(n), t)
         return Efficiency(**record, output_power_W=res.output_power_W,
                           losses_W=res.losses_W, loads="analytic", method=method,
                           notes=res.notes, mesh_efficiency=res.mesh_efficiency,
                           warnings=tuple(limits.rated_torque(si, t)))
     drive = drive_for(si)
     points = OperatingPoints(
-        input_speed_rad_s=n * 2 * math.pi / 60, output_torque_Nm=t,
+        input_speed_rad_s=rpm_to_rad_s(n), output_torque_Nm=t,
         viscosity_factor=viscosity_factor(si.lubricant, temp) * np.ones_like(n),
         loads=loads, n_positions=int(positions), table=table)
-    res = LOSS_MODELS[drive.kind](si, drive, points)
+    res = drive.part("loss_model")(si, drive, points)
     return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
                       loads=loads, method=method, notes=res.notes,
                       mesh_efficiency=res.mesh_efficiency,

@@ -182,7 +182,8 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     Raises
     ------
     CaseError
-        If ``loads`` is not one of :data:`LOADS`.
+        If ``loads`` is not one of :data:`LOADS`, or ``loads='fem'`` without
+        ``torque_ref``.
     """
     if loads not in LOADS:
         raise CaseError(f"loads = {loads!r} is not one of {list(LOADS)}")
@@ -190,6 +191,9 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     if loads == "analytic":
         recs = [drive.analytic_split(state, 1.0)]
     else:
+        if torque_ref is None:
+            raise CaseError("loads = 'fem' needs torque_ref (the FE table's reference "
+                            "member torque [N m])")
         recs = _fe_records(drive.cycle_solver(n_positions),
                            [f * torque_ref for f in FE_TORQUE_FRACTIONS], n_positions)
     return table_from_records(state, recs, loads)

@@ -33,13 +33,13 @@ One cited law per mechanism, none counted twice:
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from ..errors import CaseError
 from .envelope import envelope
 from .lubricant import churning_lu_xu_2024
+from ..units import RPM_PER_RAD_S, rpm_to_rad_s
 
 #: ISO/TR 14179-1:2001 seal loss P = SEAL_LOSS_W * D^2 n [W] for D [mm], n [rpm]: the
 #: friction of a radial lip seal on a shaft of diameter D (torque 7.34e-5 D^2 N m).
@@ -52,7 +52,7 @@ SEAL_LOSS_W = 7.69e-6
 #: The input speed at which ``friction.windage_torque_Nmm`` is stated [rpm] (a round
 #: figure inside every shipped case's speed range).
 WINDAGE_REFERENCE_RPM = 1000.0
-WINDAGE_REFERENCE_RAD_S = WINDAGE_REFERENCE_RPM * 2 * math.pi / 60
+WINDAGE_REFERENCE_RAD_S = rpm_to_rad_s(WINDAGE_REFERENCE_RPM)
 #: Palmgren's no-load moment M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 [N mm] (nu [mm^2/s], n [rpm],
 #: d_m [mm]) for nu n >= PALMGREN_NU_N_MIN, and 160e-7 f0 d_m^3 below it.
 PALMGREN_NU_N_MIN = 2000.0
@@ -72,7 +72,6 @@ PALMGREN_F0 = {
     "tapered": {"grease": 6.0, "oil_mist": 3.0, "oil_bath": 6.0, "oil_jet": 9.0},
     "needle": {"grease": 12.0, "oil_mist": 6.0, "oil_bath": 12.0, "oil_jet": 24.0},
 }
-_RPM = 60.0 / (2.0 * math.pi)          # rpm per rad/s
 #: Main bearing type of an SI record without [bearings] (toothfem.case.Bearings default).
 DEFAULT_MAIN_TYPE = "angular_ball"
 
@@ -94,7 +93,7 @@ def seal_loss(diameter_m, speed_rad_s):
         The loss [W].
     """
     d_mm = diameter_m * 1e3
-    return SEAL_LOSS_W * d_mm ** 2 * np.abs(np.asarray(speed_rad_s, float)) * _RPM
+    return SEAL_LOSS_W * d_mm ** 2 * np.abs(np.asarray(speed_rad_s, float)) * RPM_PER_RAD_S
 
 
 def palmgren_no_load_moment(f0, nu_m2_s, speed_rad_s, pitch_diameter_m):
@@ -121,7 +120,7 @@ def palmgren_no_load_moment(f0, nu_m2_s, speed_rad_s, pitch_diameter_m):
     numpy.ndarray
         M0 [N m].
     """
-    nu_n = np.asarray(nu_m2_s, float) * 1e6 * np.abs(np.asarray(speed_rad_s, float)) * _RPM
+    nu_n = np.asarray(nu_m2_s, float) * 1e6 * np.abs(np.asarray(speed_rad_s, float)) * RPM_PER_RAD_S
     d3 = (pitch_diameter_m * 1e3) ** 3
     m0 = np.where(nu_n >= PALMGREN_NU_N_MIN, 1e-7 * f0 * np.maximum(nu_n, 0.0) ** (2 / 3),
                   PALMGREN_LOW_SPEED * 1e-7 * f0) * d3
@@ -189,7 +188,7 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
     if lub.lubrication == "oil_bath":
         if lub.churning != "none":
             out["churning"] = lub.churning_scale * sum(
-                churning_lu_xu_2024(a0, np.abs(n) * _RPM, nu) for a0, n in stages)
+                churning_lu_xu_2024(a0, np.abs(n) * RPM_PER_RAD_S, nu) for a0, n in stages)
     elif bearings:           # every bearing of the set at its speed, no load term
         from .bearing_set import bearing_losses
         out["bearing_drag"] = sum(bearing_losses(si, drive, {}, input_rad_s,

@@ -2,7 +2,8 @@
 
 Source: C. Wang, "A calculation method of transmission efficiency for RV reducer",
 Eqs. 8-15, as printed, so that :func:`rv_split_power` reproduces the paper's RV-40E example
-from its inputs. ``efficiency.evaluate`` uses it for ``method="rv_split_power"`` through :func:`split_power_losses`. Derivations,
+from its inputs. ``efficiency.evaluate`` uses it for ``method="rv_split_power"`` through
+:func:`split_power_losses`. Derivations,
 checks and the numbers on RV-40E: ``docs/derivations.md``, section 5, which also shows why
 the method is not a consistent power balance; the general virtual-power flow of Chen &
 Angeles (J. Mech. Des. 129 (2007) 107-113) it is compared with is a test oracle,

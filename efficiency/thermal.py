@@ -42,7 +42,7 @@ from .. import limits
 from ..errors import CaseError, ToothfemError, check_range
 from ..fem.drives import drive_for
 from .envelope import envelope
-from .evaluation import evaluate
+from .evaluation import Efficiency, evaluate
 from .lubricant import temperature_range
 from ..si import si_of
 
@@ -227,7 +227,7 @@ class HeatBalance:
     heat_transfer_W_m2K: np.ndarray
     housing: Housing
     iterations: int
-    evaluation: object              # toothfem.efficiency.evaluation.Efficiency at T
+    evaluation: Efficiency          # the efficiency at T
     warnings: tuple = ()            # toothfem.limits.Exceeded: the case's temperature
                                     # limit and the evaluation's at T
 

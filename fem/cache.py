@@ -196,8 +196,10 @@ class DiskCache:
             fd, tmp = tempfile.mkstemp(prefix=f".tmp-{owner()}{key[:16]}.", suffix=".tmp",
                                        dir=self.directory)
             with os.fdopen(fd, "wb") as fh:
-                np.savez(fh, **{KEY_ARRAY: np.asarray(key)},
-                         **{k: np.asarray(v) for k, v in arrays.items()})
+                payload = {KEY_ARRAY: np.asarray(key),
+                           **{k: np.asarray(v) for k, v in arrays.items()}}
+                # numpy's stub maps **names onto allow_pickle: bool too; no array is named so
+                np.savez(fh, **payload)  # type: ignore[arg-type]  # no name is "allow_pickle"
             os.replace(tmp, path)
         except OSError as exc:
             if tmp is not None:

@@ -23,11 +23,15 @@ from __future__ import annotations
 
 import contextlib
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .linsolve import one_blas_thread
 from ..errors import ToothfemError
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_matrix
 
 
 class ContactError(ToothfemError):
@@ -130,7 +134,7 @@ def _active_set(h, g0, c, q, max_iter, start=None) -> ContactSolution:
         r_first = np.min(-g0[able] / c[able]) if q < 0 else np.max(-g0[able] / c[able])
         active = able & (g0 + r_first * c <= np.max(np.abs(g0)) * FIRST_TOUCH_RTOL
                          + FIRST_TOUCH_ATOL)
-    for it in range(1, max_iter + 1):
+    for it in range(1, max_iter + 1):  # noqa: B007 - it is read after the loop (iterations)
         idx = np.flatnonzero(active)
         k = idx.size
         mat = np.zeros((k + 1, k + 1))
@@ -164,7 +168,7 @@ class SlaveSurface:
     points: np.ndarray      # (2, M) positions, m
     dofs: np.ndarray        # (2, M) x and y dof indices in the body's basis
     weights: np.ndarray     # (M,) integral of the node's shape function along the surface, m
-    adjacency: object       # (M, M) sparse, 1 between neighbouring nodes along the surface
+    adjacency: csr_matrix   # (M, M), 1 between neighbouring nodes along the surface
 
     def pressure(self, force):
         """Contact pressure at each node from nodal forces (N/m) -> Pa.

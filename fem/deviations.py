@@ -107,7 +107,7 @@ class CycloidDeviation:
     eccentric at disc j stands at e u(phi_j) + de_k u(phi_j + theta_k); a K-H-V drive has
     one crank, its input shaft), or (cranks, discs) each eccentric's own: the system
     model's crank bearings take them
-    (:class:`toothfem.fem.system.cycloid.CycloidSystem`); empty: none (a zero phase where
+    (:class:`toothfem.fem.drives.assembly.CycloidSystem`); empty: none (a zero phase where
     only the errors are given)."""
     pin_offset: np.ndarray
     pin_radius: np.ndarray

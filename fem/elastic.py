@@ -11,12 +11,16 @@ import functools
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .hertz import reduced_modulus
 from . import linsolve
 from ..errors import ToothfemError, check_range
+
+if TYPE_CHECKING:
+    from .mesh import BodyMesh
 
 
 def lame_parameters(youngs_modulus, poisson_ratio, plane: str = "strain"):
@@ -150,19 +154,32 @@ def stiffness_matrix(basis, lam, mu):
                       shape=(basis.N, basis.N)).tocsc()
 
 
+class _Material(Protocol):
+    """What :class:`SameMaterial` reads of the model it is mixed into."""
+
+    @property
+    def youngs_modulus(self) -> float: ...
+
+    @property
+    def poisson_ratio(self) -> float: ...
+
+    @property
+    def plane(self) -> str: ...
+
+
 class SameMaterial:
     """Moduli of two bodies of one isotropic material (mixin for the FE models: needs
     ``youngs_modulus``, ``poisson_ratio`` and ``plane``)."""
 
     @functools.cached_property
-    def e_star(self) -> float:
+    def e_star(self: _Material) -> float:
         """Hertz's reduced modulus E* of the pair (Johnson 1985); kept (read per contact
         solve)."""
         return float(reduced_modulus(self.youngs_modulus, self.poisson_ratio,
                                      self.youngs_modulus, self.poisson_ratio))
 
     @property
-    def e_plane(self) -> float:
+    def e_plane(self: _Material) -> float:
         return plane_modulus(self.youngs_modulus, self.poisson_ratio, self.plane)
 
 
@@ -172,7 +189,7 @@ class Body:
 
     Lengths in m, moduli in Pa; the out-of-plane thickness is 1 m (forces per unit length).
     """
-    body_mesh: object
+    body_mesh: BodyMesh
     youngs_modulus: float
     poisson_ratio: float
     clamped_nodes: np.ndarray

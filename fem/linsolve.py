@@ -38,10 +38,14 @@ import functools
 import os
 import threading
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ToothfemError
+
+if TYPE_CHECKING:
+    from scipy.sparse import csc_matrix
 
 #: Environment variable that forces a backend (tests, benchmarks).
 BACKEND_ENV = "TOOTHFEM_SOLVER"
@@ -182,7 +186,7 @@ class Triangle:
     B[order[i]], ``unit`` whether T's diagonal is one (what is stored there is then not
     read), ``parent`` (n,) the elimination tree (-1 at a root). Then B^T K^-1 B =
     V^T diag(weights) V with V = T^-1 P B: T = L and weights = 1/D for P K P^T = L D L^T."""
-    lower: object
+    lower: csc_matrix
     weights: np.ndarray
     order: np.ndarray
     unit: bool

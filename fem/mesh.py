@@ -10,11 +10,15 @@ rings are sampled densely there (:func:`refine_ring`).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..errors import ToothfemError, check_range
 from ..signals import handlers_kept
+
+if TYPE_CHECKING:
+    from skfem import MeshTri
 
 
 class MeshError(ToothfemError):
@@ -39,7 +43,7 @@ class Refinement:
 @dataclass(frozen=True)
 class BodyMesh:
     """A meshed body: the skfem mesh and, per ring name, its boundary facet indices."""
-    mesh: object                      # skfem.MeshTri
+    mesh: MeshTri
     rings: dict = field(default_factory=dict)   # name -> (F,) facet indices
 
     def ring_nodes(self, name: str) -> np.ndarray:
@@ -196,8 +200,8 @@ def mesh_rings(rings, size_max: float, refinements=(), names=None,
         for ref in refinements:
             # added and synchronised after the surface: one synchronisation for all was
             # measured to change the integral housing's mesh
-            pts = np.asarray(ref.points, float).reshape(2, -1)
-            tags = [geo.addPoint(x, y, 0.0) for x, y in pts.T]
+            ref_pts = np.asarray(ref.points, float).reshape(2, -1)
+            tags = [geo.addPoint(x, y, 0.0) for x, y in ref_pts.T]
             geo.synchronize()
             f_d = fm.add("Distance")
             fm.setNumbers(f_d, "PointsList", tags)

@@ -26,6 +26,7 @@ from .cycloid import (CycloidGeometry, _Generating, _rho_of_theta,
                       inward_normal, theoretical_profile, working_profile)
 from .kinematics import MeshingState, equivalent_radius, slide_to_roll
 from .vectors import cross, perp, rotate, unit
+from ..units import ARCMIN
 
 #: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
 _FOOT_TOL = 1e-14
@@ -325,12 +326,6 @@ def distance_to_profile(geom: CycloidGeometry, points, flank: int = 0, psi0=None
     return foot_point(g, pts, psi0)[1]
 
 
-def _turn(points, angle: float) -> np.ndarray:
-    """Points (2, N) turned counter-clockwise by ``angle`` [rad] about the origin."""
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s], [s, c]]) @ np.asarray(points, float)
-
-
 #: A foot point of one turned profile counts as inside the other turned profile's
 #: material when its signed distance from that profile is below this [m] (round-off).
 _INSIDE_TOL = 1e-12
@@ -369,7 +364,7 @@ def modified_distance(geom: CycloidGeometry, points, rotation_rad: float = 0.0,
         Signed distance [m].
     """
     g = geom.generating()
-    pts = _turn(points, -rotation_rad) if rotation_rad else np.asarray(points, float)
+    pts = rotate(points, -rotation_rad) if rotation_rad else np.asarray(points, float)
     if psi0 is None:
         psi0 = _nearest_psi(g, pts)
     psi0 = np.asarray(psi0, float)
@@ -378,7 +373,7 @@ def modified_distance(geom: CycloidGeometry, points, rotation_rad: float = 0.0,
         return foot_point(g, pts, psi0)[1]
     feet, dist = [], []
     for a in (delta, -delta):                 # the profile turned by a: the point by -a
-        psi, d = foot_point(g, _turn(pts, -a), psi0)
+        psi, d = foot_point(g, rotate(pts, -a), psi0)
         feet.append(psi)
         dist.append(d)
     if delta < 0:                             # union: the nearer of the two
@@ -388,7 +383,7 @@ def modified_distance(geom: CycloidGeometry, points, rotation_rad: float = 0.0,
     done = np.zeros(out.shape, bool)
     for k, a in enumerate((delta, -delta)):
         # foot on the profile turned by a, seen from the profile turned by -a: turned by 2a
-        inside = foot_point(g, _turn(working_profile(g, feet[k]), 2 * a), feet[k])[1] \
+        inside = foot_point(g, rotate(working_profile(g, feet[k]), 2 * a), feet[k])[1] \
             <= _INSIDE_TOL
         take = inside & ~done
         out[take] = dist[k][take]
@@ -405,7 +400,7 @@ def _corner(g: _Generating, delta: float, points) -> np.ndarray:
     alpha - delta, turned by +delta (the profile is symmetric about alpha)."""
     step = math.pi / (g.zb - 1)              # roots at even, tips at odd multiples
     alpha = step * np.round(np.arctan2(points[1], points[0]) / step)
-    return _turn(working_profile(g, polar_parameter(g, alpha - delta)), delta)
+    return rotate(working_profile(g, polar_parameter(g, alpha - delta)), delta)
 
 
 def polar_parameter(g: _Generating, target) -> np.ndarray:
@@ -672,8 +667,9 @@ def before_load(geom: CycloidGeometry, crank_angle_rad) -> dict:
     dict
         ``backlash_min_arcmin``, ``backlash_max_arcmin``: the sum of both flanks' closing
         rotations (min over each flank's pins of g0/|l|) over the positions (None where
-        the disc interferes: it has no backlash); ``clearance_before_load_um``: the smallest, over the positions, of the
-        largest smallest clearance any turn of the disc leaves (negative: interference);
+        the disc interferes: it has no backlash); ``clearance_before_load_um``: the
+        smallest, over the positions, of the largest smallest clearance any turn of the
+        disc leaves (negative: interference);
         ``interference_before_load_um`` (0 without interference), and where it is
         largest ``interference_position_deg``, ``interference_pins`` (pin indices within
         1 nm of it) and ``interference_flanks`` ("+": the flank that carries a positive
@@ -691,7 +687,7 @@ def before_load(geom: CycloidGeometry, crank_angle_rad) -> dict:
     worst = float(clear[p])
     at = gap[p] + beta[p] * arm[p]
     pins = np.flatnonzero(at <= worst + _NAMED_TOL) if worst < 0 else np.array([], int)
-    arcmin = math.degrees(1) * 60
+    arcmin = 1 / ARCMIN
     free = worst >= 0
     return {
         "backlash_min_arcmin": float(np.min(backlash) * arcmin) if free else None,

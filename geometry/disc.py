@@ -1,6 +1,6 @@
 """The cycloid disc as a polygon with its holes (centre bore, crank-bearing holes, carrier
-pillar holes, the output pins' holes of a K-H-V drive): the outline of the FE mesh and of the drawings, with the checks that the
-holes stay inside the disc and apart."""
+pillar holes, the output pins' holes of a K-H-V drive): the outline of the FE mesh and of
+the drawings, with the checks that the holes stay inside the disc and apart."""
 from __future__ import annotations
 
 import math

@@ -108,7 +108,7 @@ RULES = [
     ("cycloid_pinhousing.toml", "case.stated_ratio", 120,
      "case.stated_ratio = 120 disagrees with the ratio 121 computed from the tooth numbers"),
     ("cycloid_pinhousing.toml", "case.drive", "harmonic",
-     "case.drive = 'harmonic' is not one of ['cycloid', 'sine', 'rv']"),
+     "case.drive = 'harmonic' is not one of ['cycloid', 'rv', 'sine']"),
     ("cycloid_pinhousing.toml", "cycloid.pin_circle_radius", 100.0,
      "cycloid.pin_circle_radius is not a known key"),
     ("cycloid_pinhousing.toml", "cycloid.eccentricity_mm", "one",

@@ -22,6 +22,7 @@ import pytest
 from toothfem import load_case
 from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
+from toothfem.fem.drives.registry import RECORDS
 from toothfem.efficiency import lubricant as md
 from toothfem.efficiency import predict
 from toothfem.efficiency.loop import synthetic as sy
@@ -91,7 +92,8 @@ FIELD_EFFECTS = tuple(e.name for e in CATALOG if len(e.case_fields) == 1)
 @pytest.mark.parametrize("name", FIELD_EFFECTS)
 def test_apply_sets_its_fields_by_copy(cases, name):
     eff = fx.by_name(name, CATALOG)
-    case = cases["rv40e"] if "sine" not in eff.drives else cases["sine_prototype"]
+    case = cases["rv40e"] if eff.acts_on in (None, *RECORDS["rv"].components) \
+        else cases["sine_prototype"]
     p = eff.parameters[0]
     value = 0.5 * (p.starts[0] + p.hi) if p.hi < 1e5 else 123.0
     new = eff.apply(case, (value,))
@@ -116,11 +118,12 @@ def test_declared_and_applicable(cases):
     assert "oil_temp_C" in skipped["thermal"]              # no sensor to be warmer than
     grease = _lubricant(sine, lubrication="grease")
     assert "no oil bath" in lp.candidates_of(grease, pts, CATALOG)[1]["churning"]
-    assert "not for drive 'sine'" in skipped["pin_sliding"]
-    assert "not for drive 'sine'" in skipped["load_sharing_clearance"]
+    assert "acts on the pins" in skipped["pin_sliding"] and "sine" in skipped["pin_sliding"]
+    assert "acts on the pins" in skipped["load_sharing_clearance"]
     cands, skipped = lp.candidates_of(cyc, pts, CATALOG)
     assert "integral" in skipped["pin_sliding"]
-    assert "not for drive 'cycloid'" in skipped["output_mechanism_friction"]
+    # a 2K-V train has no output pins (the effect acts on a K-H-V drive's and the sine's)
+    assert "output mechanism, which an RV (2K-V)" in skipped["output_mechanism_friction"]
     assert "load_sharing_clearance" in cands and "bearing_friction" in cands
     cands, skipped = lp.candidates_of(rv, pts, CATALOG)
     assert "declared" in skipped["pin_sliding"]          # rv40e declares groove 0.05

@@ -287,7 +287,8 @@ def test_a_tolerance_page_lists_the_limits_its_percentiles_pass(cases_dir, tmp_p
 
     from tests.test_tolerance_report import synthetic
     from toothfem.case import load_case
-    from toothfem.tolerance import check_limits, write_tolerance
+    from toothfem.report.tolerance import write_tolerance
+    from toothfem.tolerance import check_limits
 
     case_file = cases_dir / "cycloid_khv.toml"
     case = load_case(case_file)

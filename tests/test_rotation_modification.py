@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 from shapely.geometry import Point, Polygon
 
+from toothfem.geometry.vectors import rotate
 from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.deviations import CycloidDeviation
@@ -77,7 +78,7 @@ def _polygon_distance(g, points, samples_per_lobe=4000):
     (Delta delta > 0) or united (< 0); distance of each point from its boundary."""
     psi = np.linspace(0, 2 * math.pi, g.lobe_count * samples_per_lobe, endpoint=False)
     w = cy.working_profile(g.generating(), psi)
-    turned = [Polygon(cym._turn(w, a).T) for a in (g.rotation_rad, -g.rotation_rad)]
+    turned = [Polygon(rotate(w, a).T) for a in (g.rotation_rad, -g.rotation_rad)]
     disc = turned[0].intersection(turned[1]) if g.rotation_rad > 0 else \
         turned[0].union(turned[1])
     return np.array([disc.exterior.distance(Point(*p)) for p in points.T])
@@ -94,7 +95,7 @@ def test_distance_from_the_modified_disc_against_a_polygon(deg):
     for turn in (0.0, g.rotation_rad, -g.rotation_rad):
         exact = cym.clearance_at(g, phi, turn) + g.pin_radius_m
         c = np.broadcast_to(cym.pin_centres(g)[:, None, :], (2, 2, 40))
-        local = cym._turn(cym.to_disc_frame(g, phi, c).reshape(2, -1), -turn)
+        local = rotate(cym.to_disc_frame(g, phi, c).reshape(2, -1), -turn)
         ref = _polygon_distance(g, local).reshape(2, 40)
         assert np.max(np.abs(exact - ref)) < 5e-9, (deg, turn)
 

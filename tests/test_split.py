@@ -350,7 +350,8 @@ def test_stiffness_writes_the_split_picture(three, tmp_path):
     within 0.2 %: the system model at the loop's pitch against the TE's SYSTEM_TE_SAMPLES
     pitches and their Fourier fill), and the split is drawn (split.png) beside split.csv;
     the shipped even layouts draw no such picture (a flat line at one half)."""
-    from toothfem.datasheet import stiffness_analysis, write_stiffness
+    from toothfem.datasheet import stiffness_analysis
+    from toothfem.report.stiffness import write_stiffness
 
     case, *_ = three
     result = stiffness_analysis(case, positions=12, steps=4, friction=False,

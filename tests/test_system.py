@@ -17,7 +17,7 @@ from toothfem.fem.datasheet import supports as sp
 from toothfem.fem.datasheet.twist import ARCMIN
 from toothfem.fem.drives import drive_for
 from toothfem.fem.system import elements as el
-from toothfem.fem.system.cycloid import CycloidSystem
+from toothfem.fem.drives.assembly import CycloidSystem
 from tests.test_split import three_discs
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -183,7 +183,7 @@ def test_rate_is_the_tangent_of_the_solution(pinhousing):
     """Equilibrium.rate (du per unit torque, the carrying contacts held) against the
     central difference of two solves: 1e-4 (the bearings' law is smooth; the same
     contacts carry at both torques). The rate is solved where friction asks for it."""
-    from toothfem.fem.system.cycloid import PathFriction
+    from toothfem.fem.drives.assembly import PathFriction
     s = system(pinhousing, pin_spring_m_per_N=1e-9)
     h = 0.5
     st = s.solve(100.0, 4, friction=PathFriction(0.0, 0.0, 0.0, 0.0))
@@ -195,7 +195,7 @@ def test_rate_is_the_tangent_of_the_solution(pinhousing):
 def test_a_constant_friction_torque_shifts_each_branch_by_itself(pinhousing):
     """Only a constant friction torque X on the output (the seal): the rising branch at T
     is the elastic curve at T - X, the falling one at T + X (the play operator), exactly."""
-    from toothfem.fem.system.cycloid import PathFriction
+    from toothfem.fem.drives.assembly import PathFriction
     from toothfem.fem.system.datasheet import SystemTwist
     s = system(pinhousing, n_positions=4, pin_spring_m_per_N=1e-9)
     fr = PathFriction(pin_disc=0.0, pin_groove=0.0, bearing=0.0, output_pin=0.0,
@@ -215,7 +215,7 @@ def test_friction_opens_the_loop_and_without_it_the_loop_closes(pinhousing):
     the solution at +-1e-4 N m, whose elastic part rides on the bearings' soft start,
     Q ~ delta^(10/9): 6e-6 arcmin here)."""
     from toothfem.fem.datasheet.sheet import datasheet
-    from toothfem.fem.system.cycloid import PathFriction
+    from toothfem.fem.drives.assembly import PathFriction
     from toothfem.fem.system.datasheet import SystemTwist
     s = system(pinhousing, n_positions=4, pin_spring_m_per_N=1e-9)
     fr = PathFriction(pin_disc=0.1, pin_groove=0.0, bearing=0.0015, output_pin=0.05,

@@ -55,7 +55,7 @@ from toothfem.case import load_case
 from toothfem.fem.cycloid_fe import solve_detailed
 from toothfem.fem.deviations import CycloidDeviation
 from toothfem.fem.drives import drive_for
-from toothfem.fem.system.cycloid import GROUPS, CycloidSystem
+from toothfem.fem.drives.assembly import GROUPS, CycloidSystem
 from toothfem.tolerance import PITCH_SAMPLES
 
 #: Positions per pin pitch, as the tolerance analysis spreads them, and the two solved.

@@ -351,7 +351,8 @@ def test_design_meets_its_targets_or_says_by_how_much(pinhousing, monkeypatch, t
     assert c["max_ph_MPa"] == pytest.approx(c["search_tables_max_ph_MPa"], rel=0.01)
     assert c["backlash_arcmin"] == pytest.approx(c["search_tables_backlash_arcmin"],
                                                  rel=0.01)
-    summary = ds.write_design(res, tmp_path, "[cycloid]\npin_count = 40\n")
+    from toothfem.report.design import write_design
+    summary = write_design(res, tmp_path, "[cycloid]\npin_count = 40\n")
     assert (tmp_path / "tradeoff.png").stat().st_size > 0
     assert summary["best"]["feasible"]
     assert "rotation_modification_deg = " in (tmp_path / "best_case.toml").read_text()

@@ -15,8 +15,8 @@ from toothfem.case import load_case
 from toothfem.report import pyplot, wrap
 from toothfem.report import tolerance as report
 from toothfem.tolerance import (ALONE_OVER_ALL, LOADS_CHAINED, LOADS_SYSTEM, OUTPUTS,
-                                ToleranceResult, check_limits, output_labels,
-                                write_tolerance)
+                                ToleranceResult, check_limits, output_labels)
+from toothfem.report.tolerance import write_tolerance
 
 #: Settings of a synthetic ensemble (as tolerance_analysis writes them).
 SETTINGS = {"samples": 40, "seed": 0, "positions": 36, "pairing_period_pitches": 870,

@@ -3,6 +3,7 @@ one line per finished stage, ``progress: <stage>: <count> <unit>s in <time> s``,
 says what ran and how long without being flooded with redraws."""
 from __future__ import annotations
 
+import contextlib
 import sys
 import time
 
@@ -92,11 +93,9 @@ class StageLine:
         self._closed = True
         of = f" of {self.total}" if self.total is not None and self.total != self.n else ""
         unit = self.unit if self.n == 1 else self.unit + "s"
-        try:
+        with contextlib.suppress(OSError, ValueError):  # a closed or broken stderr: progress only
             print(f"{PROGRESS_PREFIX}{self.desc}: {self.n}{of} {unit} in "
                   f"{time.perf_counter() - self._start:.1f} s", file=self.stream, flush=True)
-        except (OSError, ValueError):           # a closed or broken stderr: progress only
-            pass
 
     def __enter__(self):
         return self

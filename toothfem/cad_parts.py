@@ -1,7 +1,7 @@
 """The parts of a drive as a drawing (:class:`toothfem.cad.PartDrawing`): what the DXF, SVG
 and STEP writers of :mod:`toothfem.cad` draw.
 
-One builder per drive kind (:data:`PARTS`, keyed by ``drive.kind``), each from the drive's
+One builder per layout (its ``cad_parts`` part, toothfem.fem.drives.registry), each from the drive's
 own records (SI):
 
 * cycloid and RV drives: layer ``DISC_PROFILE`` (the disc's working profile, the outline of
@@ -27,6 +27,7 @@ import numpy as np
 from .cad import MM_PER_M, Body, PartDrawing, Region
 from .errors import CaseError, GeometryError, check_range
 from .fem.drives import drive_for
+from .fem.drives.registry import provide
 from .fem.sine_fe.model import model_from_pair
 from .geometry import cycloid_mesh as cym, sine as sg
 from .geometry.disc import DiscHolesSI
@@ -277,8 +278,8 @@ def _sine_part(si, drive, points_per_tooth: int) -> PartDrawing:
                        assumed=assumed)
 
 
-#: The part builder of each drive kind (toothfem.fem.drives.Drive.kind).
-PARTS = {"cycloid": _cycloid_part, "sine": _sine_part}
+provide("cad_parts", "cycloid", "rv")(_cycloid_part)
+provide("cad_parts", "sine")(_sine_part)
 
 
 def part_drawing(case, points_per_tooth: int = 96, *, drive=None) -> PartDrawing:
@@ -309,4 +310,4 @@ def part_drawing(case, points_per_tooth: int = 96, *, drive=None) -> PartDrawing
     check_range("points_per_tooth", points_per_tooth, 8, 10000, error=CaseError)
     si = si_of(case)
     drive = drive_for(si) if drive is None else drive
-    return PARTS[drive.kind](si, drive, int(points_per_tooth))
+    return drive.part("cad_parts")(si, drive, int(points_per_tooth))

@@ -9,6 +9,7 @@ from dataclasses import dataclass
 from .case_sections import _f, _Section
 from .errors import CaseError
 from .fem.deviations import DISTRIBUTIONS
+from .fem.drives.registry import RECORDS
 
 #: Largest tolerance zone accepted [mm]: a tenth of a millimetre is coarse turning; the
 #: contact model's first-order gap shifts hold for deviations far below the part sizes.
@@ -112,14 +113,6 @@ class Design(_Section):
                 "rotation_modification_deg": (self.rotation_min_deg, self.rotation_max_deg)}
 
 
-#: The tolerances of each kind of meshing stage (the others must be left at zero).
-STAGE_TOLERANCES = {
-    "cycloid": ("pin_position_mm", "pin_diameter_lower_mm", "pin_diameter_upper_mm",
-                "pin_circle_radius_mm", "disc_profile_mm", "crank_hole_position_mm"),
-    "sine": ("tooth_profile_mm",),
-}
-
-
 def check_tolerances(tolerances: Tolerances, stage: str | None) -> None:
     """Refuse a tolerance of a part the reducer lacks (a pin zone on a sine pair).
 
@@ -134,11 +127,11 @@ def check_tolerances(tolerances: Tolerances, stage: str | None) -> None:
     CaseError
         Naming the first nonzero key of another stage.
     """
-    for kind, keys in STAGE_TOLERANCES.items():
-        if kind == stage:
+    for record in RECORDS.values():
+        if record.stage_section == stage:
             continue
-        for key in keys:
+        for key in record.tolerance_keys:
             value = getattr(tolerances, key)
             if value:
-                raise CaseError(f"tolerances.{key} = {value!r} applies to a {kind} stage, "
+                raise CaseError(f"tolerances.{key} = {value!r} applies to a {record.stage_section} stage, "
                                 f"which this case has not: valid value 0")

@@ -17,6 +17,10 @@ that puts the crankshafts midway in that room, a sine pair's tooth height a shar
 largest valid one (:func:`toothfem.geometry.sine.tooth_height_limits`), the output
 mechanism in proportion to the disc or the planet as in the shipped cases.
 
+What differs between the layouts (the key numbers, their checks, the sections and the
+layout's assumptions) is each one's :class:`NewCaseTemplate`, registered as its record's
+part ``case_template`` (fem/drives/registry.py): nothing here branches on the drive.
+
 Computing and writing are apart: :func:`new_case` returns the text and the loaded case
 (every value checked by the normal loader, its refusal restated with the option that set
 the value); :func:`toothfem.output.write_new_file` writes the text atomically and never over an
@@ -30,7 +34,9 @@ import math
 import numbers
 import re
 import textwrap
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from typing import cast
 
 from . import __version__
 from .case import Case, parse_case, parse_case_text
@@ -41,6 +47,7 @@ from .fem.datasheet.supports import ROLLER_DIAMETER_REL
 from .derived import derived
 from .efficiency.bearing_set import ISO15_SERIES_0
 from .fem.drives import DEFAULT_POSITIONS, drive_for
+from .fem.drives.registry import RECORDS, provide
 from .geometry import sine
 from .geometry.cycloid import CycloidGeometry, min_convex_curvature_radius
 
@@ -53,24 +60,13 @@ OPTIONS = {
     "module_mm": "--module-mm", "ring_pitch_radius_mm": "--ring-pitch-radius-mm",
     "torque_Nm": "--torque-Nm", "input_speed_rpm": "--input-speed-rpm",
 }
-#: The key numbers each drive takes: (required, optional). A sine pair's size is one of
-#: ``SINE_SIZE`` (exactly one: with the tooth numbers, each fixes the other two).
-KEY_NUMBERS = {
-    "cycloid": (("pins", "pin_circle_radius_mm", "eccentricity_mm", "torque_Nm",
-                 "input_speed_rpm"), ("lobes",)),
-    "rv": (("pins", "pin_circle_radius_mm", "eccentricity_mm", "sun_teeth", "planet_teeth",
-            "torque_Nm", "input_speed_rpm"), ("lobes",)),
-    "sine": (("teeth", "torque_Nm", "input_speed_rpm"),
-             ("ring_teeth", "module_mm", "eccentricity_mm", "ring_pitch_radius_mm")),
-}
+#: A sine pair's size: exactly one of these (with the tooth numbers, each fixes the other
+#: two). What each layout takes is its :class:`NewCaseTemplate` (the templates below); what
+#: each layout is, in the file's header and the command's help, its record's ``label``.
 SINE_SIZE = ("module_mm", "eccentricity_mm", "ring_pitch_radius_mm")
 #: The key numbers that are lengths, torques or speeds (floats in the file); the rest count.
 FLOAT_KEY_NUMBERS = ("pin_circle_radius_mm", "eccentricity_mm", "module_mm",
                      "ring_pitch_radius_mm", "torque_Nm", "input_speed_rpm")
-#: What each drive is, in the file's header and the command's help.
-DRIVE_LABELS = {"cycloid": "a K-H-V cycloid drive with output pins through the discs",
-                "rv": "an RV (2K-V) reducer: a spur first stage, crankshafts, cycloid discs",
-                "sine": "a one-tooth-difference sine-profile reducer with output pins"}
 
 # -- the rules and their reasons --------------------------------------------------------------
 #: Pin radius per pin pitch 2 pi Rz / Zb. ASSUMPTION: the shipped conventional-pin cases
@@ -101,10 +97,10 @@ FORCE_ARM_MAX_PER_TORQUE = 1e6
 #: Discs of a cycloid stage. ASSUMPTION: two discs 180 deg apart balance each other's
 #: eccentric force (every shipped cycloid case).
 DISC_COUNT = 2
-#: Centre bore per root radius of the disc. ASSUMPTION: K-H-V, the eccentric roller bearing
-#: sits in it (the shipped K-H-V case: 14 mm of 45.8 mm, 0.31); RV, only the input shaft
-#: passes (RV-40E-like 8 mm of 59.7 mm, 0.13). Rounded up.
-BORE_PER_ROOT = {"cycloid": 0.3, "rv": 0.13}
+#: Centre bore per root radius of the disc, rounded up. ASSUMPTION: K-H-V, the eccentric
+#: roller bearing sits in it (the shipped K-H-V case: 14 mm of 45.8 mm, 0.31); RV, only the
+#: input shaft passes (RV-40E-like 8 mm of 59.7 mm, 0.13).
+KHV_BORE_PER_ROOT, RV_BORE_PER_ROOT = 0.3, 0.13
 #: A hole's radius per the radial room of its circle (the smaller distance to the bore and
 #: to the root circle), capped at a share of half the spacing of the holes on that circle.
 #: ASSUMPTION: the shipped K-H-V case (6.7 mm holes in a 15.8 mm room, 0.42; 0.58 of the
@@ -175,6 +171,107 @@ class NewCase:
     warnings: tuple
 
 
+@dataclass(frozen=True)
+class LayoutSections:
+    """What a layout's builder writes: its own ``sections`` (section -> list of
+    :class:`Entry`, in the file's order), the ``radius_mm`` its face width is scaled by
+    (the pin circle, a sine ring's pitch radius) and the ``notes`` on what the header's
+    "Not written" adds for it."""
+    sections: dict
+    radius_mm: float
+    notes: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, kw_only=True)
+class NewCaseTemplate:
+    """What ``toothfem new`` asks of one layout, registered as its record's part
+    ``case_template`` (fem/drives/registry.py); :func:`new_case` reads nothing else that
+    differs between the layouts.
+
+    Attributes
+    ----------
+    required, optional : tuple of str
+        The key numbers (keywords of :func:`new_case`, keys of :data:`OPTIONS`) the layout
+        needs and may take.
+    sizes : tuple of str
+        Optional key numbers of which exactly one gives the size (the command's help
+        names them), empty where the required ones fix it.
+    key_ranges : mapping
+        Key number -> (case section class, field) whose range it is checked against, in
+        the order the checks run.
+    key_help : mapping
+        Key number -> what it is in this layout (the command's help).
+    check : callable
+        ``check(given)``: the layout's own checks of the key numbers (``None`` where not
+        given), after the ranges; a one-line CaseError naming the option otherwise.
+    direct_keys : callable
+        ``direct_keys(given) -> {case key: key number}``: the layout's keys a key number
+        sets directly (a refusal of one is restated with the option; the operating point's
+        keys are common to all).
+    build : callable
+        ``build(template, given) -> LayoutSections``: the layout's own sections (call the
+        template: ``template(given)``).
+    radius_name : str
+        The radius the thinnest face width is scaled by, as the reason names it.
+    lubrication : (str, str)
+        ``lubricant.lubrication``'s value and its reason.
+    friction : tuple of (str, float, str)
+        The layout's ``[friction]`` coefficients beside the bearings': key, value, reason.
+    tolerances : callable
+        ``tolerances(sections) -> tuple of (key, value, reason)``: the ``[tolerances]`` of
+        its meshing stage, from the sections written so far.
+    name_size : callable
+        ``name_size(given, sections) -> str``: the size in the default case name.
+    """
+    required: tuple[str, ...]
+    optional: tuple[str, ...]
+    sizes: tuple[str, ...] = ()
+    key_ranges: Mapping[str, tuple[type, str]]
+    key_help: Mapping[str, str]
+    check: Callable[[dict], None]
+    direct_keys: Callable[[dict], dict]
+    build: Callable[[NewCaseTemplate, dict], LayoutSections]
+    radius_name: str
+    lubrication: tuple[str, str]
+    friction: tuple[tuple[str, float, str], ...]
+    tolerances: Callable[[dict], tuple]
+    name_size: Callable[[dict, dict], str]
+
+    def __post_init__(self):
+        takes = self.required + self.optional
+        odd = [k for k in takes if k not in OPTIONS or k not in self.key_help]
+        odd += [k for k in (*self.sizes, *self.key_ranges) if k not in takes]
+        if odd:
+            raise ValueError(f"key numbers {odd} lack an option or a help text, or are not "
+                             "among the template's key numbers")
+
+    def __call__(self, given: dict) -> LayoutSections:
+        """The layout's own sections from its key numbers (``build``).
+
+        Parameters
+        ----------
+        given : dict
+            Key number -> value (checked, without the ones not given).
+
+        Returns
+        -------
+        LayoutSections
+        """
+        return self.build(self, given)
+
+
+def templates() -> dict[str, NewCaseTemplate]:
+    """The layouts ``toothfem new`` writes: every record with a ``case_template``.
+
+    Returns
+    -------
+    dict
+        Layout name -> its :class:`NewCaseTemplate`, in the order of ``RECORDS``.
+    """
+    return {name: t for name, record in RECORDS.items()
+            if isinstance(t := record.parts.get("case_template"), NewCaseTemplate)}
+
+
 # -- rounding ------------------------------------------------------------------------------
 def _step(size_mm: float) -> float:
     """The step [mm] a layout of this size is rounded to: 1 mm from 100 mm, 0.5 from 50,
@@ -210,90 +307,103 @@ def _check_key(option: str, value, cls, name: str, why: str = ""):
     """A key number against the range of the case field it fills; one line naming the
     option otherwise."""
     r = _field_range(cls, name)
-    if r.pop("integer"):
-        if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-            raise CaseError(f"{option} = {value!r} must be an integer")
+    integer = r.pop("integer")
+    if integer and (isinstance(value, bool) or not isinstance(value, numbers.Integral)):
+        raise CaseError(f"{option} = {value!r} must be an integer")
     check_range(option, value, error=CaseError, why=why, **r)
 
 
-def _check_key_numbers(drive: str, given: dict) -> None:
+def _check_key_numbers(drive: str, template: NewCaseTemplate, given: dict) -> None:
     """Every key number the drive needs, none it does not take, each in its field's range
-    (the case model's; tooth numbers against each other where no field holds the rule)."""
-    if drive not in KEY_NUMBERS:
-        raise CaseError(f"drive = {drive!r} is not one of {sorted(KEY_NUMBERS)}")
-    required, optional = KEY_NUMBERS[drive]
+    (the case model's), then the layout's own checks (tooth numbers against each other
+    where no field holds the rule)."""
+    required, optional = template.required, template.optional
     for kw in required:
         if given.get(kw) is None:
             raise CaseError(f"{OPTIONS[kw]} is required for a {drive} drive "
                             f"(key numbers: {', '.join(OPTIONS[k] for k in required)})")
     for kw, v in given.items():
         if v is not None and kw not in required + optional:
-            takes = sorted(d for d, (r, o) in KEY_NUMBERS.items() if kw in r + o)
+            takes = sorted(d for d, t in templates().items() if kw in t.required + t.optional)
             raise CaseError(f"{OPTIONS[kw]} = {v!r} does not apply to a {drive} drive "
                             f"(it is a key number of: {', '.join(takes)})")
-    ranges = {"pins": (CycloidStage, "pin_count"), "lobes": (CycloidStage, "lobe_count"),
-              "pin_circle_radius_mm": (CycloidStage, "pin_circle_radius_mm"),
-              "sun_teeth": (SpurStage, "sun_teeth"),
-              "planet_teeth": (SpurStage, "planet_teeth"),
-              "teeth": (SineStage, "planet_teeth"), "ring_teeth": (SineStage, "ring_teeth"),
-              "module_mm": (SineStage, "module_mm"),
-              "torque_Nm": (Operating, "output_torque_Nm"),
-              "input_speed_rpm": (Operating, "input_speed_rpm")}
-    if drive != "sine":
-        ranges["eccentricity_mm"] = (CycloidStage, "eccentricity_mm")
-    for kw, (cls, name) in ranges.items():
+    for kw, (cls, name) in template.key_ranges.items():
         if given.get(kw) is not None:
             _check_key(OPTIONS[kw], given[kw], cls, name)
-    if drive != "sine" and given.get("lobes") is not None:
+    template.check(given)
+
+
+def _check_lobes(given: dict) -> None:
+    """A cycloid disc's lobes, where given: one fewer than the pins."""
+    if given.get("lobes") is not None:
         zb = given["pins"]
         check_range("--lobes", given["lobes"], zb - 1, zb - 1, error=CaseError,
                     why="a cycloid disc has one lobe fewer than its pins (--pins - 1)")
-    if drive == "sine":
-        sizes = [k for k in SINE_SIZE if given.get(k) is not None]
-        if len(sizes) != 1:
-            one_of = ", ".join(OPTIONS[k] for k in SINE_SIZE)
-            raise CaseError(f"a sine drive's size is one of {one_of} (exactly one: each fixes "
-                            "the others with the tooth numbers); given: "
-                            f"{', '.join(OPTIONS[k] for k in sizes) or 'none'}")
-        z1 = given["teeth"]
-        if given.get("ring_teeth") is not None:
-            check_range("--ring-teeth", given["ring_teeth"], z1 + 1, None, error=CaseError,
-                        why="an internal mesh: the ring has more teeth than the planet "
-                            "(--teeth)")
+
+
+def _check_sine(given: dict) -> None:
+    """A sine pair's size given once (:data:`SINE_SIZE`), its ring's teeth above the
+    planet's."""
+    sizes = [k for k in SINE_SIZE if given.get(k) is not None]
+    if len(sizes) != 1:
+        one_of = ", ".join(OPTIONS[k] for k in SINE_SIZE)
+        raise CaseError(f"a sine drive's size is one of {one_of} (exactly one: each fixes "
+                        "the others with the tooth numbers); given: "
+                        f"{', '.join(OPTIONS[k] for k in sizes) or 'none'}")
+    z1 = given["teeth"]
+    if given.get("ring_teeth") is not None:
+        check_range("--ring-teeth", given["ring_teeth"], z1 + 1, None, error=CaseError,
+                    why="an internal mesh: the ring has more teeth than the planet "
+                        "(--teeth)")
 
 
 # -- loading, with the refusal restated in the options' names --------------------------------
 _KEY_AT_START = re.compile(r"^([a-z_]+(?:\.[a-z_]+)*(?:\[\d+\])?) = ")
 
 
-def _direct_keys(drive: str, given: dict) -> dict:
+#: The operating point's keys each key number sets directly (every layout's).
+_OPERATING_KEYS = {"operating.output_torque_Nm": "torque_Nm",
+                   "operating.rated_torque_Nm": "torque_Nm",
+                   "operating.input_speed_rpm": "input_speed_rpm"}
+
+
+def _direct_keys(template: NewCaseTemplate, given: dict) -> dict:
     """The case keys each key number sets directly -> its option."""
-    keys = {"operating.output_torque_Nm": "torque_Nm", "operating.rated_torque_Nm": "torque_Nm",
-            "operating.input_speed_rpm": "input_speed_rpm"}
-    if drive in ("cycloid", "rv"):
-        keys.update({"cycloid.pin_count": "pins", "cycloid.lobe_count": "lobes",
-                     "cycloid.pin_circle_radius_mm": "pin_circle_radius_mm",
-                     "cycloid.eccentricity_mm": "eccentricity_mm"})
-    if drive == "rv":
-        keys.update({"rv.pin_count": "pins", "rv.disc_teeth": "lobes",
-                     "rv.sun_teeth": "sun_teeth", "rv.planet_teeth": "planet_teeth",
-                     "first_stage.sun_teeth": "sun_teeth",
-                     "first_stage.planet_teeth": "planet_teeth"})
-    if drive == "sine":
-        keys.update({"sine.planet_teeth": "teeth", "sine.ring_teeth": "ring_teeth"})
-        size = next(k for k in SINE_SIZE if given.get(k) is not None)
-        if size == "module_mm":
-            keys["sine.module_mm"] = "module_mm"
+    keys = _OPERATING_KEYS | template.direct_keys(given)
     return {k: OPTIONS[v] for k, v in keys.items()}
 
 
-def _restated(exc: ToothfemError, drive: str, given: dict) -> CaseError:
+def _disc_keys(given: dict) -> dict:
+    """A cycloid stage's keys its key numbers set (K-H-V and RV)."""
+    return {"cycloid.pin_count": "pins", "cycloid.lobe_count": "lobes",
+            "cycloid.pin_circle_radius_mm": "pin_circle_radius_mm",
+            "cycloid.eccentricity_mm": "eccentricity_mm"}
+
+
+def _rv_keys(given: dict) -> dict:
+    """An RV reducer's: its disc stage's, its train's and its first stage's."""
+    return _disc_keys(given) | {
+        "rv.pin_count": "pins", "rv.disc_teeth": "lobes", "rv.sun_teeth": "sun_teeth",
+        "rv.planet_teeth": "planet_teeth", "first_stage.sun_teeth": "sun_teeth",
+        "first_stage.planet_teeth": "planet_teeth"}
+
+
+def _sine_keys(given: dict) -> dict:
+    """A sine pair's: its tooth numbers, and its module where that gives the size."""
+    keys = {"sine.planet_teeth": "teeth", "sine.ring_teeth": "ring_teeth"}
+    size = next(k for k in SINE_SIZE if given.get(k) is not None)
+    if size == "module_mm":
+        keys["sine.module_mm"] = "module_mm"
+    return keys
+
+
+def _restated(exc: ToothfemError, template: NewCaseTemplate, given: dict) -> CaseError:
     """The loader's one-line refusal in the options' names: a key a key number sets is
     named as its option; a derived key keeps its name, followed by the key numbers it
     comes from."""
     msg = str(exc)
     m = _KEY_AT_START.match(msg)
-    direct = _direct_keys(drive, given)
+    direct = _direct_keys(template, given)
     if m and m.group(1) in direct:
         return CaseError(direct[m.group(1)] + msg[len(m.group(1)):])
     return CaseError(f"{msg} (a value derived from the key numbers {_numbers(given)}: they "
@@ -306,12 +416,12 @@ def _numbers(given: dict) -> str:
                      for k, v in given.items() if v is not None)
 
 
-def _load(sections: dict, drive: str, given: dict) -> Case:
+def _load(sections: dict, template: NewCaseTemplate, given: dict) -> Case:
     """The case of a mapping of entries, through the normal loader (refusals restated)."""
     try:
         return parse_case(_mapping(sections))
     except ToothfemError as exc:
-        raise _restated(exc, drive, given) from None
+        raise _restated(exc, template, given) from None
 
 
 def _mapping(sections: dict) -> dict:
@@ -395,10 +505,11 @@ def _peak_ph_MPa(case: Case, torque_Nm: float, listed: str) -> float:
 
 
 def _face_width(sections: dict, section: str, radius_mm: float, radius_name: str,
-                drive: str, given: dict) -> tuple:
+                template: NewCaseTemplate, given: dict) -> tuple:
     """The face width [mm] from the torque (module docstring), its entry placed in
     ``sections[section]``; returns (width, peak P_h [MPa] there, reason)."""
-    allowable = Material.__dataclass_fields__["allowable_contact_stress_MPa"].default
+    allowable = cast(float, Material.__dataclass_fields__[
+        "allowable_contact_stress_MPa"].default)
     target = allowable / CONTACT_SAFETY
     torque = given["torque_Nm"]
     floor = FACE_WIDTH_MIN_PER_RADIUS * radius_mm
@@ -408,7 +519,7 @@ def _face_width(sections: dict, section: str, radius_mm: float, radius_name: str
 
     def ph_at(width):
         _put(sections, section, "face_width_mm", width, "assumption", "")
-        return _peak_ph_MPa(_load(sections, drive, given), torque, listed)
+        return _peak_ph_MPa(_load(sections, template, given), torque, listed)
 
     b = floor
     for _ in range(FACE_WIDTH_ITERATIONS):
@@ -441,8 +552,10 @@ def _put(sections: dict, section: str, key: str, value, kind: str, note: str) ->
     entries.append(new)
 
 
-def _cycloid_sections(drive: str, given: dict) -> tuple:
-    """The sections of a K-H-V cycloid drive (``cycloid``) or an RV reducer (``rv``)."""
+def _disc_lobes(template: NewCaseTemplate, given: dict, train=None) -> tuple:
+    """The disc's lobes and their entry's kind and note, once the case model's own checks
+    pass (K1 < 1 and the tooth numbers; ``train(lobes)`` builds the layout's other section
+    that holds them), its refusal restated in the options' names."""
     zb, rz, e = given["pins"], given["pin_circle_radius_mm"], given["eccentricity_mm"]
     za = given.get("lobes")
     lobes_kind = ("key", "--lobes") if za is not None else (
@@ -451,23 +564,17 @@ def _cycloid_sections(drive: str, given: dict) -> tuple:
     try:       # K1 < 1 and the tooth numbers, by the case model's own checks
         CycloidStage(pin_count=zb, lobe_count=za, pin_circle_radius_mm=rz,
                      eccentricity_mm=e, pin_radius_mm=PIN_RADIUS_MM[0], face_width_mm=1.0)
-        if drive == "rv":
-            RVTrain(sun_teeth=given["sun_teeth"], planet_teeth=given["planet_teeth"],
-                    disc_teeth=za, pin_count=zb)
+        if train is not None:
+            train(za)
     except ToothfemError as exc:
-        raise _restated(exc, drive, given) from None
-    s: dict = {}
-    if drive == "rv":
-        z1, z2 = given["sun_teeth"], given["planet_teeth"]
-        _put(s, "rv", "sun_teeth", z1, "key", "--sun-teeth (z1)")
-        _put(s, "rv", "planet_teeth", z2, "key", "--planet-teeth (z2)")
-        _put(s, "rv", "disc_teeth", za, *lobes_kind)
-        _put(s, "rv", "pin_count", zb, "key", "--pins")
-        _put(s, "rv", "disc_count", DISC_COUNT, "assumption",
-             "two discs 180 deg apart balance their eccentric forces")
-        _put(s, "rv", "mesh_efficiency",
-             RVTrain.__dataclass_fields__["mesh_efficiency"].default, "assumption",
-             "the RV paper's value for every gear pair (read by --method rv_split_power only)")
+        raise _restated(exc, template, given) from None
+    return za, lobes_kind
+
+
+def _cycloid_stage(s: dict, given: dict, za: int, lobes_kind: tuple) -> tuple:
+    """The ``[cycloid]`` section (K-H-V and RV alike); returns the disc's root radius [mm]
+    and the step [mm] its layout is rounded to."""
+    zb, rz, e = given["pins"], given["pin_circle_radius_mm"], given["eccentricity_mm"]
     c = "cycloid"
     _put(s, c, "pin_count", zb, "key", "--pins")
     _put(s, c, "lobe_count", za, *lobes_kind)
@@ -481,86 +588,120 @@ def _cycloid_sections(drive: str, given: dict) -> tuple:
          "two discs 180 deg apart balance their eccentric forces (every shipped case)")
     _put(s, c, "pin_structure", "conventional", "assumption",
          "pins in grooves of the housing, the common build")
-    root = rz - e - r_pin
-    step = _step(rz)
-    h = "cycloid.disc_holes"
-    bore = _round(BORE_PER_ROOT[drive] * root, step, "up")
+    return rz - e - r_pin, _step(rz)
+
+
+def _centre_bore(per_root: float, root: float, step: float) -> tuple:
+    """The disc's centre bore radius [mm], ``per_root`` of the root radius rounded up and
+    at most the largest shaft of the model's input bearings; returns (bore, whether that
+    cap applied, the cap)."""
+    bore = _round(per_root * root, step, "up")
     largest = max(ISO15_SERIES_0) / 2          # the input bearings' shaft: the bore's diameter
-    capped = bore > largest
-    bore = min(bore, largest)
-    if drive == "cycloid":
-        _put(s, h, "centre_bore_radius_mm", bore, "assumption",
-             f"{BORE_PER_ROOT[drive]:g} of the root radius {root:.4g} mm: the eccentric "
-             "roller bearing's outer race (the shipped K-H-V case: 0.31)" + (
-                 f"; at most {largest:g} mm, the model's input bearings (ISO 15 series 0 on a "
-                 "shaft of the bore's diameter) end there" if capped else ""))
-        circle = _round(0.5 * (bore + root), step)
-        hole, room = _hole_radius(circle, bore, root, OUTPUT_PIN_COUNT)
-        fine = 0.1 if step >= 0.5 else 0.01
-        roller, hole = _zero_clearance(_round(hole - e, fine), e)
-        pin = _round(PIN_PER_ROLLER * roller, fine)
-        om = "output_mechanism"
-        _put(s, om, "pin_count", OUTPUT_PIN_COUNT, "assumption",
-             "eight output pins, as the shipped K-H-V and sine cases")
-        _put(s, om, "pin_hole_circle_radius_mm", circle, "assumption",
-             "midway between the centre bore and the disc's root circle")
-        _put(s, om, "roller_radius_mm", roller, "assumption",
-             f"the hole ({HOLE_PER_ROOM:g} of the {room:.4g} mm room, at most "
-             f"{HOLE_PER_HALF_SPACING:g} of the half spacing) less the eccentricity; the "
-             "sleeve touches the hole")
-        _put(s, om, "pin_radius_mm", pin, "assumption",
-             f"{PIN_PER_ROLLER:g} of the roller's (the shipped K-H-V case: 4 in 5.5 mm)")
-        _put(s, om, "hole_radius_mm", hole, "assumption",
-             "the roller's radius plus the eccentricity: zero nominal clearance, the K-H-V "
-             "mechanism's kinematics (the model's default)")
-        _put(s, om, "eccentric_bearing_inner_radius_mm",
-             _round(bore * (1 - ROLLER_DIAMETER_REL), fine), "assumption",
-             f"the bore less one roller of {ROLLER_DIAMETER_REL:g} of its radius (the "
-             "system model's assumed rollers, fem/datasheet/supports.py)")
-        notes = []
-    else:
-        z1, z2 = given["sun_teeth"], given["planet_teeth"]
-        _put(s, h, "centre_bore_radius_mm", bore, "assumption",
-             f"{BORE_PER_ROOT[drive]:g} of the root radius {root:.4g} mm: the input shaft "
-             "passes (the RV-40E-like case: 0.13)")
-        wanted = 2 * 0.5 * (bore + root) / (z1 + z2)
-        module = min(ISO54_MODULES_MM, key=lambda m: abs(m - wanted))
-        circle = float(f"{module * (z1 + z2) / 2:.10g}")
-        holes = CRANK_COUNT + PILLAR_COUNT
-        crank, room = _hole_radius(circle, bore, root, holes)
-        fine = step if step <= 0.5 else 0.5
-        crank = _round(crank, fine)
-        _put(s, h, "crank_hole_count", CRANK_COUNT, "assumption",
-             "two crankshafts, one planet each (the shipped RV cases)")
-        _put(s, h, "crank_hole_circle_radius_mm", circle, "follows",
-             f"the first stage's centre distance m (z1 + z2) / 2 at m = {module:g} mm")
-        _put(s, h, "crank_hole_radius_mm", crank, "assumption",
-             f"{HOLE_PER_ROOM:g} of the {room:.4g} mm room between the bore and the root "
-             f"circle (at most {HOLE_PER_HALF_SPACING:g} of the half spacing): the needle "
-             "bearing on the crank's journal")
-        _put(s, h, "pillar_hole_count", PILLAR_COUNT, "assumption",
-             "two carrier pillars between the cranks (the shipped RV cases)")
-        _put(s, h, "pillar_hole_circle_radius_mm", circle, "assumption",
-             "on the cranks' circle, halfway between them")
-        _put(s, h, "pillar_hole_radius_mm", _round(PILLAR_PER_CRANK * crank, fine),
-             "assumption", f"{PILLAR_PER_CRANK:g} of the crank hole's (the shipped RV cases)")
-        fs = "first_stage"
-        _put(s, fs, "sun_teeth", z1, "key", "--sun-teeth")
-        _put(s, fs, "planet_teeth", z2, "key", "--planet-teeth")
-        _put(s, fs, "planet_count", CRANK_COUNT, "follows", "one planet per crankshaft")
-        _put(s, fs, "module_mm", module, "assumption",
-             f"the ISO 54 module nearest {wanted:.3g} mm, which puts the cranks midway "
-             "between the bore and the root circle")
-        _put(s, fs, "pressure_angle_deg", PRESSURE_ANGLE_DEG, "assumption",
-             "ISO 53 standard basic rack")
-        notes = ["first_stage.face_width_mm: the model's 10 modules",
-                 "bearings.eccentric_type: needle rollers in the crank holes (the model's "
-                 "default, RV reducers' crank bearings)"]
-    return s, root, notes
+    return min(bore, largest), bore > largest, largest
 
 
-def _sine_sections(given: dict) -> tuple:
-    """The sections of a one-tooth-difference sine reducer."""
+def _khv_sections(template: NewCaseTemplate, given: dict) -> LayoutSections:
+    """The sections of a K-H-V cycloid drive: the disc, its centre bore round the eccentric
+    bearing and the output pins through its holes."""
+    za, lobes_kind = _disc_lobes(template, given)
+    s: dict = {}
+    root, step = _cycloid_stage(s, given, za, lobes_kind)
+    e = given["eccentricity_mm"]
+    h = "cycloid.disc_holes"
+    bore, capped, largest = _centre_bore(KHV_BORE_PER_ROOT, root, step)
+    _put(s, h, "centre_bore_radius_mm", bore, "assumption",
+         f"{KHV_BORE_PER_ROOT:g} of the root radius {root:.4g} mm: the eccentric "
+         "roller bearing's outer race (the shipped K-H-V case: 0.31)" + (
+             f"; at most {largest:g} mm, the model's input bearings (ISO 15 series 0 on a "
+             "shaft of the bore's diameter) end there" if capped else ""))
+    circle = _round(0.5 * (bore + root), step)
+    hole, room = _hole_radius(circle, bore, root, OUTPUT_PIN_COUNT)
+    fine = 0.1 if step >= 0.5 else 0.01
+    roller, hole = _zero_clearance(_round(hole - e, fine), e)
+    pin = _round(PIN_PER_ROLLER * roller, fine)
+    om = "output_mechanism"
+    _put(s, om, "pin_count", OUTPUT_PIN_COUNT, "assumption",
+         "eight output pins, as the shipped K-H-V and sine cases")
+    _put(s, om, "pin_hole_circle_radius_mm", circle, "assumption",
+         "midway between the centre bore and the disc's root circle")
+    _put(s, om, "roller_radius_mm", roller, "assumption",
+         f"the hole ({HOLE_PER_ROOM:g} of the {room:.4g} mm room, at most "
+         f"{HOLE_PER_HALF_SPACING:g} of the half spacing) less the eccentricity; the "
+         "sleeve touches the hole")
+    _put(s, om, "pin_radius_mm", pin, "assumption",
+         f"{PIN_PER_ROLLER:g} of the roller's (the shipped K-H-V case: 4 in 5.5 mm)")
+    _put(s, om, "hole_radius_mm", hole, "assumption",
+         "the roller's radius plus the eccentricity: zero nominal clearance, the K-H-V "
+         "mechanism's kinematics (the model's default)")
+    _put(s, om, "eccentric_bearing_inner_radius_mm",
+         _round(bore * (1 - ROLLER_DIAMETER_REL), fine), "assumption",
+         f"the bore less one roller of {ROLLER_DIAMETER_REL:g} of its radius (the "
+         "system model's assumed rollers, fem/datasheet/supports.py)")
+    return LayoutSections(s, given["pin_circle_radius_mm"])
+
+
+def _rv_sections(template: NewCaseTemplate, given: dict) -> LayoutSections:
+    """The sections of an RV reducer: its train, the disc, the crank and pillar holes
+    between the centre bore (the input shaft only) and the root circle, the first stage
+    whose centre distance puts the cranks there."""
+    zb, z1, z2 = given["pins"], given["sun_teeth"], given["planet_teeth"]
+    za, lobes_kind = _disc_lobes(template, given, train=lambda za: RVTrain(
+        sun_teeth=z1, planet_teeth=z2, disc_teeth=za, pin_count=zb))
+    s: dict = {}
+    _put(s, "rv", "sun_teeth", z1, "key", "--sun-teeth (z1)")
+    _put(s, "rv", "planet_teeth", z2, "key", "--planet-teeth (z2)")
+    _put(s, "rv", "disc_teeth", za, *lobes_kind)
+    _put(s, "rv", "pin_count", zb, "key", "--pins")
+    _put(s, "rv", "disc_count", DISC_COUNT, "assumption",
+         "two discs 180 deg apart balance their eccentric forces")
+    _put(s, "rv", "mesh_efficiency",
+         RVTrain.__dataclass_fields__["mesh_efficiency"].default, "assumption",
+         "the RV paper's value for every gear pair (read by --method rv_split_power only)")
+    root, step = _cycloid_stage(s, given, za, lobes_kind)
+    h = "cycloid.disc_holes"
+    bore, _, _ = _centre_bore(RV_BORE_PER_ROOT, root, step)
+    _put(s, h, "centre_bore_radius_mm", bore, "assumption",
+         f"{RV_BORE_PER_ROOT:g} of the root radius {root:.4g} mm: the input shaft "
+         "passes (the RV-40E-like case: 0.13)")
+    wanted = 2 * 0.5 * (bore + root) / (z1 + z2)
+    module = min(ISO54_MODULES_MM, key=lambda m: abs(m - wanted))
+    circle = float(f"{module * (z1 + z2) / 2:.10g}")
+    holes = CRANK_COUNT + PILLAR_COUNT
+    crank, room = _hole_radius(circle, bore, root, holes)
+    fine = step if step <= 0.5 else 0.5
+    crank = _round(crank, fine)
+    _put(s, h, "crank_hole_count", CRANK_COUNT, "assumption",
+         "two crankshafts, one planet each (the shipped RV cases)")
+    _put(s, h, "crank_hole_circle_radius_mm", circle, "follows",
+         f"the first stage's centre distance m (z1 + z2) / 2 at m = {module:g} mm")
+    _put(s, h, "crank_hole_radius_mm", crank, "assumption",
+         f"{HOLE_PER_ROOM:g} of the {room:.4g} mm room between the bore and the root "
+         f"circle (at most {HOLE_PER_HALF_SPACING:g} of the half spacing): the needle "
+         "bearing on the crank's journal")
+    _put(s, h, "pillar_hole_count", PILLAR_COUNT, "assumption",
+         "two carrier pillars between the cranks (the shipped RV cases)")
+    _put(s, h, "pillar_hole_circle_radius_mm", circle, "assumption",
+         "on the cranks' circle, halfway between them")
+    _put(s, h, "pillar_hole_radius_mm", _round(PILLAR_PER_CRANK * crank, fine),
+         "assumption", f"{PILLAR_PER_CRANK:g} of the crank hole's (the shipped RV cases)")
+    fs = "first_stage"
+    _put(s, fs, "sun_teeth", z1, "key", "--sun-teeth")
+    _put(s, fs, "planet_teeth", z2, "key", "--planet-teeth")
+    _put(s, fs, "planet_count", CRANK_COUNT, "follows", "one planet per crankshaft")
+    _put(s, fs, "module_mm", module, "assumption",
+         f"the ISO 54 module nearest {wanted:.3g} mm, which puts the cranks midway "
+         "between the bore and the root circle")
+    _put(s, fs, "pressure_angle_deg", PRESSURE_ANGLE_DEG, "assumption",
+         "ISO 53 standard basic rack")
+    return LayoutSections(s, given["pin_circle_radius_mm"], (
+        "first_stage.face_width_mm: the model's 10 modules",
+        "bearings.eccentric_type: needle rollers in the crank holes (the model's "
+        "default, RV reducers' crank bearings)"))
+
+
+def _sine_sections(template: NewCaseTemplate, given: dict) -> LayoutSections:
+    """The sections of a one-tooth-difference sine reducer: the pair, sized by the one of
+    :data:`SINE_SIZE` given, and its output pins."""
     z1 = given["teeth"]
     z2 = given.get("ring_teeth") or z1 + 1
     dz = z2 - z1
@@ -605,12 +746,14 @@ def _sine_sections(given: dict) -> tuple:
         _put(s, om, key, _round(share * r1, fine), "assumption",
              f"{share:.3g} of the planet's pitch radius {r1:.4g} mm (the sine paper's "
              "prototype, Table 4)")
-    return s, m * z2 / 2, ["output_mechanism.plain_bearing_friction_torque_Nmm: 0 (the "
-                          "model's default; the sine paper gives none)"]
+    return LayoutSections(s, m * z2 / 2, ("output_mechanism.plain_bearing_friction_torque_"
+                                          "Nmm: 0 (the model's default; the sine paper "
+                                          "gives none)",))
 
 
-def _shared_sections(s: dict, drive: str, given: dict, pin_diameter_mm: float | None):
-    """Material, operating point, lubricant, friction and tolerances."""
+def _shared_sections(s: dict, template: NewCaseTemplate, given: dict) -> None:
+    """Material, operating point, lubricant, friction and tolerances (the layout's
+    lubrication, friction coefficients and stage tolerances from its template)."""
     _put(s, "material", "youngs_modulus_GPa", 208.0, "assumption",
          "through-hardened bearing steel (100Cr6), as the shipped cases")
     _put(s, "material", "poisson_ratio", 0.3, "assumption", "bearing steel")
@@ -620,10 +763,8 @@ def _shared_sections(s: dict, drive: str, given: dict, pin_diameter_mm: float | 
     _put(s, op, "rated_torque_Nm", given["torque_Nm"], "assumption",
          "the torque the face width is sized for; a catalogue's rated torque replaces it")
     lub = "lubricant"
-    grease = drive != "sine"
-    _put(s, lub, "lubrication", "grease" if grease else "oil_bath", "assumption",
-         "robot-joint cycloid and RV units are grease-filled (Nabtesco RV-E catalogue)"
-         if grease else "a horizontal reducer half in oil (the sine paper's rig)")
+    lubrication, why = template.lubrication
+    _put(s, lub, "lubrication", lubrication, "assumption", why)
     for key, value, why in (
             ("dynamic_viscosity_Pa_s", 0.058, "ISO VG 68 mineral (base) oil at 40 C"),
             ("kinematic_viscosity_mm2_s", 68.0, "ISO VG 68 at 40 C"),
@@ -636,32 +777,119 @@ def _shared_sections(s: dict, drive: str, given: dict, pin_diameter_mm: float | 
     fr = "friction"
     _put(s, fr, "bearing_coefficient", 0.0015, "assumption",
          "rolling bearings (the shipped cycloid cases)")
-    if drive != "rv":
-        _put(s, fr, "output_pin_coefficient", 0.05, "assumption",
-             "lubricated steel pins in holes (the shipped K-H-V case)")
-    if drive != "sine":
-        _put(s, fr, "pin_groove_coefficient", 0.05, "assumption",
-             "conventional pins sliding in lubricated grooves (the shipped cycloid cases)")
+    for key, value, why in template.friction:
+        _put(s, fr, key, value, "assumption", why)
     tol = "tolerances"
     _put(s, tol, "distribution", "normal", "assumption",
          "3 sigma at each limit (a capable process, Cpk = 1)")
-    if drive == "sine":
-        _put(s, tol, "tooth_profile_mm", 0.003, "assumption",
-             "+- limit of each flank, ground teeth (as the shipped sine case)")
-    else:
-        it5 = _it5_um(pin_diameter_mm)
-        for key, value, why in (
-                ("pin_position_mm", 0.005, "true-position zone of each pin, jig-ground bores"),
-                ("pin_diameter_lower_mm", -it5 * 1e-3,
-                 f"ISO 286 h5 on a {pin_diameter_mm:g} mm pin: 0 / -{it5:g} um"),
-                ("pin_diameter_upper_mm", 0.0, "ISO 286 h5: the upper deviation is 0"),
-                ("pin_circle_radius_mm", 0.003, "+- limit, ground parts"),
-                ("disc_profile_mm", 0.003, "+- limit of each flank, profile grinding")):
-            _put(s, tol, key, value, "assumption", why)
-        if drive == "rv":
-            _put(s, tol, "crank_hole_position_mm", 0.005, "assumption",
-                 "true-position zone of the crank holes")
+    for key, value, why in template.tolerances(s):
+        _put(s, tol, key, value, "assumption", why)
     _put(s, tol, "eccentricity_mm", 0.002, "assumption", "+- limit, ground eccentric")
+
+
+def _pin_tolerances(s: dict) -> tuple:
+    """A cycloid stage's tolerances: the pins' (ISO 286 h5 on their diameter), the pin
+    circle's and the disc profile's."""
+    pin_diameter_mm = 2 * _value(s, "cycloid", "pin_radius_mm")
+    it5 = _it5_um(pin_diameter_mm)
+    return (("pin_position_mm", 0.005, "true-position zone of each pin, jig-ground bores"),
+            ("pin_diameter_lower_mm", -it5 * 1e-3,
+             f"ISO 286 h5 on a {pin_diameter_mm:g} mm pin: 0 / -{it5:g} um"),
+            ("pin_diameter_upper_mm", 0.0, "ISO 286 h5: the upper deviation is 0"),
+            ("pin_circle_radius_mm", 0.003, "+- limit, ground parts"),
+            ("disc_profile_mm", 0.003, "+- limit of each flank, profile grinding"))
+
+
+def _rv_tolerances(s: dict) -> tuple:
+    """An RV reducer's: its cycloid stage's and its crank holes' position."""
+    return _pin_tolerances(s) + (("crank_hole_position_mm", 0.005,
+                                  "true-position zone of the crank holes"),)
+
+
+def _sine_tolerances(s: dict) -> tuple:
+    """A sine pair's: its tooth profile's."""
+    return (("tooth_profile_mm", 0.003,
+             "+- limit of each flank, ground teeth (as the shipped sine case)"),)
+
+
+def _disc_name(given: dict, s: dict) -> str:
+    """A cycloid stage's size in the case's default name."""
+    return f"{given['pins']} pins on a {given['pin_circle_radius_mm']:g} mm radius"
+
+
+def _sine_name(given: dict, s: dict) -> str:
+    """A sine pair's size in the case's default name."""
+    return f"{given['teeth']} teeth, module {_value(s, 'sine', 'module_mm'):g} mm"
+
+
+# -- the layouts' templates ------------------------------------------------------------------
+#: Key number -> (case section class, field) its range is checked against.
+_Ranges = dict[str, tuple[type, str]]
+_OPERATING_RANGES: _Ranges = {"torque_Nm": (Operating, "output_torque_Nm"),
+                              "input_speed_rpm": (Operating, "input_speed_rpm")}
+_OPERATING_HELP = {"torque_Nm": "output torque [N m]: the operating point and the rated "
+                                "torque the size is for",
+                   "input_speed_rpm": "input speed [rpm]"}
+_DISC_RANGES: _Ranges = {"pins": (CycloidStage, "pin_count"),
+                         "lobes": (CycloidStage, "lobe_count"),
+                         "pin_circle_radius_mm": (CycloidStage, "pin_circle_radius_mm")}
+#: Checked after the operating point's (the order of the refusals before the templates).
+_ECCENTRICITY_RANGE: _Ranges = {"eccentricity_mm": (CycloidStage, "eccentricity_mm")}
+_DISC_HELP = {"pins": "pins Zb in the housing",
+              "lobes": "lobes Za of a disc (default pins - 1)",
+              "pin_circle_radius_mm": "pin circle radius Rz [mm]",
+              "eccentricity_mm": "the crank's eccentricity [mm]"}
+_GREASE = ("grease", "robot-joint cycloid and RV units are grease-filled (Nabtesco RV-E "
+                     "catalogue)")
+_OUTPUT_PIN_FRICTION = ("output_pin_coefficient", 0.05,
+                        "lubricated steel pins in holes (the shipped K-H-V case)")
+_PIN_GROOVE_FRICTION = ("pin_groove_coefficient", 0.05, "conventional pins sliding in "
+                        "lubricated grooves (the shipped cycloid cases)")
+
+#: A K-H-V cycloid drive: the disc's key numbers; output pins through its holes.
+KHV_TEMPLATE = NewCaseTemplate(
+    required=("pins", "pin_circle_radius_mm", "eccentricity_mm", "torque_Nm",
+              "input_speed_rpm"),
+    optional=("lobes",),
+    key_ranges=_DISC_RANGES | _OPERATING_RANGES | _ECCENTRICITY_RANGE,
+    key_help=_DISC_HELP | _OPERATING_HELP,
+    check=_check_lobes, direct_keys=_disc_keys, build=_khv_sections,
+    radius_name="pin-circle radius", lubrication=_GREASE,
+    friction=(_OUTPUT_PIN_FRICTION, _PIN_GROOVE_FRICTION), tolerances=_pin_tolerances,
+    name_size=_disc_name)
+#: An RV reducer: the disc's key numbers and the first stage's tooth numbers.
+RV_TEMPLATE = NewCaseTemplate(
+    required=("pins", "pin_circle_radius_mm", "eccentricity_mm", "sun_teeth",
+              "planet_teeth", "torque_Nm", "input_speed_rpm"),
+    optional=("lobes",),
+    key_ranges=_DISC_RANGES | {"sun_teeth": (SpurStage, "sun_teeth"),
+                               "planet_teeth": (SpurStage, "planet_teeth")}
+    | _OPERATING_RANGES | _ECCENTRICITY_RANGE,
+    key_help=_DISC_HELP | {"sun_teeth": "the first stage's sun teeth",
+                           "planet_teeth": "the first stage's planet teeth"}
+    | _OPERATING_HELP,
+    check=_check_lobes, direct_keys=_rv_keys, build=_rv_sections,
+    radius_name="pin-circle radius", lubrication=_GREASE,
+    friction=(_PIN_GROOVE_FRICTION,), tolerances=_rv_tolerances, name_size=_disc_name)
+#: A one-tooth-difference sine reducer: the tooth numbers and one size; output pins.
+SINE_TEMPLATE = NewCaseTemplate(
+    required=("teeth", "torque_Nm", "input_speed_rpm"),
+    optional=("ring_teeth", "module_mm", "eccentricity_mm", "ring_pitch_radius_mm"),
+    sizes=SINE_SIZE,
+    key_ranges={"teeth": (SineStage, "planet_teeth"), "ring_teeth": (SineStage, "ring_teeth"),
+                "module_mm": (SineStage, "module_mm")} | _OPERATING_RANGES,
+    key_help={"teeth": "the planet's teeth z1",
+              "ring_teeth": "the ring's teeth (default z1 + 1)",
+              "module_mm": "the module [mm]",
+              "eccentricity_mm": "the centre distance a0 (one way to give its size)",
+              "ring_pitch_radius_mm": "the ring's pitch radius [mm]"} | _OPERATING_HELP,
+    check=_check_sine, direct_keys=_sine_keys, build=_sine_sections,
+    radius_name="ring's pitch radius",
+    lubrication=("oil_bath", "a horizontal reducer half in oil (the sine paper's rig)"),
+    friction=(_OUTPUT_PIN_FRICTION,), tolerances=_sine_tolerances, name_size=_sine_name)
+provide("case_template", "cycloid")(KHV_TEMPLATE)
+provide("case_template", "rv")(RV_TEMPLATE)
+provide("case_template", "sine")(SINE_TEMPLATE)
 
 
 def new_case(drive: str, *, torque_Nm: float | None = None,
@@ -676,8 +904,9 @@ def new_case(drive: str, *, torque_Nm: float | None = None,
     Parameters
     ----------
     drive : {"cycloid", "rv", "sine"}
-        The case's drive: a K-H-V cycloid drive with output pins through its discs, an RV
-        (2K-V) reducer, a one-tooth-difference sine reducer with output pins.
+        The case's drive, a layout with a :class:`NewCaseTemplate` (:func:`templates`): a
+        K-H-V cycloid drive with output pins through its discs, an RV (2K-V) reducer, a
+        one-tooth-difference sine reducer with output pins.
     torque_Nm : float
         Output torque of the operating point, also the rated torque the size is for [N m].
     input_speed_rpm : float
@@ -715,7 +944,11 @@ def new_case(drive: str, *, torque_Nm: float | None = None,
              "planet_teeth": planet_teeth, "teeth": teeth, "ring_teeth": ring_teeth,
              "module_mm": module_mm, "ring_pitch_radius_mm": ring_pitch_radius_mm,
              "torque_Nm": torque_Nm, "input_speed_rpm": input_speed_rpm}
-    _check_key_numbers(drive, given)
+    valid = templates()
+    if drive not in valid:
+        raise CaseError(f"drive = {drive!r} is not one of {sorted(valid)}")
+    template = cast(NewCaseTemplate, RECORDS[drive].part("case_template"))
+    _check_key_numbers(drive, template, given)
     given = {k: (float(v) if k in FLOAT_KEY_NUMBERS else int(v)) for k, v in given.items()
              if v is not None}
     if name is not None and (not isinstance(name, str) or not name.strip()):
@@ -725,35 +958,27 @@ def new_case(drive: str, *, torque_Nm: float | None = None,
     _put(s, "case", "drive", drive, "key", "the drive type")
     _put(s, "case", "source", "toothfem new: key numbers given, the rest derived or assumed",
          "follows", "")
-    if drive == "sine":
-        body, radius, notes = _sine_sections(given)
-        section, radius_name, pin_d = "sine", "ring's pitch radius", None
-    else:
-        body, _, notes = _cycloid_sections(drive, given)
-        radius, radius_name = given["pin_circle_radius_mm"], "pin-circle radius"
-        section = "cycloid"
-        pin_d = 2 * _value(body, "cycloid", "pin_radius_mm")
-    s.update(body)
-    _shared_sections(s, drive, given, pin_d)
-    _, ph, _ = _face_width(s, section, radius, radius_name, drive, given)
-    ratio = _load(s, drive, given).ratio()
+    body = template(given)
+    s.update(body.sections)
+    _shared_sections(s, template, given)
+    record = RECORDS[drive]
+    _, ph, _ = _face_width(s, record.stage_section, body.radius_mm, template.radius_name,
+                           template, given)
+    ratio = _load(s, template, given).ratio()
     if name is None:
-        size = (f"{given['teeth']} teeth, module {_value(s, 'sine', 'module_mm'):g} mm"
-                if drive == "sine" else
-                f"{given['pins']} pins on a {given['pin_circle_radius_mm']:g} mm radius")
-        _put(s, "case", "name", f"new {drive} drive ({size}), ratio {abs(ratio):.6g}, "
-             f"{given['torque_Nm']:g} N m", "follows", "")
-    text = _render(s, drive, given, ratio, notes)
+        _put(s, "case", "name", f"new {drive} drive ({template.name_size(given, s)}), ratio "
+             f"{abs(ratio):.6g}, {given['torque_Nm']:g} N m", "follows", "")
+    text = _render(s, drive, record.label, given, ratio, body.notes)
     try:
         case = parse_case_text(text)      # the file as written, through the normal loader
     except ToothfemError as exc:
-        raise _restated(exc, drive, given) from None
+        raise _restated(exc, template, given) from None
     shown = derived(case)                 # what `check` prints: the operating point too
     if "operating_efficiency_analytic" not in shown:
         raise CaseError(f"{'; '.join(shown['warnings'])} (the key numbers "
                         f"{_numbers(given)} leave no valid value for it)")
     assumptions = tuple((f"{sec}.{e.key}", e.value, e.note) for sec, entries in s.items()
-                        for e in entries if e.kind == "assumption" and sec != "case")
+                        for e in entries if e.kind in _LISTED_KINDS and sec != "case")
     return NewCase(drive=drive, text=text, case=case,
                    key_numbers={OPTIONS[k]: v for k, v in given.items()},
                    assumptions=assumptions, ratio=ratio, peak_ph_MPa=ph,
@@ -780,12 +1005,14 @@ def _toml_value(v) -> str:
     return json.dumps(v, ensure_ascii=False)
 
 
+#: What an entry's comment starts with, by its kind ("follows": its reason alone).
+_COMMENT_PREFIX = {"key": "key number: ", "assumption": "ASSUMPTION: "}
+#: The kinds of entry a NewCase lists among its ``assumptions``.
+_LISTED_KINDS = frozenset({"assumption"})
+
+
 def _comment(e: Entry) -> str:
-    if e.kind == "key":
-        return f"key number: {e.note}"
-    if e.kind == "assumption":
-        return f"ASSUMPTION: {e.note}"
-    return e.note
+    return _COMMENT_PREFIX.get(e.kind, "") + e.note
 
 
 def _line(assign: str, comment: str) -> list:
@@ -800,11 +1027,11 @@ def _line(assign: str, comment: str) -> list:
     return lines
 
 
-def _render(s: dict, drive: str, given: dict, ratio: float, notes: list) -> str:
-    """The TOML text of the sections, with the header."""
+def _render(s: dict, drive: str, label: str, given: dict, ratio: float, notes) -> str:
+    """The TOML text of the sections, with the header (``label``: what the drive is)."""
     numbers = " ".join(f"{OPTIONS[k]} {v:g}" if isinstance(v, float) else f"{OPTIONS[k]} {v}"
                        for k, v in given.items())
-    head = [f"Written by `toothfem new` (toothfem {__version__}): {DRIVE_LABELS[drive]}.",
+    head = [f"Written by `toothfem new` (toothfem {__version__}): {label}.",
             f"Key numbers: toothfem new {drive} {numbers}. Speed ratio {ratio:.6g} "
             "(n_input / n_output, signed).",
             "Every other value is derived from them by a stated rule or chosen, and marked "

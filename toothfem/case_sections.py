@@ -256,7 +256,8 @@ class SpurStage(_Section):
     planet_count: int = _f(1, 8, integer=True, default=2)
     module_mm: float = _f(*MODULE_MM, default=1.0)
     pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
-    face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None, doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
+    face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None,
+                                     doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
     mesh_efficiency: float | None = _f(MESH_EFFICIENCY_MIN, 1.0, default=None,
                                        doc="declared; default: from the friction model")
 

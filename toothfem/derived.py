@@ -7,8 +7,10 @@ import numpy as np
 
 from .case import Case
 from .efficiency import evaluate, operating_point
-from .errors import ToothfemError
+from .errors import CaseError, ToothfemError
 from .geometry import cycloid as cy, cycloid_mesh as cym, sine, train
+from .fem.drives.registry import provide, record_of
+from .units import rpm_to_rad_s
 
 
 #: The sign convention of every ratio `check` prints (toothfem.geometry.train), said once.
@@ -35,9 +37,9 @@ def derived(case: Case) -> dict:
                  "ratio_sign_convention": RATIO_CONVENTION, "ratio": _r(case.ratio())}
     op = case.operating
     out["output_speed_rpm"] = _r(op.input_speed_rpm / case.ratio())
-    warnings = []
+    warnings: list[str] = []
     out.update(_operating(case, warnings))
-    out.update(_BY_CASE_DRIVE[case.drive](case))
+    out.update(record_of(case).part("derived_rows")(case))
     if out.get("interference_before_load_um", 0) > 0:
         warnings.append(f"the disc interferes with its pins by {out['interference_before_load_um']:.4g}"
                         f" um before load (pins {out['interference_pins']}, '+': the flank "
@@ -60,7 +62,7 @@ def _operating(case: Case, warnings: list) -> dict:
     p_in, p_out = float(e.input_power_W[0]), float(e.output_power_W[0])
     d = {"operating_input_speed_rpm": _r(speed),
          "operating_output_torque_Nm": _r(torque),
-         "operating_input_torque_Nm": _r(p_in / (speed * math.pi / 30)),
+         "operating_input_torque_Nm": _r(p_in / rpm_to_rad_s(speed)),
          "operating_input_power_W": _r(p_in),
          "operating_output_power_W": _r(p_out),
          "operating_efficiency_analytic": _r(float(e.efficiency[0]), 6)}
@@ -81,6 +83,8 @@ def _r(x, digits=10):
 def _cycloid(case: Case) -> dict:
 
     st = case.cycloid
+    if st is None:
+        raise CaseError(f"[cycloid] section is required for drive = {case.drive!r}")
     g = st.geometry()
     rho = cy.min_convex_curvature_radius(g.generating())
     d = {
@@ -117,6 +121,8 @@ def _reducer_per_disc_turn(case: Case) -> float:
     eccentric (1), a 2K-V drive's disc also moves with its cranks, which turn
     (1 + z_s/z_p) times the output angle: Za / (Za + 1 + z_s/z_p)."""
     fs = case.first_stage
+    if case.cycloid is None:
+        raise CaseError(f"[cycloid] section is required for drive = {case.drive!r}")
     za = case.cycloid.lobe_count
     return 1.0 if fs is None else za / (za + 1 + fs.sun_teeth / fs.planet_teeth)
 
@@ -151,6 +157,8 @@ BEFORE_LOAD_POSITIONS = 36
 def _sine(case: Case) -> dict:
 
     st = case.sine
+    if st is None:
+        raise CaseError(f"[sine] section is required for drive = {case.drive!r}")
     pair = st.geometry()
     d = {
         "planet_pitch_radius_mm": _r(pair.planet_pitch_radius_m * 1e3),
@@ -174,11 +182,20 @@ def _sine(case: Case) -> dict:
 
 def _rv(case: Case) -> dict:
     rv = case.rv
+    if rv is None:
+        raise CaseError(f"[rv] section is required for drive = {case.drive!r}")
     w = train.rv_speeds(rv.sun_teeth, rv.planet_teeth, rv.disc_teeth, rv.pin_count)
     d = {f"speed_{k}_per_input": _r(v) for k, v in w.items()}
     d["crank_to_output_ratio"] = _r(w["planet"] / w["carrier"])
     return d
 
 
-#: What `check` derives for each case drive (the case's sections differ by drive).
-_BY_CASE_DRIVE = {"cycloid": _cycloid, "sine": _sine, "rv": _rv}
+@provide("derived_rows", "rv")
+def _rv_rows(case: Case) -> dict:
+    """An RV (2K-V) case: its train from [rv], its disc from [cycloid], each if declared."""
+    return {**(_cycloid(case) if case.cycloid is not None else {}),
+            **(_rv(case) if case.rv is not None else {})}
+
+
+provide("derived_rows", "cycloid")(_cycloid)
+provide("derived_rows", "sine")(_sine)

@@ -220,7 +220,11 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     solver.prepare()
     supports = drive.supports(si.supports)
     system = drive.system_model(supports, positions)   # on the search's tables
-    torque = drive.member_torque(si.declared_output_torque_Nm())
+    t_out = si.declared_output_torque_Nm()
+    if t_out is None or si.cycloid is None:       # Case refuses both (a load, the stage)
+        raise CaseError("[operating] needs an output torque and [cycloid] a disc for the "
+                        "modification search")
+    torque = drive.member_torque(t_out)
     deviations = [None]
     if target.percentile is not None:
         if not si.tolerances.active():
@@ -233,7 +237,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     names = list(bounds)
     lo = np.array([bounds[k][0] for k in names])
     hi = np.array([bounds[k][1] for k in names])
-    base = drive.geometry
+    base = si.cycloid.geometry
     # a built reducer's positions spread over its pairing period (toothfem.tolerance)
     pitches = (np.arange(positions) * drive.pairing_period_pitches) // positions
     evaluated = []
@@ -291,7 +295,6 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     nominal = evaluate([best.modification[k] for k in names], devs=[None], record=False)
     sheet, check = _verify(best_case, nominal, positions, torque)
     targets = dataclasses.asdict(target)
-    t_out = float(si.declared_output_torque_Nm())
     found, drawn = check_limits(si, targets, best, check, t_out)
     return DesignResult(case_name=case.name, targets=targets,
                         candidates=evaluated, best=best, datasheet=sheet, check=check,
@@ -335,6 +338,8 @@ def _infeasible(c: Candidate, target) -> str:
 
 
 def _with_modification(case: Case, modification: dict) -> Case:
+    if case.cycloid is None:
+        raise CaseError("the modification search needs the case's [cycloid] section")
     return dataclasses.replace(case, cycloid=dataclasses.replace(case.cycloid, **modification))
 
 
@@ -361,55 +366,6 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
     return {k: summary[k] for k in ("rated_torque_Nm", "torsional_rigidity_Nm_per_arcmin",
                                     "lost_motion_arcmin", "backlash_arcmin")
             if k in summary}, check
-
-
-def write_design(result: DesignResult, folder, source_text: str) -> dict:
-    """Write the search's files.
-
-    Parameters
-    ----------
-    result : DesignResult
-    folder : str or pathlib.Path
-        An existing folder; it receives candidates.csv, tradeoff.png, summary.json,
-        report.md and the case file to use (``best_case.toml``).
-    source_text : str
-        The case file's text; ``best_case.toml`` is it with its [cycloid] modification
-        keys set.
-
-    Returns
-    -------
-    dict
-        The summary, with the ``files`` written.
-
-    Raises
-    ------
-    CaseError
-        If ``source_text`` has no [cycloid] table.
-    """
-    import csv
-    import json
-    from pathlib import Path
-
-    from .report import save
-    from .report import design as report
-
-    folder = Path(folder)
-    names = list(KEYS)
-    with open(folder / "candidates.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow([*names, "backlash_arcmin", "max_ph_MPa", "contacts_min", "feasible"])
-        for c in result.candidates:
-            w.writerow([*(f"{c.modification[k]:.6g}" for k in names),
-                        f"{c.backlash_arcmin:.6g}", f"{c.max_ph_MPa:.6g}",
-                        f"{c.contacts_min:g}", int(c.feasible)])
-    save(report.tradeoff(result), folder / "tradeoff.png")
-    (folder / "best_case.toml").write_text(with_keys(source_text, "cycloid",
-                                                     result.best.modification))
-    summary = {**result.summary(), "files": ["candidates.csv", "tradeoff.png",
-                                             "best_case.toml", "summary.json", "report.md"]}
-    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
-    (folder / "report.md").write_text(report.markdown(summary))
-    return summary
 
 
 def with_keys(text: str, section: str, values: dict) -> str:

@@ -105,14 +105,14 @@ def life_summary(case, *, progress=None, known=None) -> dict:
            "unit_l10m_h": finite(res.l10m_h), "loads": res.source}
     pub = case.published
     if all(k in pub for k in MAKER_KEYS):
-        rows = [(t, n / ratio, q) for t, n, q in rows]
+        output_rows = [(t, n / ratio, q) for t, n, q in rows]     # output speeds
         out["maker"] = {
             "rated_life_h": float(pub["rated_life_h"]),
             "rated_torque_Nm": float(pub["rated_torque_Nm"]),
             "rated_output_speed_rpm": float(pub["rated_output_speed_rpm"]),
             "life_at_duty_h": br.maker_rated_life_h(pub["rated_life_h"],
                                                     pub["rated_torque_Nm"],
-                                                    pub["rated_output_speed_rpm"], rows)}
+                                                    pub["rated_output_speed_rpm"], output_rows)}
     si = case.to_si()
     out["main_bearing_tilt"] = tilt = main_tilt(si, drive)
     moment = 0.0 if si.bearings is None else si.bearings.tilting_moment_Nm

@@ -20,10 +20,6 @@ FILM_RATIO_BOUNDARY = 1.0
 #: coefficient's alone and the EHL law (Xu 2007, fitted for full films) says nothing of it
 #: (docs/efficiency.md, the mixed-film blend: the asperities' share is then above 99 %).
 FILM_RATIO_DRY = 0.1
-#: The case surface temperature limit of a 2K-V (RV) reducer when the case states none:
-#: Nabtesco's RV-E series catalogue (operating conditions: the reducer's surface at most
-#: 60 C). ASSUMPTION for a reducer of another maker.
-RV_CASE_TEMPERATURE_LIMIT_C = 60.0
 
 
 @dataclass(frozen=True)
@@ -135,7 +131,7 @@ def worst(found) -> tuple:
     tuple of Exceeded
         In the order the quantities first appear.
     """
-    out = {}
+    out: dict[tuple[str, bool], Exceeded] = {}
     for e in found:
         k = (e.quantity, e.lower)
         if k not in out or (e.value < out[k].value if e.lower else e.value > out[k].value):
@@ -198,8 +194,9 @@ def contact_pressure(where: str, ph_MPa: float, material) -> list:
 
 def case_temperature(si, drive, temperature_C) -> list:
     """The housing (case surface) temperature against its limit: the case's
-    ``thermal.case_temperature_limit_C``, else RV_CASE_TEMPERATURE_LIMIT_C for a 2K-V
-    drive; none otherwise.
+    ``thermal.case_temperature_limit_C``, else the layout's default with its source
+    (``DriveRecord.case_temperature_limit_C``: a 2K-V drive's, Nabtesco's 60 C); none
+    otherwise.
 
     Parameters
     ----------
@@ -216,10 +213,9 @@ def case_temperature(si, drive, temperature_C) -> list:
     t = float(np.max(np.atleast_1d(temperature_C)))
     limit = None if si.thermal is None else si.thermal.case_temperature_limit_C
     source = "thermal.case_temperature_limit_C"
-    if limit is None and drive.two_stage:
-        limit = RV_CASE_TEMPERATURE_LIMIT_C
-        source = ("Nabtesco RV-E catalogue: the reducer's surface at most 60 C; "
-                  "ASSUMPTION for this case (thermal.case_temperature_limit_C sets it)")
+    if limit is None and drive.record.case_temperature_limit_C is not None:
+        limit = drive.record.case_temperature_limit_C
+        source = drive.record.case_temperature_source
     hit = above("case (oil) temperature of the heat balance", t, limit, "C", source)
     return [hit] if hit else []
 

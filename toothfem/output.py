@@ -31,6 +31,7 @@ import sys
 import tempfile
 import warnings
 from pathlib import Path
+from typing import TextIO
 
 from . import __version__, signals
 from .errors import ToothfemError, short_repr
@@ -255,6 +256,9 @@ def atomic_dir(out, *, unfinished: str | None = None):
 #: A long run's finished points, one JSON object per line, kept under its output folder
 #: while the run is unfinished (resumable_dir).
 JOURNAL = "finished_points.jsonl"
+#: The attribute resumable_dir sets on an exception leaving its block: what is kept
+#: (toothfem.cli reads it).
+KEPT_ATTRIBUTE = "toothfem_kept"
 
 
 class Points:
@@ -275,7 +279,7 @@ class Points:
 
     def __init__(self, folder: Path, key: str, done: dict):
         self.folder, self.key, self.done = folder, key, done
-        self._fh = None
+        self._fh: TextIO | None = None
 
     def record(self, point: str, record: dict) -> None:
         """Keep one finished point: appended to the journal and on disk (flushed and
@@ -290,16 +294,17 @@ class Points:
             Its result (JSON: numbers, strings, None, lists and dicts of these).
         """
         signals.stop_if_noted()
-        if self._fh is None:
-            self._open()
-        self._fh.write(_line(point, record))
-        self._fh.flush()
-        os.fsync(self._fh.fileno())
+        fh = self._fh
+        if fh is None:
+            fh = self._open()
+        fh.write(_line(point, record))
+        fh.flush()
+        os.fsync(fh.fileno())
         self.done[point] = record
 
-    def _open(self):
-        """The journal, opened to append: a new unfinished folder, or the resumed one's
-        journal rewritten without a line cut short by a kill."""
+    def _open(self) -> TextIO:
+        """The journal, opened to append (kept as ``_fh`` and returned): a new unfinished
+        folder, or the resumed one's journal rewritten without a line cut short by a kill."""
         if not self.done:
             with atomic_dir(self.folder, unfinished=self.key) as tmp:
                 (tmp / JOURNAL).touch()
@@ -309,7 +314,8 @@ class Points:
                                              prefix=f".{JOURNAL}.tmp-{owner()}") as fh:
                 fh.writelines(_line(p, r) for p, r in self.done.items())
             os.replace(fh.name, self.folder / JOURNAL)
-        self._fh = open(self.folder / JOURNAL, "a", encoding="utf-8")
+        self._fh = open(self.folder / JOURNAL, "a", encoding="utf-8")  # noqa: SIM115 -- every record() appends; close() closes
+        return self._fh
 
     def close(self):
         if self._fh is not None:
@@ -393,8 +399,8 @@ def resumable_dir(out, key: str):
         # in ``done`` left the line saying "no output written" with a point kept
         kept = _journal(out, key) or points.done
         if kept:
-            exc.toothfem_kept = (f"{len(kept)} finished points kept in {out} "
-                                 "(the same command resumes)")
+            setattr(exc, KEPT_ATTRIBUTE, f"{len(kept)} finished points kept in {out} "
+                                         "(the same command resumes)")
         raise
     finally:
         points.close()

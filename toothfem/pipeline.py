@@ -12,16 +12,20 @@ import dataclasses
 import json
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from . import durability, limits
 from .case import Case, as_case
-from .datasheet import TE_DEFINITION, datasheet_rows, stiffness_analysis, write_stiffness
+from .datasheet import TE_DEFINITION, stiffness_analysis
+from .report.stiffness import datasheet_rows, write_stiffness
 from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
+from .fem.elastic import Body
+from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir, target
 from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
@@ -33,6 +37,9 @@ FIELDS = ("detailed", "structural", "none")
 #: Points per pin or ring tooth of the fixed member's outlines drawn over a field.
 OUTLINE_POINTS_PER_TOOTH = 128
 
+if TYPE_CHECKING:   # annotations only: each drive imports its own detailed mode
+    from .fem.contracts import DetailedSolution
+
 
 @dataclass(frozen=True, kw_only=True)
 class ContactResult:
@@ -40,11 +47,11 @@ class ContactResult:
     position (``body``/``displacement`` None without a field)."""
     case_name: str
     mode: str
-    load_sharing: object            # toothfem.fem.load_sharing.LoadSharing
+    load_sharing: LoadSharing
     positions_rad: np.ndarray
     worst: int                      # index of the position with the largest force
-    detail: object                  # detailed result at the worst position, or None
-    body: object
+    detail: DetailedSolution | None   # at the worst position
+    body: Body | None
     displacement: np.ndarray | None
     member_point: np.ndarray        # worst contact in the member's frame, m
     member_name: str                # "disc" | "planet"
@@ -103,7 +110,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
     if field not in FIELDS:
         raise CaseError(f"field = {field!r} is not one of {list(FIELDS)}")
     drive = drive_for(case)
-    overrides = {}
+    overrides: dict[str, Any] = {}      # the FE model's own options
     if pins is not None:
         choices = drive.fe_options.get("pin_structure")
         if choices is None:
@@ -186,7 +193,7 @@ def reducer_te(system, output_torque_Nm: float) -> dict:
 
     Parameters
     ----------
-    system : toothfem.fem.system.cycloid.CycloidSystem
+    system : toothfem.fem.drives.assembly.CycloidSystem
         The drive's system model over the pitch's positions.
     output_torque_Nm : float
         [N m].
@@ -223,7 +230,7 @@ def assembly_preload(system, material) -> dict:
 
     Parameters
     ----------
-    system : toothfem.fem.system.cycloid.CycloidSystem
+    system : toothfem.fem.drives.assembly.CycloidSystem
         The drive's system model over the pitch's positions.
     material : toothfem.si.MaterialSI
         Its contact-stress limits.
@@ -336,7 +343,7 @@ class RunResult:
     speed_rpm: float
     output_torque_Nm: float
     case: Case | None = None       # the case the run analysed
-    durability: dict = None        # {"life", "strength", "heat"}: toothfem.durability
+    durability: dict | None = None  # {"life", "strength", "heat"}: toothfem.durability
 
     @property
     def warnings(self) -> list:

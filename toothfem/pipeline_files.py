@@ -272,6 +272,7 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     cad.write_drawing_dxf(folder / "drawing.dxf", parts)
     cad.write_drawing_svg(folder / "drawing.svg", parts)
     files += ["drawing.dxf", "drawing.svg"]
+    step: list[str] | str
     if cad.step_available():
         step = [cad.write_step(folder / f"{r.name}.step", r).name for r in parts.regions]
         files += step
@@ -402,7 +403,7 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
             w.writerow([f"{t:.6g}"] + [f"{curves[s][i]:.6f}" for s in sources])
     at = " (the measured points' speed)" if speed_curve != speed else ""
     shown = {f"{s} loads, {speed_curve:g} rpm{at}": curves[s] for s in sources}
-    dashed = ()
+    dashed: tuple[str, ...] = ()
     if speed_curve != speed:            # the operating point's own speed as well
         label = f"analytic loads, {speed:g} rpm (the operating point's speed)"
         shown[label] = evaluate(case, speed, t_grid).efficiency

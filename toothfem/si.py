@@ -19,6 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .errors import ToothfemError, short_repr
+from .units import ARCMIN, rad_s_to_rpm, rpm_to_rad_s
 
 _RECORD = dict(frozen=True, kw_only=True)
 
@@ -92,7 +93,7 @@ class OperatingSI:
 
     @property
     def input_speed_rpm(self) -> float:
-        return self.input_speed_rad_s * 60.0 / (2.0 * 3.141592653589793)
+        return rad_s_to_rpm(self.input_speed_rad_s)
 
 
 @dataclass(**_RECORD)
@@ -322,7 +323,7 @@ _MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
 #: Face width of a spur first stage that declares none, in modules: ASSUMPTION, the middle
 #: of the usual 8-12 m of industrial spur gears (the RV paper gives no width).
 SPUR_DEFAULT_WIDTH_MODULES = 10.0
-_PER_ARCMIN = 180 * 60 / math.pi        # (N m/arcmin) -> N m/rad
+_PER_ARCMIN = 1 / ARCMIN               # (N m/arcmin) -> N m/rad
 
 
 def si_of(case, name: str = "case") -> CaseSI:
@@ -412,7 +413,7 @@ def from_case(case) -> CaseSI:
             disc_teeth=case.rv.disc_teeth, pin_count=case.rv.pin_count,
             disc_count=case.rv.disc_count, mesh_efficiency=case.rv.mesh_efficiency),
         operating=OperatingSI(
-            input_speed_rad_s=op.input_speed_rpm * 2 * math.pi / 60,
+            input_speed_rad_s=rpm_to_rad_s(op.input_speed_rpm),
             output_torque_Nm=op.output_torque_Nm or None,
             input_torque_Nm=op.input_torque_Nm or None,
             input_power_W=None if not op.input_power_kW else op.input_power_kW * 1e3,
@@ -458,7 +459,7 @@ def from_case(case) -> CaseSI:
             mount_conductivity_W_mK=case.thermal.mount_conductivity_W_mK),
         duty_cycle=tuple(DutyPointSI(
             output_torque_Nm=d.output_torque_Nm,
-            input_speed_rad_s=d.input_speed_rpm * 2 * math.pi / 60,
+            input_speed_rad_s=rpm_to_rad_s(d.input_speed_rpm),
             time_share=d.time_share) for d in case.duty_cycle))
 
 

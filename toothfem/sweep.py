@@ -53,7 +53,7 @@ from .case import Case, as_case, case_to_dict, parse_case
 from .cluster import as_finished, dask_client
 from .efficiency import operating_point
 from .fem.cache import DiskCache, content_key
-from .fem.drives import drive_for
+from .fem.drives import Drive, drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 from .output import atomic_dir, resumable_dir, target
@@ -251,9 +251,11 @@ def _plan(case: Case, vary, torques_Nm, positions, pins, sine_loads="fem") -> _P
                         "sine drives and drives with a cycloid disc") from None
     if sine_loads not in ("fem", "analytic"):
         raise CaseError(f"sine_loads = {sine_loads!r} is not one of ['fem', 'analytic']")
-    # the analytic split as a sweep's load source is offered for the sine pair (the
-    # cycloid's seed split needs no sweep: it ignores modifications)
-    loads = "analytic" if drive.kind == "sine" and sine_loads == "analytic" else "fem"
+    # the analytic split as a sweep's load source is offered where it sees the
+    # modifications (the sine pair's in-mesh gap; the cycloid's seed split ignores them:
+    # an infinite gap, no sweep needed)
+    sees_gaps = math.isfinite(drive.analytic_in_mesh_gap_m)
+    loads = "analytic" if sees_gaps and sine_loads == "analytic" else "fem"
     check_range("positions", positions, 1, MAX_POSITIONS, error=CaseError)
     if isinstance(positions, bool) or int(positions) != positions:
         raise CaseError(f"positions = {positions!r} must be an integer")
@@ -421,7 +423,7 @@ def _groups(plan: _Plan, emit, finished=frozenset()) -> list:
     """[(task key, design case, [(row base, member torque)])], one per setup key in the
     order of the designs, without the ``finished`` points; the rows refused on the driver
     are emitted here."""
-    groups = {}
+    groups: dict[tuple[Drive, str | None], tuple[str, Case, list[tuple[dict, float]]]] = {}
     for d, (dvalues, design) in enumerate(plan.designs):
         for lc, (lvalues, torque, ops) in enumerate(plan.load_cases):
             if _point(d, lc) in finished:

@@ -26,6 +26,7 @@ import functools
 import hashlib
 import math
 import pickle
+from pathlib import Path
 from dataclasses import dataclass
 
 import numpy as np
@@ -232,7 +233,7 @@ class ToleranceResult:
         dict
             {contacts: {"P50": {"value", "rings_needed"}, ...}}.
         """
-        out = {}
+        out: dict[str, dict] = {}
         for where, rec in self.film_ratio.items():
             x = np.asarray(rec["samples"], float)
             if x.size == 0 or np.any(np.isnan(x)):        # rings of an older run: not known
@@ -314,7 +315,7 @@ def percentile_ci(values, q: float, confidence: float = CONFIDENCE,
         return {"value": None, "ci": None, "rings_needed": needed}
     lo = int(binom.ppf((1 - confidence) / 2, n, q))
     hi = int(binom.ppf((1 + confidence) / 2, n, q)) + 1
-    return {"value": float(np.percentile(x, 100 * q, method=method)),
+    return {"value": float(np.percentile(x, 100 * q, method=method)),  # type: ignore[call-overload]  # method: a str of numpy's Literal
             "ci": [float(x[lo - 1]), float(x[hi - 1])], "rings_needed": needed}
 
 
@@ -550,7 +551,7 @@ def _shares(table, labels, active) -> dict:
         return {active[0]: {k: 1.0 for k in OUTPUTS}} if active else {}
     parts = {name: {k: float(np.var(table[k][labels == name])) for k in OUTPUTS}
              for name in active}
-    out = {name: {} for name in active}
+    out: dict[str, dict[str, float]] = {name: {} for name in active}
     out[ALONE_OVER_ALL] = {}
     for k in OUTPUTS:
         total = sum(parts[m][k] for m in active)
@@ -566,7 +567,7 @@ def _solver(setup: _Setup):
     stage's deviations can close the idle flank: interference, preload), its tables from
     the disk cache."""
     drive = drive_for(setup.case)
-    cache = False if setup.cache_dir is None else DiskCache(setup.cache_dir)
+    cache = False if setup.cache_dir is None else DiskCache(Path(setup.cache_dir))
     return drive.cycle_solver(setup.positions, cache=cache,
                               solver_options=drive.both_flanks_options)
 
@@ -586,6 +587,8 @@ def _outputs(setup: _Setup, solver, deviation, state=None, system=None,
     twist = TwistModel(drive, drive.supports(si.supports), solver, options, state)
     t = setup.output_torque_Nm
     even = twist.at(t, 1).load_sharing
+    if even is None:
+        raise RuntimeError("the chained load paths' twist carries no load sharing")
     peak_torque = drive.member_torque(t, peak=True)
     peak = even if math.isclose(peak_torque, even.torque, rel_tol=1e-12) else \
         solver.solve(peak_torque, **options)
@@ -651,7 +654,7 @@ def _system(setup: _Setup, prepare: bool = False):
     drive = drive_for(setup.case)
     system = drive.system_model(
         drive.supports(setup.case.to_si().supports), setup.positions,
-        cache=False if setup.cache_dir is None else DiskCache(setup.cache_dir),
+        cache=False if setup.cache_dir is None else DiskCache(Path(setup.cache_dir)),
         pitch_samples=setup.pitch_samples)
     if prepare and system is not None:
         for tables in {id(t): t for t in system.pitch_tables or ()}.values():
@@ -663,7 +666,7 @@ def _system(setup: _Setup, prepare: bool = False):
 
 #: The last setup's models in this process ({key: (solver, state, system, reference)}):
 #: the Dask tasks of one run on a worker read the tables and solve the nominal design once.
-_MODELS = {}
+_MODELS: dict[str, tuple] = {}
 
 
 def _models(setup: _Setup):
@@ -733,51 +736,3 @@ def _run_all(setup, deviations, client, progress, points=None) -> list:
         return [results[i] for i in range(len(deviations))]
     finally:
         bar.close()
-
-
-def write_tolerance(result: ToleranceResult, folder) -> dict:
-    """Write the ensemble's files.
-
-    Parameters
-    ----------
-    result : ToleranceResult
-    folder : str or pathlib.Path
-        An existing folder; it receives samples.csv, summary.json, histograms.png,
-        shares.png (several tolerances) and report.md.
-
-    Returns
-    -------
-    dict
-        The summary as written, with the names of the ``files``.
-    """
-    import csv
-    import json
-    from pathlib import Path
-
-    from .report import save
-    from .report import tolerance as report
-
-    folder = Path(folder)
-    outputs = _labelled(result)
-    with open(folder / "samples.csv", "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["sample", *outputs])
-        for i in range(len(next(iter(result.samples.values())))):
-            w.writerow([i, *(f"{result.samples[k][i]:.9g}" for k in outputs)])
-    summary = result.summary()
-    save(report.histograms(result, outputs, report.histograms_title(summary)),
-         folder / "histograms.png")
-    files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
-    if len(result.shares) > 1:
-        save(report.shares(result, outputs, report.shares_title(summary)),
-             folder / "shares.png")
-        files.insert(3, "shares.png")
-    summary["files"] = files
-    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
-    (folder / "report.md").write_text(report.markdown(summary, outputs))
-    return summary
-
-
-def _labelled(result: ToleranceResult) -> dict:
-    """The outputs in the drive's own words (pin, tooth; disc, planet) and the model's."""
-    return result.outputs()

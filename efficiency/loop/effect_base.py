@@ -16,6 +16,7 @@ import numpy as np
 
 from ...errors import ToothfemError, check_range
 from ...fem.drives import drive_for
+from ...fem.drives.registry import record_of
 from ..evaluation import evaluate
 
 # ---------------------------------------------------------------------------------------
@@ -93,11 +94,12 @@ class Effect:
     equation: str
     citation: str
     parameters: tuple
-    drives: tuple
     case_fields: tuple
     set_fields: Callable          # (case, values) -> case with the effect's fields set
     declared_by: Callable         # (case) -> str | None: the declaring field, if any
     not_applicable: Callable | None = None   # (case, points) -> reason | None
+    acts_on: str | None = None               # the component of the layout it needs
+                                             # (DriveRecord.components); None: every layout
     loss_route: Callable | None = None       # (case) -> True if the effect is a loss term
     extra_loss: Callable | None = None       # (case, points, evaluation, values, prep) -> W
     prepare: Callable | None = None          # (case, points) -> prepared tables
@@ -175,8 +177,10 @@ class Effect:
         str or None
             The reason, or None.
         """
-        if case.drive not in self.drives:
-            return f"not for drive {case.drive!r} (drives: {', '.join(self.drives)})"
+        record = record_of(case)
+        if self.acts_on is not None and self.acts_on not in record.components:
+            return (f"acts on the {self.acts_on.replace('_', ' ')}, which {record.label} "
+                    "does not have")
         if self.not_applicable is not None:
             why = self.not_applicable(case, points)
             if why:
@@ -344,7 +348,9 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
     """
     assignment = assignment or {}
     prepared = {} if prepared is None else prepared
-    model_case, key, scale = case, [], {}
+    model_case = case
+    fields: list[tuple[str, tuple[float, ...]]] = []
+    scale: dict[str, float] = {}
     for eff, values in assignment.items():
         if eff.route(case) != "model" or eff.misreads_torque_only:
             continue
@@ -354,8 +360,8 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
             scale[comp] = scale.get(comp, 1.0) * float(values[0]) / ref[0]
             values = ref
         model_case = eff.apply(model_case, values)
-        key.append((eff.name, tuple(float(v) for v in values)))
-    key = tuple(sorted(key))
+        fields.append((eff.name, tuple(float(v) for v in values)))
+    key = tuple(sorted(fields))
     ran = true_points(case, points, assignment)
     ev = None if cache is None else cache.get(key)
     if ev is None:

@@ -68,6 +68,7 @@ from .loss_effects import bearing_preload, viscosity_grade, windage
 from .rig_effects import (input_torque_offset, oil_temp_offset, output_torque_offset,
                           warm_up)
 from .thermal_effect import thermal
+from ...units import rpm_to_rad_s
 
 
 # ---------------------------------------------------------------------------------------
@@ -96,7 +97,6 @@ def drag_torque() -> Effect:
                  "model (2018), M_seal",
         parameters=(Parameter("drag_torque_Nmm", "N mm", 0.0, 1e6, (5.0, 50.0, 500.0), 50.0,
                               "drag torque on the input shaft"),),
-        drives=("sine", "cycloid", "rv"),
         case_fields=("friction.drag_torque_Nmm",),
         set_fields=setter("friction", "drag_torque_Nmm"),
         declared_by=declared_if_changed("friction", "drag_torque_Nmm",
@@ -139,7 +139,6 @@ def churning() -> Effect:
                  "loss)",
         parameters=(Parameter("churning_scale", "-", 0.0, 100.0, (1.0, 0.3, 3.0), 1.0,
                               "factor k on the Lu & Xu law"),),
-        drives=("sine", "cycloid", "rv"),
         case_fields=("lubricant.churning_scale",),
         set_fields=setter("lubricant", "churning_scale"),
         declared_by=declared_if_changed("lubricant", "churning_scale",
@@ -187,7 +186,6 @@ def viscosity_temperature() -> Effect:
         citation="H. Vogel, Physikalische Zeitschrift 22 (1921) 645-646",
         parameters=(Parameter("vogel_B_C", "deg C", 100.0, 5000.0,
                               (1000.0, 600.0, 1500.0, 2500.0), 500.0, "Vogel B"),),
-        drives=("sine", "cycloid", "rv"),
         case_fields=("lubricant.vogel_B_C",),
         set_fields=setter("lubricant", "vogel_B_C"),
         declared_by=declared_if_changed("lubricant", "vogel_B_C", "lubricant.vogel_B_C"),
@@ -229,7 +227,6 @@ def mixed_lubrication() -> Effect:
                  "Castro & Seabra, Proc. IMechE J 221 (2007) 399-411",
         parameters=(Parameter("boundary_coefficient", "-", MIN_BOUNDARY, 0.3,
                               (0.1, 0.03, 0.2), 0.05, "boundary friction coefficient mu_b"),),
-        drives=("sine", "cycloid", "rv"),
         case_fields=("friction.boundary_coefficient",),
         set_fields=setter("friction", "boundary_coefficient"),
         declared_by=declared_if_changed("friction", "boundary_coefficient",
@@ -262,7 +259,6 @@ def bearing_friction() -> Effect:
         parameters=(Parameter("bearing_coefficient", "-", 0.0, 0.1,
                               (0.0015, 0.0005, 0.005, 0.015), 0.002,
                               "bearing friction coefficient mu_b"),),
-        drives=("sine", "cycloid", "rv"),
         case_fields=("friction.bearing_coefficient",),
         set_fields=setter("friction", "bearing_coefficient"),
         declared_by=declared_if_changed("friction", "bearing_coefficient",
@@ -296,7 +292,7 @@ def output_mechanism_friction() -> Effect:
         citation="Lu & Xu, Heliyon 10 (2024) e26300, Eqs. 37-39",
         parameters=(Parameter("output_pin_coefficient", "-", 0.0, 0.3, (0.05, 0.02, 0.1),
                               0.03, "pin-hole friction coefficient f_k"),),
-        drives=("sine",),
+        acts_on="output_mechanism",
         case_fields=("friction.output_pin_coefficient",),
         set_fields=setter("friction", "output_pin_coefficient"),
         declared_by=declared_if_changed("friction", "output_pin_coefficient",
@@ -338,7 +334,7 @@ def pin_sliding() -> Effect:
                  "al., J. Mech. Des. 130 (2008)",
         parameters=(Parameter("pin_groove_coefficient", "-", 0.0, 0.3, (0.02, 0.005, 0.08),
                               0.02, "groove friction coefficient mu_g"),),
-        drives=("cycloid", "rv"),
+        acts_on="pins",
         case_fields=("friction.pin_groove_coefficient",),
         set_fields=setter("friction", "pin_groove_coefficient"),
         declared_by=declared_if_changed("friction", "pin_groove_coefficient",
@@ -440,10 +436,13 @@ def clearance_tables(case, points: Points, compliance=None,
     t_disc = drive.member_torque(points.torque_Nm, peak=False)
     lo, hi = float(np.min(t_disc)), float(np.max(t_disc))
     torques = np.geomspace(lo, hi, CLEARANCE_TORQUES) if hi > lo * 1.01 else np.array([hi])
-    crank = np.abs(points.speed_rpm * 2 * math.pi / 60 * crank_speed_factor(case))
-    visc = viscosity_factor(case.lubricant, points.oil_temp_C) * np.ones(len(points))
-    eta0 = case.lubricant.dynamic_viscosity_Pa_s * visc
-    pins, bearing, contacts = [], [], []
+    crank = np.abs(rpm_to_rad_s(points.speed_rpm) * crank_speed_factor(case))
+    lubricant = case.to_si().lubricant
+    visc = viscosity_factor(lubricant, points.oil_temp_C) * np.ones(len(points))
+    eta0 = lubricant.dynamic_viscosity_Pa_s * visc
+    pin_rows: list[np.ndarray] = []
+    bearing_rows: list[np.ndarray] = []
+    contacts: list[float] = []
     for c_mm in grid_mm:
         d = drive_for(dataclasses.replace(case, cycloid=dataclasses.replace(
             cyc, equidistant_modification_mm=float(c_mm))))
@@ -453,10 +452,10 @@ def clearance_tables(case, points: Points, compliance=None,
         records = [solver.solve(float(t)) for t in torques]
         table = table_from_records(state, records, "equal_springs")
         loss, f_bearing = disc_contact_losses(case, table, t_disc, crank, eta0)
-        pins.append(loss)
-        bearing.append(f_bearing)
+        pin_rows.append(loss)
+        bearing_rows.append(f_bearing)
         contacts.append(float(np.mean(records[-1].contacts_per_position)))
-    pins, bearing = np.array(pins), np.array(bearing)
+    pins, bearing = np.array(pin_rows), np.array(bearing_rows)
 
     def ratio(a):
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -483,7 +482,7 @@ def _clearance_loss(case, points, ev, values, tables: ClearanceTables):
 def _viscous(case, points, component):
     """A bearing group's viscous (load-independent) loss at the points [W]."""
     si = case.to_si()
-    w_in = np.asarray(points.speed_rpm, float) * 2 * np.pi / 60
+    w_in = rpm_to_rad_s(points.speed_rpm)
     factor = viscosity_factor(si.lubricant, points.oil_temp_C) * np.ones_like(w_in)
     return bearing_losses(si, drive_for(si), {}, w_in, factor).get(component, 0.0)
 
@@ -529,12 +528,12 @@ def load_sharing_clearance(compliance=None) -> Effect:
                 "through the contact model",
         equation="g_i = g0_i(Delta r_z) + k F_i - beta l_i >= 0, F_i >= 0, F_i g_i = 0, "
                  "sum F_i l_i = T",
-        citation="Wang et al. (the pin-housing paper, docs/references.md), modifications Delta r_z, Delta R_z;"
-                 " toothfem fem/cycloid_fe.CycleSolver (complementarity)",
+        citation="Wang et al. (the pin-housing paper, docs/references.md), modifications "
+                 "Delta r_z, Delta R_z; toothfem fem/cycloid_fe.CycleSolver (complementarity)",
         parameters=(Parameter("equidistant_modification_mm", "mm", 0.0, 0.05,
                               (0.003, 0.001, 0.01, 0.03), 0.003,
                               "clearance: equidistant modification Delta r_z"),),
-        drives=("cycloid", "rv"),
+        acts_on="pins",
         case_fields=("cycloid.equidistant_modification_mm",),
         set_fields=setter("cycloid", "equidistant_modification_mm"),
         declared_by=_declared_modification,

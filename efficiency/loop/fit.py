@@ -27,6 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..evaluation import Efficiency
 from . import effects as fx
 from .settings import Settings
 
@@ -170,10 +171,11 @@ class Problem:
         # each applicable effect with the bounds of this case and data (Effect.bound_to)
         self.effects = {e.name: e.bound_to(case, self.points)
                         if e.applicable(case, self.points) is None else e for e in effects}
-        self.prepared = {}
+        self.prepared: dict[str, object] = {}   # effect name -> its prepared tables
         self.evaluations = 0
-        self._cache = {}            # (names, values) -> efficiency
-        self._evals = {}            # model evaluations (effects.predict's cache)
+        # (names, values) -> efficiency
+        self._cache: dict[tuple[tuple[str, ...], tuple[float, ...]], np.ndarray] = {}
+        self._evals: dict[tuple, Efficiency] = {}   # model evaluations (effects.predict's cache)
         folds = fold_count(self.n, settings)
         perm = np.random.default_rng(settings.seed).permutation(self.n)
         self.fold = np.empty(self.n, int)

@@ -49,7 +49,7 @@ import numpy as np
 from ...errors import MeasuredDataError, decode_text
 from ...errors import ToothfemError  # noqa: F401 (re-exported)
 from .measured_columns import (QUANTITIES, _check_percent_column, _check_row, _columns,
-                               _comments, _free_columns, _header, _next_row, _number,
+                               comment_lines, _free_columns, header_names, next_row, parse_number,
                                _percent_hint)
 
 
@@ -194,16 +194,16 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         No header, no good row, a missing ratio, or (strict) a bad row.
     """
     lines = text.splitlines()
-    prov, start = _comments(lines)
+    prov, start = comment_lines(lines)
     prov.update(provenance or {})
     if start >= len(lines):
         raise MeasuredDataError(f"{source}: no header line (columns with units, e.g. "
                                 "input_speed_rpm,output_torque_Nm,efficiency)")
     body = lines[start:]
     del lines                                   # large files: keep one copy of the text
-    delimiter = _delimiter(body[0])
+    delimiter = delimiter_of(body[0])
     reader = csv.reader(body, delimiter=delimiter)
-    header = _header(_next_row(reader, source, start + 1), source)
+    header = header_names(next_row(reader, source, start + 1), source)
     columns = _columns(header, source)
     i_abs = None if ratio is None else abs(float(ratio))
     if "efficiency" not in columns and i_abs is None:
@@ -212,14 +212,14 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     known = set(QUANTITIES) | {"run_id"}
     checked = [k for k in columns if k in QUANTITIES]      # a bad cell refuses the row
     free = [k for k in columns if k not in known]           # further covariates: lenient
-    values = {k: [] for k in checked}
-    cells_free = {k: [] for k in free}
+    values: dict[str, list[float]] = {k: [] for k in checked}
+    cells_free: dict[str, list[str]] = {k: [] for k in free}
     run, rejected, line_no = [], [], []
     decimal_comma = False
     k = 0
     while True:
         line = start + 2 + k
-        cells = _next_row(reader, source, line)
+        cells = next_row(reader, source, line)
         k += 1
         if cells is None:
             break
@@ -237,7 +237,7 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         row = {}
         for key in checked if reason is None else ():
             j, f, o = columns[key]
-            v, why = _number(cells[j], header[j])
+            v, why = parse_number(cells[j], header[j])
             if why:
                 reason = why
                 break
@@ -290,8 +290,18 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
 OTHER_DELIMITERS = (";", "\t")
 
 
-def _delimiter(header_line: str) -> str:
-    """The comma, or the first of OTHER_DELIMITERS in a header that has no comma."""
+def delimiter_of(header_line: str) -> str:
+    """The comma, or the first of OTHER_DELIMITERS in a header that has no comma.
+
+    Parameters
+    ----------
+    header_line : str
+
+    Returns
+    -------
+    str
+        The delimiter.
+    """
     if "," not in header_line:
         for d in OTHER_DELIMITERS:
             if d in header_line:

@@ -60,8 +60,21 @@ def _column(name: str):
     return None, None, None
 
 
-def _number(text, name):
-    """(value, reason): the float in a cell, or None and why not."""
+def parse_number(text, name):
+    """The float in a cell, or None and why not.
+
+    Parameters
+    ----------
+    text : str
+        The cell.
+    name : str
+        The column, named in the reason.
+
+    Returns
+    -------
+    (float or None, str or None)
+        The value and None, or None and the reason.
+    """
     s = text.strip()
     if s == "":
         return None, f"{name} is empty"
@@ -80,8 +93,20 @@ def _number(text, name):
     return v, None
 
 
-def _comments(lines):
-    """(provenance from ``# key: value`` lines, index of the header line)."""
+def comment_lines(lines):
+    """The provenance in a file's leading ``# key: value`` lines.
+
+    Parameters
+    ----------
+    lines : list of str
+        The file's lines.
+
+    Returns
+    -------
+    (dict, int)
+        key -> value, and the index of the first line that is neither a comment nor
+        blank (the header).
+    """
     prov, start = {}, 0
     while start < len(lines) and (lines[start].lstrip().startswith("#")
                                   or not lines[start].strip()):
@@ -93,9 +118,26 @@ def _comments(lines):
     return prov, start
 
 
-def _next_row(reader, source, line):
-    """The next row of cells, or None at the end; a row the csv module cannot split (a NUL
-    byte, a field beyond its size limit) refuses the file naming the line."""
+def next_row(reader, source, line):
+    """The next row of cells, or None at the end.
+
+    Parameters
+    ----------
+    reader : csv.reader
+    source : str
+        The file, named in a refusal.
+    line : int
+        The row's line number, named in a refusal.
+
+    Returns
+    -------
+    list of str or None
+
+    Raises
+    ------
+    MeasuredDataError
+        A row the csv module cannot split (a NUL byte, a field beyond its size limit).
+    """
     try:
         return next(reader)
     except StopIteration:
@@ -105,8 +147,25 @@ def _next_row(reader, source, line):
             from None
 
 
-def _header(cells, source):
-    """Column names, stripped; empty names at the end (a trailing comma) are dropped."""
+def header_names(cells, source):
+    """Column names, stripped; empty names at the end (a trailing comma) are dropped.
+
+    Parameters
+    ----------
+    cells : list of str or None
+        The header row.
+    source : str
+        The file, named in a refusal.
+
+    Returns
+    -------
+    list of str
+
+    Raises
+    ------
+    MeasuredDataError
+        A column without a name.
+    """
     header = [h.strip() for h in cells or ()]
     while header and not header[-1]:
         header.pop()
@@ -142,7 +201,7 @@ def _free_columns(cells):
     that it never refuses a good row nor puts a hole in a covariate."""
     extra, notes = {}, []
     for name, col in cells.items():
-        parsed = [_number(c, name) for c in col]
+        parsed = [parse_number(c, name) for c in col]
         bad = [why for _, why in parsed if why]
         if not bad:
             extra[name] = np.array([v for v, _ in parsed], float)

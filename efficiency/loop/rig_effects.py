@@ -33,7 +33,6 @@ from ..lubricant import temperature_range
 from ..thermal import housing, shed_per_kelvin
 from .effect_base import Effect, Parameter
 
-ALL_DRIVES = ("sine", "cycloid", "rv")
 #: Largest zero offset the fit may take, as a share of the smallest torque the meter read
 #: (for the input meter, the smallest lossless input torque T2/|i|, below its true
 #: reading): a strain-gauge torque transducer's zero drifts by a few 0.01 % of its range
@@ -85,7 +84,7 @@ def input_torque_offset() -> Effect:
         citation="zero signal of a torque transducer: DIN 51309:2005, EURAMET cg-14 (2011)",
         parameters=(Parameter("input_offset_Nm", "N m", -1e6, 1e6, (0.0,), 1.0,
                               "input torque meter zero offset d1"),),
-        drives=ALL_DRIVES, case_fields=(), set_fields=lambda case, values: case,
+        case_fields=(), set_fields=lambda case, values: case,
         declared_by=lambda case: None,
         reading=lambda t1, t2, v: (t1 + v[0], t2), bounds_for=_input_bounds,
         direct_test="read the input torque meter with its shaft uncoupled (no torque) before "
@@ -113,7 +112,7 @@ def output_torque_offset() -> Effect:
         citation="zero signal of a torque transducer: DIN 51309:2005, EURAMET cg-14 (2011)",
         parameters=(Parameter("output_offset_Nm", "N m", -1e6, 1e6, (0.0,), 1.0,
                               "output torque meter zero offset d2"),),
-        drives=ALL_DRIVES, case_fields=(), set_fields=lambda case, values: case,
+        case_fields=(), set_fields=lambda case, values: case,
         declared_by=lambda case: None, true_points=_output_true,
         reading=lambda t1, t2, v: (t1, t2 + v[0]), bounds_for=_output_bounds,
         direct_test="read the output torque meter with the brake released and the shaft "
@@ -159,7 +158,7 @@ def oil_temp_offset() -> Effect:
                  "surface below the oil)",
         parameters=(Parameter("sensor_offset_K", "K", -TEMP_OFFSET_MAX_K, TEMP_OFFSET_MAX_K,
                               (0.0, -5.0, 5.0), 1.0, "temperature sensor offset dT"),),
-        drives=ALL_DRIVES, case_fields=(), set_fields=lambda case, values: case,
+        case_fields=(), set_fields=lambda case, values: case,
         declared_by=lambda case: None, not_applicable=_needs_oil_column,
         true_points=_oil_true, bounds_for=_temp_offset_bounds,
         direct_test="a calibrated thermometer in the sump beside the sensor at two "
@@ -236,7 +235,7 @@ def warm_up() -> Effect:
                               "rise of the oil once warm, dT_inf"),
                     Parameter("time_constant_h", "h", 1e-3, 1e3, (1.0, 3.0), 1.0,
                               "time constant of the warm-up, tau")),
-        drives=ALL_DRIVES, case_fields=(), set_fields=lambda case, values: case,
+        case_fields=(), set_fields=lambda case, values: case,
         declared_by=lambda case: None, not_applicable=_needs_time,
         true_points=_warm_true, bounds_for=_warm_bounds,
         direct_test="a thermometer in the sump logged along the run (or the run repeated "

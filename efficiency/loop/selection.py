@@ -45,7 +45,7 @@ from .fit import EXACT_TOL, Fit, Problem, at_bound, fold_count
 from .measured import MeasuredData, require_distinct
 from .report import Candidate, Closing, EffectFit, LoopReport, Step
 from .separation import AliasGroup, alias_group
-from .settings import Settings
+from .settings import DEFAULT_SETTINGS, Settings
 from .trends import most_followed, residual_trends, signatures
 
 #: An effect leaves again when removing it costs less than this fraction of the BIC entry
@@ -95,7 +95,7 @@ def candidates_of(case, points, effects):
     return cands, skipped
 
 
-def loop_data(data: MeasuredData, settings: Settings = Settings()) -> tuple:
+def loop_data(data: MeasuredData, settings: Settings = DEFAULT_SETTINGS) -> tuple:
     """The points the loop fits: ``data`` checked and, above :attr:`Settings.max_points`
     rows, binned (:func:`.binning.bin_rows`).
 
@@ -132,7 +132,7 @@ def loop_data(data: MeasuredData, settings: Settings = Settings()) -> tuple:
     return points, binning
 
 
-def run_loop(case, data, effects=None, *, settings=Settings(), loads="analytic",
+def run_loop(case, data, effects=None, *, settings=DEFAULT_SETTINGS, loads="analytic",
              progress=None) -> LoopReport:
     """The measured-data loop (module docstring).
 
@@ -219,7 +219,7 @@ def _group(prob: Problem, step: int, fits: dict) -> AliasGroup:
 def _select(prob: Problem, cands, base: Fit, settings: Settings, say, covs):
     """Forward-backward selection from ``base``: (final fit, steps, stop reason)."""
     current = base
-    steps = []
+    steps: list[Step] = []
     stop = ""
     while True:
         pool = [c for c in cands if c not in current.effects]
@@ -292,7 +292,7 @@ def _change(new: float, old: float) -> str:
 def _score(prob: Problem, current: Fit, pool, settings: Settings) -> list:
     """[(fit or None, Candidate)] of each candidate of ``pool`` fitted with the effects of
     ``current``, those that pass first, then by held-out error."""
-    scored = []
+    scored: list[tuple[Fit | None, Candidate]] = []
     for name in pool:
         try:
             f = prob.make_fit(current.effects + (name,), dict(current.values))

@@ -6,7 +6,8 @@ its fitted values and what they would mean physically, and the operating points 
 members' fitted models differ most against the noise, allowing each member to refit its
 parameters to the new readings (:func:`separating_points`). Those are the points to
 measure next: each is given with every member's predicted efficiency, the noise there and
-how many repeated readings leave the wrong member a misfit of three standard deviations. Where no operating point inside the reducer's range separates them (an exact
+how many repeated readings leave the wrong member a misfit of three standard deviations.
+Where no operating point inside the reducer's range separates them (an exact
 alias: a drag torque on the input and a zero offset of the input torque meter are the same
 number to efficiency data), the group says so and lists each member's ``direct_test``, a
 measurement away from the operating points that shows it.
@@ -226,7 +227,7 @@ def separating_points(prob, fits: dict) -> tuple:
                  if float(np.max(np.ptp(cube, axis=a))) <= AXIS_MATTERS * float(gap.max()))
     unit = np.stack([(c - c.min()) / (np.ptp(c) or 1.0) for k, c in cols.items()
                      if k not in free] or [np.zeros_like(gap)], axis=1)
-    chosen = []
+    chosen: list[int] = []
     for j in np.lexsort((-gap, need)):          # fewest readings first, then widest apart
         if len(chosen) == PROPOSED_POINTS:
             break

@@ -40,3 +40,8 @@ class Settings:
         check_range("min_points", self.min_points, 1)
         check_range("max_points", self.max_points, self.min_points,
                     why="at least min_points, or no selection is made")
+
+
+#: The default thresholds, one instance shared as every function's default (Settings is
+#: frozen and holds only numbers, so sharing it is safe).
+DEFAULT_SETTINGS = Settings()

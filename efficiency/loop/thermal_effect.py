@@ -23,11 +23,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ...errors import MeasuredDataError
 from ...fem.drives import drive_for
 from ..evaluation import evaluate
 from ..lubricant import temperature_range
 from ..thermal import housing
-from .effect_base import Effect, Parameter, declared_if_changed, setter
+from .effect_base import Effect, Parameter, Points, declared_if_changed, setter
 
 #: Points of the dT grid from 0 to the oil's upper limit, spaced geometrically from
 #: GRID_FIRST_K (the losses are smooth in T and nearly exponential through the viscosity:
@@ -50,7 +51,7 @@ def _model_key(case):
 class ThermalTables:
     """Each loss component at the points over a grid of temperature rises, per model case
     (filled on first use)."""
-    points: object                   # effect_base.Points
+    points: Points
     rise_K: np.ndarray               # (G,)
     tables: dict = field(default_factory=dict)
 
@@ -71,6 +72,9 @@ class ThermalTables:
         hit = self.tables.get(key)
         if hit is None:
             pts = self.points
+            if pts.oil_temp_C is None:
+                raise MeasuredDataError("the thermal effect needs the data's oil_temp_C column "
+                                        "(the sensor the warmer oil is measured against)")
             cols = [evaluate(case, pts.speed_rpm, pts.torque_Nm, pts.oil_temp_C + dt).losses_W
                     for dt in self.rise_K]
             hit = {k: np.stack([c[k] for c in cols], axis=1) for k in cols[0]}
@@ -189,6 +193,7 @@ def thermal() -> Effect:
         Parameter thermal_resistance_K_W [K/W] (thermal.sensor_resistance_K_W), a loss term
         beside the model.
     """
+    section, name = FIELD.split(".")
     return Effect(
         name="thermal",
         summary="oil warmer than the sump sensor by a thermal resistance x the losses "
@@ -197,9 +202,9 @@ def thermal() -> Effect:
         citation="lumped heat balance, ISO/TR 14179-1:2001; toothfem efficiency/thermal.py",
         parameters=(Parameter("thermal_resistance_K_W", "K/W", 0.0, 20.0, (0.5, 2.0, 8.0),
                               1.0, "thermal resistance between the losses and the sensor"),),
-        drives=("sine", "cycloid", "rv"), not_applicable=_needs_sensor,
+        not_applicable=_needs_sensor,
         loss_route=lambda case: True, extra_loss=_extra_loss, prepare=thermal_tables,
         case_fields=(FIELD,), set_fields=setter(*FIELD.split(".")),
-        declared_by=declared_if_changed(*FIELD.split("."), FIELD),
+        declared_by=declared_if_changed(section, name, FIELD),
         direct_test="a thermocouple in the oil near the discs or the teeth beside the sump "
                     "sensor, logged along the run")

@@ -21,7 +21,7 @@ import numpy as np
 
 from ...errors import ToothfemError
 from .fit import Fit, Problem
-from .settings import Settings
+from .settings import DEFAULT_SETTINGS
 
 #: Fewest residual degrees of freedom of a trend's F-test: with fewer the residual variance
 #: is too poorly known for the test to say anything; the trend is reported as nan.
@@ -60,7 +60,7 @@ def _basis(x, settings):
     return kind, np.polynomial.legendre.legvander(z, deg)[:, 1:]
 
 
-def residual_trends(residual, covariates: dict, weights=None, settings=Settings()) -> tuple:
+def residual_trends(residual, covariates: dict, weights=None, settings=DEFAULT_SETTINGS) -> tuple:
     """How strongly the residual follows each covariate (module docstring).
 
     Parameters

@@ -14,7 +14,7 @@ from ...errors import ToothfemError
 from ...geometry import cycloid_mesh as cy
 from ...geometry.vectors import rotate
 from .. import contact
-from ..cache import content_key
+from ..cache import DiskCache, content_key
 from ..elastic import Body, plane_modulus
 from ..linsolve import one_blas_thread
 from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
@@ -51,7 +51,7 @@ class CycleSolver:
     b_ref: float = 1e-4
     elements_per_bref: int = 5
     equal_springs: float | None = None   # rigid bodies with equal contact springs (m per N/m)
-    cache: object = None                 # DiskCache of the influence tables, or None
+    cache: DiskCache | None = None       # the influence tables' disk cache
     #: torque signs the solver serves: (1,) the positive torque only (the carrying flank of
     #: the MeshingState convention); (1, -1) both flanks, the mesh refined along both, each
     #: torque on its own flank; (0,) both flanks at once, every pin a candidate whatever
@@ -411,7 +411,9 @@ class CycleSolver:
         ToothfemError
             For a geometry that differs in more than its modifications.
         """
-        kept = self.__dict__.get("_modified")
+        # (geometry, {side: gaps per position}) of the last geometry asked for
+        kept: tuple[cy.CycloidGeometry, dict[int, list[np.ndarray]]] | None = \
+            self.__dict__.get("_modified")
         if kept is not None and kept[0] == geometry and side in kept[1]:
             return kept[1][side]
         g = self.model.geometry

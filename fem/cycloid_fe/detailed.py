@@ -41,8 +41,8 @@ class DetailedResult:
     pressure: list              # per candidate pin: (M,) Pa
     pins: np.ndarray            # candidate pin indices
     dofs: int
-    disc: object = None         # the disc Body (disc frame)
-    disc_displacement: np.ndarray = None
+    disc: Body | None = None    # the disc (disc frame)
+    disc_displacement: np.ndarray | None = None
 
     @property
     def member_body(self):

@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from ...geometry import cycloid_mesh as cy
+from ...geometry.vectors import rotate
 from .model import _disc_rings
 
 
@@ -81,11 +82,11 @@ def project(gen, points, turn: float, psi0):
     normal : numpy.ndarray, shape (2, N)
         Outward unit normals there (turned).
     """
-    psi, _ = cy.foot_point(gen, cy._turn(points, -turn) if turn else points, psi0)
+    psi, _ = cy.foot_point(gen, rotate(points, -turn) if turn else points, psi0)
     point = cy.working_profile(gen, psi)
     normal = -cy.inward_normal(gen, psi)
     if turn:
-        point, normal = cy._turn(point, turn), cy._turn(normal, turn)
+        point, normal = rotate(point, turn), rotate(normal, turn)
     return psi, point, normal
 
 
@@ -126,8 +127,8 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
     alpha = step * np.arange(2 * za + 1)            # symmetry lines, own frame
     # which turned profile bounds each half-lobe: a point of the +delta profile inside the
     # -delta disc (intersection) or outside it (union) says +delta
-    mid = cy._turn(cy.working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
-    d_other = cy.foot_point(gen, cy._turn(mid, delta), alpha[:-1] + 0.5 * step)[1]
+    mid = rotate(cy.working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
+    d_other = cy.foot_point(gen, rotate(mid, delta), alpha[:-1] + 0.5 * step)[1]
     plus = (d_other <= 0) if delta > 0 else (d_other > 0)
     a_own = np.where(plus, delta, -delta)
     base_step = 2 * math.pi / (za * base_per_lobe)
@@ -146,11 +147,11 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
             keep &= ~((base >= z.min() - margin) & (base <= z.max() + margin))
         psi = np.sort(np.concatenate([[lo], base[keep], *zones]))
         psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
-        pieces.append(cy._turn(cy.working_profile(gen, psi), a + pose))
+        pieces.append(rotate(cy.working_profile(gen, psi), a + pose))
     rings, names = [np.concatenate(pieces, axis=1)], ["profile"]
     for x, y, r, label in model.holes.circles():
         n = max(48, int(2 * math.pi * r / (0.02 * g.pin_circle_radius_m)))
         t = np.linspace(0, 2 * math.pi, n, endpoint=False)
-        rings.append(cy._turn(np.stack([x + r * np.cos(t), y + r * np.sin(t)]), pose))
+        rings.append(rotate(np.stack([x + r * np.cos(t), y + r * np.sin(t)]), pose))
         names.append(label)
     return rings, names

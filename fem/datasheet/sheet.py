@@ -24,11 +24,16 @@ Definitions (Nabtesco's RV catalogues; strain-wave catalogues alike):
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from ...errors import CaseError, check_range
-from .twist import ARCMIN, TwistModel
+from .supports import Supports
+from .twist import ARCMIN, TwistPoint
+
+if TYPE_CHECKING:
+    from ..drives.base import Drive
 
 #: Catalogue points, fractions of the rated torque: lost motion at +-3 % (Nabtesco RV
 #: catalogues), rigidity between 50 and 100 %, three segments 0-25-50-100 %.
@@ -42,6 +47,50 @@ MIN_STEPS, MAX_STEPS = 4, 400
 MIN_CONTACTS_AT_MAX = 2
 #: What the summary says of a loop without friction in its path.
 FRICTIONLESS = "not modelled (frictionless contact): the loop's width is the backlash"
+
+
+class TwistCurve(Protocol):
+    """What the datasheet reads of a twist model: the twist at any output torque over the
+    positions, the drive and its supports. :class:`~toothfem.fem.datasheet.twist.TwistModel`
+    (the FE mesh and the supports in series) and
+    :class:`~toothfem.fem.system.datasheet.SystemTwist` (the system model) are such models;
+    one with a ``friction_description`` (str) has the summary say it (else FRICTIONLESS).
+    """
+
+    @property
+    def drive(self) -> Drive:
+        """The drive: its ``member_name`` and ``contact_name`` label the figures."""
+        ...
+
+    @property
+    def supports(self) -> Supports:
+        """The supports in series with the mesh (their ``describe()`` goes on the sheet)."""
+        ...
+
+    @property
+    def positions_rad(self) -> np.ndarray:
+        """The crank angles the twist is taken at [rad], shape (P,)."""
+        ...
+
+    def at(self, output_torque_Nm: float, side: int = 1, branch: int = 0) -> TwistPoint:
+        """The twist at a signed output torque.
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], either sign.
+        side : {1, -1}
+            At zero torque, the flank the limit comes from.
+        branch : {0, 1, -1}
+            The torque rising (+1) or falling (-1) to this value; 0 the elastic curve (a
+            model without friction in its path answers the elastic curve on both).
+
+        Returns
+        -------
+        TwistPoint
+            ``total`` and its ``paths`` (P,) [rad], the loaded ``contacts`` (P,).
+        """
+        ...
 
 
 def loop_torques(torque_max_Nm: float, steps: int) -> np.ndarray:
@@ -177,7 +226,7 @@ def plural(name: str) -> str:
     return PLURALS.get(name, name + "s")
 
 
-def _slope(model: TwistModel, t_lo: float, t_hi: float, side: int) -> float:
+def _slope(model: TwistCurve, t_lo: float, t_hi: float, side: int) -> float:
     """(t_hi - t_lo) / (theta(t_hi) - theta(t_lo)) [N m/rad] on the loading branch of
     ``side`` (torques as magnitudes, signed by ``side``; the branch: their magnitude
     rising)."""
@@ -203,11 +252,24 @@ def loop_branches(torques) -> np.ndarray:
     return np.concatenate([[1], np.where(np.diff(t) >= 0, 1, -1)])
 
 
-def _stick(branches, twist) -> np.ndarray:
+def stuck_after_reversals(branches, twist) -> np.ndarray:
     """The loop's twist with the contacts stuck after each reversal: on a falling branch no
     more than at the reversal, on a rising one no less, until the branch's own curve
     passes that value (the play operator of a Coulomb element with rigid stick; without
-    friction the branch curves are continuous and nothing changes)."""
+    friction the branch curves are continuous and nothing changes).
+
+    Parameters
+    ----------
+    branches : sequence of int
+        Each point's branch (+1 rising, -1 falling).
+    twist : sequence of float
+        The branches' own twist at the points.
+
+    Returns
+    -------
+    numpy.ndarray
+        The twist with the contacts stuck.
+    """
     out = np.array(twist, float)
     tip = None
     for i in range(1, out.size):
@@ -218,13 +280,13 @@ def _stick(branches, twist) -> np.ndarray:
     return out
 
 
-def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool = False,
+def datasheet(model: TwistCurve, rated_torque_Nm: float, *, rated_assumed: bool = False,
               torque_max_Nm: float | None = None, steps: int = 8) -> Datasheet:
     """The hysteresis loop and the catalogue figures.
 
     Parameters
     ----------
-    model : TwistModel
+    model : TwistCurve
         The drive's twist over its positions (both torque signs).
     rated_torque_Nm : float
         Rated output torque [N m] (the catalogue's reference), > 0.
@@ -258,9 +320,9 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
     deg = lambda x: x / ARCMIN  # noqa: E731
     branches = loop_branches(torques)
     loop = Loop(torque_Nm=torques,
-                twist_arcmin=_stick(branches, [deg(p.total.mean()) for p in points]),
-                twist_min_arcmin=_stick(branches, [deg(p.total.min()) for p in points]),
-                twist_max_arcmin=_stick(branches, [deg(p.total.max()) for p in points]),
+                twist_arcmin=stuck_after_reversals(branches, [deg(p.total.mean()) for p in points]),
+                twist_min_arcmin=stuck_after_reversals(branches, [deg(p.total.min()) for p in points]),
+                twist_max_arcmin=stuck_after_reversals(branches, [deg(p.total.max()) for p in points]),
                 contacts=np.array([float(np.mean(p.contacts)) for p in points]))
     lo, hi = (f * rated for f in RIGIDITY_FRACTIONS)
     rig = tuple(_slope(model, lo, hi, s) * ARCMIN for s in (1, -1))
@@ -294,14 +356,14 @@ def datasheet(model: TwistModel, rated_torque_Nm: float, *, rated_assumed: bool 
                      contact_name=d.contact_name)
 
 
-def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
+def lost_motion_arcmin(model: TwistCurve, rated_torque_Nm: float) -> float:
     """Lost motion: the twist between the midpoints of the loop's width at +3 % and at -3 %
     of the rated torque (LOST_MOTION_FRACTION), each on its own flank; without friction the
     two branches coincide.
 
     Parameters
     ----------
-    model : TwistModel
+    model : TwistCurve
     rated_torque_Nm : float
         [N m].
 
@@ -317,13 +379,13 @@ def lost_motion_arcmin(model: TwistModel, rated_torque_Nm: float) -> float:
     return float((mid(t_lm, 1) - mid(-t_lm, -1)) / ARCMIN)
 
 
-def backlash_arcmin(model: TwistModel) -> float:
+def backlash_arcmin(model: TwistCurve) -> float:
     """Backlash: the mean twist at zero torque coming from + less that coming from -, the
     two flanks' closing rotations.
 
     Parameters
     ----------
-    model : TwistModel
+    model : TwistCurve
 
     Returns
     -------
@@ -333,7 +395,7 @@ def backlash_arcmin(model: TwistModel) -> float:
     return float((model.at(0.0, 1).total.mean() - model.at(0.0, -1).total.mean()) / ARCMIN)
 
 
-def _check_closed(model: TwistModel, t_max: float) -> None:
+def _check_closed(model: TwistCurve, t_max: float) -> None:
     """The loop's largest torque must close the modification's clearance to at least
     MIN_CONTACTS_AT_MAX contacts at every position (else the curve shows only backlash)."""
     for side in (1, -1):

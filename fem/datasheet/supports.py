@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ...units import ARCMIN, MM_PER_M
+
 #: Palmgren's approach of one steel roller on one raceway (line contact), in his units:
 #: delta [mm] = PALMGREN_LINE_MM Q[N]^0.9 / l[mm]^0.8 (A. Palmgren, Ball and Roller
 #: Bearing Engineering, 3rd ed., 1959; T. A. Harris, M. N. Kotzalas, Essential Concepts
@@ -138,8 +140,7 @@ class Supports:
         dict
             name (in mm or N m/arcmin) -> {"value": float or None, "assumed": bool}.
         """
-        mm = 1e3
-        per_arcmin = math.pi / (180 * 60)
+        mm, per_arcmin = MM_PER_M, ARCMIN
         rows = {
             "bearing_roller_count": self.bearing_roller_count,
             "bearing_roller_length_mm": self.bearing_roller_length_m * mm,

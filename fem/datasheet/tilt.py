@@ -104,9 +104,8 @@ from scipy.special import ellipk, elliprd
 
 from ...errors import ToothfemError, check_range
 from ..hertz import reduced_modulus
+from ...units import ARCMIN
 
-#: One arc minute [rad].
-ARCMIN = math.pi / (180 * 60)
 #: ISO 76's contact pressure at the static load rating of a ball bearing (self-aligning
 #: ones excepted: 4600 MPa) [Pa].
 ISO76_BALL_PRESSURE_PA = 4200e6
@@ -334,7 +333,8 @@ class RacewayContact:
         return (self.approach_coeff_inner + self.approach_coeff_outer) ** -1.5
 
 
-def _contact_radii(pair: BallPair, alpha):
+def _contact_radii(pair: BallPair, alpha) -> tuple[tuple[float | np.ndarray, float],
+                                                   tuple[float | np.ndarray, float]]:
     """(R_x, R_y) of the inner and the outer contact at contact angle(s) alpha [m]."""
     d = pair.ball_diameter_m
     gamma = d * np.cos(alpha) / pair.pitch_diameter_m

@@ -18,15 +18,17 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...errors import CaseError
+from ...units import ARCMIN, ARCSEC  # noqa: F401  (the datasheet's angles, re-exported)
 from .split import even_coupling, member_torques
 
-#: One arc minute and one arc second [rad].
-ARCMIN = math.pi / (180 * 60)
-ARCSEC = ARCMIN / 60
+if TYPE_CHECKING:
+    from ..load_sharing import LoadSharing
+
 #: A contact counts as closed at zero torque when the rigid rotation leaves it a gap below
 #: this fraction of the largest gap it closes (rounding of the exact clearances).
 CLOSED_GAP_REL = 1e-9
@@ -49,7 +51,7 @@ class TwistPoint:
     total: np.ndarray
     paths: dict
     contacts: np.ndarray
-    load_sharing: object = None     # the mesh's LoadSharing (None at zero torque)
+    load_sharing: LoadSharing | None = None     # the mesh's (None at zero torque)
     member_torques_Nm: tuple = ()   # (M,) the members' torques [N m], signed
 
 
@@ -136,8 +138,12 @@ class TwistModel:
         self._output = dict(drive.output_compliance(supports))
         if supports.carrier_stiffness_Nm_per_rad:
             self._output["carrier"] = 1.0 / supports.carrier_stiffness_Nm_per_rad
-        self._memo, self._own_memo = {}, {}
-        self._last_split = None          # (shares (M,), slopes (M,)): Newton's next start
+        self._memo: dict[tuple[float, int], TwistPoint] = {}
+        # (torque, side) -> (paths, LoadSharing or None, contacts (P,)): :meth:`_own`
+        self._own_memo: dict[tuple[float, int],
+                             tuple[dict[str, np.ndarray], LoadSharing | None, np.ndarray]] = {}
+        # (shares (M,), slopes (M,)): Newton's next start
+        self._last_split: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def path_names(self) -> list:
@@ -278,7 +284,7 @@ class TwistModel:
 
         shares, slope = self._last_split or (np.full(m, 1.0 / m), np.full(m, np.nan))
         slope = slope.copy()
-        last = {}                         # member -> (torque, twist) of the last step
+        last: dict[int, tuple[float, float]] = {}     # member -> (torque, twist) of the last step
 
         def paths(x):
             f = np.array([mean(v) for v in x])

@@ -7,23 +7,25 @@ disk cache) and the analytic split. :func:`drive_for` picks the implementation f
 :class:`CycloidDrive` (a cycloid disc on its pins: K-H-V cycloid drives and the second
 stage of RV-type drives) or :class:`SineDrive` (the sine planet in its ring).
 
-To add a drive: implement :class:`Drive` in a module of this package and register it in
-:data:`DRIVES` under the case's ``drive`` name(s); the efficiency model registers its loss
-model for the new ``kind`` in ``toothfem.efficiency.evaluate``.
+To add a drive: implement :class:`Drive` in a module of this package, give its layout a
+record in :data:`toothfem.fem.drives.registry.RECORDS` and its class here in
+:data:`DRIVES`, and provide every part of ``registry.PARTS`` in the module that owns it
+(docs/architecture.md, "Adding a drive"; tests/test_registry.py checks each).
 """
 from __future__ import annotations
 
-from ...errors import CaseError
 from .base import DEFAULT_POSITIONS, MAX_POSITIONS, Drive
 from .cycloid import CycloidDrive
 from .sine import SineDrive
 from ...si import si_of
+from .registry import layout_name
 
 __all__ = ["DEFAULT_POSITIONS", "MAX_POSITIONS", "Drive", "CycloidDrive", "SineDrive", "DRIVES", "drive_for"]
 
 #: The case's ``drive`` name -> the implementation that analyses its meshing stage (an RV
 #: drive's contact stage is its cycloid disc).
-DRIVES = {"cycloid": CycloidDrive, "rv": CycloidDrive, "sine": SineDrive}
+DRIVES: dict[str, type[CycloidDrive] | type[SineDrive]] = {
+    "cycloid": CycloidDrive, "rv": CycloidDrive, "sine": SineDrive}
 
 
 def drive_for(case) -> Drive:
@@ -46,7 +48,4 @@ def drive_for(case) -> Drive:
         disc) or lacks the [material] the contact needs.
     """
     si = si_of(case)
-    cls = DRIVES.get(si.drive)
-    if cls is None:
-        raise CaseError(f"case.drive = {si.drive!r} is not one of {sorted(DRIVES)}")
-    return cls.from_case(si)
+    return DRIVES[layout_name(si)].from_case(si)

@@ -11,6 +11,8 @@ from ...errors import CaseError, check_range, checked_array
 from ..hertz import reduced_modulus
 from ..cache import DiskCache, default_dir
 from ..load_sharing import LoadSharing, analytic_split
+from ..contracts import CycleSolver, DetailedSolution
+from .registry import RECORDS, DriveRecord
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
 #: 40-pin drive, enough for the load per pin to converge (docs/fem.md).
@@ -27,7 +29,8 @@ class Drive(abc.ABC):
     built for it is cached per design.
     """
 
-    #: "cycloid" or "sine": the key of per-drive tables elsewhere (loss models, labels).
+    #: "cycloid" or "sine": the meshing stage, as its case section and the mesh efficiency
+    #: are named (labels only; consumers ask :meth:`part`, never branch on it).
     kind: str = ""
     #: what the moving member and a contact are called in outputs ("disc", "pin", "pins";
     #: "planet", "tooth", "teeth"): labels and summary keys, never a branch.
@@ -115,7 +118,7 @@ class Drive(abc.ABC):
         """
 
     @abc.abstractmethod
-    def _new_cycle_solver(self, model, positions_rad, cache, **options):
+    def _new_cycle_solver(self, model, positions_rad, cache, **options) -> CycleSolver:
         """A cycle-mode solver of ``model`` at the positions (``options``: the solver's)."""
 
     @property
@@ -124,7 +127,8 @@ class Drive(abc.ABC):
         """Unloaded gap within which a contact shares the load in the analytic split."""
 
     @abc.abstractmethod
-    def solve_detailed(self, model, position_rad: float, member_torque_Nm: float):
+    def solve_detailed(self, model, position_rad: float,
+                       member_torque_Nm: float) -> DetailedSolution:
         """Two-body FE contact at one position (verification, stress fields).
 
         Parameters
@@ -138,7 +142,7 @@ class Drive(abc.ABC):
 
         Returns
         -------
-        object
+        toothfem.fem.contracts.DetailedSolution
             The mode's result: its ``load_sharing`` (one position), ``member_body`` and
             ``member_displacement``.
         """
@@ -200,6 +204,32 @@ class Drive(abc.ABC):
     def two_stage(self) -> bool:
         """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
         return False
+
+    @property
+    def layout(self) -> str:
+        """The layout's name in :data:`toothfem.fem.drives.registry.RECORDS` (default: the
+        stage's kind)."""
+        return self.kind
+
+    @property
+    def record(self) -> DriveRecord:
+        """The layout's registration record (:mod:`toothfem.fem.drives.registry`)."""
+        return RECORDS[self.layout]
+
+    def part(self, name: str):
+        """The layout's part ``name``: what a consumer asks instead of branching on the drive.
+
+        Parameters
+        ----------
+        name : str
+            A key of :data:`toothfem.fem.drives.registry.PARTS`.
+
+        Returns
+        -------
+        callable
+            The part its owning module provided (``DriveRecord.part``).
+        """
+        return self.record.part(name)
 
     def te_orders(self) -> dict:
         """Orders per output revolution at which a transmission-error ripple is expected
@@ -562,7 +592,7 @@ class Drive(abc.ABC):
 
     def cycle_solver(self, n_positions: int = DEFAULT_POSITIONS, *, cache=True,
                      solver_options: dict | None = None, pitch: int = 0, offset: int = 0,
-                     **overrides):
+                     **overrides) -> CycleSolver:
         """The FE cycle-mode solver over :meth:`positions`, built once per design and
         options in this process.
 
@@ -617,7 +647,8 @@ class Drive(abc.ABC):
 def _merged_orders(pairs) -> dict:
     """{name: order} of (name, order) pairs, rounded to 1e-9; the names of equal orders
     joined by " = " in one entry (a K-H-V drive's crank is its input)."""
-    names, orders = [], []
+    names: list[str] = []
+    orders: list[float] = []
     for name, q in pairs:
         q = round(float(q), 9)
         if q in orders:

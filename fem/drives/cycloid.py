@@ -14,10 +14,11 @@ from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
 from .. import deviations as dv
 from ..datasheet import supports as sp
-from ..system.cycloid import CycloidSystem
+from .assembly import CycloidSystem
 from ..system.mesh import PinMesh
 from .base import Drive, _merged_orders
 from ...geometry.disc import disc_polygon
+from ...si import CycloidStageSI, MaterialSI, OutputMechanismSI, SpurStageSI
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -25,11 +26,11 @@ class CycloidDrive(Drive):
     """A cycloid disc stage in SI (:class:`toothfem.si.CycloidStageSI`) with its train:
     ``first_teeth`` (sun, planet) of the spur first stage of a 2K-V drive, or None for a
     K-H-V drive whose disc is the output member."""
-    stage: object                   # toothfem.si.CycloidStageSI
-    material_si: object             # toothfem.si.MaterialSI
+    stage: CycloidStageSI
+    material_si: MaterialSI
     first_teeth: tuple[int, int] | None = None
-    first_stage: object = None      # toothfem.si.SpurStageSI of a 2K-V drive, if the case has it
-    output: object = None           # toothfem.si.OutputMechanismSI: a K-H-V drive's output pins
+    first_stage: SpurStageSI | None = None      # of a 2K-V drive, if the case has it
+    output: OutputMechanismSI | None = None     # a K-H-V drive's output pins
 
     kind = "cycloid"
     member_name = "disc"
@@ -103,6 +104,23 @@ class CycloidDrive(Drive):
     def two_stage(self) -> bool:
         """A 2K-V (RV-type) train: a spur first stage drives the cranks."""
         return self.first_teeth is not None
+
+    @property
+    def layout(self) -> str:
+        """"rv" (2K-V) or "cycloid" (K-H-V)."""
+        return "rv" if self.two_stage else "cycloid"
+
+    @property
+    def eccentric_race_radius_m(self) -> float:
+        """The eccentric bearings' outer raceway: the crank hole (2K-V) or the centre bore
+        (K-H-V) [m]."""
+        h = self.stage.holes
+        return h.crank_hole_radius_m if self.two_stage else h.centre_bore_radius_m
+
+    @property
+    def eccentric_bearing_count(self) -> int:
+        """Eccentric bearings per disc: one per crank hole (2K-V), one (K-H-V)."""
+        return self.stage.holes.crank_hole_count if self.two_stage else 1
 
     def members_torque(self, output_torque_Nm):
         """The discs' torque together: a 2K-V drive's pins turn the discs against the
@@ -201,7 +219,8 @@ class CycloidDrive(Drive):
         """
         return cym.meshing(self.geometry, positions_rad, crank_speed_rad_s, pin_motion="fixed")
 
-    def fe_model(self, *, pin_structure: str | None = None, plane: str = "strain"):
+    def fe_model(self, *, pin_structure: str | None = None, plane: str = "strain",
+                 **unknown: object):
         """The disc, its pins and material as an FE model.
 
         Parameters
@@ -210,11 +229,22 @@ class CycloidDrive(Drive):
             Instead of the stage's.
         plane : {"strain", "stress"}
             The 2-D idealisation.
+        **unknown
+            None taken (:meth:`Drive.fe_model` takes any keyword; this model only the two
+            above): a TypeError, as for any unexpected keyword.
 
         Returns
         -------
         toothfem.fem.cycloid_fe.CycloidFEModel
+
+        Raises
+        ------
+        TypeError
+            For any other keyword.
         """
+        if unknown:
+            raise TypeError("CycloidDrive.fe_model() got an unexpected keyword argument "
+                            f"{next(iter(unknown))!r}")
         st, m = self.stage, self.material_si
         return cf.CycloidFEModel(
             geometry=st.geometry, holes=st.holes, youngs_modulus=m.youngs_modulus_Pa,
@@ -276,9 +306,9 @@ class CycloidDrive(Drive):
         """Disc j sits on eccentrics turned by 2 pi j / discs (Zb j / discs pitches); it is
         the first disc's part turned by i_j lobes more than the K-H-V pose at its crank
         angle, the smallest i_j that puts its crank holes on the cranks (K-H-V: its output
-        pins' holes on the pins): (i_j - j/discs) s / Za whole, s those holes. Turning the part by i lobes moves
-        its contacts i lobes back against its holes, so on the full-period grid disc j is
-        the first disc at pitch Zb j / discs - i_j.
+        pins' holes on the pins): (i_j - j/discs) s / Za whole, s those holes. Turning the
+        part by i lobes moves its contacts i lobes back against its holes, so on the
+        full-period grid disc j is the first disc at pitch Zb j / discs - i_j.
 
         Parameters
         ----------
@@ -332,8 +362,8 @@ class CycloidDrive(Drive):
         -------
         toothfem.fem.datasheet.supports.Supports
         """
-        h, g, w = self.stage.holes, self.geometry, self.face_width_m
-        race = h.crank_hole_radius_m if self.two_stage else h.centre_bore_radius_m
+        g, w = self.geometry, self.face_width_m
+        race = self.eccentric_race_radius_m
         d_roller = declared.bearing_roller_diameter_m or sp.ROLLER_DIAMETER_REL * race
         journal = 2 * (race - d_roller)
         return sp.resolved(declared, raceway_radius_m=race, roller_length_m=w,
@@ -442,7 +472,7 @@ class CycloidDrive(Drive):
 
     def system_model(self, supports, n_positions: int, **options):
         """The cycloid reducer's system model, 2K-V or K-H-V
-        (:class:`toothfem.fem.system.cycloid.CycloidSystem`).
+        (:class:`toothfem.fem.drives.assembly.CycloidSystem`).
 
         Parameters
         ----------
@@ -454,7 +484,7 @@ class CycloidDrive(Drive):
 
         Returns
         -------
-        toothfem.fem.system.cycloid.CycloidSystem
+        toothfem.fem.drives.assembly.CycloidSystem
         """
         return CycloidSystem(self, supports, n_positions, **options)
 

@@ -12,9 +12,10 @@ from ...geometry.vectors import rotate
 from .. import deviations as dv
 from .. import sine_fe as sf
 from ..datasheet import supports as sp
-from ..system.cycloid import CycloidSystem
+from .assembly import CycloidSystem
 from ..system.mesh import ToothMesh
 from .base import Drive, _merged_orders
+from ...si import MaterialSI, OutputMechanismSI, SineStageSI
 
 #: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
 #: the planet's pitch radius (ASSUMPTION; the prototype's 10 mm is 0.28 of its 35.55 mm).
@@ -30,9 +31,9 @@ SINE_IN_MESH_GAP_M = 5e-6
 class SineDrive(Drive):
     """The sine pair in SI (:class:`toothfem.si.SineStageSI`); the output mechanism (pins
     in holes) sets where the FE model holds the planet."""
-    stage: object                   # toothfem.si.SineStageSI
-    material_si: object             # toothfem.si.MaterialSI
-    output_mechanism: object = None  # toothfem.si.OutputMechanismSI or None
+    stage: SineStageSI
+    material_si: MaterialSI
+    output_mechanism: OutputMechanismSI | None = None
 
     kind = "sine"
     member_name = "planet"
@@ -290,7 +291,7 @@ class SineDrive(Drive):
         return ToothMesh(self)
 
     def system_model(self, supports, n_positions: int, **options):
-        """The reducer's system model (:class:`toothfem.fem.system.cycloid.CycloidSystem`
+        """The reducer's system model (:class:`toothfem.fem.drives.assembly.CycloidSystem`
         with the planet's mesh): the planet on its teeth, the eccentric bearing, the input
         shaft on its bearings and the output pins in the planet's holes; None without an
         output mechanism (nothing carries the torque to the output).
@@ -305,7 +306,7 @@ class SineDrive(Drive):
 
         Returns
         -------
-        toothfem.fem.system.cycloid.CycloidSystem or None
+        toothfem.fem.drives.assembly.CycloidSystem or None
         """
         if self.output_mechanism is None:
             return None

@@ -14,7 +14,7 @@ from ...geometry import sine
 from ...geometry.kinematics import equivalent_radius
 from ...geometry.vectors import rotate
 from .. import contact
-from ..cache import content_key
+from ..cache import DiskCache, content_key
 from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
 from .grid import _circle, _grid_body, _GridBody, _planet_toothed, ring_foot, _ring_toothed
 from .model import SineFEModel
@@ -124,7 +124,7 @@ class CycleSolver:
     positions_rad: np.ndarray
     spacing: float = DEFAULT_SPACING
     select_gap: float = DEFAULT_SELECT_GAP
-    cache: object = None
+    cache: DiskCache | None = None
 
     def __post_init__(self):
         self.positions_rad = np.atleast_1d(np.asarray(self.positions_rad, float))
@@ -140,7 +140,26 @@ class CycleSolver:
 
     def prepare(self) -> None:
         """Build (or read from the cache) both bodies' hat tables now."""
-        self.planet, self.ring
+        _ = self.planet, self.ring      # the cached properties build or read them
+
+    def structural_field(self, p: int, load_sharing: LoadSharing):
+        """None here: the hat grids carry no stress field (``has_structural_field`` is
+        False; the detailed mode draws the planet's).
+
+        Parameters
+        ----------
+        p : int
+            Index into ``positions_rad``.
+        load_sharing : LoadSharing
+
+        Raises
+        ------
+        ValueError
+            Always, naming the detailed mode.
+        """
+        raise ValueError("the sine pair's cycle mode has no structural field "
+                         "(has_structural_field is False): solve the position in the "
+                         "detailed mode (Drive.solve_detailed)")
 
     @property
     def reach(self) -> int:

@@ -137,7 +137,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
     _, g0, nrm = ring_foot(pair, kp)
     rel = kp - centre[:, None]
     arm = rel[0] * nrm[1] - rel[1] * nrm[0]
-    zones = []
+    zones: list[tuple[int, int]] = []
     side = 1.0 if torque > 0 else -1.0      # a negative torque loads the other flanks
     for a, b in _runs((g0 < zone_gap) & (side * arm < 0)):
         a, b = max(a - ZONE_PAD, 0), min(b + ZONE_PAD, sig.size)

@@ -3,6 +3,7 @@ table (fem/sine_fe/__init__.py)."""
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -38,7 +39,7 @@ class _Toothed:
     by d * ``turn``. Both profiles run counter-clockwise with phi; ``inward``: +1 if the
     material lies on the left (inside the curve: the planet), -1 on the right (the ring,
     whose profile bounds a hole). ``exterior``: the curve is the body's outer boundary."""
-    curve: object            # phi (N,) -> (points (2, N), d1 (2, N))
+    curve: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]   # phi (N,) -> (points, d1) (2, N)
     dphi: float
     teeth: int
     turn: float

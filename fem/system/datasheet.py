@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -19,7 +20,9 @@ from ...errors import CaseError
 from ..datasheet.transmission import (MemberSplit, check_te_inputs, fourier_fill,
                                       loaded_record, sampled_pitches)
 from ..datasheet.twist import ARCMIN, ZERO_TORQUE_NM, TwistPoint
-from .cycloid import CycloidSystem
+
+if TYPE_CHECKING:        # the layouts' assembly lives with the drives (fem/drives/assembly.py)
+    from ..drives.assembly import CycloidSystem, SystemState
 
 #: Every part of the twist is named after the part; a contact set's closed clearance
 #: ("mesh clearance") is reported with the contacts ("mesh").
@@ -100,10 +103,10 @@ class SystemTwist:
 
     Parameters
     ----------
-    system : toothfem.fem.system.cycloid.CycloidSystem
+    system : toothfem.fem.drives.assembly.CycloidSystem
     progress : callable, optional
         Wraps each torque's iterator over the positions.
-    friction : toothfem.fem.system.cycloid.PathFriction, optional
+    friction : toothfem.fem.drives.assembly.PathFriction, optional
         None: frictionless (the elastic curve).
     deviation : toothfem.fem.deviations.CycloidDeviation, optional
         A built stage (:meth:`CycloidSystem.solve`).
@@ -130,8 +133,8 @@ class SystemTwist:
         self.positions_rad = np.asarray(system.slots[0].solver.positions_rad, float)
         self.progress = progress
         self.reference = reference
-        self._memo = {}
-        self._last = {}          # flank -> the states of the last torque solved (a start)
+        self._memo: dict[float, list[SystemState]] = {}
+        self._last: dict[int, list[SystemState]] = {}   # flank -> the last torque's states (a start)
 
     def states(self, output_torque_Nm: float, side: int = 1) -> list:
         """The system's states at every position (kept: each torque is solved once).
@@ -287,7 +290,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
     k = drive.full_period_pitches if full_period is None else int(full_period)
     pitches = sampled_pitches(k, samples)
     # one system at a time (its tables read as it is solved; a bar steps per pitch)
-    systems = (CycloidSystem(drive, supports, per_pitch, cache=cache, pitch=m, **options)
+    systems = (_system_model(drive, supports, per_pitch, cache=cache, pitch=m, **options)
                for m in (pitches if progress is None else progress(pitches)))
     return period_te(systems, pitches, output_torque_Nm, full_period=k, deviation=deviation,
                      geometry=geometry)
@@ -386,3 +389,12 @@ FRICTION_ITERATIONS, FRICTION_RTOL = 50, 1e-3
 #: The discs share the torque evenly when no share departs from 1/M by more than this
 #: (the round-off of the solve; a layout that splits unevenly departs by percents).
 EVEN_SHARE_ATOL = 1e-6
+
+
+def _system_model(drive, supports, per_pitch, **options):
+    """The drive's system model at one pitch, or the CaseError of a drive without one."""
+    system = drive.system_model(supports, per_pitch, **options)
+    if system is None:
+        raise CaseError(f"the {drive.member_name} has no output path (no [output_mechanism]): "
+                        "no system model to take the transmission error from")
+    return system

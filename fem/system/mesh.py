@@ -2,18 +2,19 @@
 as the system model takes it: the candidates at a position, their initial gaps, where and
 along which normal they touch, the bodies' flexibility from the FE tables, and which pin
 or tooth each stands for (docs/stiffness.md, "The system model"). One class per kind of
-mesh; everything else about a layout is the system model's own (fem/system/cycloid.py).
+mesh; everything else about a layout is the system model's own (fem/drives/assembly.py).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import cast
 
 import numpy as np
 
 from ...geometry.vectors import rotate
 from ..contact import ContactError
 from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps, record
-from ..sine_fe.cycle import DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN
+from ..sine_fe.cycle import DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN, HatContacts
 from .tables import PitchTables
 
 
@@ -144,9 +145,7 @@ class PinMesh(Mesh):
         float
             [m]: the crank hole's (K-H-V: centre bore's) radius less a roller diameter.
         """
-        h = self.drive.stage.holes
-        race = h.crank_hole_radius_m if self.drive.two_stage else h.centre_bore_radius_m
-        return race - supports.bearing_roller_diameter_m
+        return self.drive.eccentric_race_radius_m - supports.bearing_roller_diameter_m
 
     def sliding_coefficient(self, friction) -> float:
         """The mesh's Coulomb coefficient: a conventional pin that turns more easily in its
@@ -154,7 +153,7 @@ class PinMesh(Mesh):
 
         Parameters
         ----------
-        friction : toothfem.fem.system.cycloid.PathFriction
+        friction : toothfem.fem.drives.assembly.PathFriction
 
         Returns
         -------
@@ -193,7 +192,7 @@ class PinMesh(Mesh):
 
         Parameters
         ----------
-        slot : toothfem.fem.system.cycloid.DiscSlot
+        slot : toothfem.fem.drives.assembly.DiscSlot
         p : int
             Position index.
         side : {1, -1}
@@ -247,7 +246,7 @@ class PinMesh(Mesh):
 
         Parameters
         ----------
-        slot : toothfem.fem.system.cycloid.DiscSlot
+        slot : toothfem.fem.drives.assembly.DiscSlot
         solved : list of MeshSolution
             The disc's at each position.
         twist : array_like, shape (P,)
@@ -318,7 +317,7 @@ class ToothMesh(Mesh):
 
         Parameters
         ----------
-        friction : toothfem.fem.system.cycloid.PathFriction
+        friction : toothfem.fem.drives.assembly.PathFriction
 
         Returns
         -------
@@ -334,7 +333,7 @@ class ToothMesh(Mesh):
 
         Parameters
         ----------
-        slot : toothfem.fem.system.cycloid.DiscSlot
+        slot : toothfem.fem.drives.assembly.DiscSlot
         p : int
             Position index.
         side, torque, turn, shift, tables
@@ -374,7 +373,7 @@ class ToothMesh(Mesh):
 
         Parameters
         ----------
-        slot : toothfem.fem.system.cycloid.DiscSlot
+        slot : toothfem.fem.drives.assembly.DiscSlot
         solved : list of MeshSolution
             The planet's at each position.
         twist : array_like, shape (P,)
@@ -420,7 +419,7 @@ class ToothMesh(Mesh):
         toothfem.fem.contact.ContactError
             If it would pass SELECT_GAP_MAX (the load is too high for the candidates).
         """
-        _, h, _ = mesh.source
+        _, h, _ = cast("tuple[float, HatContacts, int]", mesh.source)  # _contacts' source
         loaded = force > 0
         edge = mesh.g0 > SELECT_MARGIN * h.select_gap
         if np.max(mesh.g0[loaded], initial=0.0) <= SELECT_MARGIN * h.select_gap \

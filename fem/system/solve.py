@@ -35,6 +35,7 @@ its deformation, B_e u, so the parts still add up to the twist exactly.
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -85,7 +86,7 @@ class Element:
     name: str
     group: str
     b: np.ndarray
-    law: object
+    law: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]
     offset: np.ndarray | None = None
 
     def deformation(self, u) -> np.ndarray:
@@ -116,7 +117,7 @@ class ContactSet:
     g0: np.ndarray
     g: np.ndarray
     base: np.ndarray | None = None
-    local: object = None
+    local: Callable[[np.ndarray], np.ndarray] | None = None
 
     def local_terms(self, lam):
         """The local law's secant and its own-force rate at the forces lam (the diagonal
@@ -162,7 +163,7 @@ class Equilibrium:
 def _each_element(elements, u) -> dict:
     """{name: (force, deformation)} of every element at u (what the outputs report); the
     elements of one law evaluated together."""
-    groups = {}
+    groups: dict[int, list[Element]] = {}
     for e in elements:
         groups.setdefault(id(e.law), []).append(e)
     out = {}
@@ -226,7 +227,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
             active = closing_motion(n, elements, gmat, g0, q, u)[0]
         secant = u0 is None
         last_rel = (np.inf, np.inf)
-        for it in range(1, MAX_NEWTON + 1):
+        for it in range(1, MAX_NEWTON + 1):  # noqa: B007 - it is read after the loop (iterations)
             f_int, kt = _internal(linear, forced, nonlinear, u, n, secant)
             # the contacts' approach H(lam) lam linearised at lam: H + D, D its diagonal's
             # own-force derivative lam_i dH_ii/dlam_i (the Hertz and Palmgren laws), so the
@@ -257,17 +258,18 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
             h, d = _flexibility(contacts, lam, sizes)
         else:
             raise ContactError(f"the system did not settle in {MAX_NEWTON} Newton steps")
+    du_rate: np.ndarray | None
     if rate:
         _, kt = _internal(linear, forced, nonlinear, u, n)
         tangent = h + np.diag(d)
-        rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)],
-                     q / np.linalg.norm(q))
+        du_rate = _rate(n, kt, gmat[active], tangent[np.ix_(active, active)],
+                        q / np.linalg.norm(q))
     else:
-        rate = None
+        du_rate = None
     per = _each_element(elements, u)
     gap = g0 + h @ lam + gmat @ u
     gap = np.where(active, 0.0, gap)
-    work = {}
+    work: dict[str, float] = {}
     for e in elements:
         f = per[e.name][0]
         work[e.group] = work.get(e.group, 0.0) + float(f @ (e.b @ u))
@@ -282,7 +284,7 @@ def solve(n: int, elements, contacts, q, *, u0=None, active0=None,
         gaps={c.name: gap[sizes[k]:sizes[k + 1]] for k, c in enumerate(contacts)},
         element_force={k: v[0] for k, v in per.items()},
         element_deformation={k: v[1] for k, v in per.items()}, work=work,
-        iterations=it, rate=rate)
+        iterations=it, rate=du_rate)
 
 
 def _rate(n, kt, ga, haa, dq) -> np.ndarray:

@@ -38,7 +38,7 @@ class PitchTables:
         self.solvers = [drive.cycle_solver(n_positions, cache=cache,
                                            offset=offset + m * n_positions,
                                            solver_options=options) for m in self.pitches]
-        self._filled = {}
+        self._filled: dict[tuple[int, int], np.ndarray] = {}   # (p, side) -> (full period, C, C)
 
     def prepare(self) -> None:
         """Every sampled pitch's tables now: from the disk cache where it holds them, else

@@ -6,7 +6,8 @@ import json
 from pathlib import Path
 
 from ..case import load_case
-from ..design import design_analysis, write_design
+from ..design import design_analysis
+from ..report.design import write_design
 from ..errors import decode_text
 from ..output import atomic_dir
 from ..report import design as report_design, html as report_html

@@ -6,7 +6,8 @@ import argparse
 import json
 import textwrap
 
-from ..case_new import DRIVE_LABELS, KEY_NUMBERS, OPTIONS, SINE_SIZE, new_case
+from ..case_new import FLOAT_KEY_NUMBERS, OPTIONS, NewCaseTemplate, new_case, templates
+from ..fem.drives.registry import RECORDS
 from ..output import check_new_file, write_new_file
 
 
@@ -18,41 +19,45 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    def needs(d):
-        size = ["one of " + " / ".join(OPTIONS[k] for k in SINE_SIZE)] if d == "sine" else []
-        return ", ".join([OPTIONS[k] for k in KEY_NUMBERS[d][0]] + size)
-
-    drives = "; ".join(f"{d}: {label} ({needs(d)})" for d, label in DRIVE_LABELS.items())
+    drives = templates()
+    listed = "; ".join(f"{d}: {RECORDS[d].label} ({_needs(t)})" for d, t in drives.items())
     p = sub.add_parser(
         "new", help="write a case file from a drive type and its key numbers (every other "
         "value derived or marked ASSUMPTION); it passes `check` and runs `run` as written",
-        description=textwrap.fill(f"Drives and their required key numbers: {drives}.", 79,
+        description=textwrap.fill(f"Drives and their required key numbers: {listed}.", 79,
                                   break_on_hyphens=False),
         formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("drive", choices=tuple(DRIVE_LABELS), help="the case's drive type")
+    p.add_argument("drive", choices=tuple(drives), help="the case's drive type")
     num = p.add_argument_group("key numbers (units in the names)")
-    for option, metavar, kind, text in (
-            ("--pins", "N", int, "cycloid, rv: pins Zb in the housing"),
-            ("--lobes", "N", int, "cycloid, rv: lobes Za of a disc (default pins - 1)"),
-            ("--pin-circle-radius-mm", "MM", float, "cycloid, rv: pin circle radius Rz [mm]"),
-            ("--eccentricity-mm", "MM", float, "cycloid, rv: the crank's eccentricity [mm]; "
-             "sine: the centre distance a0 (one way to give its size)"),
-            ("--sun-teeth", "N", int, "rv: the first stage's sun teeth"),
-            ("--planet-teeth", "N", int, "rv: the first stage's planet teeth"),
-            ("--teeth", "N", int, "sine: the planet's teeth z1"),
-            ("--ring-teeth", "N", int, "sine: the ring's teeth (default z1 + 1)"),
-            ("--module-mm", "MM", float, "sine: the module [mm]"),
-            ("--ring-pitch-radius-mm", "MM", float, "sine: the ring's pitch radius [mm]"),
-            ("--torque-Nm", "NM", float, "output torque [N m]: the operating point and the "
-             "rated torque the size is for"),
-            ("--input-speed-rpm", "RPM", float, "input speed [rpm]")):
-        num.add_argument(option, metavar=metavar, type=kind, help=text)
+    for kw, option in OPTIONS.items():
+        floats = kw in FLOAT_KEY_NUMBERS      # a length, torque or speed: its unit names it
+        num.add_argument(option, metavar=kw.rsplit("_", 1)[1].upper() if floats else "N",
+                         type=float if floats else int, help=_meaning(kw, drives))
     p.add_argument("--name", help="the case's name (default: from the key numbers)")
     p.add_argument("--out", required=True, metavar="FILE.toml",
                    help="the case file to write (TOML); an existing file is not replaced")
     p.add_argument("--force", action="store_true", help="replace an existing --out file")
     p.add_argument("--json", action="store_true", help="print JSON instead of lines")
     p.set_defaults(func=run)
+
+
+def _needs(template: NewCaseTemplate) -> str:
+    """A layout's required key numbers, and its size options where it has them."""
+    size = ["one of " + " / ".join(OPTIONS[k] for k in template.sizes)] if template.sizes \
+        else []
+    return ", ".join([OPTIONS[k] for k in template.required] + size)
+
+
+def _meaning(kw: str, drives: dict) -> str:
+    """What a key number is, once where every layout means the same by it, else per the
+    layouts that take it ("cycloid, rv: ...; sine: ...")."""
+    by_text: dict[str, list[str]] = {}
+    for d, template in drives.items():
+        if kw in template.key_help:
+            by_text.setdefault(template.key_help[kw], []).append(d)
+    if [list(drives)] == list(by_text.values()):
+        return next(iter(by_text))
+    return "; ".join(f"{', '.join(ds)}: {text}" for text, ds in by_text.items())
 
 
 def run(args) -> int:
@@ -86,7 +91,7 @@ def run(args) -> int:
                           "assumptions": [{"key": k, "value": v, "reason": r}
                                           for k, v, r in new.assumptions]}, indent=2))
         return 0
-    print(f"wrote {path}: {DRIVE_LABELS[new.drive]}, ratio {new.ratio:.6g} (signed), "
+    print(f"wrote {path}: {RECORDS[new.drive].label}, ratio {new.ratio:.6g} (signed), "
           f"{len(new.key_numbers)} key numbers, {len(new.assumptions)} values marked "
           "ASSUMPTION with their reasons")
     print(f"  at {new.case.operating.output_torque_Nm:g} N m (analytic split): peak Hertz "

@@ -61,7 +61,9 @@ def run(args) -> int:
         print(json.dumps({"efficiency": res.efficiency, "contact": contact,
                           "warnings": res.warnings, "report": str(report)}, indent=2))
         return 0
-    case = res.case
+    case, dur = res.case, res.durability
+    if case is None or dur is None:
+        raise RuntimeError("run_case returned a result without its case or durability")
     print(report_summary.text(
         report_summary.efficiency_rows(res.efficiency, case.published),
         title=f"{case.name}: efficiency at {res.speed_rpm:g} rpm input, "
@@ -72,7 +74,7 @@ def run(args) -> int:
             report_summary.contact_rows(res.contact.summary, contact_labels(res.contact),
                                         case.published),
             title=f"contact ({res.contact.mode} mode)"))
-    heat, life, strength = (res.durability[k] for k in ("heat", "life", "strength"))
+    heat, life, strength = (dur[k] for k in ("heat", "life", "strength"))
     l10 = life["unit_l10_h"]
     print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; bearings L10 "
           + ("not rated" if l10 is None else f"{l10:.4g} h (limiting: {life['limiting']})")

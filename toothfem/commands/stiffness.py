@@ -9,7 +9,8 @@ from pathlib import Path
 
 from ..case import load_case
 from ..output import atomic_dir
-from ..datasheet import datasheet_rows, stiffness_analysis, write_stiffness
+from ..datasheet import stiffness_analysis
+from ..report.stiffness import datasheet_rows, write_stiffness
 from ..report import html as report_html, summary as report_summary
 
 

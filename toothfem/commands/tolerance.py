@@ -10,7 +10,8 @@ from ..fem.cache import content_key
 from ..output import atomic_dir, resumable_dir
 from ..report import html as report_html, summary as report_summary
 from ..report import tolerance as report_tolerance
-from ..tolerance import tolerance_analysis, write_tolerance
+from ..report.tolerance import write_tolerance
+from ..tolerance import tolerance_analysis
 
 
 def add_parser(sub):

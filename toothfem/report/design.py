@@ -1,8 +1,12 @@
 """Pictures and text of the modification search (``toothfem design``)."""
 from __future__ import annotations
 
+import csv
+import json
+from pathlib import Path
 
-from . import pyplot, wrap
+from ..design import KEYS, Candidate, DesignResult, percentile_interval, with_keys
+from . import pyplot, save, wrap
 
 #: Margin of the zoomed view around the candidates that meet every target, as a fraction
 #: of their span on each axis.
@@ -12,7 +16,6 @@ ZOOM_MARGIN = 0.12
 def _where(summary_or_result) -> str:
     """What a candidate's figures are: '(P90 of 8 built reducers: no 95 % interval ...)'
     or '(nominal design)'."""
-    from ..design import percentile_interval
 
     t = summary_or_result["targets"] if isinstance(summary_or_result, dict) else \
         summary_or_result.targets
@@ -133,11 +136,12 @@ def _side(bx, py, x0, x1, y0, y1):
     return "above" if py > y1 else "below" if py < y0 else "right" if bx > x1 else "left"
 
 
-def _mark_out_of_view(ax, result, x0, x1, y0, y1, nominal=None) -> str:
+def _mark_out_of_view(ax, result, x0, x1, y0, y1,
+                      nominal: tuple[float, float] | None = None) -> str:
     """Each candidate outside the window as a small triangle at the edge it lies beyond
     (pointing out); ``nominal`` (the best as drawn: backlash, P_h) as a hollow diamond at
     its edge. Returns the line that counts them with how far they reach ('' for none)."""
-    marks = {"above": [], "below": [], "left": [], "right": []}
+    marks: dict[str, list[Candidate]] = {"above": [], "below": [], "left": [], "right": []}
     for x in result.candidates:
         bx, py = x.backlash_arcmin, x.max_ph_MPa
         if x0 <= bx <= x1 and y0 <= py <= y1:
@@ -162,12 +166,12 @@ def _mark_out_of_view(ax, result, x0, x1, y0, y1, nominal=None) -> str:
             far = max(pts, key=lambda x: abs(x.backlash_arcmin
                                             - (x1 if side == "right" else x0)))
             parts.append(f"{len(pts)} {side} (to {far.backlash_arcmin:.3g} arcmin)")
-    side = None if nominal is None else _side(*nominal, x0, x1, y0, y1)
-    if side is not None:
+    edge = None if nominal is None else _side(*nominal, x0, x1, y0, y1)
+    if nominal is not None and edge is not None:       # an edge only where a nominal is
         ax.scatter([min(max(nominal[0], x0), x1)], [min(max(nominal[1], y0), y1)],
                    marker="D", s=60, facecolor="none", edgecolor="tab:red", lw=1.5,
                    clip_on=False, zorder=6)
-        parts.append(f"the best as drawn {side} ({nominal[1]:.4g} MPa, {nominal[0]:.3g} "
+        parts.append(f"the best as drawn {edge} ({nominal[1]:.4g} MPa, {nominal[0]:.3g} "
                      "arcmin)")
     return "out of view, marked at the edges: " + ", ".join(parts) if parts else ""
 
@@ -284,3 +288,45 @@ def summary_rows(summary: dict) -> list:
               {NOMINAL_COLUMN: d.get("torsional_rigidity_Nm_per_arcmin")}),
              ("lost motion", "arcmin", {NOMINAL_COLUMN: d.get("lost_motion_arcmin")})]
     return rows
+
+
+def write_design(result: DesignResult, folder, source_text: str) -> dict:
+    """Write the search's files.
+
+    Parameters
+    ----------
+    result : DesignResult
+    folder : str or pathlib.Path
+        An existing folder; it receives candidates.csv, tradeoff.png, summary.json,
+        report.md and the case file to use (``best_case.toml``).
+    source_text : str
+        The case file's text; ``best_case.toml`` is it with its [cycloid] modification
+        keys set.
+
+    Returns
+    -------
+    dict
+        The summary, with the ``files`` written.
+
+    Raises
+    ------
+    CaseError
+        If ``source_text`` has no [cycloid] table.
+    """
+    folder = Path(folder)
+    names = list(KEYS)
+    with open(folder / "candidates.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow([*names, "backlash_arcmin", "max_ph_MPa", "contacts_min", "feasible"])
+        for c in result.candidates:
+            w.writerow([*(f"{c.modification[k]:.6g}" for k in names),
+                        f"{c.backlash_arcmin:.6g}", f"{c.max_ph_MPa:.6g}",
+                        f"{c.contacts_min:g}", int(c.feasible)])
+    save(tradeoff(result), folder / "tradeoff.png")
+    (folder / "best_case.toml").write_text(with_keys(source_text, "cycloid",
+                                                     result.best.modification))
+    summary = {**result.summary(), "files": ["candidates.csv", "tradeoff.png",
+                                             "best_case.toml", "summary.json", "report.md"]}
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    (folder / "report.md").write_text(markdown(summary))
+    return summary

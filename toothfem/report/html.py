@@ -39,6 +39,7 @@ import math
 import re
 import sys
 import warnings
+from collections.abc import Iterator
 from contextvars import ContextVar
 from dataclasses import dataclass
 from pathlib import Path
@@ -84,7 +85,7 @@ _KEPT: ContextVar = ContextVar("toothfem_report_warnings", default=None)
 
 
 @contextlib.contextmanager
-def warnings_kept():
+def warnings_kept() -> Iterator[list[str]]:
     """Keep the message of every Python warning shown inside the block, for the report;
     each is still shown as before (the previous ``warnings.showwarning`` is called).
 
@@ -94,7 +95,7 @@ def warnings_kept():
         The messages, in the order shown (also what :func:`write_report` adds to the
         page's warnings while the block lasts).
     """
-    kept: list = []
+    kept: list[str] = []
     previous = warnings.showwarning
 
     def show(message, category, filename, lineno, file=None, line=None):
@@ -254,7 +255,10 @@ def read_case_text(path) -> CaseText:
     """
     path = Path(path)
     text = path.read_text(encoding="utf-8", errors="replace")
-    declared, keys, sections, counts = set(), {}, {}, {}
+    declared: set[str] = set()
+    keys: dict[str, Comment] = {}
+    sections: dict[str, Comment] = {}
+    counts: dict[str, int] = {}
     section, last = "", None
 
     def extend(comment: Comment, more: str) -> Comment:
@@ -670,7 +674,9 @@ def _markdown_sections(text: str, folder: Path, embedded: set) -> list:
     from markdown_it import MarkdownIt
 
     md = MarkdownIt("commonmark", {"html": False}).enable("table")
-    parts, title, lines = [], "Overview", []
+    parts: list[tuple[str, list[str]]] = []
+    lines: list[str] = []
+    title = "Overview"
     for line in text.splitlines():
         if line.startswith("## "):
             parts.append((title, lines))
@@ -687,11 +693,11 @@ def _markdown_sections(text: str, folder: Path, embedded: set) -> list:
             continue
         tokens = md.parse(body)
         for tok in tokens:
-            for i, child in enumerate(tok.children or ()):
+            for _i, child in enumerate(tok.children or ()):
                 if child.type == "image":
                     _embed_image(child, folder, embedded)
                 elif child.type == "link_open":
-                    href = child.attrGet("href") or ""
+                    href = str(child.attrGet("href") or "")
                     if re.match(r"^[a-z][a-z0-9+.-]*:|^//", href, re.I):
                         child.attrs.pop("href", None)
                         child.attrSet("title", href)
@@ -963,8 +969,8 @@ def render(folder, case=None, *, command: str, case_file=None, tables=(), compar
             add("published", "Published figures beside ours", body)
     figures = [p for p in sorted(folder.rglob("*.png"))
                if p.relative_to(folder).as_posix() not in embedded]
-    shown = [(p, _png_uri(p)) for p in figures]
-    shown = [(p, uri) for p, uri in shown if uri]
+    uris = [(p, _png_uri(p)) for p in figures]
+    shown = [(p, uri) for p, uri in uris if uri]
     if shown:
         add("figures", "Figures" if not embedded else "Further figures",
             "\n".join(_figure(uri, p.relative_to(folder).as_posix()) for p, uri in shown))

@@ -261,7 +261,7 @@ def _groups(report: LoopReport) -> list:
                     + " | sigma [points] | apart [sigma] | readings for 3 sigma |",
                     "|---|---|---|---|" + "---|" * len(names) + "---|---|---|"]
             for p in g.points:
-                def col(v, key, fmt):
+                def col(v, key, fmt, p=p):
                     return "any" if key in p.free else ("–" if v is None else format(v, fmt))
                 out.append(f"| {p.input_speed_rpm:.0f} | {p.output_torque_Nm:.4g} | "
                            f"{col(p.oil_temp_C, 'oil_temp_C', '.0f')} | "
@@ -302,13 +302,16 @@ def _points(report: LoopReport) -> list:
     r = report.baseline_fit.residual
     sig = report.sigma
     covs = report.covariates
+    measured = report.measured
+    if measured is None:
+        raise RuntimeError("a loop report without its measured efficiencies (run_loop sets them)")
     out = ["## Each point against its measurement uncertainty", "",
            "| point | speed [rpm] | torque [N m] | measured [%] | model [%] | residual "
            "[points] | sensor sigma [points] |", "|---|---|---|---|---|---|---|"]
     for i in range(report.n_points):
         s_i = "–" if sig is None else f"{100 * sig[i]:.2f}"
         out.append(f"| {i + 1} | {covs['input_speed_rpm'][i]:g} | "
-                   f"{covs['output_torque_Nm'][i]:g} | {100 * report.measured[i]:.2f} | "
+                   f"{covs['output_torque_Nm'][i]:g} | {100 * measured[i]:.2f} | "
                    f"{100 * report.baseline_fit.prediction[i]:.2f} | {100 * r[i]:+.2f} | "
                    f"{s_i} |")
     return out + [""]

@@ -9,6 +9,7 @@ import numpy as np
 
 from . import pyplot
 from ..geometry import cycloid_mesh as cym, sine
+from ..fem.drives.registry import provide
 from ..geometry.disc import disc_polygon
 
 
@@ -405,7 +406,16 @@ def drawing(drive, case_name=""):
     matplotlib.figure.Figure
         The drawing.
     """
-    draw = {"cycloid": lambda d: cycloid_drawing(d.geometry, d.stage.holes,
-                                                 case_name=case_name),
-            "sine": lambda d: sine_drawing(d.pair, case_name=case_name)}
-    return draw[drive.kind](drive)
+    return drive.part("drawing")(drive, case_name)
+
+
+@provide("drawing", "cycloid", "rv")
+def _cycloid_pair_drawing(drive, case_name: str):
+    """The disc with its holes on its pins (:func:`cycloid_drawing`)."""
+    return cycloid_drawing(drive.geometry, drive.stage.holes, case_name=case_name)
+
+
+@provide("drawing", "sine")
+def _sine_pair_drawing(drive, case_name: str):
+    """The sine pair (:func:`sine_drawing`)."""
+    return sine_drawing(drive.pair, case_name=case_name)

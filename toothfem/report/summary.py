@@ -7,6 +7,8 @@ for the terminal and :func:`markdown` for report.md, so the CLI and the report s
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
+from typing import Any
 
 #: Contact quantities of a summary (``toothfem contact``): summary key, what it is, unit.
 #: ``{contact}``/``{contacts}`` are the drive's words (pin/pins, tooth/teeth).
@@ -70,7 +72,7 @@ PUBLISHED_NOTE = ("published: the paper's figure as the case file's [published] 
                   "it, at the paper's own conditions (see the case file)")
 
 
-def _published(key: str, published: dict, words: dict):
+def _published(key: str, published: Mapping[str, Any], words: dict):
     """The case's published value for our ``key``, or None."""
     names = PUBLISHED_NAMES.get(key, ())
     if key.startswith("loss_shares."):
@@ -82,7 +84,7 @@ def _published(key: str, published: dict, words: dict):
     return None
 
 
-def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
+def contact_rows(summary: dict, labels, published: Mapping[str, Any] | None = None) -> list:
     """The contact summary as rows, the case's published figures beside.
 
     Parameters
@@ -91,7 +93,7 @@ def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
         :attr:`toothfem.pipeline.ContactResult.summary`.
     labels : toothfem.report.contact.ContactLabels
         The drive's words and the torques.
-    published : dict, optional
+    published : mapping, optional
         The case's ``[published]`` table.
 
     Returns
@@ -117,14 +119,14 @@ def contact_rows(summary: dict, labels, published: dict | None = None) -> list:
     return rows
 
 
-def efficiency_rows(results: dict, published: dict | None = None) -> list:
+def efficiency_rows(results: dict, published: Mapping[str, Any] | None = None) -> list:
     """Efficiency summaries side by side (one column per load source or method).
 
     Parameters
     ----------
     results : dict
         Column name -> :func:`toothfem.pipeline.efficiency_summary` mapping.
-    published : dict, optional
+    published : mapping, optional
         The case's ``[published]`` table.
 
     Returns
@@ -156,7 +158,7 @@ def efficiency_rows(results: dict, published: dict | None = None) -> list:
 def _cell(v) -> str:
     if v is None:
         return "–"
-    if isinstance(v, bool) or isinstance(v, int):
+    if isinstance(v, (bool, int)):
         return str(v)
     if isinstance(v, float):
         if not math.isfinite(v):

@@ -3,12 +3,16 @@ each output with the nominal design and the percentiles marked, and the share of
 tolerance in each output's variance."""
 from __future__ import annotations
 
+import csv
+import json
 import math
+from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from ..tolerance import ALONE_OVER_ALL, side_of
-from . import NBSP, pyplot, wrap
+from ..tolerance import ALONE_OVER_ALL, LOADS_SYSTEM, ToleranceResult, side_of
+from . import NBSP, pyplot, save, wrap
 
 #: A value marked on a histogram (the nominal design, a limit) farther outside the sample's
 #: range than this many of its spans is drawn as an arrow at the axis' edge with its value:
@@ -65,7 +69,6 @@ def model_text(summary: dict) -> str:
     -------
     str
     """
-    from ..tolerance import LOADS_SYSTEM
 
     system = summary.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
     member = summary.get("member", "disc")
@@ -213,10 +216,11 @@ def histograms(result, outputs: dict, title: str):
         counts = k == "contacts_min" and np.all(v == np.round(v))
         lo, hi = float(np.min(v)), float(np.max(v))
         span = hi - lo or max(abs(hi) * 0.1, 1.0 if counts else 1e-9)
-        near = lambda x: lo - FAR * span <= x <= hi + FAR * span      # noqa: E731
+        near = lambda x, lo=lo, hi=hi, span=span: lo - FAR * span <= x <= hi + FAR * span  # noqa: E731
         shown_unit = f" {unit}" if unit not in ("-", "") else ""
-        marks = [{"value": nominal, "text": f"nominal {nominal:{fmt}}", "colour": "k",
-                  "ls": "-", "short": f"nominal {nominal:{fmt}}{shown_unit}"}]
+        marks: list[dict[str, Any]] = [
+            {"value": nominal, "text": f"nominal {nominal:{fmt}}", "colour": "k",
+             "ls": "-", "short": f"nominal {nominal:{fmt}}{shown_unit}"}]
         for q, p in pct[k].items():
             if p["value"] is None:
                 marks.append({"value": None, "text": f"{q}: needs {p['rings_needed']} "
@@ -247,6 +251,7 @@ def histograms(result, outputs: dict, title: str):
         if counts:                         # whole bars around each count
             x0, x1 = min(x0, lo - 0.5), max(x1, hi + 0.5)
         pad = MARGIN * ((x1 - x0) or span)
+        bins: np.ndarray | list[float]
         if counts:
             bins = np.arange(lo - 0.5, hi + 1.5)
         elif hi > lo:
@@ -371,7 +376,6 @@ def markdown(summary: dict, outputs: dict) -> str:
     str
         Markdown.
     """
-    from ..tolerance import LOADS_SYSTEM
 
     system = summary.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
     member = summary.get("member", "disc")
@@ -434,7 +438,7 @@ def markdown(summary: dict, outputs: dict) -> str:
                   "where no one-tolerance run varies:",
                   "", "| output | " + " | ".join(names) + " | sum alone / all |",
                   "|---" * (len(names) + 2) + "|"]
-        for k, (label, unit) in outputs.items():
+        for k, (label, _unit) in outputs.items():
             if sum(shares[n][k] for n in names) == 0:
                 lines.append(f"| {label} | " + " | ".join("no scatter" for _ in names)
                              + " | – |")
@@ -476,9 +480,9 @@ def limits_text(summary: dict) -> list:
                                   f"({x['source']})" for x in lims)
                    + f": {_passed(found, 'Hertz pressure')}")
     for where, vals in (summary.get("film_ratio_lowest") or {}).items():
-        figures = ", ".join(
+        lowest = ", ".join(
             f"{q} {'at least 1' if v is None else format(v, '.3g')}" for q, v in vals.items())
-        out.append(f"- lowest film ratio of {where} ({figures}) against 1 (boundary "
+        out.append(f"- lowest film ratio of {where} ({lowest}) against 1 (boundary "
                    "lubrication) and 0.1 (the film carries next to nothing), "
                    "toothfem.limits: " + _passed(found, f"film ratio of {where}"))
     t = summary.get("operating_output_torque_Nm")
@@ -549,3 +553,39 @@ def _percentile_text(q: str, p: dict, fmt: str) -> str:
         return f"{q}: needs {p['rings_needed']} reducers"
     lo, hi = p["ci"]
     return f"{q} {p['value']:{fmt}} [{lo:{fmt}}, {hi:{fmt}}]"
+
+
+def write_tolerance(result: ToleranceResult, folder) -> dict:
+    """Write the ensemble's files.
+
+    Parameters
+    ----------
+    result : ToleranceResult
+    folder : str or pathlib.Path
+        An existing folder; it receives samples.csv, summary.json, histograms.png,
+        shares.png (several tolerances) and report.md.
+
+    Returns
+    -------
+    dict
+        The summary as written, with the names of the ``files``.
+    """
+    folder = Path(folder)
+    outputs = result.outputs()
+    with open(folder / "samples.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["sample", *outputs])
+        for i in range(len(next(iter(result.samples.values())))):
+            w.writerow([i, *(f"{result.samples[k][i]:.9g}" for k in outputs)])
+    summary = result.summary()
+    save(histograms(result, outputs, histograms_title(summary)),
+         folder / "histograms.png")
+    files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
+    if len(result.shares) > 1:
+        save(shares(result, outputs, shares_title(summary)),
+             folder / "shares.png")
+        files.insert(3, "shares.png")
+    summary["files"] = files
+    (folder / "summary.json").write_text(json.dumps(summary, indent=2))
+    (folder / "report.md").write_text(markdown(summary, outputs))
+    return summary

@@ -14,7 +14,7 @@ import string
 from dataclasses import dataclass
 
 from ....errors import MeasuredDataError
-from ..measured_columns import QUANTITIES, _number
+from ..measured_columns import QUANTITIES, parse_number
 
 #: Angle units (the column-name suffix) -> radians per unit.
 ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0, "arcmin": math.pi / 10800.0,
@@ -229,7 +229,7 @@ def number(cell: str, name: str, factor: float, offset: float) -> float:
     except ValueError:
         v = None
     if v is None or not math.isfinite(v):
-        _, why = _number(cell, name)            # "<name> = '12.3x' is not a number"
+        _, why = parse_number(cell, name)            # "<name> = '12.3x' is not a number"
         raise MeasuredDataError(f"column {name!r} {why[len(name) + 1:]}")
     return factor * v + offset
 

@@ -4,13 +4,16 @@ and the model options it sets (:class:`toothfem.efficiency.loop.te.model.Effects
 
 Options are flat keys so effects combine by a dict update: ``("play",)``,
 ``("eccentric", k, j)``, ``("stiffness", part)``, ``("friction",)``,
-``("equidistant",)``, ``("move_distance",)``, ``("pin_radius",)``; :func:`effects_of` turns them into an ``Effects``.
+``("equidistant",)``, ``("move_distance",)``, ``("pin_radius",)``; :func:`effects_of` turns
+them into an ``Effects``.
 """
 from __future__ import annotations
 
+from typing import TypedDict
+
 import numpy as np
 
-from ....fem.system.cycloid import SCALABLE
+from ....fem.drives.assembly import SCALABLE
 from .fitting import TeEffect, parameter
 from .model import Effects
 
@@ -155,6 +158,18 @@ def catalog(model) -> list:
     return out
 
 
+class _EffectsKeywords(TypedDict, total=False):
+    """The :class:`Effects` fields :func:`effects_of` sets (the others keep their
+    defaults)."""
+    crank_bearing_play_m: float
+    crank_eccentricity_m: np.ndarray
+    stiffness_scale: dict[str, float]
+    friction_scale: float
+    equidistant_modification_m: float
+    move_distance_modification_m: float
+    pin_radius_m: float
+
+
 def effects_of(options: dict, cranks: int, discs: int) -> Effects:
     """The model's :class:`Effects` from the catalog's flat options.
 
@@ -170,8 +185,8 @@ def effects_of(options: dict, cranks: int, discs: int) -> Effects:
     Effects
     """
     ecc = np.zeros((cranks, discs))
-    stiffness = {}
-    kw = {}
+    stiffness: dict[str, float] = {}
+    kw: _EffectsKeywords = {}
     for key, v in options.items():
         if key[0] == "play":
             kw["crank_bearing_play_m"] = float(v)

@@ -191,7 +191,7 @@ def group_conditions(runs) -> list:
         Each group's condition (its runs' sample-weighted mean) and its runs' indices,
         sorted by torque, speed, temperature.
     """
-    groups = []
+    groups: list[tuple[Condition, list[int]]] = []
     for i in sorted(range(len(runs)), key=lambda k: runs[k].condition.sort_key()):
         c = runs[i].condition
         for first, members in groups:
@@ -202,7 +202,7 @@ def group_conditions(runs) -> list:
             groups.append((c, [i]))
     out = []
     for first, members in groups:
-        values = {}
+        values: dict[str, float | None] = {}
         for name, v in first.values().items():
             if v is None:
                 values[name] = None
@@ -260,8 +260,8 @@ def file_offsets(runs, group_of) -> tuple:
     roots = [find(i) for i in range(n)]
     for root in set(roots):
         members = [i for i in range(n) if roots[i] == root]
-        lv = [i for i in members if i >= len(files)]
-        shift = float(np.mean(sol[lv])) if lv else 0.0
+        level_cols = [i for i in members if i >= len(files)]
+        shift = float(np.mean(sol[level_cols])) if level_cols else 0.0
         for i in members:
             sol[i] += shift if i < len(files) else -shift
     offsets = {s: float(sol[fi[s]]) for s in files}
@@ -627,7 +627,7 @@ def _backlash(curves, zero, top, reach, notes) -> float:
         torques = torques[(np.abs(torques) > zero) & (np.abs(torques) <= top)]
         mids = []
         for q in torques:
-            scratch = []
+            scratch: list[str] = []
             a = _at(r, q, reach, "", scratch)
             b = _at(f, q, reach, "", scratch)
             if not scratch:

@@ -15,13 +15,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Protocol
 
 import numpy as np
 
 from ....errors import ToothfemError
 from ..effect_base import Parameter
 from ..fit import at_bound, fold_count
-from ..settings import Settings
+from ..settings import DEFAULT_SETTINGS
 
 #: Relative finite-difference step of the Jacobian on parameters scaled by their typical
 #: value (the system model is smooth in a play or an error of micrometres at this step).
@@ -60,6 +61,25 @@ class Observations:
             raise ValueError("observations: every sigma must be > 0")
 
 
+class OptionsOf(Protocol):
+    """An effect's model options at its parameters' values (a lambda binding the effect's
+    index as a default argument fits)."""
+
+    def __call__(self, values: tuple[float, ...], /) -> dict:
+        """The model's options.
+
+        Parameters
+        ----------
+        values : tuple of float
+            One per parameter, in the parameters' units.
+
+        Returns
+        -------
+        dict
+            Flat option keys (:mod:`.effects`) -> value in SI.
+        """
+
+
 @dataclass(frozen=True, kw_only=True)
 class TeEffect:
     """An effect of the TE/hysteresis loop: its parameters (bounds, starts, typical value)
@@ -67,7 +87,7 @@ class TeEffect:
     and the measurement that tells it apart from the others (``direct_test``)."""
     name: str
     parameters: tuple
-    options: object                    # callable: tuple of values -> dict
+    options: OptionsOf                 # tuple of values -> dict
     summary: str
     citation: str
     direct_test: str
@@ -181,7 +201,7 @@ class TeProblem:
     settings : Settings
     """
 
-    def __init__(self, observations: Observations, model, catalog, settings=Settings()):
+    def __init__(self, observations: Observations, model, catalog, settings=DEFAULT_SETTINGS):
         self.obs = observations
         self.model = model
         self.catalog = {e.name: e for e in catalog}
@@ -305,6 +325,8 @@ class TeProblem:
             nfev += r.nfev
             if best is None or r.cost < best.cost:
                 best = r
+        if best is None:        # starts holds the start point at least
+            raise RuntimeError(f"fit of {names}: no least-squares start was run")
         values = dict(zip(names, split(best.x)))
         pred = y - best.fun / w
         jac = np.zeros((len(y), len(params)))
@@ -379,7 +401,9 @@ class TeProblem:
         s = self.settings
         pool = list(candidates or self.catalog)
         base = self.fit(())
-        current, steps, groups = base, [], {}
+        current = base
+        steps: list[TeStep] = []
+        groups: dict[str, tuple[str, ...]] = {}
         stop = "no candidate left"
         excluded: set = set()
         while len(current.effects) < s.max_effects:
@@ -397,9 +421,9 @@ class TeProblem:
             table = tuple((n, f.bic, f.cv_wrmse, f.values[n], any(f.at_bound[n]))
                           for n, f in scored)
 
-            def gains(f):
-                cv = 1 - f.cv_wrmse / current.cv_wrmse if current.cv_wrmse > 0 else 0.0
-                return current.bic - f.bic, cv
+            def gains(f, ref=current):      # against this step's fit
+                cv = 1 - f.cv_wrmse / ref.cv_wrmse if ref.cv_wrmse > 0 else 0.0
+                return ref.bic - f.bic, cv
 
             helps = [(n, f) for n, f in scored
                      if gains(f)[0] >= s.delta_bic and gains(f)[1] >= s.min_cv_gain]

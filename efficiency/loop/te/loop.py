@@ -16,12 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
-from ..settings import Settings
+from ..settings import DEFAULT_SETTINGS
 from .effects import catalog, effects_of
-from .figures import hysteresis_figures, te_figures
+from .figures import HysteresisFigures, TeFigures, hysteresis_figures, te_figures
 from .fitting import TeLoop, TeProblem
 from .model import ModelRecordings, RecordingModel
-from .observations import observations, model_rows
+from .observations import Layout, observations, model_rows
 from .recordings import read_hysteresis, read_te_recordings, recording_paths
 
 #: Named orders fitted: up to this multiple of the lowest named order above the output's
@@ -42,9 +42,9 @@ class TeLoopResult:
     model's recordings before and after, the fit."""
     case_name: str
     loop: TeLoop
-    layout: object                     # observations.Layout: what each row is
-    te_figures: object | None          # figures.TeFigures
-    hysteresis: object | None          # figures.HysteresisFigures
+    layout: Layout                     # what each row is
+    te_figures: TeFigures | None
+    hysteresis: HysteresisFigures | None
     before: ModelRecordings
     after: ModelRecordings
     rated_torque_Nm: float
@@ -74,7 +74,7 @@ class TeLoopResult:
                 "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
 
 
-def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=Settings(),
+def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=DEFAULT_SETTINGS,
                 candidates=None, model: RecordingModel | None = None, progress=False):
     """Fit the effects a case's model lacks to its TE and hysteresis recordings.
 

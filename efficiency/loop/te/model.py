@@ -9,7 +9,7 @@ effects a fit can vary (docs/te_model.md).
   direction from the eccentric's, (cranks,) or (cranks, discs) for each eccentric alone
   (:class:`toothfem.fem.deviations.CycloidDeviation`);
 - ``stiffness_scale``: a factor on the stiffness of parts of the model, by the names of
-  :data:`toothfem.fem.system.cycloid.SCALABLE` (the element groups of ``CycloidSystem``:
+  :data:`toothfem.fem.drives.assembly.SCALABLE` (the element groups of ``CycloidSystem``:
   ``crank bearings``, ``support bearings``, ``crankshaft bending``, ``crankshaft
   torsion``, ``spur mesh``; the contacts ``mesh`` and ``output pins``; ``carrier``);
 - ``equidistant_modification_m``, ``move_distance_modification_m``: the disc's profile
@@ -58,14 +58,16 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ....case import as_case
 from ....datasheet import path_friction
 from ....errors import CaseError
-from ....fem.datasheet.sheet import _stick, datasheet, loop_branches
+from ....fem.datasheet.sheet import stuck_after_reversals, datasheet, loop_branches
 from ....fem.datasheet.transmission import harmonic_amplitudes, sampled_pitches
 from ....fem.datasheet.twist import ARCMIN, ARCSEC, ZERO_TORQUE_NM
 from ....fem.drives import drive_for
+from ....fem.drives.assembly import CycloidSystem
 from ....fem.system.datasheet import SystemTwist, period_te
 from ...evaluation import rated_output_torque
 
@@ -95,13 +97,13 @@ class Effects:
     """Effects a fit varies, SI (the module docstring); the defaults are the case as drawn.
     Arrays may be given as sequences; ``stiffness_scale`` as a mapping part -> factor."""
     crank_bearing_play_m: float = 0.0
-    crank_eccentricity_m: tuple = ()
-    crank_phase_rad: tuple = ()
+    crank_eccentricity_m: ArrayLike = ()
+    crank_phase_rad: ArrayLike = ()
     stiffness_scale: dict = field(default_factory=dict)
     equidistant_modification_m: float | None = None
     move_distance_modification_m: float | None = None
-    pin_radius_m: object = 0.0
-    pin_offset_m: object = ()
+    pin_radius_m: ArrayLike = 0.0
+    pin_offset_m: ArrayLike = ()
     friction_scale: float = 1.0
 
     def __post_init__(self):
@@ -128,10 +130,15 @@ class Effects:
         dict of str to float or list
             Field name (unit in it) -> value (arrays as lists).
         """
-        out = {}
+        out: dict[str, float | list[float] | dict[str, float]] = {}
         for f in dataclasses.fields(self):
             v = getattr(self, f.name)
-            default = f.default if f.default is not dataclasses.MISSING else f.default_factory()
+            if f.default is not dataclasses.MISSING:
+                default = f.default
+            elif f.default_factory is not dataclasses.MISSING:
+                default = f.default_factory()
+            else:
+                raise TypeError(f"Effects.{f.name} has no default")   # every field has one
             if isinstance(v, dict):
                 if v:
                     out[f.name] = {k: float(x) for k, x in v.items()}
@@ -346,8 +353,9 @@ class ModelTe:
 
 @dataclass(frozen=True, kw_only=True)
 class ModelRecordings:
-    """What :func:`model_recordings` gives: the loop and the TE at each torque."""
-    loop: ModelLoop
+    """What :func:`model_recordings` gives: the loop (None where not recorded) and the TE
+    at each torque."""
+    loop: ModelLoop | None
     te: tuple
 
 
@@ -366,7 +374,7 @@ class RecordingModel:
     cache : bool or toothfem.fem.cache.DiskCache
         The FE tables' disk cache (True: the user's).
     **system_options
-        Go to every :class:`toothfem.fem.system.cycloid.CycloidSystem` (e.g.
+        Go to every :class:`toothfem.fem.drives.assembly.CycloidSystem` (e.g.
         ``pin_spring_m_per_N``: equal contact springs instead of the FE, ``rigid``).
 
     Raises
@@ -387,7 +395,7 @@ class RecordingModel:
         self.te_samples = int(te_samples)
         self.cache = cache
         self.system_options = dict(system_options)
-        self._systems = {}
+        self._systems: dict[int, CycloidSystem | None] = {}
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
@@ -404,7 +412,7 @@ class RecordingModel:
 
         Returns
         -------
-        toothfem.fem.system.cycloid.CycloidSystem or None
+        toothfem.fem.drives.assembly.CycloidSystem or None
         """
         m = int(pitch)
         if m not in self._systems:
@@ -425,7 +433,7 @@ class RecordingModel:
 
         Returns
         -------
-        toothfem.fem.system.cycloid.PathFriction or None
+        toothfem.fem.drives.assembly.PathFriction or None
         """
         s = float(effects.friction_scale)
         if s == 0:
@@ -500,7 +508,7 @@ class RecordingModel:
             if t != 0:
                 side = 1 if t > 0 else -1          # zero: the flank the path comes from
             points.append(twist.at(t, side, branch=int(b)))
-        arcmin = lambda f: _stick(branches, [f(p.total) / ARCMIN for p in points])  # noqa: E731
+        arcmin = lambda f: stuck_after_reversals(branches, [f(p.total) / ARCMIN for p in points])  # noqa: E731
         mean, lo, hi = arcmin(np.mean), arcmin(np.min), arcmin(np.max)
         n = fr.size
         falling = slice(n - 1, 3 * n - 2)         # +T -> -T

@@ -222,10 +222,10 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
         raise ValueError("no observation: the recordings cover none of the loop's torques "
                          "and hold no TE spectrum")
     loop_rows = np.array([i for i, r in enumerate(rows) if r.kind == "twist"], int)
-    values = np.array(values, float)
-    loop_mean = float(values[loop_rows].mean()) if loop_rows.size else 0.0
-    values[loop_rows] -= loop_mean
-    obs = Observations(values=values, sigma=np.array(sigma, float), group=np.array(group),
+    measured = np.array(values, float)
+    loop_mean = float(measured[loop_rows].mean()) if loop_rows.size else 0.0
+    measured[loop_rows] -= loop_mean
+    obs = Observations(values=measured, sigma=np.array(sigma, float), group=np.array(group),
                        labels=tuple(labels), kinds=tuple(r.kind for r in rows))
     layout = Layout(rows=tuple(rows), te_torques_Nm=tuple(sorted(set(torques))),
                     rated_torque_Nm=float(rated_torque_Nm), loop_rows=loop_rows,

@@ -63,8 +63,8 @@ import numpy as np
 
 from ....bars import bar
 from ....errors import MeasuredDataError, decode_text
-from ..measured import _delimiter
-from ..measured_columns import _comments, _header, _next_row
+from ..measured import delimiter_of
+from ..measured_columns import comment_lines, header_names, next_row
 from .columns import (CONDITIONS, DIRECTION_WORDS, Condition, close, column,
                       condition_values, field_of, number, values_from_name)
 from .columns import name_pattern as compile_pattern
@@ -151,7 +151,7 @@ class _Table:
         self.path = Path(path)
         self.source = str(path)
         try:
-            self._file = open(self.path, encoding="utf-8-sig", newline="")
+            self._file = open(self.path, encoding="utf-8-sig", newline="")  # noqa: SIM115  # streamed by rows(), shut by close()
         except FileNotFoundError:
             raise MeasuredDataError(f"{self.source}: no such file") from None
         except OSError as exc:
@@ -177,12 +177,12 @@ class _Table:
         if head is None:
             raise MeasuredDataError(f"{self.source}: no header line (columns with units, "
                                     "e.g. output_angle_deg,te_arcsec,direction)")
-        self.provenance, _ = _comments(comments)
-        self.delimiter = _delimiter(head)
+        self.provenance, _ = comment_lines(comments)
+        self.delimiter = delimiter_of(head)
         self._base = n - 1
         self._reader = csv.reader(itertools.chain([head], self._lines),
                                   delimiter=self.delimiter)
-        self.header = _header(_next_row(self._reader, self.source, n), self.source)
+        self.header = header_names(next_row(self._reader, self.source, n), self.source)
 
     def _decoded(self):
         """The file's lines; bytes that are not UTF-8 refuse it naming their place."""
@@ -199,7 +199,7 @@ class _Table:
         width, comma, reader, base = len(self.header), self.delimiter != ",", self._reader, \
             self._base
         while True:
-            cells = _next_row(reader, self.source, base + reader.line_num + 1)
+            cells = next_row(reader, self.source, base + reader.line_num + 1)
             if cells is None:
                 return
             if len(cells) < 2 and not "".join(cells).strip():
@@ -228,7 +228,8 @@ class _Table:
 def _columns(table: _Table) -> tuple:
     """({quantity: (index, factor, offset, name)}, ignored names); refuses an unknown unit
     or a quantity twice, naming the column."""
-    cols, ignored = {}, []
+    cols: dict[str, tuple[int, float | None, float | None, str]] = {}
+    ignored: list[str] = []
     for j, name in enumerate(table.header):
         try:
             q, f, o = column(name)

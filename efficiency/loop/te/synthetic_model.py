@@ -43,6 +43,7 @@ import os
 import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TypedDict
 
 import numpy as np
 
@@ -346,6 +347,15 @@ def write_hysteresis(path, loop: ModelLoop, *, noise: Noise, rng, header: dict,
     return write_atomic(path, text), offset
 
 
+class _SweepOptions(TypedDict):
+    """The TE files' sweep and condition keywords (:func:`write_te_per_torque`,
+    :func:`write_te_long`)."""
+    revolutions: float
+    input_speed_rpm: float
+    oil_temp_C: float
+    samples_per_revolution: int | None
+
+
 def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
                                noise: Noise | None = None, revolutions: float = REVOLUTIONS,
                                samples_per_revolution: int | None = None,
@@ -414,8 +424,9 @@ def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
               "effect": "; ".join(f"{k} = {v}" for k, v in truth.items()) or "none",
               "noise": noise.describe()}
     tes = model.te(effects, torques, samples=te_samples) if {"A", "B"} & set(shapes) else ()
-    opts = {"revolutions": revolutions, "input_speed_rpm": speed, "oil_temp_C": oil_temp_C,
-            "samples_per_revolution": samples_per_revolution}
+    opts: _SweepOptions = {"revolutions": revolutions, "input_speed_rpm": speed,
+                           "oil_temp_C": oil_temp_C,
+                           "samples_per_revolution": samples_per_revolution}
     files, offsets, long_file, long_offsets = (), (), None, ()
     if "A" in shapes:
         files, offsets = write_te_per_torque(folder, tes, noise=noise, rng=rng,

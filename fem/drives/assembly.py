@@ -55,17 +55,24 @@ from __future__ import annotations
 
 import copy
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ...errors import CaseError
 from ...geometry.vectors import rotate
 from ..datasheet import supports as sp
-from . import elements as el
+from ..system import elements as el
 from ..contact import ContactError
-from .mesh import MeshSolution
-from .solve import ContactSet, Element, Linear, closing_motion, rest, solve
+from ..system.mesh import MeshSolution
+from ..system.solve import ContactSet, Element, Linear, closing_motion, rest, solve
+
+if TYPE_CHECKING:
+    from ..cycloid_fe.cycle import CycleSolver as CycloidCycleSolver
+    from ..sine_fe.cycle import CycleSolver as SineCycleSolver
+    from ..system.tables import PitchTables
 
 #: ISO 6336-1:2019 Sec. 9: the mean mesh stiffness of spur gears of steel, c_gamma_alpha
 #: ~ 20 N/(mm um) per mm of face width [N/m per m].
@@ -161,7 +168,7 @@ class DiscSlot:
     axial_m: float
     offset: int
     beta_rad: float
-    solver: object
+    solver: CycloidCycleSolver | SineCycleSolver
 
 
 @dataclass(frozen=True)
@@ -315,7 +322,7 @@ class CycloidSystem:
             if int(pitch):
                 raise CaseError("pitch_samples fills the tables over the full period: give "
                                 "the pitch to solve(), not to the model")
-            filled = {}
+            filled: dict[int, PitchTables | None] = {}
             tables = tuple(filled.setdefault(s.offset, self.mesh.pitch_tables(
                 self.n_positions, s.offset, cache, int(pitch_samples))) for s in slots)
             self.pitch_tables = None if None in tables else tables
@@ -381,8 +388,9 @@ class CycloidSystem:
                 math.cos(fs.pressure_angle_rad)
             self.spur_stiffness = SPUR_MESH_STIFFNESS_N_PER_M2 * fs.face_width_m
         self.carrier_stiffness = supports.carrier_stiffness_Nm_per_rad
-        self._kept_elements = {}
-        self._laws = {}              # part -> its (scaled) law, one object per part
+        self._kept_elements: dict[float, list[Element]] = {}
+        # part -> its (scaled) law, one object per part
+        self._laws: dict[str, Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]] = {}
 
     def variant(self, *, rigid: tuple | None = None, crank_bearing_play_m: float | None = None,
                 crank_bearing_stiffness_N_per_m: float | None = None,
@@ -629,12 +637,12 @@ class CycloidSystem:
                 rows.append(r)
                 normals.append(n)
                 g0.append(clearance)
-        normals = np.array(normals)                                          # (M n_o, 2)
+        nrm = np.array(normals)                                              # (M n_o, 2)
         disc = np.repeat(np.arange(self.discs), n_o)
         pin = np.tile(np.arange(n_o), self.discs)
         same_pin = pin[:, None] == pin[None, :]
         bending = np.where(same_pin, self.output_pin_bending[np.ix_(disc, disc)], 0.0) \
-            * (normals @ normals.T)
+            * (nrm @ nrm.T)
         width = self.drive.face_width_m
         contacts = 1 if om.roller_radius_m is None else 2
         mean = abs(torque) / (0.5 * n_o * r_w * self.discs)                  # a typical load

@@ -1,0 +1,62 @@
+"""Units, once: the factors between SI and the units a reducer engineer reads and writes.
+
+Every computation works in SI (m, N, N m, Pa, rad, rad/s, W, s); a case's keys and a rig's
+columns carry their unit in the name (``_mm``, ``_rpm``, ``_arcmin``), converted into SI
+once where they are read (``toothfem.si``, the loop's readers), and back only where a
+record is written or shown. The factors live here; a base module every layer may import
+(docs/architecture.md).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+#: rad/s per rpm (one revolution 2 pi rad, a minute 60 s).
+RAD_S_PER_RPM = 2.0 * math.pi / 60.0
+#: rpm per rad/s.
+RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
+#: One arc minute and one arc second [rad].
+ARCMIN = math.pi / (180.0 * 60.0)
+ARCSEC = ARCMIN / 60.0
+#: Millimetres per metre.
+MM_PER_M = 1e3
+
+
+def rpm_to_rad_s(speed_rpm):
+    """A speed in rpm as rad/s.
+
+    Parameters
+    ----------
+    speed_rpm : float or array_like
+        [rpm].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        [rad/s].
+    """
+    return _scaled(speed_rpm, RAD_S_PER_RPM)
+
+
+def rad_s_to_rpm(speed_rad_s):
+    """A speed in rad/s as rpm.
+
+    Parameters
+    ----------
+    speed_rad_s : float or array_like
+        [rad/s].
+
+    Returns
+    -------
+    float or numpy.ndarray
+        [rpm].
+    """
+    return _scaled(speed_rad_s, RPM_PER_RAD_S)
+
+
+def _scaled(x, factor: float):
+    """``x`` times ``factor``: a float for a number, an array for an array."""
+    if isinstance(x, (int, float, np.floating, np.integer)):
+        return float(x) * factor
+    return np.asarray(x, float) * factor
