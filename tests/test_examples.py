@@ -8,7 +8,6 @@ session and checks the exit code; tests/test_loop_demo.py checks the sine demons
 held-out error.
 """
 import json
-import math
 import re
 import shlex
 from pathlib import Path
@@ -193,32 +192,3 @@ def test_readme_demo_loop_other_cases(name, effect, phrase, tmp_path):
                                                                               rel=0.10)
         nu40 = rep["effects"][0]["parameters"]["viscosity_40C_mm2_s"]["value"]
         assert nu40 == pytest.approx(found, rel=0.10)
-
-
-# --- 4. README: the tolerance block -----------------------------------------------------
-
-@pytest.mark.slow
-def test_readme_tolerance_block(monkeypatch):
-    """The README's `tolerance_analysis` block after its first block (which loads the
-    pin-housing case as `case`), run from the clone as the README says: the comment 'each
-    {"value", "ci", "rings_needed"}: P99 needs 368 rings, so here its value is None'. The
-    ring count is an integer from the order statistics (exact); 8 rings give no P99.
-    Slow: the FE influence tables on the session's cold cache, 37 s on this 2-core machine
-    under load (5 s warm)."""
-    first = fenced_block(README, "python", "cycloid_mesh.meshing(")
-    block = fenced_block(README, "python", "tolerance_analysis(")
-    *body, last = [ln for ln in block.splitlines() if ln.strip() and not ln.startswith("#")]
-    monkeypatch.chdir(ROOT)
-    ns: dict = {}
-    exec(first, ns)
-    exec("\n".join(body), ns)
-    percentiles, nominal = eval(last.split("#")[0], ns)
-    keys, level, rings = stated(r"# each \{([^}]*)\}: P(\d+) needs (\d+) rings, so here its "
-                                r"value is None", block).groups()
-    row = percentiles[f"P{level}"]
-    assert set(row) == set(re.findall(r'"(\w+)"', keys))
-    assert row["rings_needed"] == int(rings)
-    assert row["value"] is None and row["ci"] is None
-    # the block's own sample count is below the rings the percentile needs
-    assert int(stated(r"samples=(\d+)", block)[1]) < int(rings)
-    assert nominal > 0 and math.isfinite(nominal)

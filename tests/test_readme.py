@@ -31,7 +31,12 @@ def test_readme_runs_as_written(tmp_path, cases_dir):
     session does); the last one runs the pipeline with FE, hence slow."""
     (tmp_path / "cases").symlink_to(cases_dir, target_is_directory=True)
     script = tmp_path / "readme.py"
-    script.write_text("\n\n".join(python_blocks()))
+    # after the blocks, what the tolerance block's last line shows (its percentiles of the
+    # largest pin force), for the numbers its comment states (checked below)
+    probe = ('\nimport json as _json\n_p = ens.percentiles()["max_force_N"]\n'
+             '_json.dump({"percentiles": _p, "nominal": ens.nominal["max_force_N"]}, '
+             'open("tolerance_block.json", "w"))\n')
+    script.write_text("\n\n".join(python_blocks()) + probe)
     run = subprocess.run([sys.executable, str(script)], cwd=tmp_path, capture_output=True,
                          text=True)
     assert run.returncode == 0, run.stderr[-4000:]
@@ -50,3 +55,15 @@ def test_readme_runs_as_written(tmp_path, cases_dir):
     # the datasheet (issue 11): its table and the hysteresis picture
     assert "| torsional rigidity 50-100 % [N m/arcmin] |" in report
     assert (out / "stiffness" / "hysteresis.png").stat().st_size > 10_000
+    # the tolerance block's comment: 'each {"value", "ci", "rings_needed"}: P99 needs 368
+    # rings, so here its value is None' (an integer from the order statistics: exact)
+    block = next(b for b in python_blocks() if "tolerance_analysis(" in b)
+    m = re.search(r'# each \{([^}]*)\}: P(\d+) needs (\d+) rings, so here its value is None',
+                  block)
+    assert m, "the README's tolerance block no longer states its rings"
+    tol = json.loads((tmp_path / "tolerance_block.json").read_text())
+    row = tol["percentiles"][f"P{m[2]}"]
+    assert set(row) == set(re.findall(r'"(\w+)"', m[1]))
+    assert row["rings_needed"] == int(m[3]) and row["value"] is None and row["ci"] is None
+    assert int(re.search(r"samples=(\d+)", block)[1]) < int(m[3])
+    assert tol["nominal"] > 0
