@@ -198,7 +198,7 @@ def test_integral_pins_stand_out_of_the_housing(cases_dir):
 def test_geometry_writes_the_drawing_beside_the_profiles(cases_dir, tmp_path, monkeypatch):
     """write_geometry lists drawing.dxf and drawing.svg with the profiles; without the
     extra it writes no STEP and says why in check.json."""
-    from toothfem.pipeline_files import write_geometry
+    from toothfem.report.files import write_geometry
 
     monkeypatch.setattr(cad, "step_available", lambda: False)
     summary = write_geometry(load_case(cases_dir / "cycloid_khv.toml"), tmp_path, FEW_POINTS)

@@ -240,7 +240,7 @@ def test_contact_titles_say_the_model_and_the_reducers_figures():
     and, where the summary has them, the reducer-wide figures for comparison."""
     from types import SimpleNamespace
 
-    from toothfem.pipeline_files import contact_labels
+    from toothfem.report.files import contact_labels
 
     summary = {"output_torque_Nm": 100.0, "disc_torque_Nm": 55.0,
                "max_force_reducer_N": 2648.5, "max_ph_reducer_MPa": 2483.46}
@@ -394,7 +394,7 @@ def test_the_largest_ph_contact_is_found_in_the_members_frame():
     motion does."""
     from types import SimpleNamespace
 
-    from toothfem.pipeline_files import member_frame
+    from toothfem.report.files import member_frame
 
     turn, shift = 0.3, np.array([0.001, -0.002])
     rot = np.array([[np.cos(turn), -np.sin(turn)], [np.sin(turn), np.cos(turn)]])
@@ -415,7 +415,7 @@ def test_the_largest_ph_contact_is_found_in_the_members_frame():
 def test_the_oil_temperature_map_takes_in_the_operating_oil():
     from types import SimpleNamespace
 
-    from toothfem.pipeline_files import OIL_TEMPERATURE_GRID_C, oil_temperature_grid
+    from toothfem.report.files import OIL_TEMPERATURE_GRID_C, oil_temperature_grid
 
     oil = SimpleNamespace(pour_point_C=-30.0, max_temperature_C=150.0)
     assert oil_temperature_grid(60.0, oil) is OIL_TEMPERATURE_GRID_C

@@ -8,6 +8,7 @@ import dataclasses
 import math
 from dataclasses import dataclass, field
 
+from .units import M_PER_MM, MM_PER_M
 from .case_checks import (DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM, HOUSING_WALL_MAX,
                           INPUT_TORQUE_NM, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
                           POWER_KW, RADIUS_MM, SPEED_RPM, TORQUE_NM, check_type, expected_type)
@@ -65,22 +66,22 @@ class _Section:
 #: SI parameter of a geometry record -> (case key, factor from SI to the key's unit)
 _CYCLOID_KEYS = {
     "pin_count": ("pin_count", 1.0),
-    "pin_circle_radius_m": ("pin_circle_radius_mm", 1e3),
-    "eccentricity_m": ("eccentricity_mm", 1e3),
-    "pin_radius_m": ("pin_radius_mm", 1e3),
-    "pin_radius_m + equidistant_m": ("pin_radius_mm + equidistant_modification_mm", 1e3),
-    "equidistant_m": ("equidistant_modification_mm", 1e3),
-    "move_distance_m": ("move_distance_modification_mm", 1e3),
+    "pin_circle_radius_m": ("pin_circle_radius_mm", MM_PER_M),
+    "eccentricity_m": ("eccentricity_mm", MM_PER_M),
+    "pin_radius_m": ("pin_radius_mm", MM_PER_M),
+    "pin_radius_m + equidistant_m": ("pin_radius_mm + equidistant_modification_mm", MM_PER_M),
+    "equidistant_m": ("equidistant_modification_mm", MM_PER_M),
+    "move_distance_m": ("move_distance_modification_mm", MM_PER_M),
     "rotation_rad": ("rotation_modification_deg", 180 / math.pi),
     "equidistant_m - move_distance_m":
-        ("equidistant_modification_mm - move_distance_modification_mm", 1e3),
+        ("equidistant_modification_mm - move_distance_modification_mm", MM_PER_M),
 }
 _SINE_KEYS = {
     "planet_teeth": ("planet_teeth", 1.0),
     "ring_teeth": ("ring_teeth", 1.0),
-    "module_m": ("module_mm", 1e3),
-    "tooth_height_m": ("tooth_height_mm", 1e3),
-    "face_width_m": ("face_width_mm", 1e3),
+    "module_m": ("module_mm", MM_PER_M),
+    "tooth_height_m": ("tooth_height_mm", MM_PER_M),
+    "face_width_m": ("face_width_mm", MM_PER_M),
 }
 
 
@@ -204,11 +205,11 @@ class CycloidStage(_Section):
         """
         return CycloidGeometry(
             pin_count=self.pin_count,
-            pin_circle_radius_m=self.pin_circle_radius_mm * 1e-3,
-            eccentricity_m=self.eccentricity_mm * 1e-3,
-            pin_radius_m=self.pin_radius_mm * 1e-3,
-            equidistant_m=self.equidistant_modification_mm * 1e-3,
-            move_distance_m=self.move_distance_modification_mm * 1e-3,
+            pin_circle_radius_m=self.pin_circle_radius_mm * M_PER_MM,
+            eccentricity_m=self.eccentricity_mm * M_PER_MM,
+            pin_radius_m=self.pin_radius_mm * M_PER_MM,
+            equidistant_m=self.equidistant_modification_mm * M_PER_MM,
+            move_distance_m=self.move_distance_modification_mm * M_PER_MM,
             rotation_rad=math.radians(self.rotation_modification_deg),
         )
 
@@ -234,15 +235,15 @@ class CycloidStage(_Section):
         return DiscHolesSI(
             output_hole_count=0 if output is None else output.pin_count,
             output_hole_circle_radius_m=0.0 if output is None else
-            output.pin_hole_circle_radius_mm * 1e-3,
-            output_hole_radius_m=0.0 if hole is None else hole * 1e-3,
-            centre_bore_radius_m=h.centre_bore_radius_mm * 1e-3,
+            output.pin_hole_circle_radius_mm * M_PER_MM,
+            output_hole_radius_m=0.0 if hole is None else hole * M_PER_MM,
+            centre_bore_radius_m=h.centre_bore_radius_mm * M_PER_MM,
             crank_hole_count=h.crank_hole_count,
-            crank_hole_circle_radius_m=h.crank_hole_circle_radius_mm * 1e-3,
-            crank_hole_radius_m=h.crank_hole_radius_mm * 1e-3,
+            crank_hole_circle_radius_m=h.crank_hole_circle_radius_mm * M_PER_MM,
+            crank_hole_radius_m=h.crank_hole_radius_mm * M_PER_MM,
             pillar_hole_count=h.pillar_hole_count,
-            pillar_hole_circle_radius_m=h.pillar_hole_circle_radius_mm * 1e-3,
-            pillar_hole_radius_m=h.pillar_hole_radius_mm * 1e-3,
+            pillar_hole_circle_radius_m=h.pillar_hole_circle_radius_mm * M_PER_MM,
+            pillar_hole_radius_m=h.pillar_hole_radius_mm * M_PER_MM,
         )
 
 
@@ -302,9 +303,9 @@ class SineStage(_Section):
             If the pair's shape is invalid (the record's own checks).
         """
         return SineGearPair(planet_teeth=self.planet_teeth, ring_teeth=self.ring_teeth,
-                            module_m=self.module_mm * 1e-3,
-                            tooth_height_m=self.tooth_height_mm * 1e-3,
-                            face_width_m=self.face_width_mm * 1e-3)
+                            module_m=self.module_mm * M_PER_MM,
+                            tooth_height_m=self.tooth_height_mm * M_PER_MM,
+                            face_width_m=self.face_width_mm * M_PER_MM)
 
 
 @dataclass(frozen=True)

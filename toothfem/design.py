@@ -25,6 +25,7 @@ import numpy as np
 from . import limits
 from .case import Case, as_case
 from .errors import CaseError, check_range
+from .units import M_PER_MM, PA_PER_MPA
 from .datasheet import path_friction
 from .efficiency import rated_output_torque
 from .fem.datasheet.sheet import datasheet
@@ -37,8 +38,8 @@ DOE_POINTS, DOE_SEED, REFINE_EVALUATIONS = 32, 0, 40
 #: Penalty per unit of a target's relative violation, in units of the pressure objective.
 PENALTY = 1e3
 #: Keys of the [cycloid] section the search sets, with the factor from the key to SI.
-KEYS = {"equidistant_modification_mm": ("equidistant_m", 1e-3),
-        "move_distance_modification_mm": ("move_distance_m", 1e-3),
+KEYS = {"equidistant_modification_mm": ("equidistant_m", M_PER_MM),
+        "move_distance_modification_mm": ("move_distance_m", M_PER_MM),
         "rotation_modification_deg": ("rotation_rad", math.pi / 180)}
 
 
@@ -254,7 +255,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
             backlash.append(system_backlash_arcmin(system, deviation=dev, geometry=geom,
                                                    pitches=pitches))
             ls = solver.solve(torque, **opts)
-            ph.append(float(np.max(ls.ph)) * 1e-6)
+            ph.append(float(np.max(ls.ph)) / PA_PER_MPA)
             contacts.append(float(np.min(ls.contacts_per_position)))
         q = target.percentile if target.percentile is not None else 50.0
         cand = Candidate(modification=mod,
@@ -356,7 +357,7 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
                                   friction=path_friction(si, drive)), rated,
                       rated_assumed=assumed)
     ls = solver.solve(torque)
-    check = {"max_ph_MPa": float(np.max(ls.ph)) * 1e-6,
+    check = {"max_ph_MPa": float(np.max(ls.ph)) / PA_PER_MPA,
              "contacts_min": float(np.min(ls.contacts_per_position)),
              "backlash_arcmin": sheet.backlash_arcmin,
              "search_tables_max_ph_MPa": nominal.max_ph_MPa,

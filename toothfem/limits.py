@@ -237,3 +237,32 @@ def contact_pressure_lines(material) -> list:
              "unit": "MPa", "source": "material.allowable_contact_stress_MPa"},
             {"name": "static capacity", "value": material.static_contact_stress_Pa * 1e-6,
              "unit": "MPa", "source": "material.static_contact_stress_MPa"}]
+
+
+def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> list:
+    """The one list of a run's warnings from its parts' summaries.
+
+    Parameters
+    ----------
+    contact : dict or None
+        The contact summary.
+    efficiency : dict
+        {source: efficiency summary}.
+    durability : dict
+        {"heat", "life", "strength"} summaries.
+
+    Returns
+    -------
+    list of str
+        Each message once, in the order the parts ran; where the parts' models differ
+        (the efficiency's load sources, the heat balance's temperature) each line says
+        whose it is.
+    """
+    lines = [w["message"] for w in (contact or {}).get("warnings", ())]
+    for src, r in efficiency.items():
+        lines += [f"efficiency ({src}): {w['message']}" for w in r.get("warnings", ())]
+    lines += [f"heat balance: {w['message']}"
+              for w in durability.get("heat", {}).get("warnings", ())]
+    lines += [w["message"] for w in durability.get("life", {}).get("warnings", ())]
+    lines += list(durability.get("strength", {}).get("warnings", ()))
+    return list(dict.fromkeys(lines))

@@ -4,12 +4,11 @@
 analytic and FE loads side by side, curves and maps, report.md); ``contact_analysis`` is
 what ``toothfem contact`` does. Both work for every drive through
 :func:`toothfem.fem.drives.drive_for`; the CLI only parses arguments and prints. The files
-they write (contact, geometry, efficiency charts): :mod:`toothfem.pipeline_files`.
+they write (contact, geometry, efficiency charts, the run): :mod:`toothfem.report.files`.
 """
 from __future__ import annotations
 
 import dataclasses
-import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -18,8 +17,7 @@ import numpy as np
 
 from . import durability, limits
 from .case import Case, as_case
-from .datasheet import TE_DEFINITION, stiffness_analysis
-from .report.stiffness import datasheet_rows, write_stiffness
+from .datasheet import TE_DEFINITION, StiffnessResult, stiffness_analysis
 from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
 from .errors import CaseError, check_range
@@ -28,9 +26,7 @@ from .fem.elastic import Body
 from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir, target
-from .pipeline_files import _efficiency_charts, contact_labels, write_contact, write_geometry
-from .report import durability as report_durability, html as report_html, plots, save, \
-    summary as report_summary
+from .report.files import write_run
 
 MODES = ("cycle", "detailed")
 FIELDS = ("detailed", "structural", "none")
@@ -349,37 +345,8 @@ class RunResult:
     def warnings(self) -> list:
         """Every limit the run's results pass, one line each (contact, efficiency, heat,
         strength), each said once."""
-        return run_warnings(self.contact.summary if self.contact else None, self.efficiency,
-                            self.durability or {})
-
-
-def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> list:
-    """The one list of a run's warnings from its parts' summaries.
-
-    Parameters
-    ----------
-    contact : dict or None
-        The contact summary.
-    efficiency : dict
-        {source: efficiency summary}.
-    durability : dict
-        {"heat", "life", "strength"} summaries.
-
-    Returns
-    -------
-    list of str
-        Each message once, in the order the parts ran; where the parts' models differ
-        (the efficiency's load sources, the heat balance's temperature) each line says
-        whose it is.
-    """
-    lines = [w["message"] for w in (contact or {}).get("warnings", ())]
-    for src, r in efficiency.items():
-        lines += [f"efficiency ({src}): {w['message']}" for w in r.get("warnings", ())]
-    lines += [f"heat balance: {w['message']}"
-              for w in durability.get("heat", {}).get("warnings", ())]
-    lines += [w["message"] for w in durability.get("life", {}).get("warnings", ())]
-    lines += list(durability.get("strength", {}).get("warnings", ()))
-    return list(dict.fromkeys(lines))
+        return limits.run_warnings(self.contact.summary if self.contact else None,
+                                   self.efficiency, self.durability or {})
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
@@ -410,91 +377,84 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     """
 
     case_file = None if isinstance(case, Case) else case
-    label = str(case_file) if case_file is not None else "(in memory)"
     case = as_case(case)
     out = target(out)
-    report = [f"# {case.name}", "", f"Case file: `{label}`; source: {case.source}", ""]
-    contact = datasheet = None
+    run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress)
     with atomic_dir(out) as tmp:
-        # 1. geometry
-        (tmp / "geometry").mkdir()
-        write_geometry(case, tmp / "geometry")
-        report += ["## Geometry", "", "![drawing](geometry/drawing.png)", "",
-                   "Profiles: `geometry/*.csv` (x_mm, y_mm); the parts (disc or planet "
-                   "with its holes, pins, housing or ring): `geometry/drawing.dxf` and "
-                   "`geometry/drawing.svg` (mm, one layer or group per body; STEP of each "
-                   "part with the extra `[cad]`); checks: `geometry/check.json`.", ""]
-        # 2. contact
-        if fem:
-            contact = contact_analysis(case, positions=positions, field=field,
-                                       progress=progress)
-            (tmp / "contact").mkdir()
-            summ = write_contact(contact, tmp / "contact")
-            labels = contact_labels(contact)
-            report += [f"## Contact (FE, {contact.mode} mode)", "",
-                       *report_summary.markdown(report_summary.contact_rows(
-                           summ, labels, case.published)), ""]
-            report += [f"![{png}](contact/{png})\n" for png in summ["files"]
-                       if png.endswith(".png")]
-            report += [f"Per {labels.contact} and position: `contact/load_sharing.csv`; "
-                       "fields: `contact/*.vtu` (mm and MPa, the unit in each field's "
-                       "name).", ""]
-            # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
-            (tmp / "stiffness").mkdir()
-            datasheet = stiffness_analysis(case, positions=positions)
-            stiff = write_stiffness(datasheet, tmp / "stiffness")
-            report += ["## Datasheet (FE contact and supports in series)", "",
-                       "| quantity | value |", "|---|---|"]
-            report += [f"| {q} | {v} |" for q, v in datasheet_rows(stiff)]
-            assumed = [k for k, v in stiff["supports"].items() if v["assumed"]]
-            if assumed:
-                report += ["", "Assumed (not in the case): " + ", ".join(assumed) + "."]
-            report += ["", "![hysteresis](stiffness/hysteresis.png)", "",
-                       "![loaded TE](stiffness/te.png)", "",
-                       "Tables: `stiffness/hysteresis.csv`, `stiffness/te.csv`, "
-                       "`stiffness/summary.json` (docs/stiffness.md).", ""]
-        # 3. efficiency at the operating point, analytic and FE loads side by side
-        speed, torque = operating_point(case)
-        sources = ["analytic"] + (["fem"] if fem else [])
-        results = {s: efficiency_summary(case, speed, torque, loads=s) for s in sources}
-        if case.rv is not None:       # the RV paper method beside ours
-            results["rv_split_power"] = efficiency_summary(case, speed, torque,
-                                                          method="rv_split_power")
-        (tmp / "efficiency.json").write_text(json.dumps(results, indent=2))
-        names = list(dict.fromkeys(k for r in results.values() for k in r["losses"]))
-        point = f"{speed:g} rpm input, {torque:.4g} N m output"
-        report += ["## Efficiency", "", f"Operating point: {point}.", "",
-                   *report_summary.markdown(report_summary.efficiency_rows(
-                       results, case.published))]
-        laws = {k: v for r in results.values() for k, v in r["loss_sources"].items()}
-        report += ["", "Each loss and its law:", ""]
-        report += [f"- {name}: {law}" for name, law in laws.items()]
-        for src, r in results.items():
-            for note in r["notes"]:
-                report.append(f"\n- {src}: {note}")
-        save(plots.loss_shares(names, {s: r["loss_shares"] for s, r in results.items()},
-                               title=f"Loss shares at the operating point ({point})\n"
-                                     f"{case.name}"), tmp / "loss_shares.png")
-        report += ["", "![loss shares](loss_shares.png)", ""]
-        report += _efficiency_charts(case, tmp, speed, torque, sources)
-        # 4. life, strength and heat beside the efficiency
-        # from the FE loads where the FE has run (the strength from its contact result)
-        loads = "fem" if fem else "analytic"
-        dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
-               "life": durability.life_summary(
-                   case, known=None if datasheet is None else datasheet.bearings),
-               "strength": durability.strength_summary(case, contact=contact)}
-        (tmp / "durability.json").write_text(json.dumps(dur, indent=2))
-        rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
-                                                 case.rv.disc_teeth, case.rv.pin_count)
-        report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"],
-                                             rv_teeth)
-        said = run_warnings(None if contact is None else contact.summary, results, dur)
-        report += ["## Warnings", "", *([f"- {w}" for w in said] or ["None."]), ""]
-        (tmp / "report.md").write_text("\n".join(report) + "\n")
-        report_html.write_report(tmp, case, command="run", case_file=case_file, compared=(
-            report_summary.efficiency_rows(results, case.published) + ([] if contact is None
-            else report_summary.contact_rows(summ, labels, case.published))))
-    return RunResult(out=out, report=out / "report.md", contact=contact, efficiency=results,
-                     speed_rpm=float(speed), output_torque_Nm=float(torque), case=case,
-                     durability=dur)
+        write_run(run, tmp, case_file)
+    return RunResult(out=out, report=out / "report.md", contact=run.contact,
+                     efficiency=run.efficiency, speed_rpm=run.speed_rpm,
+                     output_torque_Nm=run.output_torque_Nm, case=case,
+                     durability=run.durability)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunAnalysis:
+    """What ``run_case`` computes, before anything is written (the writer:
+    :func:`toothfem.report.files.write_run`).
+
+    Attributes
+    ----------
+    case : toothfem.case.Case
+    contact : ContactResult or None
+        The FE contact (None without ``fem``).
+    datasheet : toothfem.datasheet.StiffnessResult or None
+        The datasheet from the FE contact and the supports (None without ``fem``).
+    efficiency : dict
+        {load source: :func:`efficiency_summary`} at the operating point, with the RV
+        paper's split-power method for a case with [rv].
+    durability : dict
+        {"heat", "life", "strength"} summaries (:mod:`toothfem.durability`).
+    speed_rpm, output_torque_Nm : float
+        The operating point.
+    """
+    case: Case
+    contact: ContactResult | None
+    datasheet: StiffnessResult | None
+    efficiency: dict
+    durability: dict
+    speed_rpm: float
+    output_torque_Nm: float
+
+    @property
+    def warnings(self) -> list:
+        """Every limit the run's results pass, one line each (:func:`limits.run_warnings`)."""
+        return limits.run_warnings(None if self.contact is None else self.contact.summary,
+                                   self.efficiency, self.durability)
+
+
+def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
+                fem: bool = True, progress=None) -> RunAnalysis:
+    """Every analysis of ``toothfem run``, as records (nothing written).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    positions, field, fem, progress
+        As :func:`run_case`.
+
+    Returns
+    -------
+    RunAnalysis
+    """
+    contact = datasheet = None
+    if fem:
+        contact = contact_analysis(case, positions=positions, field=field, progress=progress)
+        # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
+        datasheet = stiffness_analysis(case, positions=positions)
+    # efficiency at the operating point, analytic and FE loads side by side
+    speed, torque = operating_point(case)
+    sources = ["analytic"] + (["fem"] if fem else [])
+    results = {s: efficiency_summary(case, speed, torque, loads=s) for s in sources}
+    if case.rv is not None:       # the RV paper method beside ours
+        results["rv_split_power"] = efficiency_summary(case, speed, torque,
+                                                      method="rv_split_power")
+    # life, strength and heat beside the efficiency, from the FE loads where the FE has
+    # run (the strength from its contact result)
+    loads = "fem" if fem else "analytic"
+    dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
+           "life": durability.life_summary(
+               case, known=None if datasheet is None else datasheet.bearings),
+           "strength": durability.strength_summary(case, contact=contact)}
+    return RunAnalysis(case=case, contact=contact, datasheet=datasheet, efficiency=results,
+                       durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque))

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .errors import ToothfemError, short_repr
-from .units import ARCMIN, rad_s_to_rpm, rpm_to_rad_s
+from .units import ARCMIN, M_PER_MM, M_PER_UM, PA_PER_GPA, rad_s_to_rpm, rpm_to_rad_s
 
 _RECORD = dict(frozen=True, kw_only=True)
 
@@ -319,7 +319,7 @@ class CaseSI:
         return None
 
 
-_MM, _GPA, _UM = 1e-3, 1e9, 1e-6       # SI per unit of the case's keys
+_MM, _GPA, _UM = M_PER_MM, PA_PER_GPA, M_PER_UM     # SI per unit of the case's keys
 #: Face width of a spur first stage that declares none, in modules: ASSUMPTION, the middle
 #: of the usual 8-12 m of industrial spur gears (the RV paper gives no width).
 SPUR_DEFAULT_WIDTH_MODULES = 10.0

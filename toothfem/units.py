@@ -19,8 +19,13 @@ RPM_PER_RAD_S = 60.0 / (2.0 * math.pi)
 #: One arc minute and one arc second [rad].
 ARCMIN = math.pi / (180.0 * 60.0)
 ARCSEC = ARCMIN / 60.0
-#: Millimetres per metre.
+#: Lengths: metres per millimetre and per micrometre, millimetres per metre.
+M_PER_MM = 1e-3
+M_PER_UM = 1e-6
 MM_PER_M = 1e3
+#: Pressures and moduli: pascals per megapascal and per gigapascal.
+PA_PER_MPA = 1e6
+PA_PER_GPA = 1e9
 
 
 def rpm_to_rad_s(speed_rpm):

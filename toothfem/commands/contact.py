@@ -9,7 +9,7 @@ from ..case_checks import TORQUE_NM
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
 from ..pipeline import contact_analysis
-from ..pipeline_files import contact_labels, write_contact
+from ..report.files import contact_labels, write_contact
 from ..report import html as report_html, summary as report_summary
 
 

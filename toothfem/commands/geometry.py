@@ -6,7 +6,7 @@ from pathlib import Path
 from ..case import load_case
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
-from ..pipeline_files import write_geometry
+from ..report.files import write_geometry
 from ..report import html as report_html
 
 

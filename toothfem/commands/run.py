@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from ..efficiency.mesh_table import fe_progress
 from ..pipeline import run_case
-from ..pipeline_files import contact_labels
+from ..report.files import contact_labels
 from ..report import summary as report_summary
 
 

@@ -1,13 +1,16 @@
-"""The files of the pipeline: a contact result, a case's geometry and its efficiency charts.
+"""The files of the pipeline: a contact result, a case's geometry, its efficiency charts
+and the whole run.
 
 :func:`write_contact` (load_sharing.csv, pictures, the VTU field, summary.json),
 :func:`write_geometry` (profiles as CSV, DXF and SVG, the parts' drawing as DXF and SVG,
-STEP with the extra ``[cad]``, drawing.png, check.json) and the
-efficiency curves and maps of a run; the analyses that produce what they write are
-:mod:`toothfem.pipeline`, which calls them.
+STEP with the extra ``[cad]``, drawing.png, check.json), the efficiency curves and maps of
+a run (:func:`efficiency_charts`) and :func:`write_run` (every file of ``toothfem run``
+from its records); the analyses that produce the records are :mod:`toothfem.pipeline`,
+which calls these writers.
 """
 from __future__ import annotations
 
+import csv
 import dataclasses
 import json
 import math
@@ -16,20 +19,23 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from . import cad
-from .cad_parts import part_drawing
-from .case import Case
-from .derived import derived
-from .efficiency import evaluate
-from .errors import CaseError, check_range
-from .fem import export
-from .fem.drives import drive_for
-from .report import contact as report_contact, plots, save
-from .report.contact import ContactLabels
-from .report.plots import Marked
+from .. import cad
+from ..cad_parts import part_drawing
+from ..case import Case
+from ..derived import derived
+from ..efficiency import evaluate
+from ..efficiency.thermal import heat_balance
+from ..errors import CaseError, check_range
+from ..fem import export
+from ..fem.drives import drive_for
+from . import (contact as report_contact, durability as report_durability, html as report_html,
+               plots, save, summary as report_summary)
+from .contact import ContactLabels
+from .plots import Marked
+from .stiffness import datasheet_rows, write_stiffness
 
 if TYPE_CHECKING:   # annotations only: the pipeline imports this module
-    from .pipeline import ContactResult
+    from ..pipeline import ContactResult, RunAnalysis
 
 #: Largest b_ref-scaled zoom of the contact close-up: 6 half-widths around the worst contact
 #: show the Hertz zone and its subsurface maximum (at 0.78 b) with margin.
@@ -344,7 +350,6 @@ def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
     (float, str)
         The temperature [deg C] and its words for a label.
     """
-    from .efficiency.thermal import heat_balance
 
     try:
         oil = float(heat_balance(case, speed, torque, loads=loads).temperature_C[0])
@@ -380,11 +385,26 @@ def loss_shares_chart(case: Case, results: dict, speed: float, torque: float):
                                    f"{case.name}", published=published or None)
 
 
-def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sources) -> list:
+def efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sources) -> list:
     """Efficiency against torque (with the measured and published points) and the two
     catalogue maps into ``tmp``; the loss shares again with the case's published ones,
-    where it has them (from ``tmp/efficiency.json``); returns the report's lines."""
-    import csv
+    where it has them (from ``tmp/efficiency.json``).
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    tmp : pathlib.Path
+        The run's folder being written.
+    speed, torque : float
+        The operating point [rpm], [N m].
+    sources : list of str
+        The efficiency's load sources ("analytic", "fem").
+
+    Returns
+    -------
+    list of str
+        The report's lines.
+    """
 
     if (tmp / "efficiency.json").exists() and any(k.startswith("loss_share_")
                                                   for k in case.published):
@@ -466,3 +486,84 @@ def _efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sourc
             "![efficiency map](efficiency_map.png)", "",
             "![efficiency over oil temperature](efficiency_temperature.png)", "",
             "Tables: `efficiency.json`, `efficiency_vs_torque.csv`, `efficiency_map.csv`.", ""]
+
+
+def write_run(run: RunAnalysis, folder: Path, case_file=None) -> None:
+    """The files of ``toothfem run`` from its records: the geometry, the contact, the
+    datasheet, the efficiency (JSON, loss shares, curves and maps), life, strength and heat,
+    report.md and report.html.
+
+    Parameters
+    ----------
+    run : toothfem.pipeline.RunAnalysis
+    folder : pathlib.Path
+        An existing, empty folder (``run_case`` writes into a temporary one and renames it).
+    case_file : path, optional
+        The case file, named in the reports.
+    """
+    case = run.case
+    label = str(case_file) if case_file is not None else "(in memory)"
+    report = [f"# {case.name}", "", f"Case file: `{label}`; source: {case.source}", ""]
+    (folder / "geometry").mkdir()
+    write_geometry(case, folder / "geometry")
+    report += ["## Geometry", "", "![drawing](geometry/drawing.png)", "",
+               "Profiles: `geometry/*.csv` (x_mm, y_mm); the parts (disc or planet "
+               "with its holes, pins, housing or ring): `geometry/drawing.dxf` and "
+               "`geometry/drawing.svg` (mm, one layer or group per body; STEP of each "
+               "part with the extra `[cad]`); checks: `geometry/check.json`.", ""]
+    contact, summ, labels = run.contact, None, None
+    if contact is not None:
+        (folder / "contact").mkdir()
+        summ = write_contact(contact, folder / "contact")
+        labels = contact_labels(contact)
+        report += [f"## Contact (FE, {contact.mode} mode)", "",
+                   *report_summary.markdown(report_summary.contact_rows(
+                       summ, labels, case.published)), ""]
+        report += [f"![{png}](contact/{png})\n" for png in summ["files"]
+                   if png.endswith(".png")]
+        report += [f"Per {labels.contact} and position: `contact/load_sharing.csv`; "
+                   "fields: `contact/*.vtu` (mm and MPa, the unit in each field's "
+                   "name).", ""]
+    if run.datasheet is not None:
+        (folder / "stiffness").mkdir()
+        stiff = write_stiffness(run.datasheet, folder / "stiffness")
+        report += ["## Datasheet (FE contact and supports in series)", "",
+                   "| quantity | value |", "|---|---|"]
+        report += [f"| {q} | {v} |" for q, v in datasheet_rows(stiff)]
+        assumed = [k for k, v in stiff["supports"].items() if v["assumed"]]
+        if assumed:
+            report += ["", "Assumed (not in the case): " + ", ".join(assumed) + "."]
+        report += ["", "![hysteresis](stiffness/hysteresis.png)", "",
+                   "![loaded TE](stiffness/te.png)", "",
+                   "Tables: `stiffness/hysteresis.csv`, `stiffness/te.csv`, "
+                   "`stiffness/summary.json` (docs/stiffness.md).", ""]
+    results, speed, torque = run.efficiency, run.speed_rpm, run.output_torque_Nm
+    (folder / "efficiency.json").write_text(json.dumps(results, indent=2))
+    names = list(dict.fromkeys(k for r in results.values() for k in r["losses"]))
+    point = f"{speed:g} rpm input, {torque:.4g} N m output"
+    report += ["## Efficiency", "", f"Operating point: {point}.", "",
+               *report_summary.markdown(report_summary.efficiency_rows(
+                   results, case.published))]
+    laws = {k: v for r in results.values() for k, v in r["loss_sources"].items()}
+    report += ["", "Each loss and its law:", ""]
+    report += [f"- {name}: {law}" for name, law in laws.items()]
+    for src, r in results.items():
+        for note in r["notes"]:
+            report.append(f"\n- {src}: {note}")
+    save(plots.loss_shares(names, {s: r["loss_shares"] for s, r in results.items()},
+                           title=f"Loss shares at the operating point ({point})\n"
+                                 f"{case.name}"), folder / "loss_shares.png")
+    report += ["", "![loss shares](loss_shares.png)", ""]
+    sources = [s for s in ("analytic", "fem") if s in results]
+    report += efficiency_charts(case, folder, speed, torque, sources)
+    dur = run.durability
+    (folder / "durability.json").write_text(json.dumps(dur, indent=2))
+    rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
+                                             case.rv.disc_teeth, case.rv.pin_count)
+    report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"], rv_teeth)
+    said = run.warnings
+    report += ["## Warnings", "", *([f"- {w}" for w in said] or ["None."]), ""]
+    (folder / "report.md").write_text("\n".join(report) + "\n")
+    report_html.write_report(folder, case, command="run", case_file=case_file, compared=(
+        report_summary.efficiency_rows(results, case.published) + ([] if summ is None
+        else report_summary.contact_rows(summ, labels, case.published))))
