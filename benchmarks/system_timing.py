@@ -29,7 +29,7 @@ import sys, time, json
 t0 = time.perf_counter()
 from toothfem import load_case
 from toothfem.efficiency import rated_output_torque
-from toothfem.datasheet import path_friction
+from toothfem.efficiency.no_load import path_friction
 from toothfem.fem.datasheet.sheet import datasheet
 from toothfem.fem.datasheet.twist import TwistModel
 from toothfem.fem.drives import drive_for

@@ -39,6 +39,7 @@ import numpy as np
 from ..errors import CaseError
 from .envelope import envelope
 from .lubricant import churning_lu_xu_2024
+from ..fem.drives.assembly import PathFriction
 from ..units import RPM_PER_RAD_S, rpm_to_rad_s
 
 #: ISO/TR 14179-1:2001 seal loss P = SEAL_LOSS_W * D^2 n [W] for D [mm], n [rpm]: the
@@ -231,3 +232,25 @@ def output_friction_torque(si, drive) -> float:
         palmgren_f0(main_type, si.lubricant.lubrication), si.lubricant.kinematic_viscosity_m2_s,
         w, env.main_pitch_diameter_m)
     return float(seal_loss(env.output_seal_diameter_m, w) / w + main)
+
+
+def path_friction(si, drive) -> PathFriction:
+    """The case's friction in the quasi-static path: the pin contacts, output pins and
+    grooves slide at creep speed with no film, so with their boundary coefficients
+    (``friction.boundary_coefficient`` for the pin contacts, ``pin_groove_coefficient``,
+    ``output_pin_coefficient``); the bearings with ``bearing_coefficient``; the output's
+    seal and main bearings (:func:`output_friction_torque`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+
+    Returns
+    -------
+    toothfem.fem.drives.assembly.PathFriction
+    """
+    f = si.friction
+    return PathFriction(pin_disc=f.boundary_coefficient, pin_groove=f.pin_groove_coefficient,
+                        bearing=f.bearing_coefficient, output_pin=f.output_pin_coefficient,
+                        output_torque_Nm=output_friction_torque(si, drive))

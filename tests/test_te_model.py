@@ -371,7 +371,7 @@ def test_one_eccentric_with_the_fe(cases_dir):
     """The FE tables (7 sampled pitches, 4 positions; about a minute on a cold cache): a
     5 um error of one eccentric gives 8.3 arcsec at order 40 on rv40e, and 10 um of
     crank-bearing play raises the lost motion from 0.41 to 1.60 arcmin."""
-    m = RecordingModel(cases_dir / "rv40e.toml")
+    m = RecordingModel(load_case(cases_dir / "rv40e.toml"))
     te, = m.te(Effects(crank_eccentricity_m=((5e-6, 0.0), (0.0, 0.0)),
                        crank_phase_rad=((0.3, 0.0), (0.0, 0.0))))
     assert te.amplitude_arcsec(40) == pytest.approx(8.3, rel=0.02)

@@ -15,8 +15,7 @@ from .fem.datasheet.transmission import LoadedTE, MemberSplit, loaded_te
 from .fem.datasheet.twist import TwistModel
 from .fem.drives import MAX_POSITIONS, drive_for
 from .efficiency import rated_output_torque
-from .efficiency.no_load import output_friction_torque
-from .fem.drives.assembly import PathFriction
+from .efficiency.no_load import path_friction
 from .fem.system.datasheet import BearingLoads, SystemTwist, system_te
 
 #: The one transmission error every command names (docs/stiffness.md, "One transmission
@@ -39,28 +38,6 @@ class StiffnessResult:
     split: MemberSplit | None       # None for one member
     summary: dict
     bearings: BearingLoads | None = None    # None without a system model
-
-
-def path_friction(si, drive) -> PathFriction:
-    """The case's friction in the quasi-static path: the pin contacts, output pins and
-    grooves slide at creep speed with no film, so with their boundary coefficients
-    (``friction.boundary_coefficient`` for the pin contacts, ``pin_groove_coefficient``,
-    ``output_pin_coefficient``); the bearings with ``bearing_coefficient``; the output's
-    seal and main bearings (:func:`toothfem.efficiency.no_load.output_friction_torque`).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.Drive
-
-    Returns
-    -------
-    toothfem.fem.drives.assembly.PathFriction
-    """
-    f = si.friction
-    return PathFriction(pin_disc=f.boundary_coefficient, pin_groove=f.pin_groove_coefficient,
-                        bearing=f.bearing_coefficient, output_pin=f.output_pin_coefficient,
-                        output_torque_Nm=output_friction_torque(si, drive))
 
 
 def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps: int = 8,

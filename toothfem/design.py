@@ -26,7 +26,7 @@ from . import limits
 from .case import Case, as_case
 from .errors import CaseError, check_range
 from .units import M_PER_MM, PA_PER_MPA
-from .datasheet import path_friction
+from .efficiency.no_load import path_friction
 from .efficiency import rated_output_torque
 from .fem.datasheet.sheet import datasheet
 from .fem.drives import drive_for

@@ -19,7 +19,7 @@ effects a fit can vary (docs/te_model.md).
   the pins' radius change and centre offsets (``CycloidDeviation.pin_radius`` and
   ``pin_offset``);
 - ``friction_scale``: a factor on every coefficient of the path friction
-  (:func:`toothfem.datasheet.path_friction`) and on the output's seal torque; 0 the
+  (:func:`toothfem.efficiency.no_load.path_friction`) and on the output's seal torque; 0 the
   elastic curve.
 
 **What a rig records.**
@@ -60,8 +60,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ....case import as_case
-from ....datasheet import path_friction
+from ...no_load import path_friction
 from ....errors import CaseError
 from ....fem.datasheet.sheet import stuck_after_reversals, datasheet, loop_branches
 from ....fem.datasheet.transmission import harmonic_amplitudes, sampled_pitches
@@ -385,7 +384,7 @@ class RecordingModel:
 
     def __init__(self, case, *, positions: int = DEFAULT_POSITIONS,
                  te_samples: int = DEFAULT_TE_SAMPLES, cache=True, **system_options):
-        self.case = as_case(case)
+        self.case = _a_case(case)
         self.si = self.case.to_si()
         self.drive = drive_for(self.case)
         self.supports = self.drive.supports(self.si.supports)
@@ -650,4 +649,13 @@ def te_orders(case) -> dict:
     -------
     dict of str to float
     """
-    return drive_for(as_case(case)).te_orders()
+    return drive_for(_a_case(case)).te_orders()
+
+
+def _a_case(case):
+    """A loaded case (``toothfem.load_case``), or the CaseError that says to load it: the
+    loop works on the case's own record, whose fields its effects set."""
+    if not hasattr(case, "to_si") or not hasattr(case, "drive"):
+        raise CaseError(f"case = {case!r} is not a loaded case: load it with "
+                        "toothfem.load_case first")
+    return case

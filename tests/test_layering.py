@@ -1,0 +1,85 @@
+"""Imports run one way (docs/architecture.md): geometry -> fem -> efficiency ->
+efficiency.loop -> the top (toothfem's pipeline, reports, commands), at module and at
+function level, the base modules open to every layer; and no private name crosses a
+package boundary."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+#: Every layer may import these (exceptions, ranges, limits, SI records, units, progress).
+BASE = {"toothfem.errors", "toothfem.limits", "toothfem.case_checks", "toothfem.leftovers",
+        "toothfem.bars",
+        "toothfem.signals", "toothfem.si", "toothfem.units"}
+#: Layer of a module by its package prefix (the longest prefix wins).
+LAYERS = {"toothfem.geometry": 0, "toothfem.fem": 1, "toothfem.efficiency": 2,
+          "toothfem.efficiency.loop": 3, "toothfem": 4}
+
+
+def _modules():
+    """(module name, path) of every source file, each once (the folders, not the links)."""
+    for folder, package in (("geometry", "toothfem.geometry"), ("fem", "toothfem.fem"),
+                            ("efficiency", "toothfem.efficiency"), ("toothfem", "toothfem")):
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            rel = path.relative_to(ROOT / folder).with_suffix("")
+            if folder == "toothfem" and rel.parts[0] in ("geometry", "fem", "efficiency"):
+                continue                                   # the symlinks
+            parts = [p for p in rel.parts if p != "__init__"]
+            yield ".".join([package, *parts]), path, path.name == "__init__.py"
+
+
+def _layer(module: str) -> int:
+    best = max((p for p in LAYERS if module == p or module.startswith(p + ".")), key=len)
+    return LAYERS[best]
+
+
+def _package(module: str, is_init: bool) -> str:
+    return module if is_init else module.rpartition(".")[0]
+
+
+def _imports(tree):
+    """(node, absolute-or-relative target, names) of every import outside a TYPE_CHECKING
+    block."""
+    skip = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test):
+            skip.update(id(n) for b in node.body for n in ast.walk(b))
+    for node in ast.walk(tree):
+        if id(node) in skip:
+            continue
+        if isinstance(node, ast.ImportFrom):
+            yield node, node.module or "", node.level, [a.name for a in node.names]
+        elif isinstance(node, ast.Import):
+            for a in node.names:
+                yield node, a.name, 0, []
+
+
+def _resolve(package: str, target: str, level: int) -> str:
+    if level == 0:
+        return target
+    base = package.split(".")
+    base = base[:len(base) - (level - 1)]
+    return ".".join(base + ([target] if target else []))
+
+
+def test_imports_run_one_way_and_keep_private_names_home():
+    wrong, private = [], []
+    for module, path, is_init in _modules():
+        package = _package(module, is_init)
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node, target, level, names in _imports(tree):
+            full = _resolve(package, target, level)
+            if not full.startswith("toothfem"):
+                continue
+            candidates = [full] + [f"{full}.{n}" for n in names]
+            own = any(c in BASE for c in candidates) or full == "toothfem"
+            if not own and _layer(full) > _layer(module):
+                wrong.append(f"{module}:{node.lineno} imports {full} (layer {_layer(full)} "
+                             f"above {_layer(module)})")
+            for n in names:
+                if n.startswith("_") and not n.startswith("__") and full != package \
+                        and not full.startswith(package + "."):
+                    private.append(f"{module}:{node.lineno} imports {full}.{n}")
+    assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
+    assert not private, "private names across packages:\n" + "\n".join(private)
