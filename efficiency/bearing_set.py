@@ -43,7 +43,7 @@ import numpy as np
 from ..errors import CaseError
 from ..fem.drives.registry import provide
 from .envelope import envelope
-from .no_load import palmgren_f0, palmgren_no_load_moment
+from .palmgren import palmgren_f0, palmgren_no_load_moment
 from .rating import dynamic_rating_N, static_rating_N
 
 #: Standard boundary dimensions, ISO 15:2017, diameter series 0 (60xx, 70xx, 320xx-like

@@ -16,6 +16,7 @@ from toothfem.efficiency import evaluate, operating_point
 from toothfem.efficiency import lubricant as lb
 from toothfem.efficiency import mixed_film as mf
 from toothfem.efficiency import no_load as nl
+from toothfem.efficiency import palmgren as pg
 from toothfem.efficiency.bearing_set import reducer_bearings
 
 R = dataclasses.replace
@@ -100,15 +101,15 @@ def test_palmgren_no_load_moment():
     at 40 C (68 mm^2/s), 500 rpm: (34000)^(2/3) = 1049.5, M0 = 10.08 N mm. The branches meet
     at nu n = 2000 to Palmgren's rounding of 2000^(2/3) = 158.7 to 160 (0.8 %)."""
     w = 500 * 2 * math.pi / 60
-    m0 = nl.palmgren_no_load_moment(nl.palmgren_f0("needle", "oil_bath"), 68e-6, w, 0.020)
+    m0 = pg.palmgren_no_load_moment(pg.palmgren_f0("needle", "oil_bath"), 68e-6, w, 0.020)
     assert m0 * 1e3 == pytest.approx(1e-7 * 12 * 34000 ** (2 / 3) * 8000, rel=1e-12)
     assert m0 * 1e3 == pytest.approx(10.08, abs=0.01)
     w2000 = 2000 / 68 * 2 * math.pi / 60             # nu n = 2000 exactly
-    hi = nl.palmgren_no_load_moment(2.0, 68e-6, w2000 * (1 + 1e-9), 0.05)
-    lo = nl.palmgren_no_load_moment(2.0, 68e-6, w2000 * (1 - 1e-9), 0.05)
+    hi = pg.palmgren_no_load_moment(2.0, 68e-6, w2000 * (1 + 1e-9), 0.05)
+    lo = pg.palmgren_no_load_moment(2.0, 68e-6, w2000 * (1 - 1e-9), 0.05)
     assert hi / lo == pytest.approx(2000 ** (2 / 3) / 160, rel=1e-6)
     with pytest.raises(CaseError, match="bearing type 'plain' is not one of"):
-        nl.palmgren_f0("plain", "oil_bath")
+        pg.palmgren_f0("plain", "oil_bath")
 
 
 def test_churning_of_each_gear_stage(cases):
@@ -229,7 +230,7 @@ def test_crank_support_bearings_carry_the_output_torque(cases):
     per_bearing = t_discs / (2 * 0.030) / 2
     (b,) = [b for b in reducer_bearings(si, drive) if b.name == "crank_support_bearings"]
     assert b.bore_m >= supports.crankshaft_diameter_m         # it takes the shaft
-    m0 = nl.palmgren_no_load_moment(nl.palmgren_f0("tapered", "grease"), 68e-6, w_rel,
+    m0 = pg.palmgren_no_load_moment(pg.palmgren_f0("tapered", "grease"), 68e-6, w_rel,
                                     b.pitch_diameter_m)
     by_hand = 4 * (m0 + si.friction.bearing_coefficient * per_bearing
                    * b.pitch_diameter_m / 2) * w_rel

@@ -83,3 +83,55 @@ def test_imports_run_one_way_and_keep_private_names_home():
                     private.append(f"{module}:{node.lineno} imports {full}.{n}")
     assert not wrong, "imports against the layers:\n" + "\n".join(wrong)
     assert not private, "private names across packages:\n" + "\n".join(private)
+
+
+def _graph():
+    """module -> the modules it imports (module and function level, TYPE_CHECKING aside)."""
+    mods = {m: (path, is_init) for m, path, is_init in _modules()}
+    graph: dict[str, set] = {m: set() for m in mods}
+    for module, (path, is_init) in mods.items():
+        package = _package(module, is_init)
+        for _node, target, level, names in _imports(ast.parse(path.read_text("utf-8"))):
+            full = _resolve(package, target, level)
+            subs = [f"{full}.{n}" for n in names if f"{full}.{n}" in mods]
+            for dst in subs or ([full] if full in mods else []):
+                if dst != module:
+                    graph[module].add(dst)
+    return graph
+
+
+def test_no_import_cycles():
+    """Strongly connected groups of more than one module (Tarjan): none. A package's
+    __init__ importing its own submodules is the package's face, not a cycle, unless a
+    submodule imports the __init__ back."""
+    graph = _graph()
+    index, low, stack, on, groups, counter = {}, {}, [], set(), [], [0]
+
+    def visit(v):
+        index[v] = low[v] = counter[0]
+        counter[0] += 1
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            group = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                group.append(w)
+                if w == v:
+                    break
+            if len(group) > 1:
+                groups.append(sorted(group))
+
+    import sys
+    sys.setrecursionlimit(max(sys.getrecursionlimit(), 10000))
+    for v in graph:
+        if v not in index:
+            visit(v)
+    assert not groups, "import cycles:\n" + "\n".join(" <-> ".join(g) for g in groups)

@@ -12,7 +12,7 @@ import pytest
 from toothfem import CaseError, cli, load_case, parse_case
 from toothfem.case import case_to_dict
 from toothfem.efficiency import bearings as br
-from toothfem.efficiency import no_load as nl
+from toothfem.efficiency import palmgren as pg
 from toothfem.efficiency.bearing_set import reducer_bearings
 from toothfem.efficiency import evaluate
 from toothfem.efficiency import strength as st
@@ -84,7 +84,7 @@ def test_crank_bearing_loads_match_the_loss_model(cases):
     rel = 1500 * 2 * math.pi / 60 * abs(w["crank"] - w["member"])
     loss = evaluate(rv, 1500.0, 412.0).losses_W["crank_bearings"][0]
     (b,) = [b for b in reducer_bearings(si, drive) if b.name == "crank_bearings"]
-    m0 = nl.palmgren_no_load_moment(nl.palmgren_f0("needle", "grease"), 68e-6, rel,
+    m0 = pg.palmgren_no_load_moment(pg.palmgren_f0("needle", "grease"), 68e-6, rel,
                                     b.pitch_diameter_m)
     by_loads = drive.members * k * (m0 + si.friction.bearing_coefficient
                                     * np.mean(loads.load_N) * b.pitch_diameter_m / 2) * rel
