@@ -47,6 +47,10 @@ def test_shipped_cases_cover_every_layout_and_agree_with_their_drive():
         drive = drive_for(case)
         assert drive.layout == name and drive.record is reg.RECORDS[name]
         assert drive.kind == drive.record.stage_section
+        # the design keys set fields the stage's SI geometry has
+        stage = getattr(case.to_si(), drive.record.stage_section)
+        for key, (field, factor) in drive.record.design_keys.items():
+            assert hasattr(stage.geometry, field) and factor > 0, (name, key, field)
         seen.add(name)
     assert seen == set(reg.RECORDS), f"no shipped case of {set(reg.RECORDS) - seen}"
 

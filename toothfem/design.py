@@ -25,11 +25,12 @@ import numpy as np
 from . import limits
 from .case import Case, as_case
 from .errors import CaseError, check_range
-from .units import M_PER_MM, PA_PER_MPA
+from .units import PA_PER_MPA
 from .efficiency.no_load import path_friction
 from .efficiency import rated_output_torque
 from .fem.datasheet.sheet import datasheet
 from .fem.drives import drive_for
+from .fem.drives.registry import record_of
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 
 #: Points of the design of experiments (a power of two: Sobol balance), the seed of its
@@ -37,10 +38,6 @@ from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 DOE_POINTS, DOE_SEED, REFINE_EVALUATIONS = 32, 0, 40
 #: Penalty per unit of a target's relative violation, in units of the pressure objective.
 PENALTY = 1e3
-#: Keys of the [cycloid] section the search sets, with the factor from the key to SI.
-KEYS = {"equidistant_modification_mm": ("equidistant_m", M_PER_MM),
-        "move_distance_modification_mm": ("move_distance_m", M_PER_MM),
-        "rotation_modification_deg": ("rotation_rad", math.pi / 180)}
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -210,7 +207,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     if case.design is None:
         raise CaseError("[design] section is required (targets: max_backlash_arcmin, "
                         "min_contacts, max_ph_MPa, percentile)")
-    if case.cycloid is None:
+    layout = record_of(case)
+    if not layout.design_keys or getattr(case, layout.stage_section, None) is None:
         raise CaseError(f"drive = {case.drive!r}: toothfem design searches the cycloid "
                         "disc's modifications; this case has no [cycloid] section")
     check_range("positions", positions, 2, 3600, error=CaseError)
@@ -247,7 +245,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
 
     def evaluate(x, devs=None, record=True) -> Candidate:
         mod = {k: float(v) for k, v in zip(names, x)}
-        geom = dataclasses.replace(base, **{KEYS[k][0]: v * KEYS[k][1]
+        keys = layout.design_keys
+        geom = dataclasses.replace(base, **{keys[k][0]: v * keys[k][1]
                                             for k, v in mod.items()})
         backlash, ph, contacts = [], [], []
         for dev in deviations if devs is None else devs:

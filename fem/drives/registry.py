@@ -6,23 +6,27 @@ cranks that carry the discs) and a one-tooth-difference sine drive. Each has one
 :class:`DriveRecord` here, which holds
 
 - what the drive package itself knows (the case section of its meshing stage, the keys of
-  that stage's tolerances and design variables, the label a reader sees), and
+  that stage's tolerances and of the modifications ``toothfem design`` varies, the label a
+  reader sees), and
 - a *part* per capability of the layers above, which the owning module provides once with
   :func:`provide` (the loss model in ``efficiency.drive_losses``, the envelope in
   ``efficiency.envelope``, the drawing in ``toothfem.report.plots`` ...).
 
 Consumers ask the drive (``drive.part("loss_model")``) or the case
 (``record_of(case).part("derived_rows")``); nothing outside this package branches on the
-layout. ``tests/test_registry.py`` checks that every record has every part of
-:data:`PARTS` once the package is imported (docs/architecture.md, "Adding a drive").
+layout; each consumer imports the module that provides its part, so the part is there
+when asked. ``tests/test_registry.py`` checks that every record has every part of
+:data:`PARTS` (docs/architecture.md, "Adding a drive").
 """
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from ...errors import CaseError
+from ...units import M_PER_MM
 
 #: Every part a layout provides, the module that provides it and what it is.
 PARTS: dict[str, str] = {
@@ -67,6 +71,9 @@ class DriveRecord:
         and design keys and its mesh efficiency are named.
     tolerance_keys : tuple of str
         The ``[tolerances]`` keys of that stage (the other stages' must stay zero).
+    design_keys : dict
+        The stage-section keys ``toothfem design`` varies -> (the SI geometry field each
+        sets, the factor from the key's unit to SI); empty: no search for this layout.
     required_sections : dict
         The case's ``drive`` value(s) that name this layout -> the sections each requires.
     selected_by : dict
@@ -85,6 +92,7 @@ class DriveRecord:
     label: str
     stage_section: str
     tolerance_keys: tuple[str, ...]
+    design_keys: Mapping[str, tuple[str, float]] = field(default_factory=dict)
     required_sections: Mapping[str, tuple[str, ...]] = field(default_factory=dict)
     selected_by: Mapping[str, str] = field(default_factory=dict)
     components: frozenset[str] = frozenset()
@@ -118,6 +126,10 @@ class DriveRecord:
                            f"{where}; import toothfem first)") from None
 
 
+#: The disc's profile modifications the design search varies (toothfem/design.py).
+_CYCLOID_DESIGN = {"equidistant_modification_mm": ("equidistant_m", M_PER_MM),
+                   "move_distance_modification_mm": ("move_distance_m", M_PER_MM),
+                   "rotation_modification_deg": ("rotation_rad", math.pi / 180)}
 _CYCLOID_TOLERANCES = ("pin_position_mm", "pin_diameter_lower_mm", "pin_diameter_upper_mm",
                        "pin_circle_radius_mm", "disc_profile_mm", "crank_hole_position_mm")
 
@@ -125,12 +137,14 @@ _CYCLOID_TOLERANCES = ("pin_position_mm", "pin_diameter_lower_mm", "pin_diameter
 RECORDS: dict[str, DriveRecord] = {
     "cycloid": DriveRecord(
         name="cycloid", stage_section="cycloid", tolerance_keys=_CYCLOID_TOLERANCES,
+        design_keys=_CYCLOID_DESIGN,
         required_sections={"cycloid": ("cycloid", "material")},
         components=frozenset({"pins", "eccentric_bearing", "output_mechanism",
                               "main_bearings"}),
         label="a K-H-V cycloid drive with output pins through the discs"),
     "rv": DriveRecord(
         name="rv", stage_section="cycloid", tolerance_keys=_CYCLOID_TOLERANCES,
+        design_keys=_CYCLOID_DESIGN,
         required_sections={"rv": ("rv",), "cycloid": ("cycloid", "material")},
         selected_by={"cycloid": "first_stage"},
         components=frozenset({"pins", "first_stage", "crank_bearings", "main_bearings"}),

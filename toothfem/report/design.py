@@ -5,7 +5,8 @@ import csv
 import json
 from pathlib import Path
 
-from ..design import KEYS, Candidate, DesignResult, percentile_interval, with_keys
+from ..design import Candidate, DesignResult, percentile_interval, with_keys
+from ..fem.drives.registry import record_of
 from . import pyplot, save, wrap
 
 #: Margin of the zoomed view around the candidates that meet every target, as a fraction
@@ -314,7 +315,7 @@ def write_design(result: DesignResult, folder, source_text: str) -> dict:
         If ``source_text`` has no [cycloid] table.
     """
     folder = Path(folder)
-    names = list(KEYS)
+    names = list(result.best.modification)
     with open(folder / "candidates.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow([*names, "backlash_arcmin", "max_ph_MPa", "contacts_min", "feasible"])
@@ -323,7 +324,8 @@ def write_design(result: DesignResult, folder, source_text: str) -> dict:
                         f"{c.backlash_arcmin:.6g}", f"{c.max_ph_MPa:.6g}",
                         f"{c.contacts_min:g}", int(c.feasible)])
     save(tradeoff(result), folder / "tradeoff.png")
-    (folder / "best_case.toml").write_text(with_keys(source_text, "cycloid",
+    section = record_of(result.case).stage_section
+    (folder / "best_case.toml").write_text(with_keys(source_text, section,
                                                      result.best.modification))
     summary = {**result.summary(), "files": ["candidates.csv", "tradeoff.png",
                                              "best_case.toml", "summary.json", "report.md"]}
