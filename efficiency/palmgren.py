@@ -21,8 +21,9 @@ PALMGREN_LOW_SPEED = 160.0
 #: the middle of a tabulated range where a range is given ("oil_jet": the column of oil
 #: jet and vertical shafts in an oil bath). The table could not be re-read for issue 13's
 #: worked checks: the "angular_ball" row (2 / 1.7 / 3.3 / 6.6) in particular is unconfirmed
-#: (whether it is per single row or per pair). No shipped case uses these factors: all run
-#: in an oil bath, where the churning law replaces Palmgren's drag.
+#: (whether it is per single row or per pair). The grease-lubricated RV-40E case uses the
+#: grease column (needle 12, tapered 6, angular ball 2: its crank, support and main
+#: bearings' drag); the oil-bath cases do not (the churning law lumps the drag there).
 PALMGREN_F0 = {
     "ball": {"grease": 1.35, "oil_mist": 1.0, "oil_bath": 2.0, "oil_jet": 4.0},
     "angular_ball": {"grease": 2.0, "oil_mist": 1.7, "oil_bath": 3.3, "oil_jet": 6.6},
