@@ -45,6 +45,7 @@ from ..fem.drives.registry import provide
 from .envelope import envelope
 from .palmgren import palmgren_f0, palmgren_no_load_moment
 from .rating import dynamic_rating_N, static_rating_N
+from ..units import M_PER_MM, MM_PER_M, N_PER_KN
 
 #: Standard boundary dimensions, ISO 15:2017, diameter series 0 (60xx, 70xx, 320xx-like
 #: sections): bore d -> (outside diameter D, width B) [mm]. The thinnest common radial
@@ -109,14 +110,14 @@ class Bearing:
         -------
         dict
         """
-        mm = 1e3
+        mm = MM_PER_M
         return {"label": self.label, "type": self.bearing_type, "count": self.count,
                 "bore_mm": self.bore_m * mm, "outer_mm": self.outer_m * mm,
                 "width_mm": self.width_m * mm, "pitch_diameter_mm": self.pitch_diameter_m * mm,
                 "elements": self.elements, "element_diameter_mm": self.element_diameter_m * mm,
                 "contact_angle_deg": self.contact_angle_deg,
-                "dynamic_rating_kN": self.dynamic_rating_N / 1e3,
-                "static_rating_kN": self.static_rating_N / 1e3,
+                "dynamic_rating_kN": self.dynamic_rating_N / N_PER_KN,
+                "static_rating_kN": self.static_rating_N / N_PER_KN,
                 "rating_source": self.rating_source, "assumed": list(self.assumed)}
 
 
@@ -140,10 +141,10 @@ def standard_size(shaft_m: float, name: str) -> tuple:
     CaseError
         If no bore of the table takes the shaft.
     """
-    d_mm = shaft_m * 1e3
+    d_mm = shaft_m * MM_PER_M
     for bore, (outer, width) in ISO15_SERIES_0.items():
         if bore >= d_mm - 1e-9:
-            return bore * 1e-3, outer * 1e-3, width * 1e-3
+            return bore * M_PER_MM, outer * M_PER_MM, width * M_PER_MM
     raise CaseError(f"{name} = {d_mm:.4g} mm: no bearing of ISO 15 diameter series 0 "
                     f"(bores {min(ISO15_SERIES_0)}-{max(ISO15_SERIES_0)} mm) takes it")
 
@@ -236,33 +237,33 @@ def _needles(si, drive, supports, *, name, label, count, hole_m, hole_key):
     d_w = supports.bearing_roller_diameter_m
     journal = hole - 2 * d_w
     if journal <= 0:
-        raise CaseError(f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g} does not fit "
-                        f"{hole_key} = {hole * 500:.4g}: two rollers fill the hole")
+        raise CaseError(f"supports.bearing_roller_diameter_mm = {d_w * MM_PER_M:.4g} does not fit "
+                        f"{hole_key} = {hole / 2 * MM_PER_M:.4g}: two rollers fill the hole")
     if supports.crankshaft_diameter_m is not None and \
             supports.crankshaft_diameter_m + 2 * g.eccentricity_m > journal * (1 + 1e-9):
         raise CaseError(
-            f"supports.crankshaft_diameter_mm = {supports.crankshaft_diameter_m * 1e3:.4g} "
-            f"does not fit the eccentric journal ({journal * 1e3:.4g} mm: {hole_key} = "
-            f"{hole * 500:.4g} less two rollers of supports.bearing_roller_diameter_mm = "
-            f"{d_w * 1e3:.4g}): the shaft must pass through the journal, offset by "
-            f"cycloid.eccentricity_mm = {g.eccentricity_m * 1e3:.4g}")
+            f"supports.crankshaft_diameter_mm = {supports.crankshaft_diameter_m * MM_PER_M:.4g} "
+            f"does not fit the eccentric journal ({journal * MM_PER_M:.4g} mm: {hole_key} = "
+            f"{hole / 2 * MM_PER_M:.4g} less two rollers of supports.bearing_roller_diameter_mm = "
+            f"{d_w * MM_PER_M:.4g}): the shaft must pass through the journal, offset by "
+            f"cycloid.eccentricity_mm = {g.eccentricity_m * MM_PER_M:.4g}")
     d_m = hole - d_w
     declared_dm = None if b is None else b.eccentric_pitch_diameter_m
     if declared_dm is not None and not journal < declared_dm < hole:
-        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * 1e3:.4g} does "
-                        f"not fit {hole_key} = {hole * 500:.4g}: the rollers' pitch circle "
-                        f"lies between the journal ({journal * 1e3:.4g} mm) and the hole")
+        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * MM_PER_M:.4g} does "
+                        f"not fit {hole_key} = {hole / 2 * MM_PER_M:.4g}: the rollers' pitch circle "
+                        f"lies between the journal ({journal * MM_PER_M:.4g} mm) and the hole")
     if declared_dm is not None and abs(declared_dm - d_m) > PITCH_TOLERANCE_M:
-        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * 1e3:.4g} "
-                        f"disagrees with the rollers' pitch circle {d_m * 1e3:.4g} mm "
-                        f"({hole_key} = {hole * 500:.4g} less one "
-                        f"supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g}): give one "
+        raise CaseError(f"bearings.eccentric_pitch_diameter_mm = {declared_dm * MM_PER_M:.4g} "
+                        f"disagrees with the rollers' pitch circle {d_m * MM_PER_M:.4g} mm "
+                        f"({hole_key} = {hole / 2 * MM_PER_M:.4g} less one "
+                        f"supports.bearing_roller_diameter_mm = {d_w * MM_PER_M:.4g}): give one "
                         "of them")
     w = drive.speeds()
     return _roller_bearing(
         si, supports, name=name, label=label, count=count,
         bore_m=journal, outer_m=hole, pitch_m=d_m, speed=abs(w["crank"] - w["member"]),
-        space=f"{hole_key} = {hole * 500:.4g}")
+        space=f"{hole_key} = {hole / 2 * MM_PER_M:.4g}")
 
 
 #: A declared pitch diameter agrees with the rollers' when within this [m] (a micrometre:
@@ -290,16 +291,16 @@ def check_rating(declared_N, fitting_N, key, space):
         If ``declared_N`` exceeds ``RATING_MARGIN`` times ``fitting_N``.
     """
     if declared_N > RATING_MARGIN * fitting_N:
-        raise CaseError(f"{key} = {declared_N / 1e3:.4g} kN does not fit {space}: the rolling "
-                        f"set that fits rates {fitting_N / 1e3:.4g} kN (ISO 281), at most "
+        raise CaseError(f"{key} = {declared_N / N_PER_KN:.4g} kN does not fit {space}: the rolling "
+                        f"set that fits rates {fitting_N / N_PER_KN:.4g} kN (ISO 281), at most "
                         f"{RATING_MARGIN:g}x that is credible")
 
 
 def _sized(name, label, bearing_type, count, shaft_m, shaft_key, speed, assumed, room=None):
     bore, outer, width = standard_size(shaft_m, shaft_key)
     if room is not None and outer > room[0] * (1 + 1e-9):
-        raise CaseError(f"{shaft_key} = {shaft_m * 1e3:.4g} mm needs a {label} of outside "
-                        f"diameter {outer * 1e3:.4g} mm (ISO 15 series 0), which does not fit "
+        raise CaseError(f"{shaft_key} = {shaft_m * MM_PER_M:.4g} mm needs a {label} of outside "
+                        f"diameter {outer * MM_PER_M:.4g} mm (ISO 15 series 0), which does not fit "
                         f"{room[1]}")
     rolling = rolling_set(bearing_type, bore, outer, width)
     c, c0, source = _ratings(bearing_type, rolling, None)
@@ -384,8 +385,8 @@ def _rv_bearings(si, drive) -> tuple:
         "carrier)", "tapered", 2 * k, supports.crankshaft_diameter_m,
         "supports.crankshaft_diameter_mm", abs(w["crank"] - w["output"]),
         [f"supports.{n}" for n in supports.assumed if n.startswith("crankshaft")],
-        room=(room, f"the carrier ({room * 1e3:.4g} mm between the cranks at "
-                    f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * 1e3:.4g} "
+        room=(room, f"the carrier ({room * MM_PER_M:.4g} mm between the cranks at "
+                    f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * MM_PER_M:.4g} "
                     "and the pins)"))
     return _cycloid_set(si, drive, needles, support)
 
@@ -411,17 +412,17 @@ def _sine_bearings(si, drive) -> tuple:
                    pair.planet_pitch_radius_m - pair.tooth_height_m)
     if bore_out > room * (1 + 1e-9):
         raise CaseError(
-            f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g} with "
-            f"rollers of supports.bearing_roller_diameter_mm = {d_w * 1e3:.4g} needs a "
-            f"{bore_out * 1e3:.4g} mm bore in the planet, which does not clear the output "
+            f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * MM_PER_M:.4g} with "
+            f"rollers of supports.bearing_roller_diameter_mm = {d_w * MM_PER_M:.4g} needs a "
+            f"{bore_out * MM_PER_M:.4g} mm bore in the planet, which does not clear the output "
             f"pins' holes (output_mechanism.pin_hole_circle_radius_mm = "
-            f"{om.pin_hole_circle_radius_m * 1e3:.4g}) or the teeth ({room * 1e3:.4g} mm)")
+            f"{om.pin_hole_circle_radius_m * MM_PER_M:.4g}) or the teeth ({room * MM_PER_M:.4g} mm)")
     ecc = _roller_bearing(
         si, supports, name="eccentric_bearing",
         label="eccentric bearing (rollers on the eccentric in the planet's bore)", count=1,
         bore_m=2 * r_p, outer_m=bore_out, pitch_m=2 * r_p + d_w,
         speed=abs(w["crank"] - w["member"]),
-        space=f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * 1e3:.4g}")
+        space=f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * MM_PER_M:.4g}")
     return (ecc, main_pair(si, drive),
             _sized("input_bearings", "input bearings (deep groove balls on the input shaft)",
                    "ball", 2, supports.crankshaft_diameter_m,
@@ -545,10 +546,10 @@ def main_tilt(si, drive) -> dict:
             else declared - cone)
     if span <= 0:
         if declared is None:      # the assumed spacing of positive balls: never below 0
-            raise CaseError(f"the main bearings' assumed row span {span * 1e3:.4g} mm is "
+            raise CaseError(f"the main bearings' assumed row span {span * MM_PER_M:.4g} mm is "
                             "not positive (ball diameter times MAIN_ROW_SPACING_PER_BALL)")
-        raise CaseError(f"bearings.main_span_mm = {declared * 1e3:.4g} is below the pair's "
-                        f"pressure-cone spread d_m tan(alpha) = {cone * 1e3:.4g} mm of a "
+        raise CaseError(f"bearings.main_span_mm = {declared * MM_PER_M:.4g} is below the pair's "
+                        f"pressure-cone spread d_m tan(alpha) = {cone * MM_PER_M:.4g} mm of a "
                         "back-to-back pair: the rows would overlap")
     pair = tilt.BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
                          pitch_diameter_m=b.pitch_diameter_m,
@@ -561,9 +562,9 @@ def main_tilt(si, drive) -> dict:
     return {"momentary_moment_Nm": float(momentary), "allowable_moment_Nm": float(allowable),
             "moment_rigidity_Nm_per_arcmin": float(
                 tilt.moment_rigidity_Nm_per_arcmin(pair, allowable)),
-            "row_span_mm": span * 1e3, "preload_N": pair.preload_N,
-            "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * 1e3,
-            "pitch_diameter_mm": b.pitch_diameter_m * 1e3,
+            "row_span_mm": span * MM_PER_M, "preload_N": pair.preload_N,
+            "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * MM_PER_M,
+            "pitch_diameter_mm": b.pitch_diameter_m * MM_PER_M,
             "assumed": list(b.assumed) + (["preload"] if si.bearings is None or
                                           si.bearings.main_preload_N is None else [])
                        + ["row span"]}

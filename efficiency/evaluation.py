@@ -21,7 +21,7 @@ from .. import limits
 from .lubricant import viscosity_factor
 from .mesh_table import LOADS
 from ..si import si_of
-from ..units import rpm_to_rad_s
+from ..units import W_PER_KW, rpm_to_rad_s
 
 METHODS = ("power_flow", "rv_split_power")
 #: Positions per meshing period the efficiency model accepts: at least 4 to see the load
@@ -239,7 +239,7 @@ def _output_torque_root(si, t_lossless, kw) -> float:
     lo = ROOT_BRACKET_LO * t_lossless
     if residual(lo) >= 0:
         key, value = (("input_torque_Nm", op.input_torque_Nm) if op.input_torque_Nm
-                      else ("input_power_kW", op.input_power_W / 1e3))
+                      else ("input_power_kW", op.input_power_W / W_PER_KW))
         raise CaseError(f"operating.{key} = {value!r} does not overcome the load-independent "
                         f"losses at {speed:g} rpm: no output torque")
     return float(brentq(residual, lo, t_lossless, rtol=OPERATING_RTOL))

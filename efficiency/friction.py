@@ -27,6 +27,7 @@ import numpy as np
 
 from ..errors import check_range, checked_array as _array
 from ..fem.hertz import float_or_array as _out
+from ..units import CP_PER_PA_S, GPA_PER_PA, UM_PER_M
 
 __all__ = [
     "XU2007_COEFFICIENTS",
@@ -81,7 +82,7 @@ _INCH = 0.0254                  # m per inch (exact)
 _LBF_PER_IN = _LBF / _INCH      # N/m per lbf/in
 _BK_CONSTANT_US = 3.17e8
 #: The same constant for W [N/m], eta0 [Pa s], velocities [m/s]: 0.0296625 m^2/s^2.
-BK_CONSTANT_SI = _BK_CONSTANT_US * _INCH**3 / (_LBF_PER_IN * 1.0e3)
+BK_CONSTANT_SI = _BK_CONSTANT_US * _INCH**3 / (_LBF_PER_IN * CP_PER_PA_S)
 
 
 class MixedLubricationWarning(UserWarning):
@@ -306,9 +307,9 @@ def ehl_xu2007(ph, sr, ve, eta0, r, roughness, *, e_prime=E_PRIME_STEEL,
     lam_min = _array("lambda_min", lambda_min, 0.0, why="full-film threshold [-]")
 
     # SI -> regression units
-    p_gpa = ph_a * 1.0e-9
-    nu_cp = eta_a * 1.0e3
-    s_um = s_a * 1.0e6
+    p_gpa = ph_a * GPA_PER_PA
+    nu_cp = eta_a * CP_PER_PA_S
+    s_um = s_a * UM_PER_M
     a_sr = np.abs(sr_a)
 
     x = a_sr * p_gpa * np.log10(nu_cp)

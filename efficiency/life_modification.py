@@ -95,10 +95,7 @@ import numpy as np
 
 from ..errors import ToothfemError, check_range
 from .rating import BALL_TYPES, BEARING_TYPES
-
-#: Metres to millimetres, m^2/s to mm^2/s (the standard's formulas are in mm and mm^2/s).
-MM_PER_M = 1e3
-MM2_PER_M2 = 1e6
+from ..units import MM2_PER_M2, MM_PER_M
 
 #: Speed [r/min] at which the rated-viscosity formula changes branch (ISO 281:2007).
 NU1_BRANCH_RPM = 1000.0

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CaseError
+from ..units import MM2_PER_M2, MM_PER_M, W_PER_KW
 
 #: Margin above Vogel's pole T = -C [K] below which the law is refused (it diverges there).
 VOGEL_POLE_MARGIN_K = 1.0
@@ -111,7 +112,7 @@ def churning_lu_xu_2024(centre_distance_m, speed_rpm, kinematic_viscosity_m2_s):
     numpy.ndarray
         The loss [W].
     """
-    a0_mm = centre_distance_m * 1e3
+    a0_mm = centre_distance_m * MM_PER_M
     n = np.asarray(speed_rpm, float)
-    nu = np.asarray(kinematic_viscosity_m2_s, float) * 1e6          # mm^2/s
-    return 1e-7 * a0_mm * (n / 60.0) ** (4.0 / 3.0) * (nu / n) ** 0.1 * (nu + 90.0) * 1e3
+    nu = np.asarray(kinematic_viscosity_m2_s, float) * MM2_PER_M2   # mm^2/s
+    return 1e-7 * a0_mm * (n / 60.0) ** (4.0 / 3.0) * (nu / n) ** 0.1 * (nu + 90.0) * W_PER_KW

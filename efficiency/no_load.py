@@ -41,7 +41,7 @@ from .lubricant import churning_lu_xu_2024
 from .bearing_set import bearing_losses
 from .palmgren import palmgren_f0, palmgren_no_load_moment
 from ..fem.drives.assembly import PathFriction
-from ..units import RPM_PER_RAD_S, rpm_to_rad_s
+from ..units import MM_PER_M, RPM_PER_RAD_S, rpm_to_rad_s
 
 #: ISO/TR 14179-1:2001 seal loss P = SEAL_LOSS_W * D^2 n [W] for D [mm], n [rpm]: the
 #: friction of a radial lip seal on a shaft of diameter D (torque 7.34e-5 D^2 N m).
@@ -75,7 +75,7 @@ def seal_loss(diameter_m, speed_rad_s):
     numpy.ndarray
         The loss [W].
     """
-    d_mm = diameter_m * 1e3
+    d_mm = diameter_m * MM_PER_M
     return SEAL_LOSS_W * d_mm ** 2 * np.abs(np.asarray(speed_rad_s, float)) * RPM_PER_RAD_S
 
 

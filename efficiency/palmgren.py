@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..errors import CaseError
-from ..units import RPM_PER_RAD_S
+from ..units import M_PER_MM, MM2_PER_M2, MM_PER_M, RPM_PER_RAD_S
 
 #: Palmgren's no-load moment M0 = 1e-7 f0 (nu n)^(2/3) d_m^3 [N mm] (nu [mm^2/s], n [rpm],
 #: d_m [mm]) for nu n >= PALMGREN_NU_N_MIN, and 160e-7 f0 d_m^3 below it.
@@ -55,11 +55,12 @@ def palmgren_no_load_moment(f0, nu_m2_s, speed_rad_s, pitch_diameter_m):
     numpy.ndarray
         M0 [N m].
     """
-    nu_n = np.asarray(nu_m2_s, float) * 1e6 * np.abs(np.asarray(speed_rad_s, float)) * RPM_PER_RAD_S
-    d3 = (pitch_diameter_m * 1e3) ** 3
+    nu_n = (np.asarray(nu_m2_s, float) * MM2_PER_M2 * np.abs(np.asarray(speed_rad_s, float))
+            * RPM_PER_RAD_S)
+    d3 = (pitch_diameter_m * MM_PER_M) ** 3
     m0 = np.where(nu_n >= PALMGREN_NU_N_MIN, 1e-7 * f0 * np.maximum(nu_n, 0.0) ** (2 / 3),
                   PALMGREN_LOW_SPEED * 1e-7 * f0) * d3
-    return m0 * 1e-3
+    return m0 * M_PER_MM
 
 
 def palmgren_f0(bearing_type: str, lubrication: str) -> float:

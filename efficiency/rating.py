@@ -54,6 +54,7 @@ import math
 import numpy as np
 
 from ..errors import ToothfemError, check_range
+from ..units import MM_PER_M
 
 #: Bearing types understood here.
 BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
@@ -111,8 +112,6 @@ STATIC_ROLLER_FACTOR = 44.0
 #: Nominal contact angle range of radial bearings [deg] (ISO 281 / ISO 76: radial
 #: bearings have a nominal contact angle from 0 deg to 45 deg inclusive).
 CONTACT_ANGLE_RANGE_DEG = (0.0, 45.0)
-#: Metres to millimetres (the standards' formulas are in N and mm).
-MM_PER_M = 1e3
 
 
 def _integer(name, value, lo, hi=None, why=""):

@@ -24,6 +24,7 @@ import math
 import numpy as np
 
 from ..errors import check_range
+from ..units import CP_PER_PA_S, M_PER_MM, MM_PER_M, UM_PER_M
 
 
 def contact_ratios(z1: int, z2: int, pressure_angle_rad: float, internal: bool = False):
@@ -154,14 +155,15 @@ def mesh_efficiency(stage, sun_torque_Nm, relative_speed_rad_s, eta_oil_Pa_s, ra
     """
     z1, z2 = stage.sun_teeth, stage.planet_teeth
     a = stage.pressure_angle_rad
-    m_mm = stage.module_m * 1e3                             # Schlenk's law works in mm
+    m_mm = stage.module_m * MM_PER_M                        # Schlenk's law works in mm
     n_p = planets or stage.planet_count
     r1 = z1 * m_mm / 2                                      # mm
-    f_bt = np.asarray(sun_torque_Nm, float) * 1e3 / (r1 * math.cos(a)) / n_p     # N
-    width = stage.face_width_m * 1e3                        # mm
-    v_t = np.abs(np.asarray(relative_speed_rad_s, float)) * r1 * 1e-3          # m/s
+    f_bt = np.asarray(sun_torque_Nm, float) * MM_PER_M / (r1 * math.cos(a)) / n_p     # N
+    width = stage.face_width_m * MM_PER_M                   # mm
+    v_t = np.abs(np.asarray(relative_speed_rad_s, float)) * r1 * M_PER_MM      # m/s
     v_sum = 2 * v_t * math.sin(a)                           # sum velocity at the pitch point
     rho1, rho2 = r1 * math.sin(a), z2 * m_mm / 2 * math.sin(a)
     rho_red = rho1 * rho2 / (rho1 + rho2)
-    mu = schlenk_mu(f_bt / width, v_sum, rho_red, np.asarray(eta_oil_Pa_s) * 1e3, ra_m * 1e6)
+    mu = schlenk_mu(f_bt / width, v_sum, rho_red, np.asarray(eta_oil_Pa_s) * CP_PER_PA_S,
+                   ra_m * UM_PER_M)
     return 1 - mu * loss_factor(z1, z2, a)

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..fem.export import stress_at_nodes
+from ..units import PA_PER_MPA
 
 @dataclass(frozen=True, kw_only=True)
 class Strength:
@@ -133,17 +134,17 @@ def strength(si, ph_max_Pa, body=None, displacement=None, member="member") -> St
         if vm_holes is not None:
             s_f = safety_factor(m.fatigue_limit_Pa, vm_holes)
     notes = []
-    checks = ((s_c, f"contact fatigue: P_h,max = {ph_max_Pa / 1e6:.0f} MPa exceeds "
+    checks = ((s_c, f"contact fatigue: P_h,max = {ph_max_Pa / PA_PER_MPA:.0f} MPa exceeds "
                     f"material.allowable_contact_stress_MPa = "
-                    f"{m.allowable_contact_stress_Pa / 1e6:g}"),
-              (s_0, f"static contact: P_h,max = {ph_max_Pa / 1e6:.0f} MPa exceeds "
+                    f"{m.allowable_contact_stress_Pa / PA_PER_MPA:g}"),
+              (s_0, f"static contact: P_h,max = {ph_max_Pa / PA_PER_MPA:.0f} MPa exceeds "
                     f"material.static_contact_stress_MPa = "
-                    f"{m.static_contact_stress_Pa / 1e6:g}"),
-              (s_y, f"{member} yield: von Mises {0 if vm_max is None else vm_max / 1e6:.0f} MPa "
-                    f"exceeds material.yield_strength_MPa = {m.yield_strength_Pa / 1e6:g}"),
+                    f"{m.static_contact_stress_Pa / PA_PER_MPA:g}"),
+              (s_y, f"{member} yield: von Mises {0 if vm_max is None else vm_max / PA_PER_MPA:.0f} MPa "
+                    f"exceeds material.yield_strength_MPa = {m.yield_strength_Pa / PA_PER_MPA:g}"),
               (s_f, f"{member} fatigue at the hole edges: von Mises "
-                    f"{0 if vm_holes is None else vm_holes / 1e6:.0f} MPa exceeds "
-                    f"material.fatigue_limit_MPa = {m.fatigue_limit_Pa / 1e6:g}"))
+                    f"{0 if vm_holes is None else vm_holes / PA_PER_MPA:.0f} MPa exceeds "
+                    f"material.fatigue_limit_MPa = {m.fatigue_limit_Pa / PA_PER_MPA:g}"))
     for s, text in checks:
         if s is not None and s < 1:
             notes.append(f"safety factor {s:.2f} < 1, {text}")

@@ -12,11 +12,12 @@ from pathlib import Path
 import numpy as np
 
 from .elastic import lame_parameters
+from ..units import MM_PER_M, MPA_PER_PA
 
 #: Millimetres per metre: the VTU's points and displacement are in mm.
-VTU_MM_PER_M = 1e3
+VTU_MM_PER_M = MM_PER_M
 #: Megapascals per pascal: the VTU's stresses are in MPa.
-VTU_MPA_PER_PA = 1e-6
+VTU_MPA_PER_PA = MPA_PER_PA
 
 
 def stress_at_nodes(body, u):

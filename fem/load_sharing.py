@@ -17,6 +17,7 @@ import numpy as np
 
 from .hertz import hertz_line
 from ..errors import ToothfemError, check_range
+from ..units import ARCSEC, MM_PER_M, PA_PER_MPA
 
 #: Hertz's half-space assumption is flagged when the half-width exceeds this fraction of the
 #: smaller curvature radius (Johnson 1985, Sec. 4.1: b << R).
@@ -78,9 +79,8 @@ class LoadSharing:
         """
         return {f"{contacts_name}_in_contact_max": int(self.contacts_per_position.max()),
                 "max_force_N": float(self.force.max()),
-                "max_ph_MPa": float(self.ph.max() / 1e6),
-                "transmission_error_arcsec": float(np.degrees(self.transmission_error.mean())
-                                                   * 3600)}
+                "max_ph_MPa": float(self.ph.max() / PA_PER_MPA),
+                "transmission_error_arcsec": float(self.transmission_error.mean() / ARCSEC)}
 
     def rows(self):
         """The rows of load_sharing.csv: every candidate in contact, position by position.
@@ -94,9 +94,9 @@ class LoadSharing:
         for p in range(self.force.shape[0]):
             for c in np.flatnonzero(self.in_contact[p]):
                 yield (math.degrees(self.position_rad[p]), int(self.contact_id[p, c]),
-                       float(self.force[p, c]), float(self.moment_arm[p, c]) * 1e3,
-                       float(self.half_width[p, c]) * 1e3, float(self.ph[p, c]) / 1e6,
-                       float(self.gap[p, c]) * 1e3)
+                       float(self.force[p, c]), float(self.moment_arm[p, c]) * MM_PER_M,
+                       float(self.half_width[p, c]) * MM_PER_M, float(self.ph[p, c]) / PA_PER_MPA,
+                       float(self.gap[p, c]) * MM_PER_M)
 
 
 def hertz_fields(force, face_width, equivalent_radius, e_star, radii=None):

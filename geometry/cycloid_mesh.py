@@ -26,7 +26,7 @@ from .cycloid import (CycloidGeometry, _Generating, _rho_of_theta,
                       inward_normal, theoretical_profile, working_profile)
 from .kinematics import MeshingState, equivalent_radius, slide_to_roll
 from .vectors import cross, perp, rotate, unit
-from ..units import ARCMIN
+from ..units import ARCMIN, UM_PER_M
 
 #: Newton tolerance on the foot-point parameter (rad); far below 1e-6*Rz in distance.
 _FOOT_TOL = 1e-14
@@ -692,8 +692,8 @@ def before_load(geom: CycloidGeometry, crank_angle_rad) -> dict:
     return {
         "backlash_min_arcmin": float(np.min(backlash) * arcmin) if free else None,
         "backlash_max_arcmin": float(np.max(backlash) * arcmin) if free else None,
-        "clearance_before_load_um": worst * 1e6,
-        "interference_before_load_um": max(0.0, -worst * 1e6),
+        "clearance_before_load_um": worst * UM_PER_M,
+        "interference_before_load_um": max(0.0, -worst * UM_PER_M),
         "interference_position_deg": math.degrees(float(phi[p])) if worst < 0 else None,
         "interference_pins": [int(j) for j in pins],
         "interference_flanks": ["+" if arm[p, j] < 0 else "-" for j in pins],

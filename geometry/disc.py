@@ -8,6 +8,7 @@ from dataclasses import dataclass
 
 from ..errors import GeometryError
 from .cycloid import CycloidGeometry, profile_points
+from ..units import MM_PER_M
 
 
 @dataclass(frozen=True)
@@ -110,15 +111,15 @@ def disc_polygon(geom: CycloidGeometry, holes: DiscHolesSI | None = None,
         reach = math.hypot(x, y) + r
         if reach > geom.root_radius_m - lig:
             raise GeometryError(
-                f"{label} hole reaches radius {reach * 1e3:.6g} mm, outside the valid range "
-                f"(0, {(geom.root_radius_m - lig) * 1e3:.6g}) mm (root radius "
-                f"{geom.root_radius_m * 1e3:.6g} mm less a ligament of {lig * 1e3:.3g} mm)")
+                f"{label} hole reaches radius {reach * MM_PER_M:.6g} mm, outside the valid range "
+                f"(0, {(geom.root_radius_m - lig) * MM_PER_M:.6g}) mm (root radius "
+                f"{geom.root_radius_m * MM_PER_M:.6g} mm less a ligament of {lig * MM_PER_M:.3g} mm)")
         shapes.append((Point(x, y).buffer(r, quad_segs=max(hole_points // 4, 4)), label))
     for i in range(len(shapes)):
         for j in range(i + 1, len(shapes)):
             if shapes[i][0].distance(shapes[j][0]) < lig:
                 raise GeometryError(f"holes {shapes[i][1]} and {shapes[j][1]} are closer than "
-                                    f"the minimum ligament {lig * 1e3:.3g} mm")
+                                    f"the minimum ligament {lig * MM_PER_M:.3g} mm")
     poly = Polygon(outer.exterior.coords, [list(s.exterior.coords)[::-1] for s, _ in shapes])
     if not poly.is_valid:
         raise GeometryError(f"disc polygon is invalid: {shapely.is_valid_reason(poly)}")

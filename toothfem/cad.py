@@ -22,9 +22,8 @@ import numpy as np
 
 from . import signals
 from .errors import MissingExtra, ToothfemError
+from .units import MM_PER_M   # profiles are SI (m) inside, CAD files in mm
 
-#: Millimetres per metre: profiles are SI (m) inside, CAD files in mm.
-MM_PER_M = 1e3
 #: SVG stroke width [mm] (thin enough for a 0.1 mm feature at 1:1).
 SVG_STROKE_MM = 0.02
 #: SVG margin around the profile [mm].

@@ -24,7 +24,7 @@ import math
 
 import numpy as np
 
-from .cad import MM_PER_M, Body, PartDrawing, Region
+from .cad import Body, PartDrawing, Region
 from .errors import CaseError, GeometryError, check_range
 from .fem.drives import drive_for
 from .fem.drives.registry import provide
@@ -33,6 +33,7 @@ from .geometry import cycloid_mesh as cym, sine as sg
 from .geometry.disc import DiscHolesSI
 from .geometry.vectors import rotate
 from .si import si_of
+from .units import MM_PER_M
 
 #: The case's default housing outer radius: the pin circle radius plus this many pin radii
 #: (toothfem.case_sections.CycloidStage: "a wall of 5 pin radii by default"); a housing at

@@ -40,6 +40,7 @@ from .case_sections import (Bearings, CycloidStage, DiscHoles, DutyPoint, Fricti
                             SineStage, SpurStage, Supports, Thermal, check_ambient,
                             check_duty_cycle)
 from .case_design import Design, Tolerances, check_tolerances
+from .units import M_PER_MM
 
 
 @dataclass(frozen=True)
@@ -229,8 +230,8 @@ def _check_khv_disc(case: Case) -> None:
                         f"{cyc.disc_holes.centre_bore_radius_mm!r} must be > 0 for a K-H-V "
                         "drive: the disc sits on its eccentric bearing in the centre bore")
     holes = cyc.holes_si(om)
-    gap = holes.output_hole_radius_m - om.contact_radius_mm * 1e-3 \
-        - cyc.eccentricity_mm * 1e-3
+    gap = holes.output_hole_radius_m - om.contact_radius_mm * M_PER_MM \
+        - cyc.eccentricity_mm * M_PER_MM
     if gap < 0:
         raise CaseError(f"output_mechanism.hole_radius_mm = {om.hole_radius_mm!r} is "
                         "outside the valid range: at least the pin's (or roller's) radius "

@@ -50,6 +50,7 @@ from .fem.drives import DEFAULT_POSITIONS, drive_for
 from .fem.drives.registry import RECORDS, provide
 from .geometry import sine
 from .geometry.cycloid import CycloidGeometry, min_convex_curvature_radius
+from .units import M_PER_MM, MM_PER_M, MPA_PER_PA, UM_PER_M
 
 # -- the key numbers ------------------------------------------------------------------------
 #: Keyword of :func:`new_case` -> the command-line option that gives it (messages name it).
@@ -448,9 +449,9 @@ def _pin_radius(pins: int, rz_mm: float, e_mm: float) -> tuple:
     reason."""
     pitch = 2 * math.pi * rz_mm / pins
     step = 0.1 if pitch >= 2.0 else 0.01
-    free = CycloidGeometry(pin_count=pins, pin_circle_radius_m=rz_mm * 1e-3,
-                           eccentricity_m=e_mm * 1e-3, pin_radius_m=1e-9)
-    rho = min_convex_curvature_radius(free.nominal()) * 1e3
+    free = CycloidGeometry(pin_count=pins, pin_circle_radius_m=rz_mm * M_PER_MM,
+                           eccentricity_m=e_mm * M_PER_MM, pin_radius_m=1e-9)
+    rho = min_convex_curvature_radius(free.nominal()) * MM_PER_M
     r = _round(min(PIN_RADIUS_PER_PITCH * pitch, PIN_RADIUS_PER_UNDERCUT * rho), step, "down")
     why = (f"{PIN_RADIUS_PER_PITCH:g} of the pin pitch {pitch:.4g} mm (the shipped cases: "
            "0.29-0.30)")
@@ -470,11 +471,11 @@ def _zero_clearance(roller_mm: float, e_mm: float) -> tuple:
     for k in (0, -1, 1, -2, 2, -3, 3):
         roller = _round(roller_mm + k * ROLLER_NUDGE_MM, ROLLER_NUDGE_MM)
         hole = float(f"{roller + e_mm:.10g}")
-        if hole * 1e-3 - roller * 1e-3 - e_mm * 1e-3 >= 0:
+        if hole * M_PER_MM - roller * M_PER_MM - e_mm * M_PER_MM >= 0:
             return roller, hole
     roller = _round(roller_mm, ROLLER_NUDGE_MM)
     hole = float(f"{roller + e_mm:.10g}")
-    while hole * 1e-3 - roller * 1e-3 - e_mm * 1e-3 < 0:
+    while hole * M_PER_MM - roller * M_PER_MM - e_mm * M_PER_MM < 0:
         hole = math.nextafter(hole, math.inf)
     return roller, hole
 
@@ -501,7 +502,7 @@ def _peak_ph_MPa(case: Case, torque_Nm: float, listed: str) -> float:
                         "moment arm) at some crank angle, where no face width carries the "
                         "torque (the efficiency there is 0): choose other tooth numbers or "
                         "another size")
-    return float(split.ph.max()) * 1e-6
+    return float(split.ph.max()) * MPA_PER_PA
 
 
 def _face_width(sections: dict, section: str, radius_mm: float, radius_name: str,
@@ -720,18 +721,18 @@ def _sine_sections(template: NewCaseTemplate, given: dict) -> LayoutSections:
            ("follows", "z1 + 1: one tooth difference")))
     _put(s, "sine", "module_mm", m, *(("key", "--module-mm") if size == "module_mm" else
                                        ("follows", f"from {OPTIONS[size]} = {given[size]:g}")))
-    top = sine.tooth_height_limits(z1, z2, m * 1e-3).max * 1e3
+    top = sine.tooth_height_limits(z1, z2, m * M_PER_MM).max * MM_PER_M
     step = 0.01 if top >= 0.2 else 0.001
     a = _round(TOOTH_HEIGHT_PER_MAX * top, step, "down")
     why = (f"{TOOTH_HEIGHT_PER_MAX:g} of the largest valid {top:.4g} mm (the sine paper's "
            "prototype: 0.4 of 0.45 mm)")
     try:
-        sine.check_load_carrying(sine.SineGearPair(z1, z2, m * 1e-3, a * 1e-3, 1e-3))
+        sine.check_load_carrying(sine.SineGearPair(z1, z2, m * M_PER_MM, a * M_PER_MM, 1e-3))
     except GeometryError:
-        low = sine.min_tooth_height_m(z1, z2, m * 1e-3) * 1e3
+        low = sine.min_tooth_height_m(z1, z2, m * M_PER_MM) * MM_PER_M
         a = min(_round(low, step, "up"), top)
         why = (f"the load-carrying bound {low:.4g} mm (a drive flank within "
-               f"{sine.LOAD_CARRYING_GAP_M * 1e6:g} um at every crank angle), rounded up; "
+               f"{sine.LOAD_CARRYING_GAP_M * UM_PER_M:g} um at every crank angle), rounded up; "
                f"the largest valid is {top:.4g} mm")
     _put(s, "sine", "tooth_height_mm", a, "assumption", why)
     _put(s, "sine", "face_width_mm", None, "assumption", "")

@@ -10,7 +10,7 @@ from .efficiency import evaluate, operating_point
 from .errors import CaseError, ToothfemError
 from .geometry import cycloid as cy, cycloid_mesh as cym, sine, train
 from .fem.drives.registry import provide, record_of
-from .units import rpm_to_rad_s
+from .units import ARCMIN, M_PER_UM, MM_PER_M, rpm_to_rad_s
 
 
 #: The sign convention of every ratio `check` prints (toothfem.geometry.train), said once.
@@ -90,12 +90,12 @@ def _cycloid(case: Case) -> dict:
     d = {
         "stage_ratio_KHV": _r(train.khv_ratio(st.lobe_count, st.pin_count)),
         "K1": _r(g.k1),
-        "disc_pitch_radius_mm": _r(g.disc_pitch_radius_m * 1e3),
-        "pin_pitch_radius_mm": _r(g.pin_pitch_radius_m * 1e3),
-        "disc_root_radius_mm": _r(g.root_radius_m * 1e3),
-        "disc_tip_radius_mm": _r(g.tip_radius_m * 1e3),
-        "min_convex_curvature_radius_mm": _r(rho * 1e3),
-        "undercut_margin_mm": _r((rho - g.generating_pin_radius) * 1e3),
+        "disc_pitch_radius_mm": _r(g.disc_pitch_radius_m * MM_PER_M),
+        "pin_pitch_radius_mm": _r(g.pin_pitch_radius_m * MM_PER_M),
+        "disc_root_radius_mm": _r(g.root_radius_m * MM_PER_M),
+        "disc_tip_radius_mm": _r(g.tip_radius_m * MM_PER_M),
+        "min_convex_curvature_radius_mm": _r(rho * MM_PER_M),
+        "undercut_margin_mm": _r((rho - g.generating_pin_radius) * MM_PER_M),
     }
     d.update(_before_load(g, _reducer_per_disc_turn(case)))
     if case.first_stage is not None:
@@ -139,7 +139,7 @@ def _before_load(g, per_disc_turn: float = 1.0) -> dict:
     d = {"backlash_arcmin": None if lo is None else _r(lo * per_disc_turn),
          "backlash_max_arcmin": None if hi is None else _r(hi * per_disc_turn),
          "disc_backlash_arcmin": None if lo is None else _r(lo),
-         "backlash_first_order_arcmin": _r(2 * math.degrees(cym.closing_rotation(g)) * 60
+         "backlash_first_order_arcmin": _r(2 * cym.closing_rotation(g) / ARCMIN
                                            * per_disc_turn),
          "clearance_before_load_um": _r(b["clearance_before_load_um"], 6),
          "interference_before_load_um": _r(b["interference_before_load_um"], 6)}
@@ -161,10 +161,10 @@ def _sine(case: Case) -> dict:
         raise CaseError(f"[sine] section is required for drive = {case.drive!r}")
     pair = st.geometry()
     d = {
-        "planet_pitch_radius_mm": _r(pair.planet_pitch_radius_m * 1e3),
-        "ring_pitch_radius_mm": _r(pair.ring_pitch_radius_m * 1e3),
-        "centre_distance_mm": _r(pair.centre_distance_m * 1e3),
-        "tooth_height_bound_mm": _r(sine.max_tooth_height_m(pair) * 1e3),
+        "planet_pitch_radius_mm": _r(pair.planet_pitch_radius_m * MM_PER_M),
+        "ring_pitch_radius_mm": _r(pair.ring_pitch_radius_m * MM_PER_M),
+        "centre_distance_mm": _r(pair.centre_distance_m * MM_PER_M),
+        "tooth_height_bound_mm": _r(sine.max_tooth_height_m(pair) * MM_PER_M),
     }
     pitch = 2 * math.pi / st.ring_teeth
     chi = np.linspace(0.0, pitch, 13)
@@ -172,9 +172,9 @@ def _sine(case: Case) -> dict:
     conj = m.gap <= 1e-9                   # the conjugate contact of each position
     d["conjugate_pressure_angle_min_deg"] = _r(math.degrees(float(np.min(
         m.pressure_angle[conj]))))
-    d["conjugate_equivalent_radius_min_mm"] = _r(float(np.min(m.equivalent_radius[conj])) * 1e3)
+    d["conjugate_equivalent_radius_min_mm"] = _r(float(np.min(m.equivalent_radius[conj])) * MM_PER_M)
     for gap_um in (1.0, 5.0, 10.0):
-        n = sine.contact_count(pair, chi, gap_um * 1e-6)
+        n = sine.contact_count(pair, chi, gap_um * M_PER_UM)
         d[f"tooth_pairs_within_{gap_um:g}um_min"] = int(np.min(n))
         d[f"tooth_pairs_within_{gap_um:g}um_max"] = int(np.max(n))
     return d

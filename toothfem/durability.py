@@ -15,6 +15,7 @@ from .efficiency.bearing_set import main_tilt
 from .efficiency.mesh_table import mesh_table
 from .efficiency.evaluation import operating_point
 from .fem.drives import drive_for
+from .units import PA_PER_MPA, S_PER_H
 
 #: [published] keys of a maker's rated life (Nabtesco's K, T0, N0).
 MAKER_KEYS = ("rated_life_h", "rated_torque_Nm", "rated_output_speed_rpm")
@@ -55,9 +56,9 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
         "warnings": [w.as_dict() for w in hb.warnings],
     }
     if duration_h is not None:
-        w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * 3600.0, loads=loads)
-        out["time_constant_h"] = w.time_constant_s / 3600.0
-        out["warm_up"] = [{"time_h": float(t / 3600.0), "oil_temp_C": float(T),
+        w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * S_PER_H, loads=loads)
+        out["time_constant_h"] = w.time_constant_s / S_PER_H
+        out["warm_up"] = [{"time_h": float(t / S_PER_H), "oil_temp_C": float(T),
                            "efficiency": float(e)}
                           for t, T, e in zip(w.time_s, w.temperature_C, w.efficiency)]
     return out
@@ -161,12 +162,12 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> d
         _, p = mesh_table(drive, loads, positions, ref).at(np.array([t_member]))
         ph, source, body, u = float(p.max()), f"{loads} loads", None, None
     s = st.strength(si, ph, body, u, member=drive.member_name)
-    return {"source": source, "ph_max_MPa": ph / 1e6,
+    return {"source": source, "ph_max_MPa": ph / PA_PER_MPA,
             "contact_fatigue_safety": finite(s.contact_fatigue_safety),
             "contact_static_safety": finite(s.contact_static_safety),
-            "von_mises_max_MPa": None if s.von_mises_max_Pa is None else s.von_mises_max_Pa / 1e6,
+            "von_mises_max_MPa": None if s.von_mises_max_Pa is None else s.von_mises_max_Pa / PA_PER_MPA,
             "von_mises_holes_MPa": (None if s.von_mises_holes_Pa is None
-                                    else s.von_mises_holes_Pa / 1e6),
+                                    else s.von_mises_holes_Pa / PA_PER_MPA),
             "yield_safety": finite(s.yield_safety), "fatigue_safety": finite(s.fatigue_safety),
             "warnings": list(s.warnings)}
 

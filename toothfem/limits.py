@@ -12,6 +12,8 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
+from .units import MPA_PER_PA
+
 #: Film ratio lambda = h_c / S below which the asperities carry load: boundary
 #: lubrication below 1, mixed to about 3 (Hamrock, Schmid & Jacobson, Fundamentals of Fluid
 #: Film Lubrication, 2nd ed., 2004, Sec. 1.4: the regimes by the film parameter).
@@ -183,11 +185,11 @@ def contact_pressure(where: str, ph_MPa: float, material) -> list:
     list of Exceeded
     """
     found = [above(f"largest Hertz pressure P_h of {where}", ph_MPa,
-                   material.allowable_contact_stress_Pa * 1e-6, "MPa",
+                   material.allowable_contact_stress_Pa * MPA_PER_PA, "MPa",
                    "material.allowable_contact_stress_MPa, contact fatigue (ISO 281:2007)"),
              above(f"largest Hertz pressure P_h of {where}, beyond the static capacity "
                    "(permanent indentation; the elastic contact model does not hold there)",
-                   ph_MPa, material.static_contact_stress_Pa * 1e-6, "MPa",
+                   ph_MPa, material.static_contact_stress_Pa * MPA_PER_PA, "MPa",
                    "material.static_contact_stress_MPa, static contact (ISO 76:2006)")]
     return [h for h in found if h is not None]
 
@@ -233,9 +235,9 @@ def contact_pressure_lines(material) -> list:
     list of dict
         {"name", "value", "unit", "source"}.
     """
-    return [{"name": "allowable", "value": material.allowable_contact_stress_Pa * 1e-6,
+    return [{"name": "allowable", "value": material.allowable_contact_stress_Pa * MPA_PER_PA,
              "unit": "MPa", "source": "material.allowable_contact_stress_MPa"},
-            {"name": "static capacity", "value": material.static_contact_stress_Pa * 1e-6,
+            {"name": "static capacity", "value": material.static_contact_stress_Pa * MPA_PER_PA,
              "unit": "MPa", "source": "material.static_contact_stress_MPa"}]
 
 

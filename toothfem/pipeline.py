@@ -27,6 +27,7 @@ from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
 from .output import atomic_dir, target
 from .report.files import write_run
+from .units import ARCSEC, MPA_PER_PA, PA_PER_MPA
 
 MODES = ("cycle", "detailed")
 FIELDS = ("detailed", "structural", "none")
@@ -148,8 +149,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         **model.describe(),
         **ls.figures(many),
         f"{many}_in_contact_min": int(ls.contacts_per_position.min()),
-        "transmission_error_ripple_arcsec": float(np.degrees(np.ptp(ls.transmission_error))
-                                                  * 3600),
+        "transmission_error_ripple_arcsec": float(np.ptp(ls.transmission_error) / ARCSEC),
         "torque_equilibrium_max_rel_error": float(np.max(np.abs(ls.torque_residual()))),
         "worst_position_deg": float(np.degrees(phis[worst])),
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
@@ -172,7 +172,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {
             "max_force_N": float(fd.max()),
-            "max_ph_MPa": float(detail.load_sharing.ph.max() / 1e6),
+            "max_ph_MPa": float(detail.load_sharing.ph.max() / PA_PER_MPA),
             "max_force_ratio_detailed_to_cycle": float(fd.max() / ls.force[worst].max()),
             "dofs": int(detail.dofs)}
     return ContactResult(case_name=case.name, mode=mode, load_sharing=ls, positions_rad=phis,
@@ -207,9 +207,9 @@ def reducer_te(system, output_torque_Nm: float) -> dict:
     point = twist.at(output_torque_Nm)
     states = twist.states(output_torque_Nm)
     records = [system.member_record(j, states) for j in range(system.discs)]
-    arcsec = 180 * 3600 / np.pi
+    arcsec = 1 / ARCSEC
     return {"max_force_reducer_N": float(max(np.max(r.force) for r in records)),
-            "max_ph_reducer_MPa": float(max(np.max(r.ph) for r in records)) * 1e-6,
+            "max_ph_reducer_MPa": float(max(np.max(r.ph) for r in records)) * MPA_PER_PA,
             "transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
             "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
@@ -250,18 +250,18 @@ def assembly_preload(system, material) -> dict:
         rec = system.member_record(j, states)
         force, ph = max(force, float(np.max(rec.force))), max(ph, float(np.max(rec.ph)))
     what = (f"the disc's interference with its pins before load presses them with up to "
-            f"{force:.4g} N, P_h {ph * 1e-6:.4g} MPa, before any load (`toothfem check` "
+            f"{force:.4g} N, P_h {ph * MPA_PER_PA:.4g} MPa, before any load (`toothfem check` "
             "names the pins)")
     if ph > material.static_contact_stress_Pa:
         raise CaseError(f"{what}: beyond the static limit "
-                        f"{material.static_contact_stress_Pa * 1e-6:g} MPa (ISO 76:2006, "
+                        f"{material.static_contact_stress_Pa * MPA_PER_PA:g} MPa (ISO 76:2006, "
                         "material.static_contact_stress_MPa): the disc cannot be put on its "
                         "pins without denting them")
     if ph > material.allowable_contact_stress_Pa:
         warnings.warn(f"{what}: beyond the contact-fatigue limit "
-                      f"{material.allowable_contact_stress_Pa * 1e-6:g} MPa (ISO 281:2007, "
+                      f"{material.allowable_contact_stress_Pa * MPA_PER_PA:g} MPa (ISO 281:2007, "
                       "material.allowable_contact_stress_MPa)", stacklevel=2)
-    return {"preload_force_max_N": force, "preload_ph_max_MPa": ph * 1e-6}
+    return {"preload_force_max_N": force, "preload_ph_max_MPa": ph * MPA_PER_PA}
 
 
 def stack_records(records):

@@ -58,6 +58,7 @@ from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
 from .output import atomic_dir, resumable_dir, target
 from .report import html as report_html
+from .units import UM_PER_M
 
 
 #: Columns after the design keys and load-case keys, in this order; ``{contacts}`` is the
@@ -208,7 +209,7 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
         "cache_dir": None if cache is None else str(cache.directory),
         "files": ["sweep.csv", "sweep.json"]}
     if plan.loads == "analytic":
-        summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * 1e6
+        summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * UM_PER_M
     with atomic_dir(out) as tmp:
         with open(tmp / "sweep.csv", "w", newline="") as fh:
             writer = csv.DictWriter(fh, columns)

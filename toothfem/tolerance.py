@@ -39,13 +39,15 @@ from .efficiency.mesh_table import table_from_records
 from .errors import CaseError, IncompleteRun, check_range
 from .fem.cache import DiskCache
 from .fem.datasheet.sheet import backlash_arcmin, lost_motion_arcmin
-from .fem.datasheet.twist import ARCSEC, TwistModel
+from .fem.datasheet.twist import TwistModel
+from .units import ARCSEC
 from .fem.deviations import only
 from .fem.drives import drive_for
 from .fem.linsolve import one_blas_thread
 from . import limits
 from .datasheet import TE_DEFINITION
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
+from .units import MPA_PER_PA
 
 #: Where the outputs come from, by the model that solves a ring (the labels say it: the
 #: nominal design's figures differ from ``toothfem contact``'s, whose counts and forces are
@@ -596,7 +598,7 @@ def _outputs(setup: _Setup, solver, deviation, state=None, system=None,
     eff = evaluate(si, setup.speed_rpm, t, table=table)
     total = twist.at(t, 1).total
     return {"max_force_N": float(np.max(peak.force)),
-            "max_ph_MPa": float(np.max(peak.ph)) * 1e-6,
+            "max_ph_MPa": float(np.max(peak.ph)) * MPA_PER_PA,
             "contacts_min": float(np.min(peak.contacts_per_position)),
             "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
             "backlash_arcmin": backlash_arcmin(twist),
@@ -635,7 +637,7 @@ def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
     eff = evaluate(si, setup.speed_rpm, t, table=table_from_records(state, records[:1], "fem"))
     total = np.array([s.twist_rad for s in sts])
     return {"max_force_N": float(max(np.max(r.force) for r in records)),
-            "max_ph_MPa": float(max(np.max(r.ph) for r in records)) * 1e-6,
+            "max_ph_MPa": float(max(np.max(r.ph) for r in records)) * MPA_PER_PA,
             "contacts_min": float(min(np.min(s.contacts) for s in sts)),
             "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
             "backlash_arcmin": system_backlash_arcmin(system, deviation=deviation,

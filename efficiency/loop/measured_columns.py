@@ -15,17 +15,18 @@ import re
 import numpy as np
 
 from ...errors import MeasuredDataError
+from ...units import M_PER_MM, N_PER_KN, RPM_PER_RAD_S, S_PER_H
 
 
 #: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
 #: value_canonical = factor * value + offset.
 QUANTITIES = {
-    "input_speed": {"rpm": (1.0, 0.0), "rad_s": (60.0 / (2 * math.pi), 0.0),
+    "input_speed": {"rpm": (1.0, 0.0), "rad_s": (RPM_PER_RAD_S, 0.0),
                     "rps": (60.0, 0.0)},
-    "output_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
-    "input_torque": {"Nm": (1.0, 0.0), "Nmm": (1e-3, 0.0), "kNm": (1e3, 0.0)},
+    "output_torque": {"Nm": (1.0, 0.0), "Nmm": (M_PER_MM, 0.0), "kNm": (N_PER_KN, 0.0)},
+    "input_torque": {"Nm": (1.0, 0.0), "Nmm": (M_PER_MM, 0.0), "kNm": (N_PER_KN, 0.0)},
     "oil_temp": {"C": (1.0, 0.0), "K": (1.0, -273.15), "F": (5.0 / 9.0, -160.0 / 9.0)},
-    "time": {"h": (1.0, 0.0), "min": (1.0 / 60.0, 0.0), "s": (1.0 / 3600.0, 0.0)},
+    "time": {"h": (1.0, 0.0), "min": (1.0 / 60.0, 0.0), "s": (1.0 / S_PER_H, 0.0)},
     "efficiency_sigma": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
     "efficiency": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
 }

@@ -32,6 +32,7 @@ from ..evaluation import evaluate
 from ..lubricant import temperature_range
 from ..thermal import housing, shed_per_kelvin
 from .effect_base import Effect, Parameter
+from ...units import S_PER_H
 
 #: Largest zero offset the fit may take, as a share of the smallest torque the meter read
 #: (for the input meter, the smallest lossless input torque T2/|i|, below its true
@@ -194,7 +195,7 @@ def heat_balance_scales(case, points) -> tuple:
     loss = float(np.max(sum(ev.losses_W.values())))
     h = housing(case.to_si(), drive_for(case))
     per_kelvin = float(np.mean(shed_per_kelvin(h, oil)))
-    return loss / per_kelvin, h.heat_capacity_J_K / per_kelvin / 3600.0
+    return loss / per_kelvin, h.heat_capacity_J_K / per_kelvin / S_PER_H
 
 
 def _warm_bounds(case, points):

@@ -29,6 +29,7 @@ from ..evaluation import evaluate
 from ..lubricant import temperature_range
 from ..thermal import housing
 from .effect_base import Effect, Parameter, Points, declared_if_changed, setter
+from ...units import S_PER_H
 
 #: Points of the dT grid from 0 to the oil's upper limit, spaced geometrically from
 #: GRID_FIRST_K (the losses are smooth in T and nearly exponential through the viscosity:
@@ -171,7 +172,7 @@ def _extra_loss(case, points, ev, values, tables: ThermalTables):
     if points.time_h is not None and r > 0:
         c = housing(case.to_si(), drive_for(case)).heat_capacity_J_K
         with np.errstate(over="ignore"):    # R C -> 0: warm at once, exp(-inf) = 0
-            factor = 1.0 - np.exp(-points.time_h * 3600.0 / (r * c))
+            factor = 1.0 - np.exp(-points.time_h * S_PER_H / (r * c))
     dt = rise(total, tables.rise_K, r, factor)
     return _row_interp(dt, tables.rise_K, total) - total[:, 0]
 

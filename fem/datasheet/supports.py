@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ...units import ARCMIN, MM_PER_M
+from ...units import ARCMIN, M_PER_MM, MM_PER_M
 
 #: Palmgren's approach of one steel roller on one raceway (line contact), in his units:
 #: delta [mm] = PALMGREN_LINE_MM Q[N]^0.9 / l[mm]^0.8 (A. Palmgren, Ball and Roller
@@ -42,7 +42,7 @@ def roller_approach(load_N, length_m):
         delta = 3.84e-5 Q^0.9 / l^0.8 in mm, returned in m.
     """
     q = np.maximum(np.asarray(load_N, float), 0.0)
-    return PALMGREN_LINE_MM * q ** 0.9 / (length_m * 1e3) ** 0.8 * 1e-3
+    return PALMGREN_LINE_MM * q ** 0.9 / (length_m * MM_PER_M) ** 0.8 * M_PER_MM
 
 
 def radial_bearing_deflection(load_N, rollers: int, length_m: float):

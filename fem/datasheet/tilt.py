@@ -104,7 +104,7 @@ from scipy.special import ellipk, elliprd
 
 from ...errors import ToothfemError, check_range
 from ..hertz import reduced_modulus
-from ...units import ARCMIN
+from ...units import ARCMIN, PA_PER_MPA
 
 #: ISO 76's contact pressure at the static load rating of a ball bearing (self-aligning
 #: ones excepted: 4600 MPa) [Pa].
@@ -838,7 +838,8 @@ def moment_at_pressure(pair: BallPair, pressure_Pa: float = ISO76_BALL_PRESSURE_
     p0 = p(0.0)
     if p0 >= 0:
         raise ToothfemError(f"moment_at_pressure: the preload and the forces alone give "
-                            f"{(p0 + pressure_Pa) / 1e6:.0f} MPa >= {pressure_Pa / 1e6:.0f} MPa")
+                            f"{(p0 + pressure_Pa) / PA_PER_MPA:.0f} MPa >= "
+                            f"{pressure_Pa / PA_PER_MPA:.0f} MPa")
     # bracket: a moment that gives each ball of the loaded half a few times the pressure's load
     hi = max(pair.preload_N, abs(radial_N), abs(axial_N), 1.0) * pair.pressure_centre_spread_m
     while p(hi) < 0:

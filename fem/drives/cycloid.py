@@ -19,6 +19,7 @@ from ..system.mesh import PinMesh
 from .base import Drive, _merged_orders
 from ...geometry.disc import disc_polygon
 from ...si import CycloidStageSI, MaterialSI, OutputMechanismSI, SpurStageSI
+from ...units import MM2_PER_M2
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -290,7 +291,7 @@ class CycloidDrive(Drive):
         disc = disc_polygon(self.geometry, self.stage.holes,
                                points_per_lobe=points_per_tooth)
         return ({"profile": np.asarray(disc.exterior.coords).T[:, :-1]},
-                {"disc_area_mm2": float(disc.area * 1e6),
+                {"disc_area_mm2": float(disc.area * MM2_PER_M2),
                  "disc_polygon_valid": bool(disc.is_valid)})
 
     # -- the datasheet: supports, full period, the second disc ----------------------------

@@ -20,13 +20,12 @@ when asked. ``tests/test_registry.py`` checks that every record has every part o
 """
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 from ...errors import CaseError
-from ...units import M_PER_MM
+from ...units import DEG, M_PER_MM
 
 #: Every part a layout provides, the module that provides it and what it is.
 PARTS: dict[str, str] = {
@@ -129,7 +128,7 @@ class DriveRecord:
 #: The disc's profile modifications the design search varies (toothfem/design.py).
 _CYCLOID_DESIGN = {"equidistant_modification_mm": ("equidistant_m", M_PER_MM),
                    "move_distance_modification_mm": ("move_distance_m", M_PER_MM),
-                   "rotation_modification_deg": ("rotation_rad", math.pi / 180)}
+                   "rotation_modification_deg": ("rotation_rad", DEG)}
 _CYCLOID_TOLERANCES = ("pin_position_mm", "pin_diameter_lower_mm", "pin_diameter_upper_mm",
                        "pin_circle_radius_mm", "disc_profile_mm", "crank_hole_position_mm")
 

@@ -18,6 +18,7 @@ from ..cache import DiskCache, content_key
 from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
 from .grid import _circle, _grid_body, _GridBody, _planet_toothed, ring_foot, _ring_toothed
 from .model import SineFEModel
+from ...units import UM_PER_M
 
 #: Hertz's quadratic gap x^2/(2 R_eq) must match the exact loaded separation g0 + beta l
 #: at x = +-b (symmetric second difference) within this fraction of it, else the contact
@@ -266,7 +267,7 @@ class CycleSolver:
             if 2 * sel_gap > SELECT_GAP_MAX:
                 raise contact.ContactError(
                     f"crank angle {math.degrees(chi):.4f} deg: contact reaches hats with an "
-                    f"initial gap of {np.max(res.g0[loaded]) * 1e6:.1f} um; the load is too "
+                    f"initial gap of {np.max(res.g0[loaded]) * UM_PER_M:.1f} um; the load is too "
                     "high for the candidate teeth (raise candidates)")
             sel_gap *= 2
 

@@ -19,6 +19,7 @@ from .cycle import (_flank_columns, PositionResult, _record, SELECT_GAP_MAX,
 from .grid import (COARSE_STEP_REL, SIZE_MAX_REL, _boundary_chain, _circle, _outline,
                    _planet_toothed, _ring_toothed, ring_foot)
 from .model import SineFEModel
+from ...units import UM_PER_M
 
 # ---------------------------------------------------------------------------------------
 # Detailed mode
@@ -109,7 +110,7 @@ def solve_detailed(model: SineFEModel, crank_angle_rad: float, torque: float,
         if 2 * zone_gap > SELECT_GAP_MAX:
             raise contact.ContactError(
                 f"crank angle {math.degrees(crank_angle_rad):.4f} deg: the contact does not "
-                f"stay inside zones of initial gap up to {zone_gap * 1e6:.0f} um")
+                f"stay inside zones of initial gap up to {zone_gap * UM_PER_M:.0f} um")
         zone_gap *= 2
 
 
@@ -147,7 +148,7 @@ def _detailed(model, chi, torque, h, zone_gap) -> DetailedResult:
             zones.append((a, b))
     if not zones:
         raise contact.ContactError(f"crank angle {math.degrees(chi):.4f} deg: no loaded-side "
-                                   f"flank within {zone_gap * 1e6:.1f} um")
+                                   f"flank within {zone_gap * UM_PER_M:.1f} um")
     zone_phi = [pt.phi_of_sigma(sig[a:b]) for a, b in zones]
     zone_pts = [pt.curve(ph)[0] for ph in zone_phi]
     ring_phi = [ring_foot(pair, placed(zp))[0] for zp in zone_pts]

@@ -10,6 +10,7 @@ import numpy as np
 from ...errors import ToothfemError, check_range
 from ...geometry import sine
 from ..elastic import SameMaterial
+from ...units import MM_PER_M
 
 # ---------------------------------------------------------------------------------------
 @dataclass(frozen=True, kw_only=True)
@@ -57,8 +58,8 @@ class SineFEModel(SameMaterial):
         dict
             planet_bore_radius_mm and ring_outer_radius_mm [mm].
         """
-        return {"planet_bore_radius_mm": self.planet_bore_radius * 1e3,
-                "ring_outer_radius_mm": self.ring_outer_radius * 1e3}
+        return {"planet_bore_radius_mm": self.planet_bore_radius * MM_PER_M,
+                "ring_outer_radius_mm": self.ring_outer_radius * MM_PER_M}
 
 
 

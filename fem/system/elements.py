@@ -12,6 +12,7 @@ import numpy as np
 
 from ..datasheet.supports import PALMGREN_LINE_MM
 from .solve import Linear
+from ...units import MM_PER_M
 
 #: Every bearing also carries this linear stiffness [N/m] beside its rollers: the rollers'
 #: law has zero slope at zero load and none inside the play, where nothing else would hold
@@ -112,7 +113,7 @@ def roller_constant(length_m: float) -> float:
         [N m^(-10/9)].
     """
     # delta_mm = 2 c Q^0.9 / l_mm^0.8  ->  Q = (delta_m 1e3 l_mm^0.8 / (2 c))^(1/0.9)
-    return (1e3 * (length_m * 1e3) ** 0.8 / (2 * PALMGREN_LINE_MM)) ** LINE_EXPONENT
+    return (MM_PER_M * (length_m * MM_PER_M) ** 0.8 / (2 * PALMGREN_LINE_MM)) ** LINE_EXPONENT
 
 
 @dataclass(frozen=True)

@@ -16,6 +16,7 @@ from ..contact import ContactError
 from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps, record
 from ..sine_fe.cycle import DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN, HatContacts
 from .tables import PitchTables
+from ...units import UM_PER_M
 
 
 @dataclass(frozen=True)
@@ -427,7 +428,7 @@ class ToothMesh(Mesh):
             return False
         if 2 * h.select_gap > SELECT_GAP_MAX:
             raise ContactError(f"the contact reaches hats with an initial gap of "
-                               f"{np.max(mesh.g0[loaded]) * 1e6:.1f} um; the load is too "
+                               f"{np.max(mesh.g0[loaded]) * UM_PER_M:.1f} um; the load is too "
                                "high for the candidate teeth (raise candidates)")
         self._select[(p, int(pitch))] = 2 * h.select_gap
         return True

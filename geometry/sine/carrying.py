@@ -21,6 +21,7 @@ from .limits import _largest_valid, tooth_height_limits
 from .meshing import DEFAULT_CANDIDATES, _candidate_points, _placed
 from .pair import SineGearPair
 from .profile import ProfileParams, profile_params
+from ...units import UM_PER_M
 
 # Over one mesh period the conjugate contact runs over both flanks of a tooth, so it carries
 # the output torque (negative moment arm) for only part of the period; the rest must come
@@ -151,7 +152,7 @@ def check_load_carrying(pair: SineGearPair) -> SineGearPair:
     check_range("tooth_height_m", g.a, max(lo, g.a), hi, lo_open=lo <= g.a, hi_open=True,
                 error=GeometryError,
                 why=f"at some crank angles no drive flank is within "
-                    f"{LOAD_CARRYING_GAP_M * 1e6:g} um to carry the torque (lower bound by "
+                    f"{LOAD_CARRYING_GAP_M * UM_PER_M:g} um to carry the torque (lower bound by "
                     "bisection" + ("; none of these tooth numbers and module works)"
                                    if lo >= hi else ")"))
     return pair

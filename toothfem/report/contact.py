@@ -13,8 +13,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ToothfemError
-from ..fem.datasheet.twist import ARCSEC
+from ..units import ARCSEC
 from . import pyplot, save, wrap
+from ..units import DEG, MM_PER_M, PA_PER_MPA
 
 #: Colour of the contacts a per-contact picture does not name (light grey: there, not
 #: competing with the named ones).
@@ -213,11 +214,11 @@ def load_per_contact(ls, labels: ContactLabels):
                 label = f"the other {len(others)} loaded {labels.contacts}"
             a1.plot(deg, force[:, k], lw=0.8 if grey else 1.6, color=colour[n], label=label,
                     zorder=1 if grey else 2)
-            a2.plot(deg, ph[:, k] / 1e6, lw=0.8 if grey else 1.6, color=colour[n],
+            a2.plot(deg, ph[:, k] / PA_PER_MPA, lw=0.8 if grey else 1.6, color=colour[n],
                     zorder=1 if grey else 2)
     a1.plot(deg, ls.force.max(axis=1), label=f"largest over the {labels.contacts} (band)",
             **ENVELOPE)
-    a2.plot(deg, ls.ph.max(axis=1) / 1e6, **ENVELOPE)
+    a2.plot(deg, ls.ph.max(axis=1) / PA_PER_MPA, **ENVELOPE)
     a1.set_ylabel(f"normal force per {labels.contact} [N]")
     a2.set_ylabel(_pressure_label(ls))
     a2.set_xlabel("crank angle [deg]")
@@ -331,12 +332,12 @@ def load_around_ring(ls, labels: ContactLabels):
     if not sector:
         polar.set_rlabel_position(float(ang[np.argmax(fmax)]) + 180.0)   # away from the load
     polar.legend(loc="upper center", bbox_to_anchor=(0.5, -0.06), fontsize=8, frameon=False)
-    a1.bar(ang, fmax, width=width * 180 / math.pi, color="#c6dbef", edgecolor="#6baed6",
+    a1.bar(ang, fmax, width=width / DEG, color="#c6dbef", edgecolor="#6baed6",
            lw=0.5, label="largest over the period")
     a1.plot(ang, fw, "o", color="#d62728", ms=4, label="at the worst position")
-    a2.bar(ang, pmax / 1e6, width=width * 180 / math.pi, color="#fdd0a2", edgecolor="#fd8d3c",
+    a2.bar(ang, pmax / PA_PER_MPA, width=width / DEG, color="#fdd0a2", edgecolor="#fd8d3c",
            lw=0.5, label="largest over the period")
-    a2.plot(ang, pw / 1e6, "o", color="#a63603", ms=4, label="at the worst position")
+    a2.plot(ang, pw / PA_PER_MPA, "o", color="#a63603", ms=4, label="at the worst position")
     a1.set_ylabel(f"normal force per {labels.contact} [N]")
     a2.set_ylabel(_pressure_label(ls))
     a2.set_xlabel(f"position of the {labels.contact} on the ring [deg] (0 on +x, "
@@ -400,8 +401,8 @@ def _field_mm_MPa(mesh, scalar: str):
         return points[:, 0], points[:, 1], np.asarray(mesh.point_data[scalar], float)
     legacy = scalar.removesuffix("_MPa")
     if legacy != scalar and legacy in mesh.point_data:
-        return (points[:, 0] * 1e3, points[:, 1] * 1e3,
-                np.asarray(mesh.point_data[legacy], float) / 1e6)
+        return (points[:, 0] * MM_PER_M, points[:, 1] * MM_PER_M,
+                np.asarray(mesh.point_data[legacy], float) / PA_PER_MPA)
     raise ToothfemError(f"scalar = {scalar!r} is not a field of the VTU (its fields: "
                         f"{sorted(mesh.point_data)})")
 
@@ -492,8 +493,8 @@ def field_limits(tri, outlines=()) -> tuple:
     ((float, float), (float, float))
         x and y limits [mm].
     """
-    xs = [np.asarray(tri.x, float)] + [np.asarray(o, float)[0] * 1e3 for o in outlines]
-    ys = [np.asarray(tri.y, float)] + [np.asarray(o, float)[1] * 1e3 for o in outlines]
+    xs = [np.asarray(tri.x, float)] + [np.asarray(o, float)[0] * MM_PER_M for o in outlines]
+    ys = [np.asarray(tri.y, float)] + [np.asarray(o, float)[1] * MM_PER_M for o in outlines]
     lims = []
     for v in (np.concatenate(xs), np.concatenate(ys)):
         lo, hi = float(v.min()), float(v.max())
@@ -542,8 +543,8 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
     fig, ax = plt.subplots(figsize=(9, 7.5), layout="constrained")
     top_at = None
     if zoom_centre is not None:
-        x0, y0 = np.asarray(zoom_centre, float) * 1e3
-        r = float(zoom_radius) * 1e3
+        x0, y0 = np.asarray(zoom_centre, float) * MM_PER_M
+        r = float(zoom_radius) * MM_PER_M
         xlim, ylim = (x0 - r, x0 + r), (y0 - r, y0 + r)
         peak, top_at = view_max(tri, value, xlim, ylim)
         if peak is None or peak <= 0:
@@ -563,11 +564,11 @@ def field_png(vtu_path, png_path, *, title, scalar="von_mises_MPa", outlines=(),
     if zoom_centre is not None:
         ax.triplot(tri, **MESH_EDGES)
     for o in outlines:           # lines, not fills: a ring's outline encloses the member
-        xy = np.asarray(o, float) * 1e3
+        xy = np.asarray(o, float) * MM_PER_M
         ax.plot(np.append(xy[0], xy[0, 0]), np.append(xy[1], xy[1, 0]), color="0.25",
                 lw=0.8)
     for point, marker in ([(mark, "x")] if mark is not None else []) + list(marks):
-        x, y = np.asarray(point, float) * 1e3
+        x, y = np.asarray(point, float) * MM_PER_M
         ax.plot(x, y, marker, color="w", ms=11, mew=3.5)
         ax.plot(x, y, marker, color="k", ms=9, mew=1.5)
     if top_at is not None:

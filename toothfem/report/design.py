@@ -7,6 +7,7 @@ from pathlib import Path
 
 from ..design import Candidate, DesignResult, percentile_interval, with_keys
 from ..fem.drives.registry import record_of
+from ..units import M_PER_MM, UM_PER_M
 from . import pyplot, save, wrap
 
 #: Margin of the zoomed view around the candidates that meet every target, as a fraction
@@ -181,7 +182,7 @@ def _shown(key: str, value: float) -> str:
     """``equidistant_modification_mm`` 6.2e-05 -> 'equidistant 0.062 um'."""
     name = key.split("_modification")[0].replace("_", " ")
     if key.endswith("_mm"):
-        return f"{name} {value * 1e3:.3g} um"
+        return f"{name} {value * M_PER_MM * UM_PER_M:.3g} um"
     return f"{name} {value:.3g} deg"
 
 

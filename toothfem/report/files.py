@@ -28,6 +28,7 @@ from ..efficiency.thermal import heat_balance
 from ..errors import CaseError, check_range
 from ..fem import export
 from ..fem.drives import drive_for
+from ..units import MM_PER_M, PA_PER_MPA, UM_PER_M
 from . import (contact as report_contact, durability as report_durability, html as report_html,
                plots, save, summary as report_summary)
 from .contact import ContactLabels
@@ -186,7 +187,7 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
     if at is None:                                       # one contact, or no frame known
         k, at = kf, np.asarray(result.member_point, float)
     number, force_number = int(ls.contact_id[worst, k]), int(ls.contact_id[worst, kf])
-    ph = float(ls.ph[worst, k] / 1e6)
+    ph = float(ls.ph[worst, k] / PA_PER_MPA)
     b = max(float(ls.half_width[worst, k]), CLOSE_UP_MIN_HALF_WIDTH_M)
     case_line = f"{labels.case_name}: {labels.torque_text} ({labels.mode} mode)"
     where = (f"{labels.model_text}, at the worst position "
@@ -206,7 +207,7 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
         kind = "contact-resolved field (two-body FE, contact zones refined)"
         radius = CLOSE_UP_HALF_WIDTHS * b
         zone = (f"of the contact zone of {labels.contact} {number}, the largest P_h at this "
-                f"position: P_h {ph:.4g} MPa, half-width b = {b * 1e6:.3g} um")
+                f"position: P_h {ph:.4g} MPa, half-width b = {b * UM_PER_M:.3g} um")
     else:
         kind = "structural field (contact loads spread over strips: Hertz stress not resolved)"
         radius = STRUCTURAL_CLOSE_UP_M
@@ -225,7 +226,7 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
 
 
 def _write_xy(path: Path, pts):
-    np.savetxt(path, np.asarray(pts).T * 1e3, delimiter=",", header="x_mm,y_mm", comments="",
+    np.savetxt(path, np.asarray(pts).T * MM_PER_M, delimiter=",", header="x_mm,y_mm", comments="",
                fmt="%.9f")
 
 

@@ -11,9 +11,10 @@ from . import pyplot
 from ..geometry import cycloid_mesh as cym, sine
 from ..fem.drives.registry import provide
 from ..geometry.disc import disc_polygon
+from ..units import MM_PER_M
 
 
-def _draw_polygon(ax, poly, scale=1e3, **kw):
+def _draw_polygon(ax, poly, scale=MM_PER_M, **kw):
     x, y = poly.exterior.xy
     ax.fill(np.asarray(x) * scale, np.asarray(y) * scale, **kw)
     for ring in poly.interiors:
@@ -61,8 +62,8 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
         _draw_polygon(ax, placed, color="#9ecae1", ec="k", lw=0.5)
         for j in range(geom.pin_count):
             loaded = m.moment_arm[0, j] < 0
-            ax.fill((pins[0, j] + geom.pin_radius_m * np.cos(t)) * 1e3,
-                    (pins[1, j] + geom.pin_radius_m * np.sin(t)) * 1e3,
+            ax.fill((pins[0, j] + geom.pin_radius_m * np.cos(t)) * MM_PER_M,
+                    (pins[1, j] + geom.pin_radius_m * np.sin(t)) * MM_PER_M,
                     color="#d62728" if loaded else "#7f7f7f", alpha=0.8)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
@@ -72,9 +73,10 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     for j in np.flatnonzero(m.moment_arm[0] < 0):
         k = m.point[0, j]
         for ax in axes:
-            ax.plot([k[0] * 1e3, pitch[0] * 1e3], [k[1] * 1e3, pitch[1] * 1e3], "k-", lw=0.4)
-    axes[0].plot(*pitch * 1e3, "k+", ms=12, mew=1.6)
-    r = geom.pin_circle_radius_m * 1e3
+            ax.plot([k[0] * MM_PER_M, pitch[0] * MM_PER_M], [k[1] * MM_PER_M, pitch[1] * MM_PER_M],
+                    "k-", lw=0.4)
+    axes[0].plot(*pitch * MM_PER_M, "k+", ms=12, mew=1.6)
+    r = geom.pin_circle_radius_m * MM_PER_M
     a0 = crank_angle_rad + math.pi / 2
     cx, cy_ = r * math.cos(a0), r * math.sin(a0)
     w = 0.18 * r
@@ -82,8 +84,8 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     axes[1].set_ylim(cy_ - w, cy_ + w)
     fig.suptitle(title or (
         f"Cycloid disc ({geom.lobe_count} lobes) in {geom.pin_count} pins: pin circle "
-        f"radius {geom.pin_circle_radius_m * 1e3:g} mm, eccentricity "
-        f"{geom.eccentricity_m * 1e3:g} mm, pin radius {geom.pin_radius_m * 1e3:g} mm; crank "
+        f"radius {geom.pin_circle_radius_m * MM_PER_M:g} mm, eccentricity "
+        f"{geom.eccentricity_m * MM_PER_M:g} mm, pin radius {geom.pin_radius_m * MM_PER_M:g} mm; crank "
         f"angle {math.degrees(crank_angle_rad):.1f} deg" + (f"\n{case_name}" if case_name
                                                             else "")),
         fontsize=10, x=0.01, ha="left")
@@ -130,16 +132,16 @@ def sine_drawing(pair, crank_angle_rad=0.0, title="", case_name=""):
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
         ax.set_ylabel("y [mm]")
-    r2 = pair.ring_pitch_radius_m * 1e3
+    r2 = pair.ring_pitch_radius_m * MM_PER_M
     px, py = r2 * math.cos(crank_angle_rad), r2 * math.sin(crank_angle_rad)
-    w = 4 * pair.module_m * 1e3
+    w = 4 * pair.module_m * MM_PER_M
     axes[1].set_xlim(px - w, px + w)
     axes[1].set_ylim(py - w, py + w)
     axes[1].plot(px, py, "k+", ms=10)
     fig.suptitle(title or (
         f"Sine-profile pair: planet {pair.planet_teeth} teeth in ring {pair.ring_teeth} teeth, "
-        f"module {pair.module_m * 1e3:g} mm, tooth height {pair.tooth_height_m * 1e3:g} mm, "
-        f"centre distance {a0 * 1e3:g} mm; crank angle {math.degrees(crank_angle_rad):.1f} deg"
+        f"module {pair.module_m * MM_PER_M:g} mm, tooth height {pair.tooth_height_m * MM_PER_M:g} mm, "
+        f"centre distance {a0 * MM_PER_M:g} mm; crank angle {math.degrees(crank_angle_rad):.1f} deg"
         + (f"\n{case_name}" if case_name else "")), fontsize=10, x=0.01, ha="left")
     axes[0].set_title("planet (blue) in the fixed ring (grey)", fontsize=9)
     axes[1].set_title("close-up at the pitch point (+)", fontsize=9)

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..datasheet import StiffnessResult
 from ..fem.datasheet.sheet import plural
-from ..fem.datasheet.twist import ARCSEC
+from ..units import ARCSEC
 from . import pyplot, save
 
 

@@ -14,11 +14,11 @@ import string
 from dataclasses import dataclass
 
 from ....errors import MeasuredDataError
+from ....units import ARCMIN, ARCSEC, DEG, RAD_S_PER_RPM, RPM_PER_RAD_S
 from ..measured_columns import QUANTITIES, parse_number
 
 #: Angle units (the column-name suffix) -> radians per unit.
-ANGLE_UNITS = {"rad": 1.0, "deg": math.pi / 180.0, "arcmin": math.pi / 10800.0,
-               "arcsec": math.pi / 648000.0}
+ANGLE_UNITS = {"rad": 1.0, "deg": DEG, "arcmin": ARCMIN, "arcsec": ARCSEC}
 #: Angle quantities of the recordings, longest first (``te_forward`` before ``te``).
 ANGLE_QUANTITIES = ("te_forward", "te_backward", "te", "output_angle", "twist")
 #: Condition quantities: quantity -> (units as :data:`QUANTITIES` knows them, factor from
@@ -26,7 +26,7 @@ ANGLE_QUANTITIES = ("te_forward", "te_backward", "te", "output_angle", "twist")
 #: rad/s, torque in N m, oil temperature in deg C (as the efficiency loader does).
 CONDITIONS = {
     "output_torque": (QUANTITIES["output_torque"], 1.0, "output_torque_Nm"),
-    "input_speed": (QUANTITIES["input_speed"], 2.0 * math.pi / 60.0, "input_speed_rad_s"),
+    "input_speed": (QUANTITIES["input_speed"], RAD_S_PER_RPM, "input_speed_rad_s"),
     "oil_temp": (QUANTITIES["oil_temp"], 1.0, "oil_temp_C"),
 }
 #: Names of a direction (TE) or branch (hysteresis) column; either name, one vocabulary.
@@ -42,7 +42,7 @@ DIRECTION_WORDS = {"1": 1, "+1": 1, "1.0": 1, "+1.0": 1, "forward": 1, "fwd": 1,
 CONDITION_RTOL = 0.02
 #: ... or within these absolute amounts (near zero, where a fraction is no tolerance: a
 #: no-load TE run's torque reads the meter's zero noise): 0.5 N m, 0.5 rpm, 1 deg C.
-CONDITION_ATOL = {"output_torque_Nm": 0.5, "input_speed_rad_s": 0.5 * 2.0 * math.pi / 60.0,
+CONDITION_ATOL = {"output_torque_Nm": 0.5, "input_speed_rad_s": 0.5 * RAD_S_PER_RPM,
                   "oil_temp_C": 1.0}
 #: A number in a file name: decimal point, decimal comma or ``p`` (``2p5`` = 2.5).
 NAME_NUMBER = r"[-+]?(?:\d+(?:[.,p]\d*)?|[.,]\d+)(?:[eE][-+]?\d+)?"
@@ -67,7 +67,7 @@ class Condition:
         if self.output_torque_Nm is not None:
             parts.append(f"{self.output_torque_Nm:.4g} N m")
         if self.input_speed_rad_s is not None:
-            parts.append(f"{self.input_speed_rad_s * 60.0 / (2.0 * math.pi):.4g} rpm")
+            parts.append(f"{self.input_speed_rad_s * RPM_PER_RAD_S:.4g} rpm")
         if self.oil_temp_C is not None:
             parts.append(f"{self.oil_temp_C:.4g} C")
         return ", ".join(parts) or "no condition given"

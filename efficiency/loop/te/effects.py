@@ -16,8 +16,8 @@ import numpy as np
 from ....fem.drives.assembly import SCALABLE
 from .fitting import TeEffect, parameter
 from .model import Effects
+from ....units import M_PER_UM
 
-UM = 1e-6
 #: Crank-bearing play [um]: 0 to 50, a needle or cylindrical bearing of 20-50 mm bore from
 #: group C2 to beyond C5 (ISO 5753-1:2009, radial internal clearance); typical 5 um.
 PLAY_BOUNDS_UM = (0.0, 50.0)
@@ -62,7 +62,7 @@ def catalog(model) -> list:
         name="crank_bearing_play",
         parameters=(parameter("crank_bearing_play_um", "um", *PLAY_BOUNDS_UM, 5.0,
                               starts=(5.0, 20.0)),),
-        options=lambda v: {("play",): v[0] * UM},
+        options=lambda v: {("play",): v[0] * M_PER_UM},
         summary="diametral play of the crank (eccentric) bearings: the disc floats in it "
                 "near zero torque (lost motion, hysteresis width at the knee)",
         citation="ISO 5753-1:2009 radial internal clearance; the system model's roller "
@@ -77,7 +77,7 @@ def catalog(model) -> list:
                 name=f"eccentric_error_{k + 1}_{j + 1}",
                 parameters=(parameter("eccentricity_error_um", "um", *ECCENTRIC_BOUNDS_UM,
                                       3.0, starts=(3.0, 10.0)),),
-                options=lambda v, k=k, j=j: {("eccentric", k, j): v[0] * UM},
+                options=lambda v, k=k, j=j: {("eccentric", k, j): v[0] * M_PER_UM},
                 summary=f"the eccentricity of the eccentric under {where} off its drawing "
                         "(radial, in the eccentric's direction): the disc is forced to a "
                         "compromise pose, a TE ripple once per turn of the crank against "
@@ -117,7 +117,7 @@ def catalog(model) -> list:
             name="pin_radius_error",
             parameters=(parameter("pin_radius_change_um", "um", *PIN_RADIUS_BOUNDS_UM, 2.0,
                                   starts=(2.0, -2.0)),),
-            options=lambda v: {("pin_radius",): v[0] * UM},
+            options=lambda v: {("pin_radius",): v[0] * M_PER_UM},
             summary="every pin's radius off its drawing by one amount (a lot of pins): the "
                     "clearance to the disc, so the backlash, the lost motion and the "
                     "contacts that carry near zero torque",
@@ -127,8 +127,8 @@ def catalog(model) -> list:
                         "certificate)"))
     g = getattr(model.drive, "geometry", None)
     if g is not None and hasattr(g, "move_distance_m"):
-        m0 = float(g.move_distance_m) / UM
-        top = min(m0 + CLEARANCE_SPAN_UM, float(getattr(g, "equidistant_m", np.inf)) / UM)
+        m0 = float(g.move_distance_m) / M_PER_UM
+        top = min(m0 + CLEARANCE_SPAN_UM, float(getattr(g, "equidistant_m", np.inf)) / M_PER_UM)
         out.append(TeEffect(
             name="move_distance_clearance",
             # at most the equidistant modification: beyond it the disc's tips and roots
@@ -136,20 +136,20 @@ def catalog(model) -> list:
             parameters=(parameter("move_distance_modification_um", "um",
                                   m0 - CLEARANCE_SPAN_UM, top, max(abs(m0), 5.0),
                                   starts=(m0, m0 - 5.0)),),
-            options=lambda v: {("move_distance",): v[0] * UM},
+            options=lambda v: {("move_distance",): v[0] * M_PER_UM},
             summary="the disc's move-distance (radial) modification off the drawing's: "
                     "the clearance at the lobes' tips and roots, the backlash",
             citation="the profile modification on the nominal FE tables (docs/te_model.md)",
             direct_test="the disc's profile on a gear measuring machine (the lobes' normal "
                         "deviation at tip and root)"))
     if g is not None and hasattr(g, "equidistant_m"):
-        e0 = float(g.equidistant_m) / UM
+        e0 = float(g.equidistant_m) / M_PER_UM
         out.append(TeEffect(
             name="profile_clearance",
             parameters=(parameter("equidistant_modification_um", "um",
                                   e0 - CLEARANCE_SPAN_UM, e0 + CLEARANCE_SPAN_UM,
                                   max(abs(e0), 5.0), starts=(e0, e0 + 5.0)),),
-            options=lambda v: {("equidistant",): v[0] * UM},
+            options=lambda v: {("equidistant",): v[0] * M_PER_UM},
             summary="the disc's equidistant modification off the drawing's: the backlash "
                     "and the lost motion, the contacts that carry near zero torque",
             citation="the profile modification on the nominal FE tables (docs/te_model.md)",
