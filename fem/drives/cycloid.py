@@ -118,11 +118,6 @@ class CycloidDrive(Drive):
         h = self.stage.holes
         return h.crank_hole_radius_m if self.two_stage else h.centre_bore_radius_m
 
-    @property
-    def eccentric_bearing_count(self) -> int:
-        """Eccentric bearings per disc: one per crank hole (2K-V), one (K-H-V)."""
-        return self.stage.holes.crank_hole_count if self.two_stage else 1
-
     def members_torque(self, output_torque_Nm):
         """The discs' torque together: a 2K-V drive's pins turn the discs against the
         cranks, and the power flow gives T (1 - 1/i)(Za/Zb) (the output torque less what
