@@ -107,7 +107,7 @@ def catalog(model) -> list:
         options=lambda v: {("friction",): v[0]},
         summary="the path friction's coefficients off the case's by a factor: the "
                 "hysteresis loop's width at every torque",
-        citation="the path friction of the loop (toothfem.datasheet.path_friction, "
+        citation="the path friction of the loop (toothfem.efficiency.no_load.path_friction, "
                  "docs/stiffness.md)",
         direct_test="the no-load starting torque at the output, both directions (the "
                     "friction alone, no elastic twist)"))
