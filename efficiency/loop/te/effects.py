@@ -111,8 +111,8 @@ def catalog(model) -> list:
                  "docs/stiffness.md)",
         direct_test="the no-load starting torque at the output, both directions (the "
                     "friction alone, no elastic twist)"))
-    nominal = model.drive.nominal_deviation()
-    if hasattr(nominal, "pin_radius"):
+    record = model.drive.record
+    if "pins" in record.components:
         out.append(TeEffect(
             name="pin_radius_error",
             parameters=(parameter("pin_radius_change_um", "um", *PIN_RADIUS_BOUNDS_UM, 2.0,
@@ -125,10 +125,22 @@ def catalog(model) -> list:
                      "radius change (fem/deviations.py)",
             direct_test="the pins' diameter with a micrometer (or the pin lot's gauge "
                         "certificate)"))
-    g = getattr(model.drive, "geometry", None)
-    if g is not None and hasattr(g, "move_distance_m"):
+    # the disc's profile modifications: those the layout's design search varies, read from
+    # the stage's own SI geometry (DriveRecord.design_keys)
+    keys = record.design_keys
+    if keys:
+        out += _clearance_effects(getattr(model.si, record.stage_section).geometry, keys)
+    return out
+
+
+def _clearance_effects(g, keys) -> list:
+    """The disc's move-distance and equidistant modifications off the drawing's, for those
+    of ``keys`` (the layout's design keys) the geometry ``g`` (SI) has."""
+    out = []
+    if "move_distance_modification_mm" in keys:
         m0 = float(g.move_distance_m) / M_PER_UM
-        top = min(m0 + CLEARANCE_SPAN_UM, float(getattr(g, "equidistant_m", np.inf)) / M_PER_UM)
+        top = min(m0 + CLEARANCE_SPAN_UM, float(g.equidistant_m) / M_PER_UM
+                  if "equidistant_modification_mm" in keys else np.inf)
         out.append(TeEffect(
             name="move_distance_clearance",
             # at most the equidistant modification: beyond it the disc's tips and roots
@@ -142,7 +154,7 @@ def catalog(model) -> list:
             citation="the profile modification on the nominal FE tables (docs/te_model.md)",
             direct_test="the disc's profile on a gear measuring machine (the lobes' normal "
                         "deviation at tip and root)"))
-    if g is not None and hasattr(g, "equidistant_m"):
+    if "equidistant_modification_mm" in keys:
         e0 = float(g.equidistant_m) / M_PER_UM
         out.append(TeEffect(
             name="profile_clearance",

@@ -193,9 +193,9 @@ class Effects:
             return None
         nominal = drive.nominal_deviation()
         if pins or moved:
-            if not hasattr(nominal, "pin_radius"):
+            if "pins" not in drive.record.components:
                 raise CaseError(f"pin_radius_m, pin_offset_m: this drive has no "
-                                f"{drive.contact_name}s to move (a {drive.kind} drive)")
+                                f"{drive.contacts_name} to move (a {drive.kind} drive)")
             zb = nominal.pin_radius.size
             if pins:
                 if radius.size not in (1, zb):
@@ -230,10 +230,11 @@ class Effects:
                if getattr(self, k) is not None}
         if not put:
             return None
-        g = getattr(drive, "geometry", None)
-        if g is None or not all(hasattr(g, v) for v in put):
+        fields = {f for f, _ in drive.record.design_keys.values()}   # the layout's own
+        if not set(put) <= fields:
             asked = ", ".join(k for k in MODIFICATIONS if getattr(self, k) is not None)
             raise CaseError(f"{asked}: a {drive.kind} drive has no such profile modification")
+        g = drive.geometry
         new = dataclasses.replace(g, **put)
         return None if new == g else new
 
