@@ -220,9 +220,8 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     supports = drive.supports(si.supports)
     system = drive.system_model(supports, positions)   # on the search's tables
     t_out = si.declared_output_torque_Nm()
-    if t_out is None or si.cycloid is None:       # Case refuses both (a load, the stage)
-        raise CaseError("[operating] needs an output torque and [cycloid] a disc for the "
-                        "modification search")
+    if t_out is None:                # Case refuses it (every case declares a load)
+        raise CaseError("[operating] needs an output torque for the modification search")
     torque = drive.member_torque(t_out)
     deviations = [None]
     if target.percentile is not None:
@@ -236,7 +235,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     names = list(bounds)
     lo = np.array([bounds[k][0] for k in names])
     hi = np.array([bounds[k][1] for k in names])
-    base = si.cycloid.geometry
+    base = getattr(si, layout.stage_section).geometry      # the stage's SI geometry
     # a built reducer's positions spread over its pairing period (toothfem.tolerance)
     pitches = (np.arange(positions) * drive.pairing_period_pitches) // positions
     evaluated = []
@@ -291,7 +290,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
         closest = min(evaluated, key=lambda c: sum(_violations(c, target).values()))
         raise CaseError(_infeasible(closest, target))
     best = min(feasible, key=lambda c: c.max_ph_MPa)
-    best_case = _with_modification(case, best.modification)
+    best_case = _with_modification(case, layout.stage_section, best.modification)
     nominal = evaluate([best.modification[k] for k in names], devs=[None], record=False)
     sheet, check = _verify(best_case, nominal, positions, torque)
     targets = dataclasses.asdict(target)
@@ -337,10 +336,11 @@ def _infeasible(c: Candidate, target) -> str:
             + mod + ") misses " + "; ".join(parts))
 
 
-def _with_modification(case: Case, modification: dict) -> Case:
-    if case.cycloid is None:
-        raise CaseError("the modification search needs the case's [cycloid] section")
-    return dataclasses.replace(case, cycloid=dataclasses.replace(case.cycloid, **modification))
+def _with_modification(case: Case, section: str, modification: dict) -> Case:
+    """The case with the modification keys set in its stage's ``section`` (checked present
+    by :func:`design_analysis`)."""
+    stage = dataclasses.replace(getattr(case, section), **modification)
+    return dataclasses.replace(case, **{section: stage})
 
 
 def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
