@@ -15,3 +15,20 @@ CASES = ROOT / "cases"
 @pytest.fixture(scope="session")
 def cases_dir():
     return CASES
+
+
+@pytest.fixture(scope="session")
+def small_khv():
+    """cases/cycloid_khv.toml with 12 pins and 11 lobes (e 2 mm, the output pins' holes
+    opened by the eccentricity's change): a drive whose pin errors repeat over 132
+    pitches (30 pins: 870), for fast runs of what stretches the period."""
+    from toothfem.case import parse_case_text
+
+    text = (CASES / "cycloid_khv.toml").read_text()
+    for old, new in (("stated_ratio = 29 ", "stated_ratio = 11 "),
+                     ("pin_count = 30\nlobe_count = 29", "pin_count = 12\nlobe_count = 11"),
+                     ("eccentricity_mm = 1.2 ", "eccentricity_mm = 2.0 "),
+                     ("hole_radius_mm = 6.7 ", "hole_radius_mm = 7.5 ")):
+        assert old in text, old
+        text = text.replace(old, new)
+    return parse_case_text(text)

@@ -70,6 +70,7 @@ class StageLine:
         self.n = int(initial)
         self._start = time.perf_counter()
         self._closed = False
+        self.postfix = ""
 
     def __iter__(self):
         for item in self.iterable:
@@ -86,6 +87,15 @@ class StageLine:
         """
         self.n += n
 
+    def set_postfix_str(self, text: str) -> None:
+        """What the stage's line ends with (tqdm's postfix).
+
+        Parameters
+        ----------
+        text : str
+        """
+        self.postfix = str(text)
+
     def close(self) -> None:
         """Write the stage's line (once)."""
         if self._closed:
@@ -95,7 +105,8 @@ class StageLine:
         unit = self.unit if self.n == 1 else self.unit + "s"
         with contextlib.suppress(OSError, ValueError):  # a closed or broken stderr: progress only
             print(f"{PROGRESS_PREFIX}{self.desc}: {self.n}{of} {unit} in "
-                  f"{time.perf_counter() - self._start:.1f} s", file=self.stream, flush=True)
+                  f"{time.perf_counter() - self._start:.1f} s"
+                  + (f" ({self.postfix})" if self.postfix else ""), file=self.stream, flush=True)
 
     def __enter__(self):
         return self

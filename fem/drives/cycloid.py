@@ -517,6 +517,39 @@ class CycloidDrive(Drive):
             eccentricity=float(dv.symmetric(rng, t.eccentricity_m, 1,
                                             dist("eccentricity"))[0]))
 
+    def pin_ring_offsets(self, order: int, radial_m: float = 0.0,
+                         tangential_m: float = 0.0) -> np.ndarray:
+        """The pins' centres off their places in one order round the ring: pin j at angle
+        theta_j moved by cos(order theta_j) (radial_m outward + tangential_m along
+        +theta). Order 1 tangential is the ring's cumulative pitch error (an indexing
+        error), order 2 radial its ovality; order 1 radial with order 1 tangential of the
+        opposite phase is the ring's centre moved.
+
+        Parameters
+        ----------
+        order : int
+            >= 1, waves round the ring.
+        radial_m, tangential_m : float
+            Amplitudes [m].
+
+        Returns
+        -------
+        numpy.ndarray, shape (2, Zb)
+            Housing frame [m], for ``CycloidDeviation.pin_offset``.
+
+        Raises
+        ------
+        CaseError
+            For an order below 1.
+        """
+        if int(order) != order or order < 1:
+            raise CaseError(f"pin ring order = {order!r}: a whole number >= 1")
+        c = cym.pin_centres(self.geometry)
+        radial = c / np.linalg.norm(c, axis=0)
+        along = np.stack([-radial[1], radial[0]])
+        wave = np.cos(int(order) * np.arctan2(c[1], c[0]))
+        return (radial_m * radial + tangential_m * along) * wave
+
     def nominal_deviation(self) -> dv.CycloidDeviation:
         """The stage as drawn (:meth:`CycloidDeviation.zero`).
 

@@ -200,8 +200,10 @@ def markdown(result, *, files=()) -> str:
             if group:
                 lines += ["", f"**{name} cannot be told apart by these recordings from:** "
                           + ", ".join(group) + ". The measurement that tells each apart:", ""]
-                for n in (name, *group):
-                    lines.append(f"- {n}: {loop.catalog[n].direct_test}")
+                for n, values in loop.group_values(name).items():
+                    fitted = ", ".join(f"{p.name} = {v:.4g} {p.unit}" for p, v in
+                                       zip(loop.catalog[n].parameters, values))
+                    lines.append(f"- {n} ({fitted}): {loop.catalog[n].direct_test}")
     else:
         lines.append("None.")
     lines += ["", f"Stop: {loop.stop_reason}", "", "## Steps", ""]

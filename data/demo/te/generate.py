@@ -5,8 +5,8 @@ its true value, the noise).
 
 - ``rv40e_crank_play/``: crank-bearing play 10 um; shape A (one file per torque, forward
   and backward columns) and the hysteresis staircase;
-- ``rv40e_eccentric/``: the eccentric under crank 1, disc 1, 5 um off its eccentricity;
-  shape B (one long table with a direction column, re-zeroed from its second torque on) and
+- ``rv40e_eccentric/``: the eccentric under crank 1, disc 1, 5 um off its place: 4 um
+  radially (its eccentricity) and 3 um across (its phase, 8 arcmin at e = 1.3 mm); shape B (one long table with a direction column, re-zeroed from its second torque on) and
   the staircase.
 
 ``toothfem te-loop cases/rv40e.toml --te data/demo/te/rv40e_crank_play/ --hysteresis
@@ -16,6 +16,7 @@ error before and after. Regenerate with ``python data/demo/te/generate.py``
 """
 from __future__ import annotations
 
+import math
 import shutil
 import sys
 import tempfile
@@ -33,7 +34,8 @@ TORQUE_FRACTIONS = (0.5, 1.0)
 #: The sets: folder -> (effects keywords, file shapes, noise keywords).
 SETS = {
     "rv40e_crank_play": ({"crank_bearing_play_m": 10e-6}, ("A", "hysteresis"), {"seed": 1}),
-    "rv40e_eccentric": ({"crank_eccentricity_m": ((5e-6, 0.0), (0.0, 0.0))},
+    "rv40e_eccentric": ({"crank_eccentricity_m": ((5e-6, 0.0), (0.0, 0.0)),
+                         "crank_phase_rad": ((math.atan2(3.0, 4.0), 0.0), (0.0, 0.0))},
                         ("B", "hysteresis"),
                         {"seed": 2, "rezero_at": 1, "rezero_offset_arcsec": 120.0}),
 }

@@ -94,7 +94,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     model : RecordingModel, optional
         The case's model already set up.
     progress : bool
-        Progress over the TE files.
+        Progress over the TE files and over each selection step's candidates.
 
     Returns
     -------
@@ -141,7 +141,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
 
     problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
                         catalog(model), settings)
-    fitted = problem.run(candidates)
+    fitted = problem.run(candidates, progress=progress)
     final_options: dict = {}
     for name in fitted.final.effects:
         final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))

@@ -18,6 +18,10 @@ effects a fit can vary (docs/te_model.md).
 - ``pin_radius_m`` (one value: every pin; or one per pin) and ``pin_offset_m`` (2, Zb):
   the pins' radius change and centre offsets (``CycloidDeviation.pin_radius`` and
   ``pin_offset``);
+- ``pin_ring_m``: the pins' centres off their places in orders round the ring,
+  ``{"radial_2": a, "tangential_1": b}`` [m] (the drive's ``pin_ring_offsets``: order 1
+  tangential the ring's cumulative pitch error, order 2 radial its ovality), added to
+  ``pin_offset_m``;
 - ``friction_scale``: a factor on every coefficient of the path friction
   (:func:`toothfem.efficiency.no_load.path_friction`) and on the output's seal torque; 0 the
   elastic curve.
@@ -40,6 +44,11 @@ effects a fit can vary (docs/te_model.md).
   repeat per turn of the crank against the carrier, the pins' per pin, the lobes' per
   lobe), sampled at ``samples`` pitches (each solved at every position of its pitch) and
   filled by a Fourier series in the pitch (exact where ``samples`` covers the period).
+  Pin errors stretch the period to a whole output revolution: a pin ring's orders are
+  sampled at :func:`ring_samples` pitches by default (their ripple reaches the second
+  multiple of the pin passing and its side bands), single pins over the whole period
+  (a pin's load rises and falls within a pitch: no series short of it holds it,
+  ``benchmarks/pin_offset_response.py``).
 - The orders per output revolution that name a spectrum's peaks: :func:`te_orders`, the
   drive's :meth:`~toothfem.fem.drives.base.Drive.te_orders`.
 
@@ -86,6 +95,14 @@ DEFAULT_STEPS = 4
 #: zero (lost motion at 3 %, a rig's backlash fit up to 10 %), then 25-50-75-100 % (the
 #: rigidity's 50 and 100 %).
 STAIRCASE_FRACTIONS = (0.0, 0.03, 0.06, 0.1, 0.25, 0.5, 0.75, 1.0)
+#: Kinds of a pin ring's orders (:attr:`Effects.pin_ring_m` keys ``"<kind>_<order>"``).
+RING_KINDS = ("radial", "tangential")
+#: Sampled pitches per order of the highest ripple a pin ring's error gives (2 Zb + its
+#: order): twice the Fourier series' need, as its ripple above that order would fold onto
+#: the fitted ones. Measured on RV-40E (Zb = 40, benchmarks/pin_ring_response.py): at 4 x 82 + 1
+#: = 329 pitches every fitted amplitude within 0.5 % of the whole period's (1560 pitches),
+#: at 161 some 100 % off.
+RING_SAMPLES_PER_ORDER = 4
 #: The case's [cycloid] modification keys the effects set -> the geometry's field.
 MODIFICATIONS = {"equidistant_modification_m": "equidistant_m",
                  "move_distance_modification_m": "move_distance_m"}
@@ -103,6 +120,7 @@ class Effects:
     move_distance_modification_m: float | None = None
     pin_radius_m: ArrayLike = 0.0
     pin_offset_m: ArrayLike = ()
+    pin_ring_m: dict = field(default_factory=dict)
     friction_scale: float = 1.0
 
     def __post_init__(self):
@@ -120,6 +138,10 @@ class Effects:
             v = getattr(self, name)
             if v is not None and not math.isfinite(v):
                 raise CaseError(f"{name} = {v!r}: finite")
+        for key, v in self.pin_ring_m.items():
+            ring_order(key)
+            if not math.isfinite(v):
+                raise CaseError(f"pin_ring_m[{key!r}] = {v!r}: finite")
 
     def describe(self) -> dict:
         """The effects that differ from the drawing, for a header or a summary.
@@ -187,14 +209,15 @@ class Effects:
             put["crank_phase_rad"] = np.zeros(crank.shape) if phase.size == 0 else phase
         radius = np.asarray(self.pin_radius_m, float)
         offset = np.asarray(self.pin_offset_m, float)
+        ring = {k: v for k, v in self.pin_ring_m.items() if v}
         pins = radius.size and np.any(radius)
-        moved = offset.size and np.any(offset)
+        moved = (offset.size and np.any(offset)) or ring
         if not (put or pins or moved):
             return None
         nominal = drive.nominal_deviation()
         if pins or moved:
             if "pins" not in drive.record.components:
-                raise CaseError(f"pin_radius_m, pin_offset_m: this drive has no "
+                raise CaseError(f"pin_radius_m, pin_offset_m, pin_ring_m: this drive has no "
                                 f"{drive.contacts_name} to move (a {drive.kind} drive)")
             zb = nominal.pin_radius.size
             if pins:
@@ -203,9 +226,12 @@ class Effects:
                                     f"pin ({zb})")
                 put["pin_radius"] = np.broadcast_to(radius.ravel(), (zb,)).copy()
             if moved:
-                if offset.shape != (2, zb):
+                if offset.size and offset.shape != (2, zb):
                     raise CaseError(f"pin_offset_m has the shape {offset.shape}: (2, {zb})")
-                put["pin_offset"] = offset.copy()
+                put["pin_offset"] = offset.copy() if offset.size else np.zeros((2, zb))
+                for key, v in ring.items():
+                    kind, order = ring_order(key)
+                    put["pin_offset"] += drive.pin_ring_offsets(order, **{f"{kind}_m": v})
         return dataclasses.replace(nominal, **put)
 
     def geometry(self, drive):
@@ -556,7 +582,8 @@ class RecordingModel:
         geometry = effects.geometry(drive)
         period = drive.deviation_period_pitches(deviation)
         full = drive.full_period_pitches
-        pitches = sampled_pitches(period, self.te_samples if samples is None else samples)
+        pitches = sampled_pitches(period, self.default_samples(effects, period)
+                                  if samples is None else samples)
         systems = [self.system(m % full, effects) for m in pitches]
         on = [m - m % full for m in pitches]
         speeds = drive.speeds()
@@ -584,6 +611,28 @@ class RecordingModel:
                 per_pitch=self.positions,
                 period_output_rad=float(period * drive.period_rad * out_per_crank)))
         return tuple(out)
+
+    def default_samples(self, effects: Effects, period: int) -> int:
+        """The sampled pitches :meth:`te` takes by default: ``te_samples``; a pin ring's
+        orders :func:`ring_samples`; single pins the whole period.
+
+        Parameters
+        ----------
+        effects : Effects
+        period : int
+            The effects' period [pitches].
+
+        Returns
+        -------
+        int
+        """
+        if np.any(np.asarray(effects.pin_offset_m, float)):
+            return period
+        orders = [ring_order(k)[1] for k, v in effects.pin_ring_m.items() if v]
+        if orders:
+            zb = self.drive.nominal_deviation().pin_radius.size
+            return max(self.te_samples, min(period, ring_samples(zb, max(orders))))
+        return self.te_samples
 
     def recordings(self, effects: Effects | None = None, te_torques_Nm=(None,), *,
                    samples: int | None = None, **loop_options) -> ModelRecordings:
@@ -634,6 +683,50 @@ def model_recordings(case, effects: Effects | None = None, te_torques_Nm=(None,)
     model = RecordingModel(case, positions=positions, te_samples=te_samples, cache=cache,
                            **(system_options or {}))
     return model.recordings(effects, te_torques_Nm, **loop_options)
+
+
+def ring_order(key: str) -> tuple[str, int]:
+    """A pin ring's order from its key in :attr:`Effects.pin_ring_m`.
+
+    Parameters
+    ----------
+    key : str
+        ``"<kind>_<order>"``, kind one of :data:`RING_KINDS`, order >= 1.
+
+    Returns
+    -------
+    kind : str
+    order : int
+
+    Raises
+    ------
+    CaseError
+        For another key.
+    """
+    kind, _, order = str(key).rpartition("_")
+    if kind not in RING_KINDS or not order.isdigit() or int(order) < 1:
+        raise CaseError(f"pin_ring_m key {key!r}: '<kind>_<order>', kind one of "
+                        f"{', '.join(RING_KINDS)}, order a whole number >= 1")
+    return kind, int(order)
+
+
+def ring_samples(pins: int, order: int) -> int:
+    """Sampled pitches that hold a pin ring's error of one order round the ring: its
+    ripple reaches 2 Zb + order per output revolution (the second multiple of the pin
+    passing and its side bands), sampled :data:`RING_SAMPLES_PER_ORDER` times per order.
+
+    Parameters
+    ----------
+    pins : int
+        Zb.
+    order : int
+        The ring's order.
+
+    Returns
+    -------
+    int
+    """
+    return RING_SAMPLES_PER_ORDER * (2 * int(pins) + int(order)) + 1
 
 
 def te_orders(case) -> dict:
