@@ -61,3 +61,53 @@ def test_an_effect_that_helps_only_at_its_bound_is_not_added():
     loop = TeProblem(data({"stiff": 3.0}, 0), model, catalog(), ).run(["stiff"])
     assert loop.added == ()
     assert loop.steps[0].bounded == ("stiff",) and "bound" in loop.stop_reason
+
+
+def test_a_candidate_the_rows_cannot_tell_apart_is_an_alias_whatever_its_bic():
+    """A near-alias: 'mirror' is ecc's shape plus 0.01 T, so fitted to data of ecc = 3 its
+    rows lie D ~ 3 sigma from ecc's (the weighted distance; BIC about D^2 worse, beyond
+    the 6 of the BIC rule): the separation rule (D < 6) names it in ecc's group with its
+    own fitted value; 'play' (far: hundreds of sigma) stays out."""
+    from toothfem.efficiency.loop.te.fitting import ALIAS_SEPARATION
+
+    shapes = {"ecc": SHAPES["ecc"], "mirror": SHAPES["ecc"] + 0.01 * T, "play": SHAPES["play"]}
+
+    def near(options):
+        return sum(options.get(k, 0.0) * f for k, f in shapes.items())
+
+    cat = [e for e in catalog() if e.name in ("ecc", "play")] + [TeEffect(
+        name="mirror", parameters=(parameter("mirror_um", "um", 0.0, 50.0, 5.0),),
+        options=lambda v: {"mirror": v[0]}, summary="mirror", citation="test",
+        direct_test="measure mirror")]
+    obs = data({}, 4)
+    obs = Observations(values=near({"ecc": 3.0}) + (obs.values - model({})),
+                       sigma=obs.sigma, group=obs.group, labels=obs.labels, kinds=obs.kinds)
+    problem = TeProblem(obs, near, cat)
+    loop = problem.run()
+    assert loop.added == ("ecc",)
+    step = loop.steps[0]
+    fits = {n: problem.fit(("ecc",) if n == "ecc" else (n,)) for n in ("ecc", "mirror")}
+    d = problem.separation(fits["ecc"], fits["mirror"])
+    assert 1.5 < d < ALIAS_SEPARATION
+    scored = {row[0]: row[1] for row in step.scored}
+    assert scored["mirror"] - scored["ecc"] > 6          # the BIC rule alone would miss it
+    assert loop.alias_groups["ecc"] == ("mirror",)
+    assert loop.group_values("ecc")["mirror"][0] == pytest.approx(3.0, rel=0.05)
+
+
+def test_where_the_model_does_not_settle_the_report_says_so():
+    """A model that raises (a contact that does not settle) for stiff > 0.5: the fit is
+    steered away (ecc still found), and the loop counts and names those evaluations."""
+    from toothfem.fem.contact import ContactError
+
+    def fragile(options):
+        if options.get("stiff", 0.0) > 0.5:
+            raise ContactError("the system did not settle in 50 Newton steps")
+        return model(options)
+
+    loop = TeProblem(data({"ecc": 3.0}, 1), fragile, catalog()).run()
+    assert loop.added == ("ecc",)
+    assert loop.failures and all("did not settle" in f for f in loop.failures)
+    note = loop.failure_note()
+    assert f"at {len(loop.failures)} of {loop.evaluations} evaluations" in note
+    assert loop.to_dict()["model_failures"] == list(loop.failures)

@@ -215,8 +215,31 @@ class SystemTwist:
             if abs(r1) <= FRICTION_RTOL * max(tf, 1e-12):
                 return x1
             x0, r0, x1 = x1, r1, (x1 + r1 if r1 == r0 else x1 - r1 * (x1 - x0) / (r1 - r0))
-        raise CaseError(f"the friction torque at {t:g} N m did not settle (friction "
-                        "coefficients too large for the drive to turn its output?)")
+        return self._bisected(t, residual, tf)
+
+    def _bisected(self, t: float, residual, tf: float) -> float:
+        """T_e by bisection where the secant steps fail: T_f jumps with T_e where a
+        contact opens or a play closes (the loop's knee), and T - branch T_f(T_e) - T_e
+        falls with T_e at a slope of about -1 between the jumps, so a bracket about T
+        closes on the root, or on the jump that steps over it (the friction is set-valued
+        there: the path sticks at that torque)."""
+        width = 2.0 * max(abs(tf), self.friction.output_torque_Nm, 1e-9)
+        lo, hi = t - width, t + width
+        for _ in range(FRICTION_ITERATIONS):
+            if residual(lo)[0] > 0 > residual(hi)[0]:
+                break
+            lo, hi, width = lo - width, hi + width, 2.0 * width
+        else:
+            raise CaseError(f"the friction torque at {t:g} N m did not settle (friction "
+                            "coefficients too large for the drive to turn its output?)")
+        for _ in range(BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            r, tf = residual(mid)
+            if abs(r) <= FRICTION_RTOL * max(tf, 1e-12) \
+                    or hi - lo <= FRICTION_RTOL * max(tf, 1e-12):
+                return mid
+            lo, hi = (mid, hi) if r > 0 else (lo, mid)
+        return 0.5 * (lo + hi)
 
     def at(self, output_torque_Nm: float, side: int = 1, branch: int = 0) -> TwistPoint:
         """The twist at a signed output torque.
@@ -386,6 +409,9 @@ class BearingLoads:
 #: The friction torque's fixed point: iterations allowed, and the change of T_e (a
 #: fraction of T_f) at which it has settled.
 FRICTION_ITERATIONS, FRICTION_RTOL = 50, 1e-3
+#: Bisections of the friction's fallback (a bracket of 4 T_f closes to FRICTION_RTOL T_f in
+#: 12; the bound only stops a runaway).
+BISECTIONS = 60
 #: The discs share the torque evenly when no share departs from 1/M by more than this
 #: (the round-off of the solve; a layout that splits unevenly departs by percents).
 EVEN_SHARE_ATOL = 1e-6

@@ -119,6 +119,8 @@ def run(args) -> int:
             print(f"  {name} is aliased with {', '.join(group)}: the report names the "
                   "measurement that tells each apart")
     print(f"  {loop.stop_reason}")
+    if loop.failures:
+        print(f"  {loop.failure_note()}")
     for r in result.refused:
         print(f"  refused: {r}")
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")

@@ -206,7 +206,10 @@ def markdown(result, *, files=()) -> str:
                     lines.append(f"- {n} ({fitted}): {loop.catalog[n].direct_test}")
     else:
         lines.append("None.")
-    lines += ["", f"Stop: {loop.stop_reason}", "", "## Steps", ""]
+    lines += ["", f"Stop: {loop.stop_reason}", ""]
+    if loop.failures:
+        lines += [f"Note: {loop.failure_note()}.", ""]
+    lines += ["## Steps", ""]
     for s in loop.steps:
         lines += [f"Step {s.index}: {s.added or 'nothing added'} ({s.reason})", "",
                   "| candidate | BIC | held-out [sigma] | values | at a bound |",

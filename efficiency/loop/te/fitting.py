@@ -163,6 +163,22 @@ class TeLoop:
     stop_reason: str
     observations: Observations
     catalog: dict = field(default_factory=dict)      # name -> TeEffect
+    failures: tuple = ()               # where the model did not settle, one line each
+    evaluations: int = 0
+
+    def failure_note(self) -> str:
+        """One line on the evaluations where the model did not settle (the fit was
+        steered away from them), or "" where there were none.
+
+        Returns
+        -------
+        str
+        """
+        if not self.failures:
+            return ""
+        return (f"the model did not settle at {len(self.failures)} of {self.evaluations} "
+                f"evaluations (each read as 30 sigma on every row, the fit steered away; "
+                f"the first: {self.failures[0]})")
 
     def group_values(self, name: str) -> dict:
         """An added effect's alias group with each member's fitted values (the added one's
@@ -215,6 +231,7 @@ class TeLoop:
                                            "values": list(c[3]), "at_bound": c[4]}
                                           for c in s.scored]} for s in self.steps],
                 "stop_reason": self.stop_reason,
+                "model_failures": list(self.failures),
                 "held_out_error_cut": self.baseline.cv_wrmse / max(self.final.cv_wrmse, 1e-300),
                 "rows": len(self.observations.values)}
 
@@ -512,7 +529,8 @@ class TeProblem:
             stop = f"{s.max_effects} effects: the most the loop adds"
         return TeLoop(baseline=base, final=current, steps=tuple(steps),
                       added=current.effects, alias_groups=groups, stop_reason=stop,
-                      observations=self.obs, catalog=self.catalog)
+                      observations=self.obs, catalog=self.catalog,
+                      failures=tuple(self.failures), evaluations=self.evaluations)
 
 
 def _at_any_bound(x, lo, hi) -> bool:
