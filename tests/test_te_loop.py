@@ -64,6 +64,26 @@ def test_crank_bearing_play_is_named_by_the_command(tmp_path, capsys):
     for f in ("report.md", "report.html", "hysteresis.png"):
         assert (out / f).stat().st_size > 1000
     assert "crank_bearing_play" in capsys.readouterr().out
+    # the catalog's others are listed as not considered, the pin ring's with their cost
+    left = report["not_considered"]
+    assert "sampled pitches" in left["pin_ring_ovality"] and left["friction"] == ""
+    assert "crank_bearing_play" not in left
+
+
+def test_the_costly_effects_are_left_out_unless_asked_for(rv40e):
+    """The default candidates: every effect but the pin ring's (each evaluation 329
+    sampled pitches on RV-40E against 7); "all" every one; names as given."""
+    from toothfem.efficiency.loop.te.effects import catalog
+    from toothfem.efficiency.loop.te.loop import candidate_names
+
+    effects = catalog(rv40e[1])
+    costly = {e.name for e in effects if e.costly}
+    assert costly == {"pin_ring_ovality", "pin_ring_pitch_error"}
+    assert set(candidate_names(effects)) == {e.name for e in effects} - costly
+    assert candidate_names(effects, "all") == [e.name for e in effects]
+    assert candidate_names(effects, ["friction"]) == ["friction"]
+    with pytest.raises(ValueError, match="'ring'"):
+        candidate_names(effects, "ring")
 
 
 @pytest.mark.slow

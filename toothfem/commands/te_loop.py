@@ -39,8 +39,9 @@ def add_parser(sub):
                    help="file-name pattern of the TE files' conditions, e.g. "
                         "'te_{output_torque_Nm}Nm.csv'")
     p.add_argument("--effects", default=None,
-                   help="comma-separated effects to consider (default: every effect of the "
-                        "drive; the names are in report.json)")
+                   help="comma-separated effects to consider, or 'all' (default: every "
+                        "effect of the drive but the costly ones, the pin ring's, which the "
+                        "report lists; the names are in report.json)")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--json", action="store_true", help="print report.json instead of the "
@@ -82,7 +83,7 @@ def run(args) -> int:
     chosen = None
     if args.effects:
         chosen = [n.strip() for n in args.effects.split(",") if n.strip()]
-        unknown = [n for n in chosen if n not in names]
+        unknown = [n for n in chosen if n not in names and chosen != ["all"]]
         if unknown:
             raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
                                 f"valid: {', '.join(names)}")
@@ -90,7 +91,8 @@ def run(args) -> int:
         try:
             result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
                                  name_pattern=args.name_pattern,
-                                 settings=Settings(folds=args.folds), candidates=chosen,
+                                 settings=Settings(folds=args.folds),
+                                 candidates="all" if chosen == ["all"] else chosen,
                                  model=model, progress=not args.json)
         except ValueError as exc:
             raise ToothfemError(str(exc)) from exc
@@ -121,6 +123,10 @@ def run(args) -> int:
     print(f"  {loop.stop_reason}")
     if loop.failures:
         print(f"  {loop.failure_note()}")
+    costly = [n for n, why in result.not_considered.items() if why]
+    if costly:
+        print(f"  not considered (costly): {', '.join(costly)}; --effects names them, "
+              "--effects all takes every effect (report.md says what each costs)")
     for r in result.refused:
         print(f"  refused: {r}")
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")

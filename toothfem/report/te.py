@@ -209,6 +209,10 @@ def markdown(result, *, files=()) -> str:
     lines += ["", f"Stop: {loop.stop_reason}", ""]
     if loop.failures:
         lines += [f"Note: {loop.failure_note()}.", ""]
+    if result.not_considered:
+        lines += ["Not considered: " + "; ".join(
+            f"{n} ({why or 'not asked for'})" for n, why in result.not_considered.items())
+            + ". `--effects` names any of them, `--effects all` takes every effect.", ""]
     lines += ["## Steps", ""]
     for s in loop.steps:
         lines += [f"Step {s.index}: {s.added or 'nothing added'} ({s.reason})", "",

@@ -17,7 +17,7 @@ import numpy as np
 
 from ....fem.drives.assembly import SCALABLE
 from .fitting import TeEffect, parameter
-from .model import Effects, ring_order
+from .model import DEFAULT_TE_SAMPLES, Effects, ring_order, ring_samples
 from ....units import ARCMIN, M_PER_MM, M_PER_UM
 
 #: Crank-bearing play [um]: 0 to 50, a needle or cylindrical bearing of 20-50 mm bore from
@@ -199,7 +199,8 @@ def cumulative_pitch_tolerance_um(diameter_mm: float, module_mm: float,
 def _pin_ring_effects(g) -> list:
     """The pin ring's order-1 pitch error and order-2 ovality (PIN_RING_EFFECTS): one
     amplitude each, its orientation round the ring left out (the spectra's amplitudes do
-    not see it: 0.37 rad turned moves them by under 1 %, docs/te_rig.md)."""
+    not see it: 0.37 rad turned moves them by under 1 %, docs/te_rig.md). Costly: their
+    TE runs over 4 (2 Zb + h) + 1 sampled pitches (model.ring_samples)."""
     d_mm = 2 * g.pin_circle_radius_m / M_PER_MM
     top = cumulative_pitch_tolerance_um(d_mm, d_mm / g.pin_count, PIN_RING_CLASS)
     out = []
@@ -219,7 +220,10 @@ def _pin_ring_effects(g) -> list:
             direct_test="the pins' centres on a coordinate measuring machine, the housing "
                         "bolted as in service: the order-1 tangential part of their "
                         "positions is the cumulative pitch error, the order-2 radial part "
-                        "the ovality"))
+                        "the ovality",
+            costly=f"its TE runs over {ring_samples(g.pin_count, order)} sampled pitches "
+                   f"of the output revolution, against {DEFAULT_TE_SAMPLES} for the others "
+                   "(docs/te_rig.md)"))
     return out
 
 

@@ -102,6 +102,7 @@ class TeEffect:
     summary: str
     citation: str
     direct_test: str
+    costly: str = ""                   # why its model evaluations cost most ("": they don't)
 
     def model_options(self, values) -> dict:
         """The model's options at ``values``.

@@ -53,6 +53,19 @@ class TeLoopResult:
     elapsed_s: float
     evaluations: int
 
+    @property
+    def not_considered(self) -> dict:
+        """The catalog's effects left out of the candidates, each with why it costs most
+        (:attr:`TeEffect.costly`; "" for one that was only not asked for).
+
+        Returns
+        -------
+        dict of str to str
+        """
+        pool = {row[0] for step in self.loop.steps for row in step.scored} \
+            | set(self.loop.added)
+        return {n: e.costly for n, e in self.loop.catalog.items() if n not in pool}
+
     def summary(self) -> dict:
         """The loop's JSON (report.json).
 
@@ -71,7 +84,32 @@ class TeLoopResult:
                 "model_figures_after": (None if self.after.loop is None
                                         else self.after.loop.figures()),
                 "refused": [str(r) for r in self.refused],
+                "not_considered": self.not_considered,
                 "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
+
+
+def candidate_names(effects, candidates=None) -> list:
+    """The effects a loop scores.
+
+    Parameters
+    ----------
+    effects : sequence of TeEffect
+        The catalog.
+    candidates : sequence of str or "all", optional
+        None: every effect but the costly ones (:attr:`TeEffect.costly`); "all": every one;
+        else these names.
+
+    Returns
+    -------
+    list of str
+    """
+    if candidates is None:
+        return [e.name for e in effects if not e.costly]
+    if isinstance(candidates, str):
+        if candidates != "all":
+            raise ValueError(f"candidates = {candidates!r}: effect names, or 'all'")
+        return [e.name for e in effects]
+    return list(candidates)
 
 
 def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=DEFAULT_SETTINGS,
@@ -89,8 +127,10 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         File-name pattern of the TE files' conditions.
     settings : toothfem.efficiency.loop.settings.Settings
         The loop's thresholds (the efficiency loop's).
-    candidates : sequence of str, optional
-        Effect names (default: the whole catalog for the drive).
+    candidates : sequence of str or "all", optional
+        Effect names; default: the drive's catalog less its costly effects
+        (:attr:`TeEffect.costly`, the pin ring's: each model evaluation some 40 times a
+        drawn one's), which the result lists as not considered; "all": every effect.
     model : RecordingModel, optional
         The case's model already set up.
     progress : bool
@@ -139,9 +179,10 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         te_runs = model.te(eff, layout.te_torques_Nm) if layout.te_torques_Nm else ()
         return ModelRecordings(loop=loop, te=te_runs)
 
+    effects = catalog(model)
     problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
-                        catalog(model), settings)
-    fitted = problem.run(candidates, progress=progress)
+                        effects, settings)
+    fitted = problem.run(candidate_names(effects, candidates), progress=progress)
     final_options: dict = {}
     for name in fitted.final.effects:
         final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))
