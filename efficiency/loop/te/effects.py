@@ -44,9 +44,9 @@ PIN_RADIUS_BOUNDS_UM = (-10.0, 10.0)
 #: The pin ring's errors by order round it (Effects.pin_ring_m): name -> (key, what it is).
 #: Order 1 tangential (the cumulative pitch error) and order 2 radial (ovality) show at
 #: the fitted orders (2 and the pin passing's second multiples, 2 Zb and 2 Za); the ring's
-#: centre moved (order 1 radial with tangential) shows nothing a rig resolves (5 um: 0.003
-#: arcsec at order Zb on RV-40E) and orders from 3 show at orders the fit has no row for
-#: (docs/te_rig.md).
+#: centre moved (order 1 radial with tangential) barely shows (5 um on RV-40E: every fitted
+#: row within 0.17 arcsec, under 2 sigma of a width) and orders from 3 show at orders the
+#: fit has no row for (docs/te_rig.md).
 PIN_RING_EFFECTS = {
     "pin_ring_pitch_error": ("tangential_1", "the pins' cumulative pitch error round the "
                                              "ring (order 1 tangential: an indexing error)"),

@@ -99,9 +99,9 @@ STAIRCASE_FRACTIONS = (0.0, 0.03, 0.06, 0.1, 0.25, 0.5, 0.75, 1.0)
 RING_KINDS = ("radial", "tangential")
 #: Sampled pitches per order of the highest ripple a pin ring's error gives (2 Zb + its
 #: order): twice the Fourier series' need, as its ripple above that order would fold onto
-#: the fitted ones. Measured on RV-40E (Zb = 40, benchmarks/pin_ring_response.py): at 4 x 82 + 1
-#: = 329 pitches every fitted amplitude within 0.5 % of the whole period's (1560 pitches),
-#: at 161 some 100 % off.
+#: the fitted ones. Measured on RV-40E (Zb = 40, benchmarks/pin_ring_response.py): at
+#: 4 x 82 + 1 = 329 pitches (325 for order 1) every fitted row within 0.5 % of the whole
+#: period's (1560 pitches), at 241 within 1.2 %, at 161 up to 14 % off.
 RING_SAMPLES_PER_ORDER = 4
 #: The case's [cycloid] modification keys the effects set -> the geometry's field.
 MODIFICATIONS = {"equidistant_modification_m": "equidistant_m",
