@@ -86,7 +86,7 @@ def run(args) -> int:
         unknown = [n for n in chosen if n not in names and chosen != ["all"]]
         if unknown:
             raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
-                                f"valid: {', '.join(names)}")
+                                f"valid: {', '.join(names)}; or 'all' alone")
     with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
         try:
             result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
