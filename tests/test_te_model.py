@@ -474,3 +474,36 @@ def test_pin_ring_sampling_and_orientation(small_khv):
         assert fill.amplitude_arcsec(q) == pytest.approx(whole.amplitude_arcsec(q),
                                                          rel=0.01), q
     assert turn.amplitude_arcsec(22) == pytest.approx(whole.amplitude_arcsec(22), rel=0.03)
+
+
+def test_the_friction_settles_where_it_jumps(rv_model, monkeypatch):
+    """The path friction's fixed point T_e = T - T_f(T_e): where T_f jumps across the root
+    (a contact opening at the loop's knee) the secant steps fail and the bisection closes
+    on the jump (the path sticks there); a smooth T_f gives its root. In the system: 10 um
+    of crank-bearing play with a 3 um pitch error of the pin ring on springs, which
+    refused ("did not settle") before the bisection."""
+    from types import SimpleNamespace
+
+    from toothfem.fem.system import datasheet as sd
+
+    fake = SimpleNamespace(friction=SimpleNamespace(output_torque_Nm=1.0))
+
+    def jump(te):
+        tf = (2.0 if te < 10.0 else 4.0) + 0.05 * abs(te)
+        return 13.0 - tf - te, tf
+    assert sd.SystemTwist._bisected(fake, 13.0, jump, 2.5) == pytest.approx(10.0, abs=1e-2)
+
+    def smooth(te):
+        tf = 2.0 + 0.05 * abs(te)
+        return 13.0 - tf - te, tf
+    te = sd.SystemTwist._bisected(fake, 13.0, smooth, 2.5)
+    assert abs(smooth(te)[0]) <= sd.FRICTION_RTOL * smooth(te)[1] * 1.01
+    calls = []
+    bisected = sd.SystemTwist._bisected
+    monkeypatch.setattr(sd.SystemTwist, "_bisected",
+                        lambda self, *a: calls.append(a[0]) or bisected(self, *a))
+    loop = rv_model.hysteresis(Effects(crank_bearing_play_m=10e-6,
+                                       pin_ring_m={"tangential_1": 3e-6}))
+    assert calls
+    assert all(math.isfinite(v) for v in loop.figures().values())
+    assert np.all(np.isfinite(loop.twist_arcmin))
