@@ -51,7 +51,11 @@ class TeLoopResult:
     orders: dict                       # the named orders fitted
     refused: tuple                     # recordings.Refusal
     elapsed_s: float
-    evaluations: int
+
+    @property
+    def evaluations(self) -> int:
+        """The model evaluations of the fit (:attr:`TeLoop.evaluations`)."""
+        return self.loop.evaluations
 
     @property
     def not_considered(self) -> dict:
@@ -191,6 +195,5 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
                         hysteresis=loop_figs, before=recordings({}),
                         after=recordings(final_options), rated_torque_Nm=rated,
                         orders=orders, refused=tuple(refused),
-                        elapsed_s=time.perf_counter() - t0,
-                        evaluations=problem.evaluations)
+                        elapsed_s=time.perf_counter() - t0)
 
