@@ -32,7 +32,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
+from toothfem.efficiency.loop.te.loop import fitted_orders  # noqa: E402
 from toothfem.efficiency.loop.te.model import Effects, RecordingModel  # noqa: E402
+from toothfem.efficiency.loop.te.observations import ORDER_MULTIPLES  # noqa: E402
 from toothfem.geometry.cycloid_mesh import pin_centres  # noqa: E402
 
 AMPLITUDE_UM = 5.0
@@ -56,8 +58,8 @@ def main(argv=None) -> int:
     along = np.stack([-outward[1], outward[0]])
     zb = c.shape[1]
     torques = (0.5 * model.rated_torque_Nm, model.rated_torque_Nm)
-    orders = sorted({q * k for q in model.te_orders().values() for k in (1, 2)
-                     if q * k < 4 * zb})
+    orders = sorted({q * k for q in fitted_orders(model.te_orders()).values()
+                     for k in ORDER_MULTIPLES})
 
     def rows(effects, samples=None):
         out = []

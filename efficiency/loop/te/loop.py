@@ -92,6 +92,24 @@ class TeLoopResult:
                 "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
 
 
+def fitted_orders(named: dict) -> dict:
+    """The named orders whose amplitudes the loop fits: up to MAX_ORDER_OVER_FIRST times
+    the first above the output's own (the mesh orders are beyond what the model's
+    positions sample).
+
+    Parameters
+    ----------
+    named : dict of str to float
+        The drive's orders (:meth:`RecordingModel.te_orders`).
+
+    Returns
+    -------
+    dict of str to float
+    """
+    first = min([q for q in named.values() if q >= 2] or [1.0])
+    return {n: q for n, q in named.items() if q <= MAX_ORDER_OVER_FIRST * first}
+
+
 def candidate_names(effects, candidates=None) -> list:
     """The effects a loop scores.
 
@@ -154,9 +172,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         raise ValueError("te, hysteresis: give TE recordings, a hysteresis recording, or both")
     model = model or RecordingModel(case)
     rated = model.rated_torque_Nm
-    named = model.te_orders()
-    first = min([q for q in named.values() if q >= 2] or [1.0])
-    orders = {n: q for n, q in named.items() if q <= MAX_ORDER_OVER_FIRST * first}
+    orders = fitted_orders(model.te_orders())
     refused = []
     te_figs = loop_figs = None
     if te is not None:
