@@ -83,7 +83,7 @@ def run(args) -> int:
     chosen = None
     if args.effects:
         chosen = [n.strip() for n in args.effects.split(",") if n.strip()]
-        unknown = [n for n in chosen if n not in names and chosen != ["all"]]
+        unknown = [] if chosen == ["all"] else [n for n in chosen if n not in names]
         if unknown:
             raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
                                 f"valid: {', '.join(names)}; or 'all' alone")

@@ -178,7 +178,8 @@ class TeLoop:
         if not self.failures:
             return ""
         return (f"the model did not settle at {len(self.failures)} of {self.evaluations} "
-                f"evaluations (each read as 30 sigma on every row, the fit steered away; "
+                f"evaluations (each read as {FAILED_SIGMA:g} sigma on every row, the fit "
+                f"steered away; "
                 f"the first: {self.failures[0]})")
 
     def group_values(self, name: str) -> dict:
