@@ -6,7 +6,7 @@ BIN := $(VENV)/bin
 CASE ?= cases/cycloid_pinhousing.toml
 OUT ?= out/demo
 
-.PHONY: demo test test-fast lint probe venv clean
+.PHONY: demo test test-fast test-wheel lint probe venv clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -20,11 +20,11 @@ demo: $(VENV)/.installed
 	$(BIN)/toothfem check $(CASE)
 	$(BIN)/toothfem run $(CASE) --out $(OUT)
 
-# ruff (rules in pyproject.toml [tool.ruff]) on the four source folders (ruff does not
-# follow the toothfem/{geometry,fem,efficiency} symlinks), mypy on the package
+# ruff (rules in pyproject.toml [tool.ruff]) on the package's four folders; mypy on the
+# package as it installs (tools/typecheck.py reads pyproject's package-dir mapping)
 lint: $(VENV)/.installed
 	$(BIN)/ruff check toothfem geometry fem efficiency
-	$(BIN)/mypy
+	$(BIN)/python tools/typecheck.py
 
 test: lint
 	$(BIN)/python -m pytest -q -rs tests
@@ -36,4 +36,16 @@ probe: $(VENV)/.installed
 	$(BIN)/python benchmarks/adversarial_faults.py --quick
 
 clean:
-	rm -rf $(VENV) out build *.egg-info
+	rm -rf $(VENV) $(WHEEL_VENV) out build *.egg-info
+
+# the suite against the installed wheel (not the checkout): a regular install in its own
+# environment, pytest run from outside the clone with --import-mode=importlib so that the
+# clone's folders are not on sys.path (tests/conftest.py checks which toothfem it got)
+WHEEL_VENV ?= .venv-wheel
+test-wheel:
+	rm -rf $(WHEEL_VENV)
+	$(PYTHON) -m venv $(WHEEL_VENV)
+	$(WHEEL_VENV)/bin/python -m pip install --quiet --upgrade pip
+	$(WHEEL_VENV)/bin/python -m pip install --quiet '.[test,cad]'
+	cd /tmp && TOOTHFEM_TEST_WHEEL=1 $(CURDIR)/$(WHEEL_VENV)/bin/pytest -q -p no:cacheprovider \
+	    --import-mode=importlib --rootdir $(CURDIR) $(CURDIR)/tests

@@ -11,6 +11,16 @@ os.environ["TOOTHFEM_CACHE"] = tempfile.mkdtemp(prefix="toothfem-test-cache-")
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
 
+if os.environ.get("TOOTHFEM_TEST_WHEEL"):
+    # `make test-wheel`: the suite must import the installed wheel, not the checkout
+    import toothfem
+    import toothfem.fem
+
+    for mod in (toothfem, toothfem.fem):
+        if Path(mod.__file__).resolve().is_relative_to(ROOT):
+            raise RuntimeError(f"TOOTHFEM_TEST_WHEEL is set but {mod.__name__} is the "
+                               f"checkout's ({mod.__file__}), not the installed wheel's")
+
 
 @pytest.fixture(scope="session")
 def cases_dir():

@@ -5,9 +5,13 @@ package boundary."""
 from __future__ import annotations
 
 import ast
+import os
+import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tools"))
+import typecheck  # noqa: E402  (tools/typecheck.py: the package's modules by the mapping)
 #: Every layer may import these (exceptions, ranges, limits, SI records, units, progress).
 BASE = {"toothfem.errors", "toothfem.limits", "toothfem.case_checks", "toothfem.leftovers",
         "toothfem.bars",
@@ -18,15 +22,10 @@ LAYERS = {"toothfem.geometry": 0, "toothfem.fem": 1, "toothfem.efficiency": 2,
 
 
 def _modules():
-    """(module name, path) of every source file, each once (the folders, not the links)."""
-    for folder, package in (("geometry", "toothfem.geometry"), ("fem", "toothfem.fem"),
-                            ("efficiency", "toothfem.efficiency"), ("toothfem", "toothfem")):
-        for path in sorted((ROOT / folder).rglob("*.py")):
-            rel = path.relative_to(ROOT / folder).with_suffix("")
-            if folder == "toothfem" and rel.parts[0] in ("geometry", "fem", "efficiency"):
-                continue                                   # the symlinks
-            parts = [p for p in rel.parts if p != "__init__"]
-            yield ".".join([package, *parts]), path, path.name == "__init__.py"
+    """(module name, path, is __init__) of every source file of the package, by
+    pyproject.toml's package-dir mapping (the same reading as tools/typecheck.py)."""
+    for module, path in typecheck.module_files():
+        yield module, path, path.name == "__init__.py"
 
 
 def _layer(module: str) -> int:
@@ -135,3 +134,18 @@ def test_no_import_cycles():
         if v not in index:
             visit(v)
     assert not groups, "import cycles:\n" + "\n".join(" <-> ".join(g) for g in groups)
+
+
+def test_the_mapping_lists_every_package_and_nothing_is_a_link():
+    """pyproject.toml's packages are exactly the folders with an __init__.py under the
+    mapped folders (a new subpackage not listed would be missing from the wheel), and no
+    file or folder of the package is a symbolic link (the checkout, the editable install
+    and the wheel import the same files)."""
+    cfg = typecheck.tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))
+    listed = set(cfg["tool"]["setuptools"]["packages"])
+    found = {m for m, _, is_init in _modules() if is_init}
+    assert listed == found, f"listed only: {listed - found}; not listed: {found - listed}"
+    links = [p for folder in typecheck.package_dirs().values()
+             for p in (ROOT / folder).rglob("*") if p.is_symlink()]
+    assert not links, f"symbolic links in the package: {links}"
+    assert not any(os.path.islink(ROOT / f) for f in typecheck.package_dirs().values())
