@@ -68,9 +68,10 @@ def ours(case, positions):
     import numpy as np
 
     from toothfem.fem.datasheet.sheet import datasheet
-    from toothfem.fem.datasheet.twist import ARCSEC, TwistModel
+    from toothfem.fem.datasheet.twist import ARCSEC
     from toothfem.efficiency import rated_output_torque
     from toothfem.fem.drives import drive_for
+    from toothfem.fem.system.datasheet import SystemTwist
 
     base = drive_for(case)
     supports = base.supports(case.to_si().supports)
@@ -79,8 +80,7 @@ def ours(case, positions):
     for mod in MODIFICATIONS_MM:
         g = replace(base.geometry, equidistant_m=mod * 1e-3)
         drive = replace(base, stage=replace(base.stage, geometry=g))
-        solver = drive.cycle_solver(positions, solver_options=drive.both_sides_options)
-        model = TwistModel(drive, supports, solver)
+        model = SystemTwist(drive.system_model(supports, positions))
         sheet = datasheet(model, rated)
         at = model.at(rated)
         out[str(mod)] = {

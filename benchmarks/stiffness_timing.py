@@ -1,6 +1,6 @@
 """Speed of the hysteresis loop (issue 11, item 8): 41 torque steps x 36 positions of the
-pin-housing drive reuse the cycle solver's influence tables, so the loop factorises
-nothing beyond the cycle's own and takes seconds once the tables exist.
+pin-housing drive through the system model reuse its discs' influence tables, so the loop
+factorises nothing beyond the tables' own and takes seconds once the tables exist.
 
 Run: .venv/bin/python benchmarks/stiffness_timing.py [--case cases/...toml] [--positions 36]
      [--steps 8]
@@ -19,8 +19,8 @@ sys.path.insert(0, str(ROOT))
 from toothfem import load_case  # noqa: E402
 from toothfem.efficiency import rated_output_torque  # noqa: E402
 from toothfem.fem.datasheet.sheet import datasheet, loop_torques  # noqa: E402
-from toothfem.fem.datasheet.twist import TwistModel  # noqa: E402
 from toothfem.fem.drives import drive_for  # noqa: E402
+from toothfem.fem.system.datasheet import SystemTwist  # noqa: E402
 
 
 def main(argv=None):
@@ -34,8 +34,9 @@ def main(argv=None):
     rated, _ = rated_output_torque(case)
     supports = drive.supports(case.to_si().supports)
     t0 = time.perf_counter()
-    solver = drive.cycle_solver(args.positions, solver_options=drive.both_sides_options)
-    solver.prepare()                     # meshes and factorises, or reads the disk cache
+    system = drive.system_model(supports, args.positions)
+    for slot in system.slots:            # meshes and factorises, or reads the disk cache
+        slot.solver.prepare()
     t1 = time.perf_counter()
     count = {"n": 0}
     original = sla.splu
@@ -47,12 +48,12 @@ def main(argv=None):
     sla.splu = counting
     try:
         t2 = time.perf_counter()
-        sheet = datasheet(TwistModel(drive, supports, solver), rated, steps=args.steps)
+        sheet = datasheet(SystemTwist(system), rated, steps=args.steps)
         t3 = time.perf_counter()
     finally:
         sla.splu = original
     n_torques = len(loop_torques(rated, args.steps))
-    print(f"case {case.name}: {args.positions} positions, both flanks")
+    print(f"case {case.name}: {args.positions} positions, both flanks, system model")
     print(f"tables (mesh + factorisation, or the disk cache): {t1 - t0:.1f} s")
     print(f"hysteresis loop, {n_torques} torque steps x {args.positions} positions and the "
           f"catalogue points: {t3 - t2:.2f} s   target < 5 s")

@@ -1,5 +1,6 @@
-"""Speed of the system model (issue 21, item 7), on this machine, against the chained load
-paths it replaces measured in the same run:
+"""Speed of the system model (issue 21, item 7), on this machine, cold against warm in the
+same run (the chained load paths it replaced were removed at issue 38; their figures of
+the last run that had them stay in benchmarks/results/system_timing_chained.json):
 
 - the hysteresis loop (both flanks, friction on, ``--steps`` torque steps: 5 steps + 1
   points, 36 positions) cold (a fresh process with an empty FE cache: meshes,
@@ -31,33 +32,26 @@ from toothfem import load_case
 from toothfem.efficiency import rated_output_torque
 from toothfem.efficiency.no_load import path_friction
 from toothfem.fem.datasheet.sheet import datasheet
-from toothfem.fem.datasheet.twist import TwistModel
 from toothfem.fem.drives import drive_for
 from toothfem.fem.system.datasheet import SystemTwist
-case = load_case(sys.argv[1]); steps = int(sys.argv[2]); which = sys.argv[3]
+case = load_case(sys.argv[1]); steps = int(sys.argv[2])
 drive = drive_for(case); si = case.to_si()
 rated, _ = rated_output_torque(si); supports = drive.supports(si.supports)
 t1 = time.perf_counter()
-if which == "system":
-    system = drive.system_model(supports, 36)
-    for s in system.slots:
-        s.solver.prepare()
-    t2 = time.perf_counter()
-    sheet = datasheet(SystemTwist(system, friction=path_friction(si, drive)), rated, steps=steps)
-else:
-    solver = drive.cycle_solver(36, solver_options=drive.both_sides_options)
-    solver.prepare()
-    t2 = time.perf_counter()
-    sheet = datasheet(TwistModel(drive, supports, solver), rated, steps=steps)
+system = drive.system_model(supports, 36)
+for s in system.slots:
+    s.solver.prepare()
+t2 = time.perf_counter()
+sheet = datasheet(SystemTwist(system, friction=path_friction(si, drive)), rated, steps=steps)
 t3 = time.perf_counter()
 print(json.dumps({"import_s": t1 - t0, "tables_s": t2 - t1, "loop_s": t3 - t2,
                   "total_s": t3 - t0, "rigidity": sheet.rigidity_Nm_per_arcmin}))
 """
 
 
-def loop(case, steps, which, cache):
+def loop(case, steps, cache):
     env = dict(os.environ, TOOTHFEM_CACHE=str(cache))
-    out = subprocess.run([sys.executable, "-c", LOOP, str(case), str(steps), which],
+    out = subprocess.run([sys.executable, "-c", LOOP, str(case), str(steps)],
                          capture_output=True, text=True, env=env, check=True)
     return json.loads(out.stdout.strip().splitlines()[-1])
 
@@ -82,20 +76,15 @@ def main(argv=None):
     args = ap.parse_args(argv)
     out = {}
     with tempfile.TemporaryDirectory() as cold:
-        for which in ("system", "chained"):
-            out[f"{which}_cold"] = loop(args.case, args.steps, which, Path(cold) / which)
-            out[f"{which}_warm"] = loop(args.case, args.steps, which, Path(cold) / which)
+        out["system_cold"] = loop(args.case, args.steps, Path(cold) / "system")
+        out["system_warm"] = loop(args.case, args.steps, Path(cold) / "system")
     wall = ensemble(args.case, args.rings, args.workers)
     out["ensemble_s"], out["rings"] = wall, args.rings
     points = 5 * args.steps + 1
     print(f"case {Path(args.case).name}, loop of {points} points x 36 positions, friction on")
-    print(f"{'':28s}{'system':>10s}{'chained':>10s}{'ratio':>8s}{'target':>9s}")
-    for kind, target in (("cold", 15.0), ("warm", 3.0)):
-        s, c = out[f"system_{kind}"]["total_s"], out[f"chained_{kind}"]["total_s"]
-        print(f"{'loop, ' + kind + ', total [s]':28s}{s:10.2f}{c:10.2f}{s / c:8.2f}"
-              f"{target:9.1f}")
-    s, c = out["system_warm"]["loop_s"], out["chained_warm"]["loop_s"]
-    print(f"{'loop alone, warm [s]':28s}{s:10.2f}{c:10.2f}{s / c:8.2f}")
+    print(f"{'':28s}{'cold':>10s}{'warm':>10s}{'ratio':>8s}{'target':>16s}")
+    c, w = out["system_cold"]["total_s"], out["system_warm"]["total_s"]
+    print(f"{'loop, total [s]':28s}{c:10.2f}{w:10.2f}{c / w:8.2f}{'15 cold, 3 warm':>16s}")
     print(f"{'%d rings on %d workers [s]' % (args.rings, args.workers):28s}{wall:10.1f}"
           f"{'':18s}{90.0 * args.rings / 1000:9.1f}")
     res = ROOT / "benchmarks" / "results" / "system_timing.json"

@@ -464,8 +464,7 @@ def reducer_life(case, *, duty=None, progress=None, known=None) -> ReducerLife:
     Raises
     ------
     CaseError
-        A bearing that does not fit, or a drive without a system model (a sine pair
-        without an output mechanism).
+        A bearing that does not fit.
     """
     from .bearing_set import reducer_bearings
     si = si_of(case)

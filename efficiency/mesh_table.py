@@ -17,7 +17,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import CaseError
-from ..fem.datasheet.transmission import DEFAULT_SAMPLES, even_by_layout, member_split
+from ..fem.datasheet.transmission import DEFAULT_SAMPLES, even_by_layout, even_split
 from ..fem.system.datasheet import system_te
 
 LOADS = ("analytic", "fem")
@@ -204,9 +204,7 @@ def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
     """The FE split of the output torque between the members, its solvers counted on the
     :data:`FE_PROGRESS` bar when one is set: even where the layout makes it so
     (:func:`toothfem.fem.datasheet.transmission.even_by_layout`, nothing solved), else from
-    the system model (:func:`toothfem.fem.system.datasheet.system_te`), or along the
-    chained load paths of a drive without one
-    (:func:`toothfem.fem.datasheet.transmission.member_split`).
+    the system model (:func:`toothfem.fem.system.datasheet.system_te`).
 
     Parameters
     ----------
@@ -228,12 +226,12 @@ def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
         def counted(pitches):           # the bar appears only if the split is solved
             with bar(total=len(pitches), desc="FE member split", unit="solver") as shown:
                 yield from _counted(shown, pitches)
-    if drive.members > 1 and not even_by_layout(drive, supports, n_positions) \
-            and drive.system_model(supports, n_positions) is not None:
-        return system_te(drive, supports, output_torque_Nm, samples=DEFAULT_SAMPLES,
-                         per_pitch=n_positions, progress=counted)[1]   # the split
-    return member_split(drive, supports, output_torque_Nm, per_pitch=n_positions,
-                        progress=counted)
+    if drive.members == 1:
+        return None
+    if even_by_layout(drive, supports, n_positions):
+        return even_split(drive, output_torque_Nm, n_positions)
+    return system_te(drive, supports, output_torque_Nm, samples=DEFAULT_SAMPLES,
+                     per_pitch=n_positions, progress=counted)[1]   # the split
 
 
 @contextlib.contextmanager

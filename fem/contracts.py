@@ -97,3 +97,58 @@ class DetailedSolution(Protocol):
     @property
     def member_displacement(self) -> np.ndarray | None:
         """The moving member's nodal displacements [m]."""
+
+
+@runtime_checkable
+class ReducerModel(Protocol):
+    """The one model of the whole reducer around the contact (``Drive.system_model``,
+    docs/stiffness.md): its bodies, elastic elements and unilateral contacts, solved at one
+    position of a meshing period under an output torque, input held. Every analysis of
+    the reducer asks it: the datasheet's twist (:class:`toothfem.fem.system.datasheet.
+    SystemTwist`), the TE over the full period and the split between the members
+    (``system_te``), the bearings' loads, the tolerance ensemble and the design search.
+
+    Attributes
+    ----------
+    drive : toothfem.fem.drives.Drive
+        The drive it was built for.
+    supports : toothfem.fem.datasheet.supports.Supports
+        The supports it was built on.
+    n_positions : int
+        Positions per meshing period.
+    discs : int
+        Moving members (discs, the sine planet).
+    slots : tuple
+        Each member's place: its cycle solver (``slot.solver``), phase and offset.
+    pitch_tables : tuple or None
+        Each member's influence tables at every pitch, where the model was built to solve
+        any pitch (``pitch_samples``); None otherwise.
+    """
+    drive: Any
+    supports: Any
+    n_positions: int
+    discs: int
+    slots: tuple
+    pitch_tables: Any
+
+    def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
+              start: Any = None, friction: Any = None, deviation: Any = None,
+              pitch: int = 0, geometry: Any = None) -> Any:
+        """The state at position ``p`` under an output torque of either sign (nonzero):
+        its twist [rad], member torques, contact and bearing forces, the twist's parts."""
+        ...
+
+    def closing_rotation(self, p: int, side: int, *, deviation: Any = None, pitch: int = 0,
+                         geometry: Any = None) -> float:
+        """The output's rigid turn that closes the first contact of a flank at position
+        ``p`` (every part rigid): the zero-torque limit of the twist [rad]."""
+        ...
+
+    def member_record(self, j: int, states: Any, meshing: Any = None) -> LoadSharing:
+        """Member ``j``'s load sharing over the positions of ``states``."""
+        ...
+
+    def variant(self, **changes: Any) -> ReducerModel:
+        """The same model with parts changed (rigid groups, a bearing's play or stiffness,
+        stiffness scales), its FE tables shared: what the rig loop's effects set."""
+        ...

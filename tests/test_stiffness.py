@@ -1,7 +1,7 @@
-"""The datasheet from the contact model (docs/stiffness.md): supports in closed form, the
-equal-springs rigid limit, mirror symmetry of the two flanks, backlash = the closing
-rotation of the modification, mesh convergence of the rigidity, the twist against the
-cycle solver's TE, the TE's full period and harmonics, bad input."""
+"""The datasheet's parts (docs/stiffness.md): supports in closed form, mirror symmetry of
+the two flanks, mesh convergence of the rigidity, the TE's full period and harmonics, a
+clearance the loop does not close, bad input. The datasheet through the system model is
+tested in tests/test_system*.py (rigid limits, the closing rotation, the hand model)."""
 import math
 from dataclasses import replace
 
@@ -16,9 +16,8 @@ from toothfem.fem.datasheet import supports as sp
 from toothfem.fem.datasheet.sheet import datasheet, loop_torques
 from toothfem.fem.datasheet.transmission import (fourier_fill, harmonic_amplitudes,
                                                   sampled_pitches)
-from toothfem.fem.datasheet.twist import ARCMIN, TwistModel, closing_rotation
 from toothfem.fem.drives import drive_for
-from toothfem.geometry import cycloid_mesh as cym
+from toothfem.fem.system.datasheet import SystemTwist
 
 
 @pytest.fixture(scope="module")
@@ -56,19 +55,6 @@ def test_roller_and_shaft_closed_forms():
     assert a == pytest.approx(sp.simply_supported_influence(0.03, 0.01, span, d, e, nu))
 
 
-def test_crank_bearings_without_resultant(drive, supports):
-    """With no contact resultant each of the n crank holes carries T/(n R_c) tangentially:
-    the output turns by the bearing's deflection under it over R_c."""
-    h = drive.stage.holes
-    t = 80.0
-    out = drive.member_support_twists(supports, np.full(3, t), np.zeros((3, 2)),
-                                      np.array([0.0, 0.05, 0.1]))["crank bearings"]
-    f = t / (h.crank_hole_count * h.crank_hole_circle_radius_m)
-    want = sp.radial_bearing_deflection(f, supports.bearing_roller_count,
-                                        supports.bearing_roller_length_m)
-    assert np.allclose(out, want / h.crank_hole_circle_radius_m, rtol=1e-12)
-
-
 def test_assumed_supports_are_marked(case, drive):
     d = case_to_dict(case)
     d["supports"] = {"bearing_roller_count": 20, "carrier_stiffness_Nm_per_arcmin": 400.0}
@@ -79,58 +65,7 @@ def test_assumed_supports_are_marked(case, drive):
     assert not s["carrier_stiffness_Nm_per_arcmin"]["assumed"]
 
 
-# -- the rigid limit, the closing rotation ------------------------------------------------
-
 SPRING = 1e-11      # m per N/m: an equal contact spring (rigid bodies, the seed's limit)
-
-
-def test_equal_springs_twist_is_the_closed_form(drive, supports):
-    """Rigid bodies on equal springs k: beta = (T_m / w) k / sum l_i^2 over the pins of the
-    loaded flank (docs/stiffness.md), either sign, T_m the member torque (the power flow's
-    share); the datasheet's mesh compliance is its mean slope (T_m/T) k / (w sum l^2).
-    Linear algebra only: 1e-9."""
-    phis = drive.positions(4)
-    solver = cf.CycleSolver(drive.fe_model(), phis, equal_springs=SPRING, sides=(1, -1))
-    model = TwistModel(drive, supports, solver)
-    arm = drive.meshing(phis).moment_arm
-    w, m = drive.face_width_m, drive.members
-    for side in (1, -1):
-        t = side * 120.0
-        sum_l2 = np.sum(np.where(side * arm < 0, arm ** 2, 0.0), axis=1)
-        want = (side * drive.member_torque(abs(t), peak=False) / w) * SPRING / sum_l2
-        assert np.allclose(model.at(t).paths["mesh"], want, rtol=1e-9)
-    sheet = datasheet(model, 167.0)
-    sum_l2 = np.sum(np.where(arm < 0, arm ** 2, 0.0), axis=1)
-    per_nm = drive.member_torque(1.0, peak=False)
-    slope = np.mean(per_nm * SPRING / (w * sum_l2)) / ARCMIN
-    assert sheet.compliance_arcmin_per_Nm["mesh"] == pytest.approx(slope, rel=1e-9)
-    # unmodified: both flanks touch at rest; the springs' part at ZERO_TORQUE_NM remains
-    assert abs(sheet.backlash_arcmin) < 1e-6
-
-
-def test_backlash_is_the_closing_rotation(drive, supports):
-    """A 10 um equidistant modification: the zero-torque twist of each flank is the rigid
-    rotation that closes the first pin's clearance, min D0/|l| over the pins of the flank
-    with the first-order clearance D0 = Delta_rz of docs C4 (clearance_closed_form), the
-    backlash twice it. The exact clearances differ at second order, (Delta/r_a) = 2.6e-4
-    relative: tolerance 1e-3. The springs' part at the zero-torque limit is ~1e-8 of it."""
-    g = replace(drive.geometry, equidistant_m=10e-6)
-    d = replace(drive, stage=replace(drive.stage, geometry=g))
-    phis = d.positions(6)
-    solver = cf.CycleSolver(d.fe_model(), phis, equal_springs=SPRING, sides=(1, -1))
-    model = TwistModel(d, supports, solver)
-    theta_b = np.mod(2 * np.pi * np.arange(40)[None, :] / 40 - phis[:, None], 2 * np.pi)
-    d0, _, _ = cym.clearance_closed_form(g, theta_b)
-    arm = np.abs(cym.seed_moment_arm(g, theta_b))
-    for side, flank in ((1, theta_b < np.pi), (-1, theta_b > np.pi)):
-        want = np.min(np.where(flank & (arm > 0), d0 / np.where(arm > 0, arm, 1), np.inf),
-                      axis=1)
-        assert np.allclose(closing_rotation(model.state, side), side * want, rtol=1e-3)
-        assert np.allclose(model.at(0.0, side).total, side * want, rtol=1e-3)
-    sheet = datasheet(model, 167.0)
-    backlash = np.mean(model.at(0.0, 1).total - model.at(0.0, -1).total) / ARCMIN
-    assert sheet.backlash_arcmin == pytest.approx(backlash, rel=1e-12)
-    assert backlash == pytest.approx(2 * cym.closing_rotation(g) / ARCMIN, rel=1e-2)
 
 
 # -- FE: mirror symmetry and the cycle solver's TE ------------------------------------------
@@ -157,15 +92,6 @@ def test_two_flanks_mirror_each_other(both_sides):
     assert te_n[2] == pytest.approx(-te_p[2], rel=1e-2)
     assert np.array_equal(neg.contacts_per_position[[1, 0, 2]], pos.contacts_per_position)
     assert np.all(np.abs(neg.torque_residual()) < 1e-8)
-
-
-def test_twist_is_the_cycle_solvers_te(drive, supports, both_sides):
-    """The datasheet's mesh twist at a torque is the cycle solver's transmission error at
-    the member torque (the same solve: 1e-12)."""
-    model = TwistModel(drive, supports, both_sides)
-    tm = drive.member_torque(167.0, peak=False)
-    assert np.allclose(model.at(167.0).paths["mesh"],
-                       both_sides.solve(tm).transmission_error, rtol=1e-12)
 
 
 @pytest.mark.slow
@@ -243,13 +169,13 @@ def test_bad_input_names_the_key(case):
 
 def test_unclosed_clearance_is_refused(drive, supports):
     """A 50 um equidistant modification and a loop to 0.01 N m: one pin carries at every
-    position (the next pin's clearance is microns away), the curve would be backlash."""
+    position (the next pin's clearance is microns away), the curve would be backlash.
+    The system model on equal pin springs (no FE)."""
     g = replace(drive.geometry, equidistant_m=50e-6)
     d = replace(drive, stage=replace(drive.stage, geometry=g))
-    solver = cf.CycleSolver(d.fe_model(), d.positions(3), equal_springs=SPRING,
-                            sides=(1, -1))
+    system = d.system_model(supports, 3, cache=False, pin_spring_m_per_N=SPRING)
     with pytest.raises(CaseError, match="torque_max_Nm = 0.01 .*backlash"):
-        datasheet(TwistModel(d, supports, solver), 167.0, torque_max_Nm=0.01)
+        datasheet(SystemTwist(system), 167.0, torque_max_Nm=0.01)
 
 
 def test_cli_refuses_few_steps(cases_dir, tmp_path, capsys):

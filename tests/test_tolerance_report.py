@@ -14,7 +14,7 @@ import pytest
 from toothfem.case import load_case
 from toothfem.report import pyplot, wrap
 from toothfem.report import tolerance as report
-from toothfem.tolerance import (ALONE_OVER_ALL, LOADS_CHAINED, LOADS_SYSTEM, OUTPUTS,
+from toothfem.tolerance import (ALONE_OVER_ALL, LOADS_SYSTEM, OUTPUTS,
                                 ToleranceResult, check_limits, output_labels)
 from toothfem.report.tolerance import write_tolerance
 
@@ -62,9 +62,8 @@ def khv(cases_dir):
 
 def test_labels_name_the_model_and_the_positions():
     """The system model's labels say it, with the positions over the pairing period, the
-    worst over every disc and the first disc's loads for the efficiency; the chained
-    model's say one member held at the peak member torque; a drive of one planet has no
-    "any" or "first" of them."""
+    worst over every disc and the first disc's loads for the efficiency; a drive of one
+    planet has no "any" or "first" of them."""
     system = output_labels("pin", "pins", "disc")
     assert system["contacts_min"][0] == ("fewest pins in contact on one disc at a position "
                                          "(system model, positions over the pairing period)")
@@ -72,16 +71,10 @@ def test_labels_name_the_model_and_the_positions():
     assert system["total_efficiency_pct"][0] == (
         "total efficiency (the system model's loads of the first disc, every disc taken "
         "alike)")
-    chained = output_labels("pin", "pins", "disc", system=False)
-    assert "one disc held at the peak member torque" in chained["max_ph_MPa"][0]
-    assert "system model" not in chained["contacts_min"][0]
     planet = output_labels("tooth", "teeth", "planet", members=1)
     assert planet["max_force_N"][0].startswith("largest tooth force on the planet (system")
     assert "first" not in planet["mesh_efficiency_pct"][0]
     assert set(OUTPUTS) == set(system)
-    # the result picks its model from its settings
-    r = synthetic(settings={**SETTINGS, **LOADS_CHAINED})
-    assert not r.by_system and "held at the peak member torque" in r.outputs()["max_force_N"][0]
     assert synthetic().outputs() == system
 
 

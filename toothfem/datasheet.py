@@ -11,8 +11,7 @@ from dataclasses import dataclass
 from .case import Case, as_case
 from .errors import CaseError, check_range
 from .fem.datasheet.sheet import Datasheet, datasheet, loop_torques
-from .fem.datasheet.transmission import LoadedTE, MemberSplit, loaded_te
-from .fem.datasheet.twist import TwistModel
+from .fem.datasheet.transmission import LoadedTE, MemberSplit
 from .fem.drives import MAX_POSITIONS, drive_for
 from .efficiency import rated_output_torque
 from .efficiency.no_load import path_friction
@@ -31,13 +30,13 @@ TE_SAMPLES, TE_PER_PITCH = 6, 12
 class StiffnessResult:
     """The datasheet of a case (hysteresis loop and catalogue figures), its loaded TE over
     the full period, the split between the members (None for one member) and every
-    bearing's load over the period (None without a system model)."""
+    bearing's load over the period."""
     case_name: str
     sheet: Datasheet
     te: LoadedTE
     split: MemberSplit | None       # None for one member
     summary: dict
-    bearings: BearingLoads | None = None    # None without a system model
+    bearings: BearingLoads
 
 
 def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps: int = 8,
@@ -84,25 +83,15 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
     if torque_max_Nm is not None:
         check_range("torque_max_Nm", torque_max_Nm, 0, None, lo_open=True, error=CaseError)
     supports = drive.supports(si.supports)
-    system = drive.system_model(supports, positions)
-    twist: SystemTwist | TwistModel
-    if system is not None:          # the whole reducer around the contact
-        twist = SystemTwist(system, friction=path_friction(si, drive) if friction else None)
-        te, split, bearings = system_te(drive, supports, te_torque_Nm or rated,
-                                        samples=te_samples, per_pitch=te_positions)
-    else:                           # the load paths chained (the sine pair, for now)
-        twist = TwistModel(drive, supports, drive.cycle_solver(
-            positions, solver_options=drive.both_sides_options))
-        te, split = loaded_te(drive, supports, te_torque_Nm or rated, samples=te_samples,
-                              per_pitch=te_positions)
-        bearings = None
+    system = drive.system_model(supports, positions)       # the whole reducer
+    twist = SystemTwist(system, friction=path_friction(si, drive) if friction else None)
+    te, split, bearings = system_te(drive, supports, te_torque_Nm or rated,
+                                    samples=te_samples, per_pitch=te_positions)
     sheet = datasheet(twist, rated, rated_assumed=assumed, torque_max_Nm=torque_max_Nm,
                       steps=steps)
     summary = {"case": case.name, "drive": drive.kind, **sheet.summary(), **te.summary(),
-               "te_definition": TE_DEFINITION if system is not None else
-               "the chained load paths' twist of one member (mesh and supports in series)",
-               **({} if split is None else split.summary()),
-               **({} if bearings is None else bearings.summary())}
+               "te_definition": TE_DEFINITION,
+               **({} if split is None else split.summary()), **bearings.summary()}
     if split is not None:
         summary["member_load_factor_case"] = drive.load_factor
     return StiffnessResult(case_name=case.name, sheet=sheet, te=te, split=split,

@@ -156,17 +156,15 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
     si = case.to_si()
-    system = drive.system_model(drive.supports(si.supports), phis.size)
-    if system is not None:             # the whole reducer around this contact
-        summary.update(reducer_te(system, output))
-        if summary.get("interference_before_load_um", 0) > 0:
-            summary.update(assembly_preload(system, si.material))
+    system = drive.system_model(drive.supports(si.supports), phis.size)   # the reducer
+    summary.update(reducer_te(system, output))
+    if summary.get("interference_before_load_um", 0) > 0:
+        summary.update(assembly_preload(system, si.material))
     found = limits.rated_torque(si, output) + limits.contact_pressure(
         f"the {drive.contact_name} contacts, one {drive.member_name} held",
         summary["max_ph_MPa"], si.material)
-    if "max_ph_reducer_MPa" in summary:
-        found += limits.contact_pressure(f"the {drive.contact_name} contacts in the reducer",
-                                         summary["max_ph_reducer_MPa"], si.material)
+    found += limits.contact_pressure(f"the {drive.contact_name} contacts in the reducer",
+                                     summary["max_ph_reducer_MPa"], si.material)
     summary["warnings"] = [w.as_dict() for w in found]
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]

@@ -5,10 +5,9 @@ Each sample is one reducer as built: its deviations are drawn from the case's
 the candidates' initial gaps and solved with the nominal design's influence tables (no
 mesh, no factorisation: docs/tolerance.md). The positions of one meshing period are put
 over the stage's whole pairing period (``pitches``), so that every pin and lobe of the
-built stage takes part. Each ring is solved through the drive's system model where it has
-one (the whole reducer at the operating torque: every disc free on its pins and bearings,
-the split between the discs solved), else along the chained load paths of one member at
-the case's peak member torque; the labels (:func:`output_labels`) say which. Per sample:
+built stage takes part. Each ring is solved through the drive's system model (the whole
+reducer at the operating torque: every disc free on its pins and bearings, the split
+between the discs solved); the labels (:func:`output_labels`) say so. Per sample:
 the largest pin (tooth) force, the largest Hertz pressure and the fewest contacts on one
 member at a position; lost motion (+-3 % of the rated torque); the loaded transmission
 error and the mesh and total efficiency at the operating point (with the first member's
@@ -38,8 +37,7 @@ from .efficiency import evaluate, operating_point, rated_output_torque
 from .efficiency.mesh_table import table_from_records
 from .errors import CaseError, IncompleteRun, check_range
 from .fem.cache import DiskCache
-from .fem.datasheet.sheet import backlash_arcmin, lost_motion_arcmin
-from .fem.datasheet.twist import TwistModel
+from .fem.datasheet.sheet import lost_motion_arcmin
 from .units import ARCSEC
 from .fem.deviations import only
 from .fem.drives import drive_for
@@ -49,16 +47,15 @@ from .datasheet import TE_DEFINITION
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 from .units import MPA_PER_PA
 
-#: Where the outputs come from, by the model that solves a ring (the labels say it: the
-#: nominal design's figures differ from ``toothfem contact``'s, whose counts and forces are
-#: one disc held at its bearing seats over one pitch, and from ``toothfem run``'s efficiency,
-#: whose loads are the analytic split or that held disc's).
+#: Where the outputs come from (the labels say it: the nominal design's figures differ from
+#: ``toothfem contact``'s, whose counts and forces are one disc held at its bearing seats
+#: over one pitch, and from ``toothfem run``'s efficiency, whose loads are the analytic
+#: split or that held disc's).
 SYSTEM_WHERE = "system model, positions over the pairing period"
-CHAINED_WHERE = "one {member} held at the peak member torque, positions over the pairing period"
 
 
 def output_labels(contact: str = "contact", contacts: str = "contacts", member: str = "disc",
-                  system: bool = True, members: int = 2) -> dict:
+                  members: int = 2) -> dict:
     """The outputs of a ring, column -> (label, unit), each label naming the model and the
     positions that gave it.
 
@@ -67,10 +64,6 @@ def output_labels(contact: str = "contact", contacts: str = "contacts", member: 
     contact, contacts, member : str
         The drive's words for a contact, several, and the moving member ("pin", "pins",
         "disc"; "tooth", "teeth", "planet").
-    system : bool
-        Solved through the drive's system model (every member free on its supports, the
-        split between them solved, at the operating torque); else along the chained load
-        paths of one member held at the case's peak member torque.
     members : int
         Moving members sharing the torque (one planet: no "any" or "first" of them).
 
@@ -79,12 +72,10 @@ def output_labels(contact: str = "contact", contacts: str = "contacts", member: 
     dict
         {column: (label, unit)} in the order of the tables and pictures.
     """
-    where = SYSTEM_WHERE if system else CHAINED_WHERE.format(member=member)
-    model = "system model" if system else "chained load paths"
-    several = system and members > 1
+    where, model = SYSTEM_WHERE, "system model"
+    several = members > 1
     loads = (f"the system model's loads of the first {member}, every {member} taken alike"
-             if several else f"the system model's loads of the {member}" if system else
-             f"one {member}'s loads at the operating torque, chained load paths")
+             if several else f"the system model's loads of the {member}")
     on = f"any {member}" if several else f"the {member}"
     one = f"one {member}" if several else f"the {member}"
     return {
@@ -148,12 +139,10 @@ def side_of(output: str) -> str:
 CONFIDENCE = 0.95
 #: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
 MAX_SAMPLES = 100_000
-#: What a ring's forces and TE are, by the model that solves it (the summary says which).
+#: What a ring's forces and TE are (the summary says it).
 LOADS_SYSTEM = {"te_definition": TE_DEFINITION,
                 "loads": "the system model at the operating torque: every disc on its pins "
                          "and bearings, the split between the discs solved (no load factor)"}
-LOADS_CHAINED = {"te_definition": "the chained load paths' twist of one member",
-                 "loads": "one member at the case's peak member torque (its load factor)"}
 #: Sampled pitches of the system model's tables over the full period (each position of a
 #: ring is solved with the tables of its own pitch, filled from these: within 0.7 % of
 #: the exact tables on the largest pin force at 13 samples of the pin-housing drive's 39
@@ -208,11 +197,6 @@ class ToleranceResult:
                     for q in PERCENTILES[side_of(k)]}
                 for k, v in self.samples.items()}
 
-    @property
-    def by_system(self) -> bool:
-        """Whether the rings were solved through the system model (the settings' loads)."""
-        return self.settings.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
-
     def outputs(self) -> dict:
         """The outputs in the drive's own words, each label naming its model and positions
         (:func:`output_labels`).
@@ -223,7 +207,7 @@ class ToleranceResult:
             {column: (label, unit)}.
         """
         return output_labels(self.contact_name, self.contacts_name, self.member_name,
-                             self.by_system, self.members)
+                             self.members)
 
     def film_ratio_percentiles(self) -> dict:
         """The lowest film ratio's low-side percentiles over the ensemble (P50, P10, P1)
@@ -441,8 +425,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
     remote = int(workers) > 1 or scheduler is not None
     with dask_client(scheduler, int(workers)) if remote else \
             contextlib.nullcontext() as client:
-        _solver(setup).prepare()                  # tables once, here (and on disk)
-        by_system = _system(setup, prepare=True) is not None
+        _system(setup, prepare=True)              # tables once, here (and on disk)
         # the nominal design (None) first, where the samples run
         nominal, *rows = _run_all(setup, [None] + [d for _, d in plan], client, progress,
                                   points)
@@ -461,7 +444,7 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
                 "operating_speed_rpm": setup.speed_rpm,
                 "operating_output_torque_Nm": setup.output_torque_Nm,
                 "rated_torque_Nm": setup.rated_torque_Nm,
-                **(LOADS_SYSTEM if by_system else LOADS_CHAINED),
+                **LOADS_SYSTEM,
                 # the same operating point with the loads `toothfem run` takes (the
                 # analytic split): what the nominal's efficiency is told apart from
                 "nominal_total_efficiency_analytic_loads_pct": 100 * float(
@@ -511,9 +494,7 @@ def check_limits(result: ToleranceResult, si) -> tuple:
         outputs' pictures (the allowable and static contact stress on the pressure's).
     """
     n = next((v.size for v in result.samples.values()), 0)
-    model = ("in the reducer (system model)" if result.by_system else
-             f"of one {result.member_name} held at the peak member torque")
-    where = f"the {result.contact_name} contacts {model}"
+    where = f"the {result.contact_name} contacts in the reducer (system model)"
 
     def at(q, p=None, unit=""):
         if q is None:
@@ -564,51 +545,6 @@ def _shares(table, labels, active) -> dict:
     return out
 
 
-def _solver(setup: _Setup):
-    """The drive's cycle solver with both flanks as candidates in every solve (a built
-    stage's deviations can close the idle flank: interference, preload), its tables from
-    the disk cache."""
-    drive = drive_for(setup.case)
-    cache = False if setup.cache_dir is None else DiskCache(Path(setup.cache_dir))
-    return drive.cycle_solver(setup.positions, cache=cache,
-                              solver_options=drive.both_flanks_options)
-
-
-def _outputs(setup: _Setup, solver, deviation, state=None, system=None,
-             reference=None) -> dict:
-    """The outputs of one built reducer (``deviation`` None: the nominal design);
-    ``state``: the drive's meshing at the solver's positions, if known. Through the
-    drive's system model ``system`` where it has one (:func:`_system_outputs`, from the
-    nominal design's ``reference`` twist), else along the chained load paths of its
-    member at the case's peak member torque."""
-    case, si = setup.case, setup.case.to_si()
-    drive = drive_for(case)
-    if system is not None:
-        return _system_outputs(setup, si, drive, system, deviation, state, reference)
-    options = {"deviation": deviation, "pitches": setup.pitches}
-    twist = TwistModel(drive, drive.supports(si.supports), solver, options, state)
-    t = setup.output_torque_Nm
-    even = twist.at(t, 1).load_sharing
-    if even is None:
-        raise RuntimeError("the chained load paths' twist carries no load sharing")
-    peak_torque = drive.member_torque(t, peak=True)
-    peak = even if math.isclose(peak_torque, even.torque, rel_tol=1e-12) else \
-        solver.solve(peak_torque, **options)
-    table = table_from_records(twist.state, [even], "fem")
-    eff = evaluate(si, setup.speed_rpm, t, table=table)
-    total = twist.at(t, 1).total
-    return {"max_force_N": float(np.max(peak.force)),
-            "max_ph_MPa": float(np.max(peak.ph)) * MPA_PER_PA,
-            "contacts_min": float(np.min(peak.contacts_per_position)),
-            "lost_motion_arcmin": lost_motion_arcmin(twist, setup.rated_torque_Nm),
-            "backlash_arcmin": backlash_arcmin(twist),
-            "te_mean_arcsec": float(np.mean(total) / ARCSEC),
-            "te_pp_arcsec": float((np.max(total) - np.min(total)) / ARCSEC),
-            "mesh_efficiency_pct": 100 * float(eff.mesh_efficiency[drive.kind][0]),
-            "total_efficiency_pct": 100 * float(eff.efficiency[0]),
-            "film_ratio": _film_ratio(eff)}
-
-
 #: The quantity of :func:`toothfem.limits.film_ratio`'s records: "film ratio of <contacts>".
 _FILM = "film ratio of "
 
@@ -620,19 +556,19 @@ def _film_ratio(eff) -> dict:
             if w.quantity.startswith(_FILM)}
 
 
-def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
-                    reference=None) -> dict:
-    """One built reducer through the system model at the operating torque: every disc on
+def _outputs(setup: _Setup, system, deviation, state, reference=None) -> dict:
+    """One built reducer (``deviation`` None: the nominal design) through the system model
+    at the operating torque: every disc on
     its pins and bearings, the deviation's gaps at each position's pitch; the largest
     force, Hertz pressure and fewest contacts over every disc (the split between them
     solved, so no load factor), the elastic lost motion, the reducer's TE, and the
     efficiency with the first disc's loads; ``reference``: the nominal design's
     SystemTwist on these positions, each solve's start."""
+    si, drive = setup.case.to_si(), system.drive
     twist = SystemTwist(system, deviation=deviation, pitches=setup.pitches,
                         reference=reference)
     t = setup.output_torque_Nm
     sts = twist.states(t)
-    state = drive.meshing(system.slots[0].solver.positions_rad) if state is None else state
     records = [system.member_record(j, sts, state) for j in range(system.discs)]
     eff = evaluate(si, setup.speed_rpm, t, table=table_from_records(state, records[:1], "fem"))
     total = np.array([s.twist_rad for s in sts])
@@ -651,14 +587,13 @@ def _system_outputs(setup: _Setup, si, drive, system, deviation, state,
 
 def _system(setup: _Setup, prepare: bool = False):
     """The drive's system model with its tables at every pitch (PITCH_SAMPLES sampled),
-    from the disk cache; ``prepare``: build every table now. None for a drive without
-    one."""
+    from the disk cache; ``prepare``: build every table now."""
     drive = drive_for(setup.case)
     system = drive.system_model(
         drive.supports(setup.case.to_si().supports), setup.positions,
         cache=False if setup.cache_dir is None else DiskCache(Path(setup.cache_dir)),
         pitch_samples=setup.pitch_samples)
-    if prepare and system is not None:
+    if prepare:
         for tables in {id(t): t for t in system.pitch_tables or ()}.values():
             tables.prepare()
         for s in system.slots:
@@ -666,35 +601,34 @@ def _system(setup: _Setup, prepare: bool = False):
     return system
 
 
-#: The last setup's models in this process ({key: (solver, state, system, reference)}):
-#: the Dask tasks of one run on a worker read the tables and solve the nominal design once.
+#: The last setup's models in this process ({key: (state, system, reference)}): the Dask
+#: tasks of one run on a worker read the tables and solve the nominal design once.
 _MODELS: dict[str, tuple] = {}
 
 
 def _models(setup: _Setup):
-    """(cycle solver, meshing state, system model or None, the nominal design's
-    SystemTwist or None) of a setup, kept for the process's next task of the same run."""
+    """(meshing state, system model, the nominal design's SystemTwist) of a setup, kept for
+    the process's next task of the same run."""
     key = hashlib.sha256(pickle.dumps(setup)).hexdigest()
     if key not in _MODELS:
-        solver = _solver(setup)
-        state = drive_for(setup.case).meshing(solver.positions_rad)
         system = _system(setup)
-        reference = None if system is None else SystemTwist(system, pitches=setup.pitches)
+        state = system.drive.meshing(system.slots[0].solver.positions_rad)
+        reference = SystemTwist(system, pitches=setup.pitches)
         _MODELS.clear()
-        _MODELS[key] = (solver, state, system, reference)
+        _MODELS[key] = (state, system, reference)
     return _MODELS[key]
 
 
 def _run_chunk(setup: _Setup, deviations: list, done=None) -> list:
     """The outputs of each deviation, in order (a Dask task, or the whole run in one
     process); ``done(k, output)`` after the k-th, if given."""
-    solver, state, system, reference = _models(setup)
+    state, system, reference = _models(setup)
     out = []
     # small dense systems: BLAS on one thread (beside the other workers), the limit set
     # once for the task rather than per solve
     with one_blas_thread():
         for k, d in enumerate(deviations):
-            out.append(_outputs(setup, solver, d, state, system, reference))
+            out.append(_outputs(setup, system, d, state, reference))
             if done is not None:
                 done(k, out[-1])
     return out

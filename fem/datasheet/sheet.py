@@ -51,10 +51,9 @@ FRICTIONLESS = "not modelled (frictionless contact): the loop's width is the bac
 
 class TwistCurve(Protocol):
     """What the datasheet reads of a twist model: the twist at any output torque over the
-    positions, the drive and its supports. :class:`~toothfem.fem.datasheet.twist.TwistModel`
-    (the FE mesh and the supports in series) and
-    :class:`~toothfem.fem.system.datasheet.SystemTwist` (the system model) are such models;
-    one with a ``friction_description`` (str) has the summary say it (else FRICTIONLESS).
+    positions, the drive and its supports.
+    :class:`~toothfem.fem.system.datasheet.SystemTwist` (the system model) is one; one with
+    a ``friction_description`` (str) has the summary say it (else FRICTIONLESS).
     """
 
     @property

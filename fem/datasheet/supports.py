@@ -1,8 +1,7 @@
-"""The elastic supports in series with the mesh: roller bearings, shafts, the carrier.
+"""The elastic supports of the system model: roller bearings, shafts, the carrier.
 
-Small closed forms, each with its source; the drives (:mod:`toothfem.fem.drives`) put them
-together along their own load paths (``Drive.member_support_twists``, ``coupled_compliance``,
-``output_compliance``). Units SI: N, m, rad.
+Small closed forms, each with its source; the system model (:mod:`toothfem.fem.drives.
+assembly`) takes them as its elements' laws. Units SI: N, m, rad.
 """
 from __future__ import annotations
 

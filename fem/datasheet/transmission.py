@@ -1,27 +1,21 @@
 """Loaded transmission error over the drive's full period and the torque split between
-its members (docs/stiffness.md).
+its members: the records the system model fills (:func:`toothfem.fem.system.datasheet.
+system_te`), the Fourier fill over the sampled pitches, and the even split that a layout's
+symmetry gives without a solve (docs/stiffness.md).
 
 The full period. A cycloid disc's contacts at pin pitch m are those of pitch 0 moved m
 lobes on against the disc's holes, so the mesh repeats after Za / gcd(Za, s) pitches (s the
-hole pattern's symmetry; ``Drive.full_period_pitches``), not after one. Resolving every
-contact of that period in one mesh would refine the whole loaded flank (some 300k dofs for
-the pin-housing drive), so the period is sampled: ``samples`` cycle solvers, each over one
-pitch at pitches m_q spread over the period (one factorisation each, kept in the disk
-cache), give the twist at every position of those pitches; a least-squares Fourier series
-in m through the samples fills the other pitches (exact for the hole-induced variation up
-to the order (samples - 1) / 2 per full period; the pin-pitch ripple comes from each
-pitch's own positions).
+hole pattern's symmetry; ``Drive.full_period_pitches``), not after one. The period is
+sampled: the system at ``samples`` pitches m_q spread over the period (one factorisation of
+each disc's FE tables, kept in the disk cache) gives the twist at every position of those
+pitches; a least-squares Fourier series in m through the samples fills the other pitches
+(exact for the hole-induced variation up to the order (samples - 1) / 2 per full period;
+the pin-pitch ripple comes from each pitch's own positions).
 
-The split. Each member (disc) is a load path from the output to the housing: its mesh,
-its own bearings, and the crankshafts the members share; all turn the output by the same
-twist. Where every member stands at the first member's configuration (``Drive.member_offsets``
-all equal) and the shared crankshafts load each member alike (equal row sums of their
-coupled compliance), the even split is the solution at every position, exactly, and
-nothing is solved. Otherwise each member's own path is tabulated against its torque (the FE
-at SPLIT_LEVELS of the even share, 0 to all of the output torque, twist interpolated
-linearly between them), and at every position of the full period the member torques with
-sum T that give one twist (theta_j = own_j(T_j) + sum_i S_ji T_i) are found by Newton's
-method; a member whose flank does not close at that twist carries nothing (an active set).
+The even split. Where every member stands at the first member's configuration
+(``Drive.member_offsets`` all equal) and the shared crankshafts load each member alike
+(equal row sums of their coupled compliance, ``Drive.coupled_compliance``), T/M on each
+member is the split at every position, exactly, and nothing is solved.
 """
 from __future__ import annotations
 
@@ -31,10 +25,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import CaseError, check_range
-from .split import coupled_matrix, even_coupling, member_torques, split_levels, table_paths
-from .twist import ARCSEC, TwistModel
+from .twist import ARCSEC
 
-#: Default cycle solvers over the full period and positions per pitch of each.
+#: Default pitches sampled over the full period, and positions per pitch of each.
 DEFAULT_SAMPLES, DEFAULT_PER_PITCH = 6, 12
 #: Harmonics listed (the largest, sorted by order).
 HARMONICS_LISTED = 8
@@ -223,72 +216,6 @@ def harmonic_amplitudes(signal, full_period_output_rad: float):
     return h * (2 * math.pi / full_period_output_rad), amp
 
 
-def loaded_te(drive, supports, output_torque_Nm: float, *, samples: int = DEFAULT_SAMPLES,
-              per_pitch: int = DEFAULT_PER_PITCH, cache=True, progress=None):
-    """Loaded TE over the full period and, for several members, their split.
-
-    Parameters
-    ----------
-    drive : toothfem.fem.drives.Drive
-    supports : toothfem.fem.datasheet.supports.Supports
-    output_torque_Nm : float
-        Output torque [N m], either sign, nonzero.
-    samples : int
-        Cycle solvers over the full period (each one pitch).
-    per_pitch : int
-        Positions per pitch of each.
-    cache
-        The disk cache (as ``Drive.cycle_solver``).
-    progress : callable, optional
-        Wraps the iterator over the sampled pitches (one cycle solver each), e.g. a bar.
-
-    Returns
-    -------
-    (LoadedTE, MemberSplit or None)
-
-    Raises
-    ------
-    CaseError
-        If the torque is zero or not finite, or ``samples`` or ``per_pitch`` is outside
-        [1, 400].
-    """
-    check_te_inputs(output_torque_Nm, samples, per_pitch)
-    k = drive.full_period_pitches
-    pitches = sampled_pitches(k, samples)
-    t = float(output_torque_Nm)
-    opts = drive.both_sides_options if t < 0 else {}
-    several = drive.members > 1
-    even = several and even_by_layout(drive, supports, per_pitch)
-    levels = split_levels(drive.members) if several and not even else ()
-    tm = t / drive.members                       # the even share, signed
-    flank = int(math.copysign(1, t))
-    own, mesh, curves = [], [], []
-    for m in (pitches if progress is None else progress(pitches)):
-        model = TwistModel(drive, supports, drive.cycle_solver(
-            per_pitch, cache=cache, solver_options=opts, pitch=m))
-        paths = model.own(tm)
-        own.append(sum(paths.values()))
-        mesh.append(paths["mesh"])
-        curves.append([sum(model.own(r * tm, flank).values()) for r in levels])
-    # the parts every member runs through, and the crankshafts under the even split
-    through = sum((v[0] for v in model.through(t).values()), 0.0)
-    s = coupled_matrix(drive, supports)
-    coupled_even = float(s[0] @ np.full(drive.members, tm))
-    fill = lambda v: fourier_fill(pitches, np.array(v), k).ravel()  # noqa: E731
-    own_full, mesh_full = fill(own), fill(mesh)
-    n_all = own_full.size
-    split = None
-    te = own_full + coupled_even + through
-    if several:
-        share = np.full((drive.members, n_all), 1.0 / drive.members)
-        if not even:
-            table = np.stack([fill(np.asarray(curves)[:, i]) for i in range(len(levels))])
-            share, theta = _split(drive, s, t, levels, table, per_pitch)
-            te = theta + through
-        split = _member_split(drive, share, t, per_pitch, even)
-    return loaded_record(drive, t, te, mesh_full, pitches, per_pitch), split
-
-
 def check_te_inputs(output_torque_Nm, samples, per_pitch) -> None:
     """The loaded TE's inputs in range, or the one-line refusal naming the key.
 
@@ -346,6 +273,40 @@ def loaded_record(drive, output_torque_Nm: float, te, mesh, pitches, per_pitch: 
                     orders_per_output_rev=orders, amplitude_arcsec=amp / ARCSEC)
 
 
+def coupled_matrix(drive, supports) -> np.ndarray:
+    """The shared parts' compliance between the members, every part summed.
+
+    Parameters
+    ----------
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, M)
+        S [rad/(N m)]: member j turns by ``S[j] @ T`` under the member torques T.
+    """
+    m = drive.members
+    return sum(drive.coupled_compliance(supports).values(), np.zeros((m, m)))
+
+
+def even_coupling(coupling) -> bool:
+    """Whether the shared parts load every member alike under the even split (equal row
+    sums of S): with the members' own paths alike too, T/M each is then the split.
+
+    Parameters
+    ----------
+    coupling : numpy.ndarray, shape (M, M)
+        S [rad/(N m)].
+
+    Returns
+    -------
+    bool
+    """
+    rows = np.asarray(coupling, float).sum(axis=1)
+    return bool(np.allclose(rows, rows[0], rtol=1e-12, atol=0.0))
+
+
 def even_by_layout(drive, supports, per_pitch: int) -> bool:
     """Whether the even split holds at every position by the drive's symmetry: every member
     at the first member's configuration and the shared parts loading each alike.
@@ -367,67 +328,26 @@ def even_by_layout(drive, supports, per_pitch: int) -> bool:
             and even_coupling(coupled_matrix(drive, supports)))
 
 
-def member_split(drive, supports, output_torque_Nm: float, *, per_pitch: int,
-                 samples: int = DEFAULT_SAMPLES, cache=True, progress=None):
-    """The split between the members alone (what the efficiency model takes with FE loads).
+def even_split(drive, output_torque_Nm: float, per_pitch: int) -> MemberSplit:
+    """The even split T/M of every member over the full period, as a layout's symmetry
+    gives it (:func:`even_by_layout`), nothing solved.
 
     Parameters
     ----------
     drive : toothfem.fem.drives.Drive
-    supports : toothfem.fem.datasheet.supports.Supports
     output_torque_Nm : float
-        Output torque [N m], nonzero.
+        [N m].
     per_pitch : int
-        Positions per pitch (the efficiency table's positions).
-    samples : int
-        Cycle solvers over the full period, where the split must be solved.
-    cache
-        The disk cache (as ``Drive.cycle_solver``).
-    progress : callable, optional
-        As :func:`loaded_te`'s, where the split is solved.
+        Positions per pitch of the full-period grid.
 
     Returns
     -------
-    MemberSplit or None
-        None for one member; the even split without a solve where :func:`even_by_layout`.
+    MemberSplit
+        ``even_by_layout`` True.
     """
-    if drive.members == 1:
-        return None
-    if even_by_layout(drive, supports, per_pitch):
-        n = drive.full_period_pitches * int(per_pitch)
-        return _member_split(drive, np.full((drive.members, n), 1.0 / drive.members),
-                             output_torque_Nm, per_pitch, True)
-    return loaded_te(drive, supports, output_torque_Nm, samples=samples, per_pitch=per_pitch,
-                     cache=cache, progress=progress)[1]
-
-
-def _member_split(drive, share, t, per_pitch, even) -> MemberSplit:
-    """The MemberSplit of ``share`` (M, N) on the full-period grid of ``per_pitch``."""
-    n = share.shape[1]
+    n = drive.full_period_pitches * int(per_pitch)
+    share = np.full((drive.members, n), 1.0 / drive.members)
     return MemberSplit(share=share, crank_angle_rad=np.arange(n) * (drive.period_rad / per_pitch),
-                       output_torque_Nm=float(t), offsets=drive.member_offsets(per_pitch),
-                       per_pitch=int(per_pitch), even_by_layout=bool(even))
-
-
-def _split(drive, s, t, levels, table, per_pitch):
-    """(shares (M, N), common twist theta (N,)). ``table[l, g]``: the first member's own
-    path twist at grid position g under the member torque ``levels[l]`` T/M. Member j, at
-    grid index g + offset_j, carries T_j: its twist own(T_j) + sum_i S_ji T_i is the common
-    theta, with S = ``s`` the shared parts' compliance, and sum T_j = T
-    (:func:`toothfem.fem.datasheet.split.member_torques`)."""
-    m = drive.members
-    n_all = table.shape[1]
-    offsets = drive.member_offsets(per_pitch)
-    idx = (np.arange(n_all)[None, :] + np.asarray(offsets)[:, None]) % n_all   # (M, N)
-    sign, total = math.copysign(1.0, t), abs(t)
-    torques = np.asarray(levels) * (total / m)
-    signed = sign * table                      # rising with the torque's magnitude
-    shares = np.empty((m, n_all))
-    theta = np.empty(n_all)
-    x = np.full(m, total / m)
-    for g in range(n_all):
-        twists = signed[:, idx[:, g]].T
-        x, th = member_torques(table_paths(torques, twists), s, total, twists[:, 0], start=x)
-        shares[:, g] = x / total
-        theta[g] = sign * th
-    return shares, theta
+                       output_torque_Nm=float(output_torque_Nm),
+                       offsets=drive.member_offsets(per_pitch), per_pitch=int(per_pitch),
+                       even_by_layout=True)

@@ -11,7 +11,7 @@ from ...errors import CaseError, check_range, checked_array
 from ..hertz import reduced_modulus
 from ..cache import DiskCache, default_dir
 from ..load_sharing import LoadSharing, analytic_split
-from ..contracts import CycleSolver, DetailedSolution
+from ..contracts import CycleSolver, DetailedSolution, ReducerModel
 from .registry import RECORDS, DriveRecord
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
@@ -260,7 +260,8 @@ class Drive(abc.ABC):
 
     @abc.abstractmethod
     def supports(self, declared):
-        """The supports in series with the mesh.
+        """The supports of the system model: the eccentric (crank) bearings, the crankshafts
+        or the input shaft, the carrier.
 
         Parameters
         ----------
@@ -272,28 +273,10 @@ class Drive(abc.ABC):
         toothfem.fem.datasheet.supports.Supports
         """
 
-    @abc.abstractmethod
-    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
-        """Output twist of one member's own supports at each position.
-
-        Parameters
-        ----------
-        supports : toothfem.fem.datasheet.supports.Supports
-        member_torque : array_like, shape (P,)
-            Torque on the member [N m], signed.
-        resultant : array_like, shape (P, 2)
-            The contact resultant on the member [N, housing frame].
-        positions_rad : array_like, shape (P,)
-            Crank angles [rad].
-
-        Returns
-        -------
-        dict of str to numpy.ndarray
-            path -> (P,) twist [rad].
-        """
-
     def coupled_compliance(self, supports) -> dict:
-        """Twist of each member per torque on another through parts the members share.
+        """Twist of each member per torque on another through parts the members share: what
+        decides whether a layout splits the torque evenly by its symmetry
+        (:func:`toothfem.fem.datasheet.transmission.even_by_layout`).
 
         Parameters
         ----------
@@ -304,20 +287,6 @@ class Drive(abc.ABC):
         dict of str to numpy.ndarray
             path -> (M, M) twist of member j [rad] per N m on member i (a drive without
             such parts: {}).
-        """
-        return {}
-
-    def output_compliance(self, supports) -> dict:
-        """Compliance of parts every member's path runs through.
-
-        Parameters
-        ----------
-        supports : toothfem.fem.datasheet.supports.Supports
-
-        Returns
-        -------
-        dict of str to float
-            path -> [rad per N m] of output torque (the carrier is the datasheet's own).
         """
         return {}
 
@@ -477,10 +446,11 @@ class Drive(abc.ABC):
         """
         raise CaseError(f"drive '{self.kind}' has no system model")
 
-    def system_model(self, supports, n_positions: int, **options):
-        """The system model of the whole reducer around the contact (docs/stiffness.md),
-        or None where the drive has none yet (then the datasheet chains its load paths:
-        :class:`toothfem.fem.datasheet.twist.TwistModel`).
+    @abc.abstractmethod
+    def system_model(self, supports, n_positions: int, **options) -> ReducerModel:
+        """The system model of the whole reducer around the contact (docs/stiffness.md):
+        every analysis of the reducer (datasheet, TE, split, bearing loads, tolerances)
+        asks it.
 
         Parameters
         ----------
@@ -492,9 +462,13 @@ class Drive(abc.ABC):
 
         Returns
         -------
-        object or None
+        toothfem.fem.contracts.ReducerModel
+
+        Raises
+        ------
+        CaseError
+            Where the case lacks a part the model needs (the sine pair's output pins).
         """
-        return None
 
     # -- shared by every drive ------------------------------------------------------------
     def positions(self, n_positions: int = DEFAULT_POSITIONS) -> np.ndarray:

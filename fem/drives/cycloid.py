@@ -366,40 +366,6 @@ class CycloidDrive(Drive):
                            crankshaft_diameter_m=journal - 2 * g.eccentricity_m,
                            crankshaft_span_m=(self.members + 2) * w)
 
-    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
-        """The crank bearings: hole k (of n, radius R_c) takes -F/n + T/(n R_c) t_k (the
-        contact resultant F and the torque T shared evenly, as the efficiency model's
-        crank-bearing loss); each deflects along its load by Palmgren and Stribeck; the
-        output turns by their mean tangential deflection over R_c.
-
-        Parameters
-        ----------
-        supports : toothfem.fem.datasheet.supports.Supports
-        member_torque : array_like, shape (P,)
-            T, the disc torque [N m].
-        resultant : array_like, shape (P, 2)
-            F, on the disc [N], housing frame.
-        positions_rad : array_like, shape (P,)
-            [rad].
-
-        Returns
-        -------
-        dict
-            ``crank bearings``: (P,) [rad].
-        """
-        h = self.stage.holes
-        n, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-        _, rot = cym.disc_pose(self.geometry, positions_rad)
-        ang = 2 * math.pi * np.arange(n)[None, :] / n + rot[:, None]      # (P, n)
-        t = np.stack([-np.sin(ang), np.cos(ang)])                          # (2, P, n)
-        tq = np.asarray(member_torque, float)[:, None] / (n * r_c)
-        f = -np.asarray(resultant, float).T[:, :, None] / n + tq[None] * t
-        mag = np.hypot(f[0], f[1])
-        defl = sp.radial_bearing_deflection(mag, supports.bearing_roller_count,
-                                            supports.bearing_roller_length_m)
-        along = np.sum(f * t, axis=0) / np.where(mag > 0, mag, 1.0)
-        return {"crank bearings": np.mean(defl * along, axis=1) / r_c}
-
     def coupled_compliance(self, supports) -> dict:
         """The crankshafts: each a shaft on two simple supports (its carrier bearings)
         loaded by every disc's tangential force T_i/(n R_c) at the disc's axial place; disc
@@ -428,29 +394,6 @@ class CycloidDrive(Drive):
                                           supports.crankshaft_diameter_m,
                                           m.youngs_modulus_Pa, m.poisson_ratio)
         return {"crankshafts": w / (n * r_c ** 2)}
-
-    def output_compliance(self, supports) -> dict:
-        """2K-V: torsion of the n crankshafts between the first-stage gear (input held) and
-        the discs: crank torque T/(n Zb), output turn = crank twist / Zb (the cranks turn Zb
-        times per output turn relative to the carrier); over half the span. K-H-V: none.
-
-        Parameters
-        ----------
-        supports : toothfem.fem.datasheet.supports.Supports
-
-        Returns
-        -------
-        dict
-            ``crankshaft torsion`` [rad/(N m)] of output torque; {} for K-H-V.
-        """
-        if not self.two_stage:
-            return {}
-        n, zb = self.stage.holes.crank_hole_count, self.geometry.pin_count
-        m = self.material_si
-        c = sp.torsion_compliance(0.5 * supports.crankshaft_span_m,
-                                  supports.crankshaft_diameter_m, m.youngs_modulus_Pa,
-                                  m.poisson_ratio)
-        return {"crankshaft torsion": c / (n * zb ** 2)}
 
     def system_mesh(self, pin_spring_m_per_N=None):
         """Every disc on its pins (:class:`toothfem.fem.system.mesh.PinMesh`).

@@ -227,48 +227,6 @@ class SineDrive(Drive):
                            crankshaft_diameter_m=2 * (r_in - self.pair.centre_distance_m),
                            crankshaft_span_m=(self.members + 2) * w)
 
-    def member_support_twists(self, supports, member_torque, resultant, positions_rad):
-        """The eccentric bearing carries the planet's balance of the tooth resultant and
-        the output pins' load sum 4T/(pi R_w) along -e (sine paper Eqs. 26-27, as the
-        efficiency model); it deflects along its load (Palmgren, Stribeck), and its
-        deflection across the eccentric turns the planet about the pitch point by d_t/r1.
-        The output pins: the most loaded of n pins carries 4T/(n R_w) (Eq. 26) on one line
-        contact of the face width (Palmgren); the output turns by its approach over R_w.
-
-        Parameters
-        ----------
-        supports : toothfem.fem.datasheet.supports.Supports
-        member_torque : array_like, shape (P,)
-            T on the planet [N m].
-        resultant : array_like, shape (P, 2)
-            Tooth resultant on the planet [N], housing frame.
-        positions_rad : array_like, shape (P,)
-            Crank angles [rad].
-
-        Returns
-        -------
-        dict
-            ``eccentric bearing`` and (with an output mechanism) ``output pins``, each
-            (P,) [rad].
-        """
-        t = np.asarray(member_torque, float)
-        centre, _ = sg.planet_pose(self.pair, positions_rad)
-        e = centre / np.hypot(*centre)                                   # (2, P)
-        om = self.output_mechanism
-        r_w = om.pin_hole_circle_radius_m if om is not None else None
-        pins = 4 * t / (np.pi * r_w) if r_w else np.zeros_like(t)
-        f = -(np.asarray(resultant, float).T - pins[None] * e)           # on the planet
-        mag = np.hypot(*f)
-        across = np.abs(f[0] * -e[1] + f[1] * e[0])
-        defl = sp.radial_bearing_deflection(mag, supports.bearing_roller_count,
-                                            supports.bearing_roller_length_m)
-        out = {"eccentric bearing": np.sign(t) * defl * across
-               / np.where(mag > 0, mag, 1.0) / self.pair.planet_pitch_radius_m}
-        if om is not None:
-            f_max = 4 * np.abs(t) / (om.pin_count * r_w)
-            out["output pins"] = np.sign(t) * sp.roller_approach(f_max, self.face_width_m) / r_w
-        return out
-
     def system_mesh(self, pin_spring_m_per_N=None):
         """The planet's hats in the ring (:class:`toothfem.fem.system.mesh.ToothMesh`).
 
@@ -293,8 +251,7 @@ class SineDrive(Drive):
     def system_model(self, supports, n_positions: int, **options):
         """The reducer's system model (:class:`toothfem.fem.drives.assembly.CycloidSystem`
         with the planet's mesh): the planet on its teeth, the eccentric bearing, the input
-        shaft on its bearings and the output pins in the planet's holes; None without an
-        output mechanism (nothing carries the torque to the output).
+        shaft on its bearings and the output pins in the planet's holes.
 
         Parameters
         ----------
@@ -306,10 +263,17 @@ class SineDrive(Drive):
 
         Returns
         -------
-        toothfem.fem.drives.assembly.CycloidSystem or None
+        toothfem.fem.drives.assembly.CycloidSystem
+
+        Raises
+        ------
+        CaseError
+            Without an output mechanism: nothing carries the torque to the output (the
+            case check refuses such a case first, ``sine`` case_checks).
         """
         if self.output_mechanism is None:
-            return None
+            raise CaseError("sine: the planet has no output path (no [output_mechanism]): "
+                            "no system model of the reducer")
         return CycloidSystem(self, supports, n_positions, **options)
 
     def sample_deviation(self, tolerances, rng) -> dv.SineDeviation:

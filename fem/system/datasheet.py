@@ -22,7 +22,8 @@ from ..datasheet.transmission import (MemberSplit, check_te_inputs, fourier_fill
 from ..datasheet.twist import ARCMIN, ZERO_TORQUE_NM, TwistPoint
 
 if TYPE_CHECKING:        # the layouts' assembly lives with the drives (fem/drives/assembly.py)
-    from ..drives.assembly import CycloidSystem, SystemState
+    from ..contracts import ReducerModel
+    from ..drives.assembly import SystemState
 
 #: Every part of the twist is named after the part; a contact set's closed clearance
 #: ("mesh clearance") is reported with the contacts ("mesh").
@@ -45,7 +46,7 @@ def path_name(group: str) -> str:
     return group[:-len(CLEARANCE_SUFFIX)] if group.endswith(CLEARANCE_SUFFIX) else group
 
 
-def system_backlash_arcmin(system: CycloidSystem, *, deviation=None, geometry=None,
+def system_backlash_arcmin(system: ReducerModel, *, deviation=None, geometry=None,
                            pitches=None) -> float:
     """The backlash, the two flanks' closing rotations of the clearances with every part
     rigid (:meth:`CycloidSystem.closing_rotation`), averaged over the positions.
@@ -121,7 +122,7 @@ class SystemTwist:
         (:meth:`CycloidSystem.solve`).
     """
 
-    def __init__(self, system: CycloidSystem, progress=None, friction=None, deviation=None,
+    def __init__(self, system: ReducerModel, progress=None, friction=None, deviation=None,
                  pitches=None, reference: SystemTwist | None = None, geometry=None):
         self.system = system
         self.friction = friction
@@ -313,7 +314,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
     k = drive.full_period_pitches if full_period is None else int(full_period)
     pitches = sampled_pitches(k, samples)
     # one system at a time (its tables read as it is solved; a bar steps per pitch)
-    systems = (_system_model(drive, supports, per_pitch, cache=cache, pitch=m, **options)
+    systems = (drive.system_model(supports, per_pitch, cache=cache, pitch=m, **options)
                for m in (pitches if progress is None else progress(pitches)))
     return period_te(systems, pitches, output_torque_Nm, full_period=k, deviation=deviation,
                      geometry=geometry)
@@ -415,12 +416,3 @@ BISECTIONS = 60
 #: The discs share the torque evenly when no share departs from 1/M by more than this
 #: (the round-off of the solve; a layout that splits unevenly departs by percents).
 EVEN_SHARE_ATOL = 1e-6
-
-
-def _system_model(drive, supports, per_pitch, **options):
-    """The drive's system model at one pitch, or the CaseError of a drive without one."""
-    system = drive.system_model(supports, per_pitch, **options)
-    if system is None:
-        raise CaseError(f"the {drive.member_name} has no output path (no [output_mechanism]): "
-                        "no system model to take the transmission error from")
-    return system

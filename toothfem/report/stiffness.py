@@ -224,14 +224,13 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
                        te.te_rad * arcsec, te.mesh_rad * arcsec):
             w.writerow([f"{v:.9g}" for v in row])
     files = ["hysteresis.csv", "hysteresis.png", "te.csv", "te.png", "summary.json"]
-    if result.bearings is not None:
-        b = result.bearings
-        with open(folder / "bearings.csv", "w", newline="") as fh:
-            w = csv.writer(fh)
-            w.writerow(["crank_angle_deg"] + [f"{n.replace(' ', '_')}_N" for n in b.names])
-            for g, phi in enumerate(np.degrees(b.crank_angle_rad)):
-                w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in b.load_N[:, g]])
-        files.append("bearings.csv")
+    b = result.bearings
+    with open(folder / "bearings.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["crank_angle_deg"] + [f"{n.replace(' ', '_')}_N" for n in b.names])
+        for g, phi in enumerate(np.degrees(b.crank_angle_rad)):
+            w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in b.load_N[:, g]])
+    files.append("bearings.csv")
     if result.split is not None:
         with open(folder / "split.csv", "w", newline="") as fh:
             w = csv.writer(fh)
@@ -250,9 +249,8 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
                 if sheet.rated_torque_assumed else "")
              + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
     save(hysteresis(sheet, title=title), folder / "hysteresis.png", dpi=120)
-    which = ("the reducer's TE (system model, input held)"
-             if result.bearings is not None else "one member's chained load paths")
-    save(transmission_error(te, heading=f"{result.case_name}: {which}"),
+    save(transmission_error(te, heading=f"{result.case_name}: the reducer's TE (system "
+                                        "model, input held)"),
          folder / "te.png", dpi=120)
     summary = {**result.summary, "files": files}
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..tolerance import ALONE_OVER_ALL, LOADS_SYSTEM, ToleranceResult, side_of
+from ..tolerance import ALONE_OVER_ALL, ToleranceResult, side_of
 from . import NBSP, pyplot, save, wrap
 
 #: A value marked on a histogram (the nominal design, a limit) farther outside the sample's
@@ -69,14 +69,10 @@ def model_text(summary: dict) -> str:
     -------
     str
     """
-
-    system = summary.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
     member = summary.get("member", "disc")
     several = summary.get("members", 2) > 1
-    model = ((f"system model (every {member} free on its supports, the split between them "
-              "solved)" if several else f"system model (the {member} free on its supports)")
-             if system else f"chained load paths of one {member} held at the peak member "
-             "torque")
+    model = (f"system model (every {member} free on its supports, the split between them "
+             "solved)" if several else f"system model (the {member} free on its supports)")
     where = (f", {summary['positions']} positions over the pairing period of "
              f"{summary['pairing_period_pitches']} meshing periods"
              if "positions" in summary and "pairing_period_pitches" in summary else "")
@@ -376,33 +372,26 @@ def markdown(summary: dict, outputs: dict) -> str:
     str
         Markdown.
     """
-
-    system = summary.get("loads", LOADS_SYSTEM["loads"]) == LOADS_SYSTEM["loads"]
     member = summary.get("member", "disc")
     several = summary.get("members", 2) > 1
-    if system:
-        model = ("Every output is the system model's: the whole reducer at the operating "
-                 + (f"torque, every {member} free on its supports, the split between them "
-                    f"solved (no load factor); the forces, pressures and counts are the worst "
-                    f"over every {member}, the efficiencies take the first {member}'s loads "
-                    f"for every {member}. " if several else
-                    f"torque, the {member} free on its supports. "))
-        differs = (f"The nominal design's figures are therefore not `toothfem contact`'s, "
-                   f"whose contacts and forces are one {member} held at its bearing seats over "
-                   "one pitch, nor `toothfem run`'s efficiency, whose loads are the analytic "
-                   f"split (or that held {member}'s FE loads): a {member} free on its "
-                   "bearings carries its torque on another set of contacts, with another sum "
-                   "of contact forces, so its contact and bearing losses differ")
-        ref = summary.get("nominal_total_efficiency_analytic_loads_pct")
-        nominal_eta = summary.get("nominal", {}).get("total_efficiency_pct")
-        if ref is not None and nominal_eta is not None:
-            differs += (f" (total efficiency of the nominal design {nominal_eta:.2f} % here, "
-                        f"{ref:.2f} % with the analytic loads at the same operating point)")
-        model += differs + ". "
-    else:
-        model = ("Every output is along the chained load paths of one member held at the "
-                 "case's peak member torque (the drive has no system model); the efficiencies "
-                 "take that member's loads at the operating torque. ")
+    model = ("Every output is the system model's: the whole reducer at the operating "
+             + (f"torque, every {member} free on its supports, the split between them "
+                f"solved (no load factor); the forces, pressures and counts are the worst "
+                f"over every {member}, the efficiencies take the first {member}'s loads "
+                f"for every {member}. " if several else
+                f"torque, the {member} free on its supports. "))
+    differs = (f"The nominal design's figures are therefore not `toothfem contact`'s, "
+               f"whose contacts and forces are one {member} held at its bearing seats over "
+               "one pitch, nor `toothfem run`'s efficiency, whose loads are the analytic "
+               f"split (or that held {member}'s FE loads): a {member} free on its "
+               "bearings carries its torque on another set of contacts, with another sum "
+               "of contact forces, so its contact and bearing losses differ")
+    ref = summary.get("nominal_total_efficiency_analytic_loads_pct")
+    nominal_eta = summary.get("nominal", {}).get("total_efficiency_pct")
+    if ref is not None and nominal_eta is not None:
+        differs += (f" (total efficiency of the nominal design {nominal_eta:.2f} % here, "
+                    f"{ref:.2f} % with the analytic loads at the same operating point)")
+    model += differs + ". "
     lines = [f"# Tolerance ensemble: {summary['case']}", "",
              f"{summary['samples']} built reducers (seed {summary['seed']}, "
              f"{summary['distribution']} distributions), {summary['positions']} positions "

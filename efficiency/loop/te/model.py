@@ -75,7 +75,7 @@ from ....fem.datasheet.sheet import stuck_after_reversals, datasheet, loop_branc
 from ....fem.datasheet.transmission import harmonic_amplitudes, sampled_pitches
 from ....fem.datasheet.twist import ARCMIN, ARCSEC, ZERO_TORQUE_NM
 from ....fem.drives import drive_for
-from ....fem.drives.assembly import CycloidSystem
+from ....fem.contracts import ReducerModel
 from ....fem.system.datasheet import SystemTwist, period_te
 from ...evaluation import rated_output_torque
 
@@ -421,7 +421,7 @@ class RecordingModel:
         self.te_samples = int(te_samples)
         self.cache = cache
         self.system_options = dict(system_options)
-        self._systems: dict[int, CycloidSystem | None] = {}
+        self._systems: dict[int, ReducerModel] = {}
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
@@ -438,7 +438,7 @@ class RecordingModel:
 
         Returns
         -------
-        toothfem.fem.drives.assembly.CycloidSystem or None
+        toothfem.fem.contracts.ReducerModel
         """
         m = int(pitch)
         if m not in self._systems:
@@ -446,7 +446,7 @@ class RecordingModel:
                                                        cache=self.cache, pitch=m,
                                                        **self.system_options)
         base = self._systems[m]
-        if effects is None or base is None:
+        if effects is None:
             return base
         return base.variant(**effects.system_options())
 
