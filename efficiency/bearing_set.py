@@ -41,7 +41,6 @@ from typing import TypedDict
 import numpy as np
 
 from ..errors import CaseError
-from ..fem.drives.registry import provide
 from .envelope import envelope
 from .palmgren import palmgren_f0, palmgren_no_load_moment
 from .rating import dynamic_rating_N, static_rating_N
@@ -208,10 +207,37 @@ def _ratings(bearing_type, rolling, declared_C=None, key=None, space=None):
     return c, c0, "ISO 281 / ISO 76 of the rolling set"
 
 
-def _roller_bearing(si, supports, *, name, label, count, bore_m, outer_m, pitch_m, speed,
-                    space) -> Bearing:
+def roller_bearing(si, supports, *, name, label, count, bore_m, outer_m, pitch_m, speed,
+                   space) -> Bearing:
     """The system model's rollers (``supports``) between ``bore_m`` and ``outer_m`` as a
-    needle bearing record; a declared eccentric rating is checked against ``space``."""
+    needle bearing record; a declared eccentric rating is checked against ``space``.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    supports : toothfem.fem.datasheet.supports.Supports
+    name : str
+        The bearing group's name (the system model's, efficiency.bearings.SYSTEM_GROUPS).
+    label : str
+        What it is, for a reader.
+    count : int
+        Bearings of the group in the reducer.
+    bore_m : float
+        Bore [m].
+    outer_m : float
+        Outside diameter [m].
+    pitch_m : float
+        The rollers' pitch diameter [m].
+    speed : float
+        Its speed per unit input speed [-].
+    space : str
+        The case key that sets its room (a refusal names it).
+
+    Returns
+    -------
+    Bearing
+        Its rolling set, ratings and speed.
+    """
     rolling = dict(elements=supports.bearing_roller_count,
                    element_diameter_m=supports.bearing_roller_diameter_m,
                    element_length_m=supports.bearing_roller_length_m, pitch_diameter_m=pitch_m,
@@ -228,9 +254,31 @@ def _roller_bearing(si, supports, *, name, label, count, bore_m, outer_m, pitch_
                                  if n.startswith("bearing_roller")), **rolling)
 
 
-def _needles(si, drive, supports, *, name, label, count, hole_m, hole_key):
+def needle_set(si, drive, supports, *, name, label, count, hole_m, hole_key):
     """The crank (eccentric) bearings: the system model's needle rollers in the hole of
-    diameter ``hole_m`` (the case key ``hole_key`` holds its radius), ``count`` of them."""
+    diameter ``hole_m`` (the case key ``hole_key`` holds its radius), ``count`` of them.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    supports : toothfem.fem.datasheet.supports.Supports
+    name : str
+        The bearing group's name (the system model's, efficiency.bearings.SYSTEM_GROUPS).
+    label : str
+        What it is, for a reader.
+    count : int
+        Bearings of the group in the reducer.
+    hole_m : float
+        The hole the rollers run in [m].
+    hole_key : str
+        The case key of that hole (a refusal names it).
+
+    Returns
+    -------
+    Bearing
+        The system model's rollers in the hole, with their ISO 281 / ISO 76 ratings.
+    """
     g = si.cycloid.geometry
     b = si.bearings
     hole = hole_m
@@ -260,7 +308,7 @@ def _needles(si, drive, supports, *, name, label, count, hole_m, hole_key):
                         f"supports.bearing_roller_diameter_mm = {d_w * MM_PER_M:.4g}): give one "
                         "of them")
     w = drive.speeds()
-    return _roller_bearing(
+    return roller_bearing(
         si, supports, name=name, label=label, count=count,
         bore_m=journal, outer_m=hole, pitch_m=d_m, speed=abs(w["crank"] - w["member"]),
         space=f"{hole_key} = {hole / 2 * MM_PER_M:.4g}")
@@ -296,7 +344,37 @@ def check_rating(declared_N, fitting_N, key, space):
                         f"{RATING_MARGIN:g}x that is credible")
 
 
-def _sized(name, label, bearing_type, count, shaft_m, shaft_key, speed, assumed, room=None):
+def sized_bearing(name, label, bearing_type, count, shaft_m, shaft_key, speed, assumed,
+                  room=None):
+    """A bearing the case does not size: the ISO 15 series-0 size on its shaft, refused
+    where its outside diameter does not fit ``room``.
+
+    Parameters
+    ----------
+    name : str
+        The bearing group's name (the system model's, efficiency.bearings.SYSTEM_GROUPS).
+    label : str
+        What it is, for a reader.
+    bearing_type : str
+        A type of CONTACT_ANGLE_DEG.
+    count : int
+        Bearings of the group in the reducer.
+    shaft_m : float
+        The shaft it sits on [m].
+    shaft_key : str
+        The case key of that shaft (a refusal names it).
+    speed : float
+        Its speed per unit input speed [-].
+    assumed : list of str
+        What of it is assumed (named in the report).
+    room : (float, str), optional
+        The largest outside diameter that fits [m] and where (refused above it).
+
+    Returns
+    -------
+    Bearing
+        The ISO 15 series-0 bearing on the shaft, its ratings from its rolling set.
+    """
     bore, outer, width = standard_size(shaft_m, shaft_key)
     if room is not None and outer > room[0] * (1 + 1e-9):
         raise CaseError(f"{shaft_key} = {shaft_m * MM_PER_M:.4g} mm needs a {label} of outside "
@@ -343,91 +421,27 @@ def main_pair(si, drive) -> Bearing:
                    **rolling)
 
 
-def _cycloid_set(si, drive, *own) -> tuple:
+def cycloid_set(si, drive, *own) -> tuple:
     """A cycloid or RV reducer's bearings (module docstring): the layout's ``own`` groups,
-    the main pair and the input shaft's ball bearings."""
+    the main pair and the input shaft's ball bearings.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    *own : Bearing
+        The layout's own groups (its eccentric or crank bearings, supports).
+
+    Returns
+    -------
+    tuple of Bearing
+        The layout's own groups, the main pair and the input bearings.
+    """
     env = envelope(si, drive)
     return (*own, main_pair(si, drive),
-            _sized("input_bearings", "input bearings (deep groove balls on the input "
-                   "shaft)", "ball", 2, env.input_seal_diameter_m,
-                   "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
-
-
-@provide("bearing_set", "cycloid")
-def _khv_bearings(si, drive) -> tuple:
-    """K-H-V: needle rollers in each disc's centre bore on the input shaft's eccentrics."""
-    supports = drive.supports(si.supports)
-    return _cycloid_set(si, drive, _needles(
-        si, drive, supports, name="eccentric_bearing",
-        label="eccentric bearings (needle rollers in the centre bore)",
-        count=si.cycloid.disc_count, hole_m=2 * si.cycloid.holes.centre_bore_radius_m,
-        hole_key="cycloid.disc_holes.centre_bore_radius_mm"))
-
-
-@provide("bearing_set", "rv")
-def _rv_bearings(si, drive) -> tuple:
-    """2K-V: needle rollers in every disc's crank holes, the cranks' tapered roller
-    supports in the carrier."""
-    supports = drive.supports(si.supports)
-    w = drive.speeds()
-    h = si.cycloid.holes
-    k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
-    needles = _needles(si, drive, supports, name="crank_bearings",
-                       label="crank bearings (needle rollers in the discs' crank holes)",
-                       count=k * si.cycloid.disc_count, hole_m=2 * h.crank_hole_radius_m,
-                       hole_key="cycloid.disc_holes.crank_hole_radius_mm")
-    # neighbouring cranks' bearings must not overlap, nor reach past the pins
-    room = min(2 * r_c * math.sin(math.pi / k) if k > 1 else math.inf,
-               2 * (si.cycloid.geometry.pin_circle_radius_m
-                    - si.cycloid.geometry.pin_radius_m - r_c))
-    support = _sized(
-        "crank_support_bearings", "crank support bearings (tapered rollers in the "
-        "carrier)", "tapered", 2 * k, supports.crankshaft_diameter_m,
-        "supports.crankshaft_diameter_mm", abs(w["crank"] - w["output"]),
-        [f"supports.{n}" for n in supports.assumed if n.startswith("crankshaft")],
-        room=(room, f"the carrier ({room * MM_PER_M:.4g} mm between the cranks at "
-                    f"cycloid.disc_holes.crank_hole_circle_radius_mm = {r_c * MM_PER_M:.4g} "
-                    "and the pins)"))
-    return _cycloid_set(si, drive, needles, support)
-
-
-@provide("bearing_set", "sine")
-def _sine_bearings(si, drive) -> tuple:
-    """The sine reducer's bearings: the system model's rollers on the eccentric (inner
-    raceway r_p, the output mechanism's ``eccentric_bearing_inner_radius``) in the
-    planet's bore, which must clear the output pins' holes and the teeth's roots; the
-    main pair; the input shaft's deep groove ball bearings on the shaft of
-    ``Drive.supports`` (2 (r_p - a0), the eccentric's shaft)."""
-    om, pair = si.output_mechanism, drive.pair
-    if om is None:
-        raise CaseError("a sine reducer needs [output_mechanism] (its eccentric bearing's "
-                        "raceway and the pins that carry the torque out) for its bearings")
-    supports = drive.supports(si.supports)
-    w = drive.speeds()
-    r_p = om.eccentric_bearing_inner_radius_m
-    d_w = supports.bearing_roller_diameter_m
-    bore_out = 2 * (r_p + d_w)                       # the planet's bore
-    hole = om.hole_radius_m or (om.pin_radius_m + pair.centre_distance_m)
-    room = 2 * min(om.pin_hole_circle_radius_m - hole,
-                   pair.planet_pitch_radius_m - pair.tooth_height_m)
-    if bore_out > room * (1 + 1e-9):
-        raise CaseError(
-            f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * MM_PER_M:.4g} with "
-            f"rollers of supports.bearing_roller_diameter_mm = {d_w * MM_PER_M:.4g} needs a "
-            f"{bore_out * MM_PER_M:.4g} mm bore in the planet, which does not clear the output "
-            f"pins' holes (output_mechanism.pin_hole_circle_radius_mm = "
-            f"{om.pin_hole_circle_radius_m * MM_PER_M:.4g}) or the teeth ({room * MM_PER_M:.4g} mm)")
-    ecc = _roller_bearing(
-        si, supports, name="eccentric_bearing",
-        label="eccentric bearing (rollers on the eccentric in the planet's bore)", count=1,
-        bore_m=2 * r_p, outer_m=bore_out, pitch_m=2 * r_p + d_w,
-        speed=abs(w["crank"] - w["member"]),
-        space=f"output_mechanism.eccentric_bearing_inner_radius_mm = {r_p * MM_PER_M:.4g}")
-    return (ecc, main_pair(si, drive),
-            _sized("input_bearings", "input bearings (deep groove balls on the input shaft)",
-                   "ball", 2, supports.crankshaft_diameter_m,
-                   "output_mechanism.eccentric_bearing_inner_radius_mm", 1.0,
-                   ["input shaft diameter"]))
+            sized_bearing("input_bearings", "input bearings (deep groove balls on the input "
+                          "shaft)", "ball", 2, env.input_seal_diameter_m,
+                          "seals.input_diameter_mm", 1.0, ["input shaft diameter"]))
 
 
 def reducer_bearings(si, drive) -> tuple:
@@ -452,7 +466,7 @@ def reducer_bearings(si, drive) -> tuple:
         raise CaseError(f"bearings.eccentric_type = {declared!r}: the eccentric bearing is the "
                         "system model's roller set (supports.bearing_roller_*), a 'needle' "
                         "bearing; another type is not modelled")
-    return drive.part("bearing_set")(si, drive)
+    return drive.layout.bearing_set(si, drive)
 
 
 def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication: str,

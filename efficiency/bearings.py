@@ -34,7 +34,6 @@ import numpy as np
 
 from ..errors import CaseError, check_range
 from ..fem.drives import drive_for
-from ..fem.drives.registry import provide
 from ..geometry import cycloid_mesh as cym
 from .envelope import envelope
 from .mesh_table import mesh_table
@@ -87,11 +86,27 @@ def _turning(a, b):
     return np.sqrt(np.maximum(a ** 2 + b ** 2 - 2 * a * b * np.cos(psi), 0.0))
 
 
-@provide("eccentric_loads", "rv")
-def _crank_held(si, drive, table, r, t_member):
+def crank_held_loads(si, drive, table, r, t_member):
     """2K-V: hole k of n (circle R_c) takes -F/n + T/(n R_c) t_k, the contact resultant F
     and the member's torque T shared evenly; ((P, 2) load, (P, S) magnitudes over the
-    relative turn)."""
+    relative turn).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The loaded contacts over one meshing period.
+    r : numpy.ndarray, shape (P, 2)
+        The contact resultant on the member at each position [N].
+    t_member : numpy.ndarray
+        The member's torque [N m].
+
+    Returns
+    -------
+    (numpy.ndarray (P, 2), numpy.ndarray (P, S))
+        The load on one crank bearing [N] and its magnitude over the relative turn [N].
+    """
     h = si.cycloid.holes
     k, r_c = h.crank_hole_count, h.crank_hole_circle_radius_m
     b = t_member / (k * r_c)
@@ -100,11 +115,27 @@ def _crank_held(si, drive, table, r, t_member):
     return -r / k + b * tangent, _turning(np.linalg.norm(r, axis=1) / k, np.full(len(r), b))
 
 
-@provide("eccentric_loads", "cycloid", "sine")
-def _pin_held(si, drive, table, r, t_member):
+def pin_held_loads(si, drive, table, r, t_member):
     """Output pins in the member's holes (K-H-V, the sine planet): the eccentric bearing
     takes the contact resultant less the pins' sum Q along the eccentricity (Lu & Xu 2024,
-    Eq. 26); ((P, 2) load, (P, 1) its magnitude)."""
+    Eq. 26); ((P, 2) load, (P, 1) its magnitude).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The loaded contacts over one meshing period.
+    r : numpy.ndarray, shape (P, 2)
+        The contact resultant on the member at each position [N].
+    t_member : numpy.ndarray
+        The member's torque [N m].
+
+    Returns
+    -------
+    (numpy.ndarray (P, 2), numpy.ndarray (P, 1))
+        The load on the eccentric bearing [N] and its magnitude [N].
+    """
     om = si.output_mechanism
     if om is None:
         raise CaseError("a K-H-V drive needs [output_mechanism] (pins in holes) for the "
@@ -115,16 +146,44 @@ def _pin_held(si, drive, table, r, t_member):
     return vec, np.linalg.norm(vec, axis=1)[:, None]
 
 
-@provide("main_row_force", "rv")
-def _carrier_force(si, drive, table, t_member):
-    """2K-V: the discs' pin resultants reach the carrier, (M, P, 2)."""
+def carrier_force(si, drive, table, t_member):
+    """2K-V: the discs' pin resultants reach the carrier, (M, P, 2).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The loaded contacts over one meshing period.
+    t_member : numpy.ndarray
+        The member's torque [N m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, P, 2)
+        The force one member puts on the main bearings [N].
+    """
     force, _ = table.at(t_member)
     return -table.resultant(force)
 
 
-@provide("main_row_force", "cycloid", "sine")
-def _output_pin_force(si, drive, table, t_member):
-    """The pins-in-holes output takes sum Q along the eccentricity, (M, P, 2)."""
+def output_pin_force(si, drive, table, t_member):
+    """The pins-in-holes output takes sum Q along the eccentricity, (M, P, 2).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    table : toothfem.efficiency.mesh_table.MeshTable
+        The loaded contacts over one meshing period.
+    t_member : numpy.ndarray
+        The member's torque [N m].
+
+    Returns
+    -------
+    numpy.ndarray, shape (M, P, 2)
+        The force one member puts on the main bearings [N].
+    """
     e_dir = table.centre / np.linalg.norm(table.centre, axis=1)[:, None]
     sum_q = 4 * t_member / (math.pi * si.output_mechanism.pin_hole_circle_radius_m)
     return sum_q[:, None, None] * e_dir[None]
@@ -156,7 +215,7 @@ def eccentric_loads(si, drive, table, output_torque_Nm) -> BearingLoads:
     force, _ = table.at(np.array([t_member]))
     r = table.resultant(force)[0]                                   # (P, 2)
     p = LIFE_EXPONENT[env.eccentric_type]
-    vec, load = drive.part("eccentric_loads")(si, drive, table, r, t_member)
+    vec, load = drive.layout.eccentric_loads(si, drive, table, r, t_member)
     return BearingLoads(name="eccentric", count=env.eccentric_count,
                         bearing_type=env.eccentric_type, force_N=vec, load_N=load,
                         equivalent_N=_pmean(load, p), max_N=float(load.max()))
@@ -195,7 +254,7 @@ def _main_rows(si, drive, table, output_torque_Nm):
     b = si.bearings
     env = envelope(si, drive)
     t_member = np.asarray(drive.member_torque(output_torque_Nm, peak=True), float)
-    vec = drive.part("main_row_force")(si, drive, table, t_member)     # (M, P, 2)
+    vec = drive.layout.main_row_force(si, drive, table, t_member)     # (M, P, 2)
     n = drive.members          # the members' forces, a 1/n turn apart (rounded: two
     turn = np.round(sum(       # discs half a turn apart cancel exactly)
         np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])

@@ -30,9 +30,7 @@ import numpy as np
 
 from ..errors import CaseError
 from ..fem.drives import drive_for
-from ..fem.drives.registry import provide
 from ..limits import Exceeded
-from . import spur as sp
 from .bearing_set import bearing_losses, main_preload_N
 from .bearings import main_bearing_load
 from .envelope import envelope
@@ -66,8 +64,23 @@ class OperatingPoints:
     table: object = None
 
 
-def _table(si, drive, points, member_torque, notes):
-    """The meshing table of the drive for these points' load source (or theirs)."""
+def mesh_table_of(si, drive, points, member_torque, notes):
+    """The meshing table of the drive for these points' load source (or theirs).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    points : toothfem.efficiency.drive_losses.OperatingPoints
+    member_torque : numpy.ndarray, shape (M,)
+        The member's torque at the points [N m].
+    notes : list of str
+        A note is appended here where the table says something about the points.
+
+    Returns
+    -------
+    toothfem.efficiency.mesh_table.MeshTable
+    """
     if points.table is not None:
         return points.table
     ref = None
@@ -150,64 +163,6 @@ def w_mechanism(si, table, force, member_torque, a0_m, rel):
     f_r1 = np.mean(np.linalg.norm(bearing, axis=2), axis=1)                # Eq. 27, exact
     out_mech = si.friction.output_pin_coefficient * sum_q * 2 * a0_m * rel   # Eqs. 38-39
     return f_r1, out_mech
-
-
-def sine_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of the sine reducer (Lu & Xu 2024, Eqs. 21-45).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-        Needs [output_mechanism] (pins in holes, plain bearings).
-    drive : toothfem.fem.drives.SineDrive
-    points : OperatingPoints
-        Speeds [rad/s], torques [N m] and the load source of the meshing table.
-
-    Returns
-    -------
-    DriveLosses
-        Components mesh, eccentric_bearing, plain_bearings, output_mechanism and the
-        load-independent ones; the mesh efficiency in the crank frame.
-
-    Raises
-    ------
-    CaseError
-        Without an [output_mechanism] (:func:`w_mechanism`).
-    """
-    pair = drive.pair
-    w = drive.speeds()
-    crank = points.input_speed_rad_s
-    w_planet = crank * w["member"]
-    rel = np.abs(crank - w_planet)                          # crank relative to the planet
-    t2 = points.output_torque_Nm
-    notes: list[str] = []
-    table = _table(si, drive, points, t2, notes)
-    force, ph = table.at(t2)
-    eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
-    limits: list[Exceeded] = []
-    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes, limits)
-    mesh = sliding_loss(table, force, mu, crank)
-    if np.any(table.hertz_invalid):
-        notes.append(f"Hertz's assumptions fail at {int(table.hertz_invalid.sum())} of "
-                     f"{table.hertz_invalid.size} loaded contacts (half-width not small against "
-                     "the radii); "
-                     + ("P_h there is the FE pressure" if np.any(table.pressure_from_fe) else
-                        "P_h there is still Hertz's (analytic loads): use loads='fem'"))
-    a0 = pair.centre_distance_m
-    f_r1, out_mech = w_mechanism(si, table, force, t2, a0, rel)
-    ecc = si.friction.bearing_coefficient * si.output_mechanism.eccentric_bearing_inner_radius_m \
-        * f_r1 * rel                                                                 # Eq. 32
-    plain = si.output_mechanism.plain_bearing_friction_torque_Nm * crank          # Eq. 34
-    losses = {"mesh": mesh, "eccentric_bearing": ecc, "plain_bearings": plain,
-              "output_mechanism": out_mech,
-              **no_load_losses(si, drive, stages=[(a0, crank)], input_rad_s=crank,
-                               output_rad_s=w_planet,
-                               viscosity_factor=points.viscosity_factor)}
-    # the mesh efficiency in the crank frame (virtual power T2 |w_planet - w_crank|), for
-    # display: in a K-H-V stage the energy balance with the contact loss itself is exact
-    return DriveLosses(output_power_W=t2 * np.abs(w_planet), losses_W=losses,
-                       notes=tuple(notes), mesh_efficiency={"sine": 1 - mesh / (t2 * rel)},
-                       limits=tuple(limits))
 
 
 def pin_contact_mu(si, mu_disc):
@@ -351,17 +306,7 @@ def crank_support_load(si, t_discs):
     return np.abs(t_discs) / si.cycloid.holes.crank_hole_circle_radius_m
 
 
-def _first_stage_efficiency(si, t_sun, rel_sun, eta0):
-    """Sun-planet mesh efficiency in the carrier frame: declared, or Ohlendorf/Schlenk."""
-    stage = si.first_stage
-    if stage is not None and stage.mesh_efficiency is not None:
-        return np.full_like(t_sun, stage.mesh_efficiency)
-    if stage is None:
-        raise CaseError("a [first_stage] section is required for the sun-planet mesh")
-    return sp.mesh_efficiency(stage, t_sun, rel_sun, eta0, si.lubricant.roughness_Ra_m)
-
-
-def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLosses:
+def cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLosses:
     """Losses of a cycloid stage with the layout's ``power_flow`` (:func:`_khv_flow`,
     :func:`_rv_flow`): the pins' contact loss of every member, the flow's own loads and
     losses, the main bearings' and the load-independent losses.
@@ -370,6 +315,18 @@ def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLoss
     ------
     CaseError
         For a missing section, or a 2K-V train that self-locks at these points.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    points : toothfem.efficiency.drive_losses.OperatingPoints
+    power_flow : callable
+        ``power_flow(si, drive, points, stage_loads) -> PowerFlow``: the layout's.
+
+    Returns
+    -------
+    DriveLosses
     """
     cyc = si.cycloid
     w = drive.speeds()
@@ -380,7 +337,7 @@ def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLoss
     p_out = t2 * np.abs(w_in * w["output"])
     notes: list[str] = []
     t_disc = drive.member_torque(t2, peak=False)   # the even share
-    table = _table(si, drive, points, t_disc, notes)
+    table = mesh_table_of(si, drive, points, t_disc, notes)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
     # every member's loss at its own loads: (label, table, torque (M,), members alike)
     members = _members(si, drive, points, table, t_disc, notes)
@@ -395,9 +352,9 @@ def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLoss
         f_bearing.append(f_b)
     # disc-pin mesh in the crank frame: the loss over the discs' virtual power
     eta2 = 1 - pins / (drive.members_torque(t2) * disc_rel)
-    flow = power_flow(si, drive, points, _Stage(members=members, f_bearing=f_bearing,
-                                                pins_W=pins, eta2=eta2, disc_rel=disc_rel,
-                                                p_out=p_out, eta0=eta0))
+    flow = power_flow(si, drive, points, StageLoads(members=members, f_bearing=f_bearing,
+                                                    pins_W=pins, eta2=eta2, disc_rel=disc_rel,
+                                                    p_out=p_out, eta0=eta0))
     loads, losses = flow.loads, flow.losses
     # each row's load term takes its preload beside the external loads' share
     loads["main_bearings"] = (main_bearing_load(si, drive, table, t2)
@@ -419,8 +376,8 @@ def _cycloid_losses(si, drive, points: OperatingPoints, power_flow) -> DriveLoss
 
 
 @dataclass(frozen=True)
-class _Stage:
-    """The cycloid stage's figures a power flow needs (:func:`_cycloid_losses`)."""
+class StageLoads:
+    """The cycloid stage's figures a power flow needs (:func:`cycloid_losses`)."""
     members: list            # (label, table, torque (M,), members alike)
     f_bearing: list          # each member's bearing force (M,) [N]
     pins_W: np.ndarray | float   # the pins' contact loss of all members (M,)
@@ -431,7 +388,7 @@ class _Stage:
 
 
 @dataclass(frozen=True)
-class _Flow:
+class PowerFlow:
     """A layout's power flow: bearing loads [N], losses [W], further mesh efficiencies,
     further churning stages (centre distance [m], speed [rad/s]) and the stages' names."""
     loads: dict
@@ -439,96 +396,6 @@ class _Flow:
     mesh_efficiency: dict
     churning_stages: tuple
     stage_names: tuple
-
-
-def _khv_flow(si, drive, points, st: _Stage) -> _Flow:
-    """K-H-V: the disc's torque leaves through pins in holes; its central eccentric bearing
-    carries the pin resultant and the pins' load (as the sine planet); the energy balance
-    with the contact loss itself (Chen & Angeles' closed form agrees to first order)."""
-    ecc = out_mech = 0.0
-    for _, tab, t_j, count in st.members:
-        f_r1, o = w_mechanism(si, tab, tab.at(t_j)[0], t_j,
-                              si.cycloid.geometry.eccentricity_m, st.disc_rel)
-        ecc, out_mech = ecc + count * f_r1, out_mech + count * o
-    # one disc's eccentric load reaches the input shaft's two bearings; discs evenly
-    # phased balance there (their couple is left out)
-    loads = {"eccentric_bearing": ecc, "input_bearings": ecc if drive.members == 1 else 0}
-    return _Flow(loads=loads, losses={"pin_contacts": st.pins_W, "output_mechanism": out_mech},
-                 mesh_efficiency={}, churning_stages=(), stage_names=("cycloid stage",))
-
-
-def _rv_flow(si, drive, points, st: _Stage) -> _Flow:
-    """2K-V: the closed form of the general power flow (Chen & Angeles), the spur stage
-    first, the cranks carrying the discs."""
-    w, w_in, t2 = drive.speeds(), points.input_speed_rad_s, points.output_torque_Nm
-    loads = {"crank_bearings": sum(count * crank_bearing_load(si, f_b, t_j)
-                                   for (_, _, t_j, count), f_b in zip(st.members, st.f_bearing)),
-             "crank_support_bearings": crank_support_load(
-                 si, sum(count * t_j for _, _, t_j, count in st.members))}
-    ratio = abs(1 / w["output"])
-    eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), st.eta0)
-    zs, zp = drive.first_teeth
-    cyc = si.cycloid
-    r, z4, z5 = zp / zs, cyc.lobe_count, cyc.geometry.pin_count
-    if np.any(z5 - z4 * st.eta2 <= 0):
-        raise CaseError(f"the disc-pin mesh efficiency {float(np.min(st.eta2)):.4g} in the "
-                        f"crank frame is at or below z4/z5 = {z4 / z5:.4g}: the train "
-                        "self-locks (friction too high for these operating points)")
-    eta_train = (1 + r * eta1 * z5 / (z5 - z4 * st.eta2)) / ratio
-    eta_lossless_1 = (1 + r * eta1 * z5 / (z5 - z4)) / ratio   # only the spur losses
-    p_in = st.p_out / eta_train
-    first = st.p_out / eta_lossless_1 - st.p_out
-    losses = {"first_stage": first, "pin_contacts": p_in - st.p_out - first}
-    fs = si.first_stage           # the spur stage churns too (a0, sun vs carrier)
-    churn = () if fs is None else ((fs.module_m * (fs.sun_teeth + fs.planet_teeth) / 2,
-                                    w_in * (1 - w["output"])),)
-    return _Flow(loads=loads, losses=losses, mesh_efficiency={"first_stage": eta1},
-                 churning_stages=churn,
-                 stage_names=("spur", "cycloid stages") if churn else ("cycloid stage",))
-
-
-def khv_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of a K-H-V cycloid drive (module docstring).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-        Needs [output_mechanism] (the output pins in the discs' holes).
-    drive : toothfem.fem.drives.CycloidDrive
-    points : OperatingPoints
-
-    Returns
-    -------
-    DriveLosses
-        pin_contacts, eccentric_bearing, output_mechanism, the bearings' and the
-        load-independent losses; the cycloid mesh efficiency.
-    """
-    return _cycloid_losses(si, drive, points, _khv_flow)
-
-
-def rv_losses(si, drive, points: OperatingPoints) -> DriveLosses:
-    """Losses of an RV-type (2K-V) drive (module docstring).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-        Needs [first_stage] and the discs' crank holes.
-    drive : toothfem.fem.drives.CycloidDrive
-    points : OperatingPoints
-
-    Returns
-    -------
-    DriveLosses
-        first_stage, pin_contacts, crank_bearings, crank_support_bearings, the main
-        bearings' and the load-independent losses; the cycloid and first-stage mesh
-        efficiencies.
-
-    Raises
-    ------
-    CaseError
-        For a missing section, or a train that self-locks at these points.
-    """
-    return _cycloid_losses(si, drive, points, _rv_flow)
 
 
 def bearing_component(drive) -> str | None:
@@ -544,7 +411,7 @@ def bearing_component(drive) -> str | None:
         "eccentric_bearing" for the sine reducer (Eq. 32), None for a cycloid or RV
         reducer (the coefficient acts on every bearing's load term, not alone).
     """
-    return drive.part("loss_model").bearing_coefficient_component
+    return drive.layout.loss_model.bearing_coefficient_component
 
 
 #: The law and source of each loss component (docs/efficiency.md); a drive kind's own
@@ -595,13 +462,13 @@ def loss_sources(drive, names) -> dict:
     dict
         name -> source.
     """
-    own = drive.part("loss_model").sources
+    own = drive.layout.loss_model.sources
     return {n: own.get(n, LOSS_SOURCES.get(n, "")) for n in names}
 
 
 @dataclass(frozen=True)
 class LossModel:
-    """A layout's loss model (its ``loss_model`` part, toothfem.fem.drives.registry).
+    """A layout's loss model (``Layout.loss_model``, toothfem/layout.py).
 
     Attributes
     ----------
@@ -633,11 +500,3 @@ class LossModel:
         DriveLosses
         """
         return self.losses(si, drive, points)
-
-
-provide("loss_model", "cycloid")(LossModel(khv_losses))
-provide("loss_model", "rv")(LossModel(rv_losses))
-provide("loss_model", "sine")(LossModel(
-    sine_losses, bearing_coefficient_component="eccentric_bearing",
-    sources={"eccentric_bearing": "f r_p F_R1 w_rel, F_R1 from the planet's equilibrium "
-                                  "(Lu & Xu 2024, Eqs. 26-32)"}))

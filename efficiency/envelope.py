@@ -4,15 +4,13 @@ Seals, bearings and the housing need sizes that the tooth geometry does not fix:
 diameter under each seal, the type, pitch diameter and number of the bearings on the
 eccentrics, the main bearing's pitch diameter, the housing's radius and length. A case
 declares them in ``[seals]``, ``[bearings]`` and ``[thermal]``; what it leaves out is taken
-from the drive's own geometry by its layout's rule (the ``envelope`` part of its registration,
+from the drive's own geometry by its layout's rule (its ``Layout.envelope``,
 every rule an ASSUMPTION stated beside it and in docs/case_schema.md).
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..errors import CaseError
-from ..fem.drives.registry import provide
 
 #: Pitch diameter of a light-series ball bearing per bore: 1.5 (a 6004 has d = 20 mm,
 #: D = 42 mm, d_m = 31 mm = 1.55 d; makers' catalogues). ASSUMPTION for the sine eccentric.
@@ -20,9 +18,6 @@ BALL_PITCH_PER_BORE = 1.5
 #: Input shaft diameter of a cycloid drive without a centre bore, per pin-circle radius.
 #: ASSUMPTION: 0.2 R_z (a 16 mm shaft on the RV-40E-like disc of R_z = 64 mm).
 INPUT_SHAFT_PER_PIN_CIRCLE = 0.2
-#: Housing radius of a sine reducer per ring pitch radius (ASSUMPTION: a wall of a quarter
-#: of the ring radius around the ring gear).
-SINE_HOUSING_PER_RING_RADIUS = 1.25
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -39,64 +34,47 @@ class Envelope:
     housing_length_m: float
 
 
-def _cycloid_envelope(si, eccentric_diameter_m, eccentric_count) -> dict:
+def cycloid_envelope(si, eccentric_diameter_m, eccentric_count) -> dict:
     """Cycloid and RV drives: the output seal and the main bearing sit at the pin circle,
     the housing is the pin housing (radius ``housing_outer_radius``, as long as its
-    diameter), the eccentric bearings are needle rollers. All ASSUMPTIONS."""
+    diameter), the eccentric bearings are needle rollers. All ASSUMPTIONS.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    eccentric_diameter_m : float
+        The eccentric bearings' pitch diameter [m].
+    eccentric_count : int
+        Eccentric bearings in the reducer.
+
+    Returns
+    -------
+    dict
+        :class:`Envelope`'s fields [m].
+    """
     g = si.cycloid.geometry
     r_h = si.cycloid.housing_outer_radius_m
-    return dict(input_seal_diameter_m=_input_shaft_m(si),
+    return dict(input_seal_diameter_m=input_shaft_m(si),
                 output_seal_diameter_m=2 * g.pin_circle_radius_m,
                 eccentric_type="needle", eccentric_pitch_diameter_m=eccentric_diameter_m,
                 eccentric_count=eccentric_count, main_pitch_diameter_m=2 * g.pin_circle_radius_m,
                 main_count=2, housing_radius_m=r_h, housing_length_m=2 * r_h)
 
 
-def _input_shaft_m(si) -> float:
-    """The input shaft runs through the discs' centre bore (or is sized on the pin circle)."""
+def input_shaft_m(si) -> float:
+    """The input shaft runs through the discs' centre bore (or is sized on the pin circle).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+
+    Returns
+    -------
+    float
+        The input shaft's diameter [m].
+    """
     bore = 2 * si.cycloid.holes.centre_bore_radius_m
     return bore if bore > 0 else INPUT_SHAFT_PER_PIN_CIRCLE * si.cycloid.geometry.pin_circle_radius_m
-
-
-@provide("envelope", "cycloid")
-def _khv_envelope(si, drive) -> dict:
-    """K-H-V: the eccentric bearings (RV reducers' needle rollers) run in the centre bore,
-    one per disc (:func:`_cycloid_envelope`)."""
-    bore = 2 * si.cycloid.holes.centre_bore_radius_m
-    d = bore if bore > 0 else _input_shaft_m(si) * BALL_PITCH_PER_BORE
-    return _cycloid_envelope(si, d, si.cycloid.disc_count)
-
-
-@provide("envelope", "rv")
-def _rv_envelope(si, drive) -> dict:
-    """2K-V: the crank bearings run in the crank holes, one per hole of every disc
-    (:func:`_cycloid_envelope`)."""
-    h = si.cycloid.holes
-    if h.crank_hole_count < 1:
-        raise CaseError("cycloid.disc_holes.crank_hole_count = 0: a 2K-V drive needs its "
-                        "crank holes for the crank bearings")
-    return _cycloid_envelope(si, 2 * h.crank_hole_radius_m,
-                             h.crank_hole_count * si.cycloid.disc_count)
-
-
-@provide("envelope", "sine")
-def _sine_envelope(si, drive) -> dict:
-    """Sine reducer (Lu & Xu 2024, Fig. 1): the input shaft carries the eccentric bearing
-    (bore 2 r_p), a deep-groove ball bearing of pitch 1.5 bores; the output seal and the
-    main bearing sit at the outer edge of the output pins' circle (2 (R_w + r_x)); the
-    housing wraps the ring gear. All ASSUMPTIONS."""
-    om = si.output_mechanism
-    if om is None:
-        raise CaseError("a sine reducer needs [output_mechanism] for its bearings and seals")
-    bore = 2 * om.eccentric_bearing_inner_radius_m
-    out = 2 * (om.pin_hole_circle_radius_m + om.pin_radius_m)
-    pair = si.sine.pair
-    r_h = SINE_HOUSING_PER_RING_RADIUS * pair.module_m * pair.ring_teeth / 2
-    return dict(input_seal_diameter_m=bore, output_seal_diameter_m=out,
-                eccentric_type="ball", eccentric_pitch_diameter_m=BALL_PITCH_PER_BORE * bore,
-                eccentric_count=1, main_pitch_diameter_m=out, main_count=2,
-                housing_radius_m=r_h, housing_length_m=2 * r_h)
-
 
 
 def envelope(si, drive) -> Envelope:
@@ -112,7 +90,7 @@ def envelope(si, drive) -> Envelope:
     -------
     Envelope
     """
-    sizes = drive.part("envelope")(si, drive)
+    sizes = drive.layout.envelope(si, drive)
     seals, bearings = si.seals, si.bearings
     declared = {
         "input_seal_diameter_m": None if seals is None else seals.input_diameter_m,

@@ -147,7 +147,7 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
         input_speed_rad_s=rpm_to_rad_s(n), output_torque_Nm=t,
         viscosity_factor=viscosity_factor(si.lubricant, temp) * np.ones_like(n),
         loads=loads, n_positions=int(positions), table=table)
-    res = drive.part("loss_model")(si, drive, points)
+    res = drive.layout.loss_model(si, drive, points)
     return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
                       loads=loads, method=method, notes=res.notes,
                       mesh_efficiency=res.mesh_efficiency,

@@ -134,21 +134,85 @@ class ReducerModel(Protocol):
     def solve(self, output_torque_Nm: float, p: int, *, side: int | None = None,
               start: Any = None, friction: Any = None, deviation: Any = None,
               pitch: int = 0, geometry: Any = None) -> Any:
-        """The state at position ``p`` under an output torque of either sign (nonzero):
-        its twist [rad], member torques, contact and bearing forces, the twist's parts."""
+        """The state at one position under an output torque (input held).
+
+        Parameters
+        ----------
+        output_torque_Nm : float
+            [N m], nonzero; its sign loads the flank.
+        p : int
+            Position index in the meshing period.
+        side : {1, -1}, optional
+            The flank the contacts' half-widths are taken for (the torque's sign).
+        start : object, optional
+            A nearby state to start from.
+        friction : object, optional
+            The friction coefficients the state's friction torque is reported with.
+        deviation : object, optional
+            A built stage's deviations (``fem.deviations``).
+        pitch : int
+            The built stage's meshing periods on from the position.
+        geometry : object, optional
+            The member with other modifications, on these tables.
+
+        Returns
+        -------
+        object
+            The state: its twist [rad], member torques [N m], contact and bearing forces
+            [N], the twist's part in each element.
+        """
         ...
 
     def closing_rotation(self, p: int, side: int, *, deviation: Any = None, pitch: int = 0,
                          geometry: Any = None) -> float:
-        """The output's rigid turn that closes the first contact of a flank at position
-        ``p`` (every part rigid): the zero-torque limit of the twist [rad]."""
+        """The output's rigid turn that closes the first contact of a flank, every part
+        rigid: the zero-torque limit of the twist.
+
+        Parameters
+        ----------
+        p : int
+            Position index.
+        side : {1, -1}
+            The flank.
+        deviation, pitch, geometry
+            As :meth:`solve`'s.
+
+        Returns
+        -------
+        float
+            [rad], signed.
+        """
         ...
 
     def member_record(self, j: int, states: Any, meshing: Any = None) -> LoadSharing:
-        """Member ``j``'s load sharing over the positions of ``states``."""
+        """Member ``j``'s load sharing over the positions of ``states``.
+
+        Parameters
+        ----------
+        j : int
+            Member index.
+        states : list
+            One state of :meth:`solve` per position, in order.
+        meshing : toothfem.geometry.kinematics.MeshingState, optional
+            The first member's meshing at the positions, if known.
+
+        Returns
+        -------
+        toothfem.fem.load_sharing.LoadSharing
+        """
         ...
 
     def variant(self, **changes: Any) -> ReducerModel:
-        """The same model with parts changed (rigid groups, a bearing's play or stiffness,
-        stiffness scales), its FE tables shared: what the rig loop's effects set."""
+        """The same model with parts changed, its FE tables shared: what the rig loop's
+        effects set.
+
+        Parameters
+        ----------
+        **changes
+            Rigid groups, a bearing's play or stiffness, stiffness scales.
+
+        Returns
+        -------
+        ReducerModel
+        """
         ...

@@ -181,7 +181,7 @@ def test_bad_inputs_name_the_parameter(case, model, torque, cases_dir):
     with pytest.raises(ToothfemError, match="element_size"):
         sf.solve_detailed(model, 0.0, torque, element_size=1e-3)
     with pytest.raises(ToothfemError, match="drive"):
-        SineDrive.from_case(load_case(cases_dir / "cycloid_pinhousing.toml").to_si())
+        SineDrive.from_case(load_case(cases_dir / "cycloid_pinhousing.toml").to_si(), None)
 
 
 @pytest.mark.slow

@@ -1,7 +1,7 @@
 """Imports run one way (docs/architecture.md): geometry -> fem -> efficiency ->
-efficiency.loop -> the top (toothfem's pipeline, reports, commands), at module and at
-function level, the base modules open to every layer; and no private name crosses a
-package boundary."""
+efficiency.loop -> the pieces the layouts are built from -> the layouts -> the top
+(toothfem's case, pipeline, reports, commands), at module and at function level, the base
+modules open to every layer; and no private name crosses a package boundary."""
 from __future__ import annotations
 
 import ast
@@ -14,11 +14,16 @@ sys.path.insert(0, str(ROOT / "tools"))
 import typecheck  # noqa: E402  (tools/typecheck.py: the package's modules by the mapping)
 #: Every layer may import these (exceptions, ranges, limits, SI records, units, progress).
 BASE = {"toothfem.errors", "toothfem.limits", "toothfem.case_checks", "toothfem.leftovers",
-        "toothfem.bars",
+        "toothfem.bars", "toothfem.layout",
         "toothfem.signals", "toothfem.si", "toothfem.units"}
-#: Layer of a module by its package prefix (the longest prefix wins).
+#: Layer of a module by its package prefix (the longest prefix wins): the cores, the
+#: layouts above them (toothfem/layouts/, which take the cores' pieces), the top above.
 LAYERS = {"toothfem.geometry": 0, "toothfem.fem": 1, "toothfem.efficiency": 2,
-          "toothfem.efficiency.loop": 3, "toothfem": 4}
+          "toothfem.efficiency.loop": 3, "toothfem.layouts": 5, "toothfem": 6}
+#: The top's modules that the layouts are built from (a case section, a template's rules,
+#: a drawing, the CAD bodies): below the layouts, so they never import one.
+PIECES = {"toothfem.case_sections": 4, "toothfem.case_template": 4, "toothfem.cad": 4,
+          "toothfem.cad_parts": 4, "toothfem.report.plots": 4, "toothfem.report": 4}
 
 
 def _modules():
@@ -29,6 +34,8 @@ def _modules():
 
 
 def _layer(module: str) -> int:
+    if module in PIECES:
+        return PIECES[module]
     best = max((p for p in LAYERS if module == p or module.startswith(p + ".")), key=len)
     return LAYERS[best]
 

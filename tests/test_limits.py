@@ -13,7 +13,7 @@ from toothfem import cli, limits
 from toothfem.case import load_case
 from toothfem.efficiency import evaluate
 from toothfem.efficiency.thermal import heat_balance
-from toothfem.fem.drives.registry import RECORDS
+from toothfem.layouts import layout_named
 
 
 def test_a_record_says_the_value_the_limit_and_the_source():
@@ -46,7 +46,7 @@ def test_rv40e_at_the_papers_point_passes_its_rating_film_and_case_temperature(c
     # the rated point the balance settles at 80.0 C against the maker's 60 C (regression)
     hb = heat_balance(case, 1815.0, 412.0)
     hot = [w for w in hb.warnings if "temperature" in w.quantity]
-    assert hot and hot[0].limit == RECORDS["rv"].case_temperature_limit_C == 60.0
+    assert hot and hot[0].limit == layout_named("rv").case_temperature_limit_C == 60.0
     assert hot[0].value == pytest.approx(80.0, abs=0.5) and "Nabtesco" in hot[0].source
     # above the start/stop torque and the momentary maximum: each said with its source
     over = {w.source.split(",")[0] for w in evaluate(case, 1500.0, 2100.0).warnings

@@ -22,7 +22,7 @@ import pytest
 from toothfem import load_case
 from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency import loop as lp
-from toothfem.fem.drives.registry import RECORDS
+from toothfem.layouts import layout_named
 from toothfem.efficiency import lubricant as md
 from toothfem.efficiency import predict
 from toothfem.efficiency.loop import synthetic as sy
@@ -92,7 +92,7 @@ FIELD_EFFECTS = tuple(e.name for e in CATALOG if len(e.case_fields) == 1)
 @pytest.mark.parametrize("name", FIELD_EFFECTS)
 def test_apply_sets_its_fields_by_copy(cases, name):
     eff = fx.by_name(name, CATALOG)
-    case = cases["rv40e"] if eff.acts_on in (None, *RECORDS["rv"].components) \
+    case = cases["rv40e"] if eff.acts_on in (None, *layout_named("rv").components) \
         else cases["sine_prototype"]
     p = eff.parameters[0]
     value = 0.5 * (p.starts[0] + p.hi) if p.hi < 1e5 else 123.0

@@ -1,7 +1,7 @@
 """The parts of a drive as a drawing (:class:`toothfem.cad.PartDrawing`): what the DXF, SVG
 and STEP writers of :mod:`toothfem.cad` draw.
 
-One builder per layout (its ``cad_parts`` part, toothfem.fem.drives.registry), each from the drive's
+One builder per member (a layout's ``Layout.cad_parts`` picks it), each from the drive's
 own records (SI):
 
 * cycloid and RV drives: layer ``DISC_PROFILE`` (the disc's working profile, the outline of
@@ -27,7 +27,6 @@ import numpy as np
 from .cad import Body, PartDrawing, Region
 from .errors import CaseError, GeometryError, check_range
 from .fem.drives import drive_for
-from .fem.drives.registry import provide
 from .fem.sine_fe.model import model_from_pair
 from .geometry import cycloid_mesh as cym, sine as sg
 from .geometry.disc import DiscHolesSI
@@ -135,8 +134,20 @@ def housing_bore(geometry, integral: bool, points_per_pin: int = 96) -> np.ndarr
     return np.asarray(shape.exterior.coords).T[:, :-1]
 
 
-def _cycloid_part(si, drive, points_per_tooth: int) -> PartDrawing:
-    """The disc with its holes, the pins, the output pins (K-H-V) and the pin housing."""
+def cycloid_parts(si, drive, points_per_tooth: int) -> PartDrawing:
+    """The disc with its holes, the pins, the output pins (K-H-V) and the pin housing.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    points_per_tooth : int
+        Samples per lobe or tooth.
+
+    Returns
+    -------
+    toothfem.cad.PartDrawing
+    """
     st, g, h = drive.stage, drive.geometry, drive.stage.holes
     profiles, _ = drive.profiles(points_per_tooth)     # checks the holes (disc_polygon)
     profile = profiles["profile"]
@@ -236,8 +247,20 @@ def _check_planet(planet_profile, holes: DiscHolesSI) -> None:
                                 "or eccentric_bearing_inner_radius_mm")
 
 
-def _sine_part(si, drive, points_per_tooth: int) -> PartDrawing:
-    """The planet with its bore and output-pin holes, the output pins and the ring."""
+def sine_parts(si, drive, points_per_tooth: int) -> PartDrawing:
+    """The planet with its bore and output-pin holes, the output pins and the ring.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+    points_per_tooth : int
+        Samples per lobe or tooth.
+
+    Returns
+    -------
+    toothfem.cad.PartDrawing
+    """
     pair = drive.pair
     profiles, _ = drive.profiles(points_per_tooth)
     planet, ring = profiles["planet"], profiles["ring"]
@@ -279,8 +302,6 @@ def _sine_part(si, drive, points_per_tooth: int) -> PartDrawing:
                        assumed=assumed)
 
 
-provide("cad_parts", "cycloid", "rv")(_cycloid_part)
-provide("cad_parts", "sine")(_sine_part)
 
 
 def part_drawing(case, points_per_tooth: int = 96, *, drive=None) -> PartDrawing:
@@ -311,4 +332,4 @@ def part_drawing(case, points_per_tooth: int = 96, *, drive=None) -> PartDrawing
     check_range("points_per_tooth", points_per_tooth, 8, 10000, error=CaseError)
     si = si_of(case)
     drive = drive_for(si) if drive is None else drive
-    return drive.part("cad_parts")(si, drive, int(points_per_tooth))
+    return drive.layout.cad_parts(si, drive, int(points_per_tooth))

@@ -24,10 +24,9 @@ from collections.abc import Mapping
 
 from . import si
 from .case_checks import STATED_RATIO_MAX, check_type, expected_type
-from .errors import CaseError, GeometryError, check_range, decode_text, short_repr
-from .geometry.disc import disc_polygon
-from .geometry import train
-from .fem.drives.registry import provide, record_of, stage_sections
+from .errors import CaseError, check_range, decode_text, short_repr
+from .layout import Layout
+from .layouts import layout_of, stage_sections
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -40,7 +39,6 @@ from .case_sections import (Bearings, CycloidStage, DiscHoles, DutyPoint, Fricti
                             SineStage, SpurStage, Supports, Thermal, check_ambient,
                             check_duty_cycle)
 from .case_design import Design, Tolerances, check_tolerances
-from .units import M_PER_MM
 
 
 @dataclass(frozen=True)
@@ -69,8 +67,8 @@ class Case:
     design: Design | None = None
 
     def __post_init__(self):
-        record = record_of(self)        # refuses a drive no layout names
-        for sec in record.required_sections[self.drive]:
+        layout = self.layout            # refuses a drive no layout names
+        for sec in layout.required_sections[self.drive]:
             if getattr(self, sec) is None:
                 raise CaseError(f"[{sec}] section is required for drive = {self.drive!r}")
         if self.rv is not None:           # the [rv] tooth numbers bind the stages
@@ -107,7 +105,18 @@ class Case:
         if self.cycloid is not None and self.material is None:
             raise CaseError("[material] section is required with a [cycloid] section (the "
                             "contact model of the disc)")
-        record_of(self).part("case_checks")(self)
+        self.layout.case_checks(self)
+
+    @property
+    def layout(self) -> Layout:
+        """The case's layout (:func:`toothfem.layouts.layout_of`): what every analysis asks
+        of it.
+
+        Returns
+        -------
+        toothfem.layout.Layout
+        """
+        return layout_of(self)
 
     def khv_output(self):
         """The output pins that pass through a K-H-V cycloid drive's discs, or None (a 2K-V
@@ -117,7 +126,7 @@ class Case:
         -------
         toothfem.case_sections.OutputMechanism or None
         """
-        if self.cycloid is None or "output_mechanism" not in record_of(self).components:
+        if self.cycloid is None or "output_mechanism" not in self.layout.components:
             return None
         return self.output_mechanism
 
@@ -130,7 +139,7 @@ class Case:
         float
             i = omega_input / omega_output [-].
         """
-        return record_of(self).part("ratio")(self)
+        return self.layout.ratio(self)
 
     def to_si(self) -> si.CaseSI:
         """The case in SI records (:mod:`toothfem.si`): what fem/ and efficiency/ read.
@@ -149,100 +158,6 @@ class Case:
 
 
 _S = TypeVar("_S")
-
-
-def _need(section: _S | None, name: str, case: Case) -> _S:
-    """A section the layout requires (``DriveRecord.required_sections``), or the CaseError
-    that names it."""
-    if section is None:
-        raise CaseError(f"[{name}] section is required for drive = {case.drive!r}")
-    return section
-
-
-@provide("ratio", "cycloid")
-def _khv_ratio(case: Case) -> float:
-    """A K-H-V cycloid drive: the disc's lobes on the pins."""
-    cyc = _need(case.cycloid, "cycloid", case)
-    return train.khv_ratio(cyc.lobe_count, cyc.pin_count)
-
-
-@provide("ratio", "rv")
-def _rv_ratio(case: Case) -> float:
-    """A 2K-V drive: from [rv], or from [first_stage] and [cycloid]."""
-    if case.rv is not None:
-        z = case.rv
-        return train.rv_ratio(z.sun_teeth, z.planet_teeth, z.disc_teeth, z.pin_count)
-    fs = _need(case.first_stage, "first_stage", case)
-    cyc = _need(case.cycloid, "cycloid", case)
-    return train.rv_ratio(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count, cyc.pin_count)
-
-
-@provide("ratio", "sine")
-def _sine_ratio(case: Case) -> float:
-    """The sine pair: one tooth difference, the planet's teeth on the ring's."""
-    st = _need(case.sine, "sine", case)
-    return train.khv_ratio(st.planet_teeth, st.ring_teeth)
-
-
-def _needs_output_pins(case: Case) -> None:
-    """A single-stage layout carries its torque out through pins in the member's holes."""
-    if case.output_mechanism is None:
-        raise CaseError(f"drive = {case.drive!r} without a [first_stage] needs "
-                        "[output_mechanism] (pins in holes: the output path of a K-H-V "
-                        "stage)")
-
-
-@provide("case_checks", "cycloid")
-def _check_khv(case: Case) -> None:
-    """K-H-V: the output pins, and the disc on its eccentric bearing in the centre bore
-    with the output pins' holes beside it."""
-    _needs_output_pins(case)
-    _check_khv_disc(case)
-
-
-provide("case_checks", "sine")(_needs_output_pins)
-
-
-@provide("case_checks", "rv")
-def _check_rv(case: Case) -> None:
-    """2K-V: a cycloid stage behind its spur first stage, on cranks in crank holes."""
-    if case.cycloid is None:
-        return                          # the [rv] train alone (the RV paper's method)
-    if case.first_stage is None:
-        raise CaseError("[first_stage] section is required with a [cycloid] section for "
-                        f"drive = {case.drive!r} (the sun-planet mesh)")
-    h = case.cycloid.disc_holes
-    if h.crank_hole_count < 1:     # (their radii: DiscHoles checks them with a count)
-        raise CaseError(f"cycloid.disc_holes.crank_hole_count = {h.crank_hole_count} "
-                        "is outside the valid range [1, 12]: a two-stage (RV-type) "
-                        "drive carries its discs on crankshafts in crank holes "
-                        "(crank_hole_count, crank_hole_radius_mm and "
-                        "crank_hole_circle_radius_mm > 0)")
-
-
-def _check_khv_disc(case: Case) -> None:
-    """A K-H-V disc sits on its eccentric bearing in the centre bore, and the output
-    pins' holes fit in the disc beside it."""
-    cyc = _need(case.cycloid, "cycloid", case)
-    om = _need(case.output_mechanism, "output_mechanism", case)
-    if cyc.disc_holes.centre_bore_radius_mm <= 0:
-        raise CaseError("cycloid.disc_holes.centre_bore_radius_mm = "
-                        f"{cyc.disc_holes.centre_bore_radius_mm!r} must be > 0 for a K-H-V "
-                        "drive: the disc sits on its eccentric bearing in the centre bore")
-    holes = cyc.holes_si(om)
-    gap = holes.output_hole_radius_m - om.contact_radius_mm * M_PER_MM \
-        - cyc.eccentricity_mm * M_PER_MM
-    if gap < 0:
-        raise CaseError(f"output_mechanism.hole_radius_mm = {om.hole_radius_mm!r} is "
-                        "outside the valid range: at least the pin's (or roller's) radius "
-                        f"plus the eccentricity, {om.contact_radius_mm + cyc.eccentricity_mm:g}"
-                        " mm (else the disc cannot orbit on its output pins)")
-    try:
-        disc_polygon(cyc.geometry(), holes, points_per_lobe=16)
-    except GeometryError as exc:
-        raise CaseError(f"{exc} (the output pins' holes: output_mechanism.pin_count, "
-                        "pin_hole_circle_radius_mm, hole_radius_mm; the bore: "
-                        "cycloid.disc_holes.centre_bore_radius_mm)") from None
 
 
 _SECTIONS = {

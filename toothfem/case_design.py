@@ -9,7 +9,7 @@ from dataclasses import dataclass
 from .case_sections import _f, _Section
 from .errors import CaseError
 from .fem.deviations import DISTRIBUTIONS
-from .fem.drives.registry import RECORDS
+from .layouts import LAYOUTS
 
 #: Largest tolerance zone accepted [mm]: a tenth of a millimetre is coarse turning; the
 #: contact model's first-order gap shifts hold for deviations far below the part sizes.
@@ -127,11 +127,11 @@ def check_tolerances(tolerances: Tolerances, stage: str | None) -> None:
     CaseError
         Naming the first nonzero key of another stage.
     """
-    for record in RECORDS.values():
-        if record.stage_section == stage:
+    for layout in LAYOUTS:
+        if layout.stage_section == stage:
             continue
-        for key in record.tolerance_keys:
+        for key in layout.tolerance_keys:
             value = getattr(tolerances, key)
             if value:
-                raise CaseError(f"tolerances.{key} = {value!r} applies to a {record.stage_section} stage, "
+                raise CaseError(f"tolerances.{key} = {value!r} applies to a {layout.stage_section} stage, "
                                 f"which this case has not: valid value 0")

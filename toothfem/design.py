@@ -30,7 +30,6 @@ from .efficiency.no_load import path_friction
 from .efficiency import rated_output_torque
 from .fem.datasheet.sheet import datasheet
 from .fem.drives import drive_for
-from .fem.drives.registry import record_of
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
 
 #: Points of the design of experiments (a power of two: Sobol balance), the seed of its
@@ -207,7 +206,7 @@ def design_analysis(case: Case, *, positions: int = 18, progress: bool = True) -
     if case.design is None:
         raise CaseError("[design] section is required (targets: max_backlash_arcmin, "
                         "min_contacts, max_ph_MPa, percentile)")
-    layout = record_of(case)
+    layout = case.layout
     if not layout.design_keys or getattr(case, layout.stage_section, None) is None:
         raise CaseError(f"drive = {case.drive!r}: toothfem design searches the cycloid "
                         "disc's modifications; this case has no [cycloid] section")

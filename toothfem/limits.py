@@ -215,9 +215,9 @@ def case_temperature(si, drive, temperature_C) -> list:
     t = float(np.max(np.atleast_1d(temperature_C)))
     limit = None if si.thermal is None else si.thermal.case_temperature_limit_C
     source = "thermal.case_temperature_limit_C"
-    if limit is None and drive.record.case_temperature_limit_C is not None:
-        limit = drive.record.case_temperature_limit_C
-        source = drive.record.case_temperature_source
+    if limit is None and drive.layout.case_temperature_limit_C is not None:
+        limit = drive.layout.case_temperature_limit_C
+        source = drive.layout.case_temperature_source
     hit = above("case (oil) temperature of the heat balance", t, limit, "C", source)
     return [hit] if hit else []
 

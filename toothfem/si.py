@@ -15,11 +15,14 @@ from __future__ import annotations
 import dataclasses
 import math
 import os
-from dataclasses import dataclass
-from typing import Any
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 from .errors import ToothfemError, short_repr
 from .units import ARCMIN, M_PER_MM, M_PER_UM, PA_PER_GPA, rad_s_to_rpm, rpm_to_rad_s
+
+if TYPE_CHECKING:
+    from .layout import Layout
 
 _RECORD = dict(frozen=True, kw_only=True)
 
@@ -270,9 +273,11 @@ class TolerancesSI:
 
 @dataclass(**_RECORD)
 class CaseSI:
-    """A whole case in SI; ``ratio`` is the signed input/output speed ratio."""
+    """A whole case in SI; ``ratio`` is the signed input/output speed ratio, ``layout`` the
+    case's :class:`toothfem.layout.Layout` (what the cores ask of it)."""
     name: str
     drive: str
+    layout: Layout = field(compare=False, repr=False)
     ratio: float
     material: MaterialSI | None
     cycloid: CycloidStageSI | None
@@ -386,7 +391,7 @@ def from_case(case) -> CaseSI:
     fri = case.friction
     om = case.output_mechanism
     return CaseSI(
-        name=case.name, drive=case.drive, ratio=case.ratio(),
+        name=case.name, drive=case.drive, layout=case.layout, ratio=case.ratio(),
         material=None if mat is None else MaterialSI(
             youngs_modulus_Pa=mat.youngs_modulus_GPa * _GPA, poisson_ratio=mat.poisson_ratio,
             density_kg_m3=mat.density_kg_m3, hardness_Pa=mat.hardness_HV * _HV,

@@ -16,7 +16,7 @@ import numpy as np
 
 from ...errors import ToothfemError, check_range
 from ...fem.drives import drive_for
-from ...fem.drives.registry import record_of
+from ...si import si_of
 from ..evaluation import evaluate
 
 # ---------------------------------------------------------------------------------------
@@ -177,9 +177,9 @@ class Effect:
         str or None
             The reason, or None.
         """
-        record = record_of(case)
-        if self.acts_on is not None and self.acts_on not in record.components:
-            return (f"acts on the {self.acts_on.replace('_', ' ')}, which {record.label} "
+        layout = si_of(case).layout
+        if self.acts_on is not None and self.acts_on not in layout.components:
+            return (f"acts on the {self.acts_on.replace('_', ' ')}, which {layout.label} "
                     "does not have")
         if self.not_applicable is not None:
             why = self.not_applicable(case, points)

@@ -1,16 +1,12 @@
-"""Drives: one abstraction for both reducers (docs/architecture.md).
+"""Drives: one abstraction for both meshing stages (docs/architecture.md).
 
 A :class:`Drive` is what every capability asks instead of branching on the drive type:
 the positions of one meshing period, the meshing state, the member torque for an output
 torque (the one torque rule), the train speeds, the FE model, the cycle solver (with the
-disk cache) and the analytic split. :func:`drive_for` picks the implementation for a case:
-:class:`CycloidDrive` (a cycloid disc on its pins: K-H-V cycloid drives and the second
-stage of RV-type drives) or :class:`SineDrive` (the sine planet in its ring).
-
-To add a drive: implement :class:`Drive` in a module of this package, give its layout a
-record in :data:`toothfem.fem.drives.registry.RECORDS` and its class here in
-:data:`DRIVES`, and provide every part of ``registry.PARTS`` in the module that owns it
-(docs/architecture.md, "Adding a drive"; tests/test_registry.py checks each).
+disk cache), the analytic split and the system model of the whole reducer.
+:class:`CycloidDrive` is a cycloid disc on its pins (K-H-V cycloid drives and the second
+stage of RV-type drives), :class:`SineDrive` the sine planet in its ring. A case's layout
+(:mod:`toothfem.layouts`, carried by its SI record) builds its drive: :func:`drive_for`.
 """
 from __future__ import annotations
 
@@ -18,18 +14,12 @@ from .base import DEFAULT_POSITIONS, MAX_POSITIONS, Drive
 from .cycloid import CycloidDrive
 from .sine import SineDrive
 from ...si import si_of
-from .registry import layout_name
 
-__all__ = ["DEFAULT_POSITIONS", "MAX_POSITIONS", "Drive", "CycloidDrive", "SineDrive", "DRIVES", "drive_for"]
-
-#: The case's ``drive`` name -> the implementation that analyses its meshing stage (an RV
-#: drive's contact stage is its cycloid disc).
-DRIVES: dict[str, type[CycloidDrive] | type[SineDrive]] = {
-    "cycloid": CycloidDrive, "rv": CycloidDrive, "sine": SineDrive}
+__all__ = ["DEFAULT_POSITIONS", "MAX_POSITIONS", "Drive", "CycloidDrive", "SineDrive", "drive_for"]
 
 
 def drive_for(case) -> Drive:
-    """The :class:`Drive` of a case.
+    """The :class:`Drive` of a case, built by its layout (``CaseSI.layout``).
 
     Parameters
     ----------
@@ -48,4 +38,4 @@ def drive_for(case) -> Drive:
         disc) or lacks the [material] the contact needs.
     """
     si = si_of(case)
-    return DRIVES[layout_name(si)].from_case(si)
+    return si.layout.make_drive(si)

@@ -4,6 +4,7 @@ from __future__ import annotations
 import abc
 import math
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -12,7 +13,9 @@ from ..hertz import reduced_modulus
 from ..cache import DiskCache, default_dir
 from ..load_sharing import LoadSharing, analytic_split
 from ..contracts import CycleSolver, DetailedSolution, ReducerModel
-from .registry import RECORDS, DriveRecord
+
+if TYPE_CHECKING:
+    from ...layout import Layout
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
 #: 40-pin drive, enough for the load per pin to converge (docs/fem.md).
@@ -30,8 +33,12 @@ class Drive(abc.ABC):
     """
 
     #: "cycloid" or "sine": the meshing stage, as its case section and the mesh efficiency
-    #: are named (labels only; consumers ask :meth:`part`, never branch on it).
+    #: are named (labels only; consumers ask :attr:`layout`, never branch on it).
     kind: str = ""
+    #: The layout it belongs to (:class:`toothfem.layout.Layout`): what every consumer asks
+    #: instead of branching on the drive; each implementation holds it as a field that
+    #: takes no part in the drive's equality and hash.
+    layout: Layout
     #: what the moving member and a contact are called in outputs ("disc", "pin", "pins";
     #: "planet", "tooth", "teeth"): labels and summary keys, never a branch.
     member_name: str = ""
@@ -204,32 +211,6 @@ class Drive(abc.ABC):
     def two_stage(self) -> bool:
         """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
         return False
-
-    @property
-    def layout(self) -> str:
-        """The layout's name in :data:`toothfem.fem.drives.registry.RECORDS` (default: the
-        stage's kind)."""
-        return self.kind
-
-    @property
-    def record(self) -> DriveRecord:
-        """The layout's registration record (:mod:`toothfem.fem.drives.registry`)."""
-        return RECORDS[self.layout]
-
-    def part(self, name: str):
-        """The layout's part ``name``: what a consumer asks instead of branching on the drive.
-
-        Parameters
-        ----------
-        name : str
-            A key of :data:`toothfem.fem.drives.registry.PARTS`.
-
-        Returns
-        -------
-        callable
-            The part its owning module provided (``DriveRecord.part``).
-        """
-        return self.record.part(name)
 
     def te_orders(self) -> dict:
         """Orders per output revolution at which a transmission-error ripple is expected

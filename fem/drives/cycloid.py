@@ -3,8 +3,9 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -21,6 +22,9 @@ from ...geometry.disc import disc_polygon
 from ...si import CycloidStageSI, MaterialSI, OutputMechanismSI, SpurStageSI
 from ...units import MM2_PER_M2
 
+if TYPE_CHECKING:
+    from ...layout import Layout
+
 
 @dataclass(frozen=True, kw_only=True)
 class CycloidDrive(Drive):
@@ -29,6 +33,7 @@ class CycloidDrive(Drive):
     K-H-V drive whose disc is the output member."""
     stage: CycloidStageSI
     material_si: MaterialSI
+    layout: Layout = field(compare=False, repr=False)
     first_teeth: tuple[int, int] | None = None
     first_stage: SpurStageSI | None = None      # of a 2K-V drive, if the case has it
     output: OutputMechanismSI | None = None     # a K-H-V drive's output pins
@@ -43,13 +48,15 @@ class CycloidDrive(Drive):
     both_flanks_options = {"sides": (0,)}
 
     @classmethod
-    def from_case(cls, si) -> CycloidDrive:
+    def from_case(cls, si, layout: Layout) -> CycloidDrive:
         """The drive of a case.
 
         Parameters
         ----------
         si : toothfem.si.CaseSI
             The case in SI (:meth:`toothfem.case.Case.to_si`).
+        layout : toothfem.layout.Layout
+            Its layout (K-H-V or RV).
 
         Returns
         -------
@@ -72,7 +79,7 @@ class CycloidDrive(Drive):
             first = (si.first_stage.sun_teeth, si.first_stage.planet_teeth)
         else:
             first = None
-        return cls(stage=si.cycloid, material_si=si.material, first_teeth=first,
+        return cls(stage=si.cycloid, material_si=si.material, layout=layout, first_teeth=first,
                    first_stage=si.first_stage,
                    output=None if first is not None else si.output_mechanism)
 
@@ -105,11 +112,6 @@ class CycloidDrive(Drive):
     def two_stage(self) -> bool:
         """A 2K-V (RV-type) train: a spur first stage drives the cranks."""
         return self.first_teeth is not None
-
-    @property
-    def layout(self) -> str:
-        """"rv" (2K-V) or "cycloid" (K-H-V)."""
-        return "rv" if self.two_stage else "cycloid"
 
     @property
     def eccentric_race_radius_m(self) -> float:

@@ -1,7 +1,8 @@
 """The sine-profile planet in its fixed ring (one-tooth-difference K-H-V pair)."""
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -16,6 +17,9 @@ from .assembly import CycloidSystem
 from ..system.mesh import ToothMesh
 from .base import Drive, _merged_orders
 from ...si import MaterialSI, OutputMechanismSI, SineStageSI
+
+if TYPE_CHECKING:
+    from ...layout import Layout
 
 #: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
 #: the planet's pitch radius (ASSUMPTION; the prototype's 10 mm is 0.28 of its 35.55 mm).
@@ -33,6 +37,7 @@ class SineDrive(Drive):
     in holes) sets where the FE model holds the planet."""
     stage: SineStageSI
     material_si: MaterialSI
+    layout: Layout = field(compare=False, repr=False)
     output_mechanism: OutputMechanismSI | None = None
 
     kind = "sine"
@@ -42,12 +47,13 @@ class SineDrive(Drive):
     analytic_weight = "cos_pressure_angle"
 
     @classmethod
-    def from_case(cls, si) -> SineDrive:
+    def from_case(cls, si, layout: Layout) -> SineDrive:
         """The sine pair of a case, with its output mechanism if it has one.
 
         Parameters
         ----------
         si : toothfem.si.CaseSI
+        layout : toothfem.layout.Layout
 
         Returns
         -------
@@ -62,7 +68,7 @@ class SineDrive(Drive):
             raise CaseError("a [sine] section is required for drive = 'sine'")
         if si.material is None:
             raise CaseError("a [material] section is required for the contact analyses")
-        return cls(stage=si.sine, material_si=si.material,
+        return cls(stage=si.sine, material_si=si.material, layout=layout,
                    output_mechanism=si.output_mechanism)
 
     @property

@@ -7,7 +7,7 @@ import json
 import textwrap
 
 from ..case_new import FLOAT_KEY_NUMBERS, OPTIONS, NewCaseTemplate, new_case, templates
-from ..fem.drives.registry import RECORDS
+from ..layouts import layout_named
 from ..output import check_new_file, write_new_file
 
 
@@ -20,7 +20,7 @@ def add_parser(sub):
         The CLI's subcommands.
     """
     drives = templates()
-    listed = "; ".join(f"{d}: {RECORDS[d].label} ({_needs(t)})" for d, t in drives.items())
+    listed = "; ".join(f"{d}: {layout_named(d).label} ({_needs(t)})" for d, t in drives.items())
     p = sub.add_parser(
         "new", help="write a case file from a drive type and its key numbers (every other "
         "value derived or marked ASSUMPTION); it passes `check` and runs `run` as written",
@@ -91,7 +91,7 @@ def run(args) -> int:
                           "assumptions": [{"key": k, "value": v, "reason": r}
                                           for k, v, r in new.assumptions]}, indent=2))
         return 0
-    print(f"wrote {path}: {RECORDS[new.drive].label}, ratio {new.ratio:.6g} (signed), "
+    print(f"wrote {path}: {layout_named(new.drive).label}, ratio {new.ratio:.6g} (signed), "
           f"{len(new.key_numbers)} key numbers, {len(new.assumptions)} values marked "
           "ASSUMPTION with their reasons")
     print(f"  at {new.case.operating.output_torque_Nm:g} N m (analytic split): peak Hertz "

@@ -6,7 +6,6 @@ import json
 from pathlib import Path
 
 from ..design import Candidate, DesignResult, percentile_interval, with_keys
-from ..fem.drives.registry import record_of
 from ..units import M_PER_MM, UM_PER_M
 from . import pyplot, save, wrap
 
@@ -325,7 +324,7 @@ def write_design(result: DesignResult, folder, source_text: str) -> dict:
                         f"{c.backlash_arcmin:.6g}", f"{c.max_ph_MPa:.6g}",
                         f"{c.contacts_min:g}", int(c.feasible)])
     save(tradeoff(result), folder / "tradeoff.png")
-    section = record_of(result.case).stage_section
+    section = result.case.layout.stage_section
     (folder / "best_case.toml").write_text(with_keys(source_text, section,
                                                      result.best.modification))
     summary = {**result.summary(), "files": ["candidates.csv", "tradeoff.png",

@@ -9,7 +9,6 @@ import numpy as np
 
 from . import pyplot
 from ..geometry import cycloid_mesh as cym, sine
-from ..fem.drives.registry import provide
 from ..geometry.disc import disc_polygon
 from ..units import MM_PER_M
 
@@ -393,8 +392,8 @@ def loss_shares(labels, shares: dict, title="", published=None):
 
 
 def drawing(drive, case_name=""):
-    """The drawing of a drive's pair (:func:`cycloid_drawing` or :func:`sine_drawing`),
-    titled with its dimensions and ``case_name``.
+    """The drawing of a drive's pair, its layout's (``Layout.drawing``: :func:`cycloid_drawing`
+    or :func:`sine_drawing`), titled with its dimensions and ``case_name``.
 
     Parameters
     ----------
@@ -408,16 +407,4 @@ def drawing(drive, case_name=""):
     matplotlib.figure.Figure
         The drawing.
     """
-    return drive.part("drawing")(drive, case_name)
-
-
-@provide("drawing", "cycloid", "rv")
-def _cycloid_pair_drawing(drive, case_name: str):
-    """The disc with its holes on its pins (:func:`cycloid_drawing`)."""
-    return cycloid_drawing(drive.geometry, drive.stage.holes, case_name=case_name)
-
-
-@provide("drawing", "sine")
-def _sine_pair_drawing(drive, case_name: str):
-    """The sine pair (:func:`sine_drawing`)."""
-    return sine_drawing(drive.pair, case_name=case_name)
+    return drive.layout.drawing(drive, case_name)

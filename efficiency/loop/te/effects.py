@@ -120,8 +120,8 @@ def catalog(model) -> list:
                  "docs/stiffness.md)",
         direct_test="the no-load starting torque at the output, both directions (the "
                     "friction alone, no elastic twist)"))
-    record = model.drive.record
-    if "pins" in record.components:
+    layout = model.drive.layout
+    if "pins" in layout.components:
         out.append(TeEffect(
             name="pin_radius_error",
             parameters=(parameter("pin_radius_change_um", "um", *PIN_RADIUS_BOUNDS_UM, 2.0,
@@ -137,9 +137,9 @@ def catalog(model) -> list:
         out += _pin_ring_effects(model.drive.geometry)
     # the disc's profile modifications: those the layout's design search varies, read from
     # the stage's own SI geometry (DriveRecord.design_keys)
-    keys = record.design_keys
+    keys = layout.design_keys
     if keys:
-        out += _clearance_effects(getattr(model.si, record.stage_section).geometry, keys)
+        out += _clearance_effects(getattr(model.si, layout.stage_section).geometry, keys)
     return out
 
 

@@ -216,7 +216,7 @@ class Effects:
             return None
         nominal = drive.nominal_deviation()
         if pins or moved:
-            if "pins" not in drive.record.components:
+            if "pins" not in drive.layout.components:
                 raise CaseError(f"pin_radius_m, pin_offset_m, pin_ring_m: this drive has no "
                                 f"{drive.contacts_name} to move (a {drive.kind} drive)")
             zb = nominal.pin_radius.size
@@ -256,7 +256,7 @@ class Effects:
                if getattr(self, k) is not None}
         if not put:
             return None
-        fields = {f for f, _ in drive.record.design_keys.values()}   # the layout's own
+        fields = {f for f, _ in drive.layout.design_keys.values()}   # the layout's own
         if not set(put) <= fields:
             asked = ", ".join(k for k in MODIFICATIONS if getattr(self, k) is not None)
             raise CaseError(f"{asked}: a {drive.kind} drive has no such profile modification")
