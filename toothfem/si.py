@@ -19,7 +19,8 @@ from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any
 
 from .errors import ToothfemError, short_repr
-from .units import ARCMIN, M_PER_MM, M_PER_UM, PA_PER_GPA, rad_s_to_rpm, rpm_to_rad_s
+from .units import (ARCMIN, M_PER_MM, M_PER_UM, PA_PER_GPA, PA_PER_HV, PA_PER_MPA,
+                    rad_s_to_rpm, rpm_to_rad_s)
 
 if TYPE_CHECKING:
     from .layout import Layout
@@ -364,9 +365,7 @@ def _si_or_none(value, factor):
     return None if value is None else value * factor
 
 
-_MPA = 1e6
-#: Pa per Vickers hardness number (HV is in kgf/mm^2: 9.80665 N / 1e-6 m^2).
-_HV = 9.80665e6
+_MPA, _HV = PA_PER_MPA, PA_PER_HV     # Pa per MPa, per Vickers number (units.py)
 
 
 def from_case(case) -> CaseSI:

@@ -9,6 +9,7 @@ record is written or shown. The factors live here; a base module every layer may
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -40,6 +41,120 @@ N_PER_KN = 1e3
 W_PER_KW = 1e3
 #: Seconds per hour.
 S_PER_H = 3600.0
+#: Pascals per Vickers hardness number (1 kgf/mm^2: g_n = 9.80665 m/s^2 per mm^2).
+PA_PER_HV = 9.80665e6
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A unit as the key and column names carry it (``pin_radius_mm``: suffix "mm"): what
+    it is called on a page, the SI unit of the computation, and the factor and offset from
+    a value in it to SI (``si = factor * value + offset``)."""
+    suffix: str
+    symbol: str
+    si: str
+    factor: float
+    offset: float = 0.0
+
+    def to_si(self, value):
+        """``value`` in this unit, in SI.
+
+        Parameters
+        ----------
+        value : float or array_like
+
+        Returns
+        -------
+        float or numpy.ndarray
+        """
+        return _scaled(value, self.factor) + self.offset if self.offset else \
+            _scaled(value, self.factor)
+
+    def from_si(self, value):
+        """An SI ``value`` in this unit.
+
+        Parameters
+        ----------
+        value : float or array_like
+
+        Returns
+        -------
+        float or numpy.ndarray
+        """
+        if self.offset:
+            return _scaled(_scaled(value, 1.0) - self.offset, 1.0 / self.factor)
+        return _scaled(value, 1.0 / self.factor)
+
+
+#: Every unit a case key, a rig column or an output names, once (temperatures stay in
+#: deg C inside the computation, the one exception to SI: every law of the package is
+#: stated in deg C). The longest suffix of a name wins (:func:`unit_of`).
+UNITS: tuple[Unit, ...] = (
+    Unit("Nm_per_arcmin", "N m/arcmin", "N m/rad", 1.0 / ARCMIN),
+    Unit("arcmin_per_Nm", "arcmin/(N m)", "rad/(N m)", ARCMIN),
+    Unit("1_per_GPa", "1/GPa", "1/Pa", 1.0 / PA_PER_GPA),
+    Unit("W_m2K", "W/(m² K)", "W/(m² K)", 1.0), Unit("W_mK", "W/(m K)", "W/(m K)", 1.0),
+    Unit("mm2_s", "mm²/s", "m²/s", 1.0 / MM2_PER_M2), Unit("kg_m3", "kg/m³", "kg/m³", 1.0),
+    Unit("Pa_s", "Pa s", "Pa s", 1.0), Unit("J_K", "J/K", "J/K", 1.0),
+    Unit("K_W", "K/W", "K/W", 1.0),
+    Unit("Nmm", "N mm", "N m", M_PER_MM), Unit("kNm", "kN m", "N m", N_PER_KN),
+    Unit("Nm", "N m", "N m", 1.0), Unit("kN", "kN", "N", N_PER_KN),
+    Unit("GPa", "GPa", "Pa", PA_PER_GPA), Unit("MPa", "MPa", "Pa", PA_PER_MPA),
+    Unit("HV", "HV", "Pa", PA_PER_HV),
+    Unit("rpm", "rpm", "rad/s", RAD_S_PER_RPM), Unit("rad_s", "rad/s", "rad/s", 1.0),
+    Unit("rps", "rps", "rad/s", 2.0 * math.pi),
+    Unit("kW", "kW", "W", W_PER_KW), Unit("W", "W", "W", 1.0),
+    Unit("arcmin", "arcmin", "rad", ARCMIN), Unit("arcsec", "arcsec", "rad", ARCSEC),
+    Unit("deg", "deg", "rad", DEG), Unit("rad", "rad", "rad", 1.0),
+    Unit("mm", "mm", "m", M_PER_MM), Unit("um", "µm", "m", M_PER_UM),
+    Unit("m2", "m²", "m²", 1.0), Unit("m", "m", "m", 1.0),
+    Unit("C", "°C", "°C", 1.0), Unit("K", "K", "°C", 1.0, -273.15),
+    Unit("F", "°F", "°C", 5.0 / 9.0, -160.0 / 9.0),
+    Unit("h", "h", "s", S_PER_H), Unit("min", "min", "s", 60.0), Unit("s", "s", "s", 1.0),
+    Unit("N", "N", "N", 1.0), Unit("pct", "%", "-", 0.01),
+)
+_BY_SUFFIX = {u.suffix: u for u in UNITS}
+
+
+def unit(suffix: str) -> Unit:
+    """The unit of a suffix ("mm", "Nm", "arcmin").
+
+    Parameters
+    ----------
+    suffix : str
+
+    Returns
+    -------
+    Unit
+
+    Raises
+    ------
+    KeyError
+        For a suffix no unit has, naming the known ones.
+    """
+    try:
+        return _BY_SUFFIX[suffix]
+    except KeyError:
+        raise KeyError(f"unit {suffix!r} is not one of {sorted(_BY_SUFFIX)}") from None
+
+
+def unit_of(name: str) -> Unit | None:
+    """The unit a key or column name ends with (``face_width_mm`` -> mm; the longest
+    suffix wins: ``_Nm_per_arcmin`` before ``_arcmin``), or None for a name without one.
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    Unit or None
+    """
+    best = None
+    for u in UNITS:
+        if name.endswith("_" + u.suffix) and (best is None or len(u.suffix) > len(best.suffix)):
+            best = u
+    return best
 
 
 def rpm_to_rad_s(speed_rpm):

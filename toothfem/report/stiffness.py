@@ -10,6 +10,7 @@ import numpy as np
 
 from ..datasheet import StiffnessResult
 from ..fem.datasheet.sheet import plural
+from ..quantities import DATASHEET
 from ..units import ARCSEC
 from . import pyplot, save
 
@@ -270,20 +271,23 @@ def datasheet_rows(summary: dict) -> list:
     list of (str, str)
         Quantity with its unit, and the formatted value.
     """
-    rows = [("rated torque [N m]", f"{summary['rated_torque_Nm']:.4g}"
+    def named(key, **words):
+        q = DATASHEET[key]
+        return f"{q.label.format(**words)} [{q.unit_symbol()}]"
+
+    k = summary["te_full_period_pitches"]
+    period = (f"{k} pitch{'' if k == 1 else 'es'}, {summary['te_positions_per_pitch']} "
+              "positions each")
+    rows = [(named("rated_torque_Nm"), f"{summary['rated_torque_Nm']:.4g}"
              + (" (the operating output torque: no rating named)"
-                if summary["rated_torque_assumed"] else "")),
-            ("torsional rigidity 50-100 % [N m/arcmin]",
-             f"{summary['torsional_rigidity_Nm_per_arcmin']:.4g}"),
-            ("lost motion ±3 % [arcmin]", f"{summary['lost_motion_arcmin']:.4g}"),
-            ("backlash [arcmin]", f"{summary['backlash_arcmin']:.4g}"),
-            ("hysteresis loss [arcmin]", f"{summary['hysteresis_loss_arcmin']:.4g}"),
-            (f"transmission error of the reducer at {summary['te_torque_Nm']:.4g} N m, mean "
-             "[arcsec]", f"{summary['te_mean_arcsec']:.4g}"),
-            (f"  its peak to peak over the full period ({summary['te_full_period_pitches']} "
-             f"pitch{'' if summary['te_full_period_pitches'] == 1 else 'es'}, "
-             f"{summary['te_positions_per_pitch']} positions each) [arcsec]",
-             f"{summary['te_peak_to_peak_arcsec']:.4g}")]
+                if summary["rated_torque_assumed"] else ""))]
+    rows += [(named(key), f"{summary[key]:.4g}") for key in (
+        "torsional_rigidity_Nm_per_arcmin", "lost_motion_arcmin", "backlash_arcmin",
+        "hysteresis_loss_arcmin")]
+    rows += [(named("te_mean_arcsec", torque=f"{summary['te_torque_Nm']:.4g}"),
+              f"{summary['te_mean_arcsec']:.4g}"),
+             (named("te_peak_to_peak_arcsec", period=period),
+              f"{summary['te_peak_to_peak_arcsec']:.4g}")]
     if "member_share_max" in summary:
         rows.append(("largest member share of the torque (FE; case's factor)",
                      f"{summary['member_share_max']:.4f} "

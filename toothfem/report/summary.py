@@ -10,38 +10,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
-#: Contact quantities of a summary (``toothfem contact``): summary key, what it is, unit.
-#: ``{contact}``/``{contacts}`` are the drive's words (pin/pins, tooth/teeth).
-CONTACT_QUANTITIES = (
-    ("{contacts}_in_contact_max", "{contacts} in contact, most", ""),
-    ("{contacts}_in_contact_min", "{contacts} in contact, fewest", ""),
-    ("max_force_reducer_N", "largest {contact} force in the reducer (system model: every "
-     "{member} free on its supports)", "N"),
-    ("max_ph_reducer_MPa", "largest Hertz pressure P_h in the reducer (system model)", "MPa"),
-    ("max_force_N", "largest {contact} force, one {member} held at its bearing seats "
-     "(member torque)", "N"),
-    ("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing seats",
-     "MPa"),
-    ("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
-     "model) at the output torque, mean", "arcsec"),
-    ("transmission_error_reducer_ripple_arcsec", "  its peak to peak over one pitch at the "
-     "run's positions (the full period: toothfem stiffness)", "arcsec"),
-    ("transmission_error_reducer_mesh_arcsec", "  of it the mesh ({contact} contacts), mean",
-     "arcsec"),
-    ("transmission_error_arcsec", "mesh rotation of one {member} held at its bearing seats, "
-     "mean", "arcsec"),
-    ("transmission_error_ripple_arcsec", "  its peak to peak", "arcsec"),
-    ("worst_position_deg", "worst position (largest force)", "deg crank"),
-    ("hertz_invalid_contacts", "contacts where Hertz fails (b not << R)", ""),
-    ("ph_from_fe_contacts", "of them with P_h from the FE", ""),
-    ("torque_equilibrium_max_rel_error", "torque equilibrium error", "relative"),
-    ("backlash_min_arcmin", "backlash before load (both flanks), least", "arcmin"),
-    ("clearance_before_load_um", "clearance before load, least (< 0: interference)", "um"),
-    ("interference_before_load_um", "interference before load, largest", "um"),
-    ("interference_pins", "{contacts} interfering (+: flank of a positive torque)", ""),
-    ("preload_force_max_N", "  largest {contact} force before load (preload)", "N"),
-    ("preload_ph_max_MPa", "  its Hertz pressure P_h", "MPa"),
-)
+from ..quantities import CONTACT
 
 #: The papers' names of the figures a case may publish, by our summary key: a case's
 #: ``[published]`` value under one of these names is shown beside ours.
@@ -104,8 +73,8 @@ def contact_rows(summary: dict, labels, published: Mapping[str, Any] | None = No
     rows = [("output torque", "N m", {"ours": labels.output_torque_Nm}),
             (f"torque on {'the' if labels.members == 1 else 'each'} {labels.member}", "N m",
              {"ours": labels.member_torque_Nm})]
-    for template, what, unit in CONTACT_QUANTITIES:
-        key = template.format(**words)
+    for q in CONTACT:
+        template, key = q.key, q.key_for(words)
         if key in summary and summary[key] not in (None, []):
             value = summary[key]
             if key == "interference_pins":      # with their flanks
@@ -115,7 +84,7 @@ def contact_rows(summary: dict, labels, published: Mapping[str, Any] | None = No
             pub = _published(template, published or {}, words)
             if pub is not None:
                 cols[PUBLISHED] = pub
-            rows.append((what.format(**words), unit, cols))
+            rows.append((q.label_for(words), q.unit_symbol(words), cols))
     return rows
 
 

@@ -1,0 +1,124 @@
+"""The quantities the outputs name, once: each summary key (its name and unit suffix, the
+key of summary.json) with what a reader sees (label, unit) and its one definition.
+
+A key's unit comes from its suffix (:func:`toothfem.units.unit_of`, the one unit table);
+the label is the row of every table, the terminal's and report.md's and report.html's
+alike. ``{contact}``, ``{contacts}`` and ``{member}`` in a name or label are the drive's
+words (pin/pins/disc, tooth/teeth/planet). A variant of a quantity (one member held
+against the reducer, a pitch against the full period) is its own key with its own label
+saying which it is.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .units import unit_of
+
+
+@dataclass(frozen=True)
+class Quantity:
+    """One output quantity (module docstring): its ``key`` (with the unit suffix, the
+    summaries' key), the ``label`` a table shows, its ``definition``, and a ``unit`` that
+    overrides the key's suffix where the key has none (counts, ratios) or says more."""
+    key: str
+    label: str
+    definition: str = ""
+    unit: str | None = None
+
+    def unit_symbol(self, words: dict | None = None) -> str:
+        """The unit a table shows: ``unit`` where given, else the key's suffix's symbol.
+
+        Parameters
+        ----------
+        words : dict, optional
+            The drive's words, for a key that names them.
+
+        Returns
+        -------
+        str
+        """
+        if self.unit is not None:
+            return self.unit
+        u = unit_of(self.key_for(words or {}))
+        return "" if u is None else u.symbol
+
+    def key_for(self, words: dict) -> str:
+        """The summary key with the drive's words.
+
+        Parameters
+        ----------
+        words : dict
+            ``contact``, ``contacts``, ``member``.
+
+        Returns
+        -------
+        str
+        """
+        return self.key.format(**words)
+
+    def label_for(self, words: dict) -> str:
+        """The label with the drive's words.
+
+        Parameters
+        ----------
+        words : dict
+            ``contact``, ``contacts``, ``member``.
+
+        Returns
+        -------
+        str
+        """
+        return self.label.format(**words)
+
+
+#: The contact summary's quantities (``toothfem contact``, the run's contact table), in
+#: the order of the table.
+CONTACT = (
+    Quantity("{contacts}_in_contact_max", "{contacts} in contact, most", unit=""),
+    Quantity("{contacts}_in_contact_min", "{contacts} in contact, fewest", unit=""),
+    Quantity("max_force_reducer_N", "largest {contact} force in the reducer (system model: "
+             "every {member} free on its supports)"),
+    Quantity("max_ph_reducer_MPa", "largest Hertz pressure P_h in the reducer (system model)"),
+    Quantity("max_force_N", "largest {contact} force, one {member} held at its bearing seats "
+             "(member torque)"),
+    Quantity("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing "
+             "seats"),
+    Quantity("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
+             "model) at the output torque, mean"),
+    Quantity("transmission_error_reducer_ripple_arcsec", "  its peak to peak over one pitch at "
+             "the run's positions (the full period: toothfem stiffness)"),
+    Quantity("transmission_error_reducer_mesh_arcsec", "  of it the mesh ({contact} contacts), "
+             "mean"),
+    Quantity("transmission_error_arcsec", "mesh rotation of one {member} held at its bearing "
+             "seats, mean"),
+    Quantity("transmission_error_ripple_arcsec", "  its peak to peak"),
+    Quantity("worst_position_deg", "worst position (largest force)", unit="deg crank"),
+    Quantity("hertz_invalid_contacts", "contacts where Hertz fails (b not << R)", unit=""),
+    Quantity("ph_from_fe_contacts", "of them with P_h from the FE", unit=""),
+    Quantity("torque_equilibrium_max_rel_error", "torque equilibrium error", unit="relative"),
+    Quantity("backlash_min_arcmin", "backlash before load (both flanks), least"),
+    Quantity("clearance_before_load_um", "clearance before load, least (< 0: interference)",
+             unit="um"),
+    Quantity("interference_before_load_um", "interference before load, largest", unit="um"),
+    Quantity("interference_pins", "{contacts} interfering (+: flank of a positive torque)",
+             unit=""),
+    Quantity("preload_force_max_N", "  largest {contact} force before load (preload)"),
+    Quantity("preload_ph_max_MPa", "  its Hertz pressure P_h"),
+)
+
+#: The datasheet's quantities (``toothfem stiffness``, the run's datasheet table).
+DATASHEET = {q.key: q for q in (
+    Quantity("rated_torque_Nm", "rated torque"),
+    Quantity("torsional_rigidity_Nm_per_arcmin", "torsional rigidity 50-100 %",
+             "the secant slope of the elastic twist between half and all of the rated "
+             "torque, both directions' mean (the catalogue's b/a)"),
+    Quantity("lost_motion_arcmin", "lost motion ±3 %",
+             "the twist between +3 % and -3 % of the rated torque on the loop's mean curve"),
+    Quantity("backlash_arcmin", "backlash",
+             "the twist between the two flanks' first contact at zero torque"),
+    Quantity("hysteresis_loss_arcmin", "hysteresis loss",
+             "the loop's width at zero torque"),
+    Quantity("te_mean_arcsec", "transmission error of the reducer at {torque} N m, mean",
+             "the output's lag behind its kinematic position, input held (system model)"),
+    Quantity("te_peak_to_peak_arcsec", "  its peak to peak over the full period ({period})"),
+)}
