@@ -38,6 +38,46 @@ class StiffnessResult:
     summary: dict
     bearings: BearingLoads
 
+    def table(self) -> list:
+        """The datasheet's rows, as every table shows them.
+
+        Returns
+        -------
+        list of (str, str)
+            Quantity with its unit, and the formatted value
+            (:func:`toothfem.report.stiffness.datasheet_rows`).
+        """
+        from .report.stiffness import datasheet_rows
+        return datasheet_rows(self.summary)
+
+    def plot(self) -> dict:
+        """The datasheet's pictures.
+
+        Returns
+        -------
+        dict
+            File name -> matplotlib Figure (:func:`toothfem.report.stiffness.
+            stiffness_figures`).
+        """
+        from .report.stiffness import stiffness_figures
+        return stiffness_figures(self)
+
+    def write(self, folder) -> dict:
+        """The datasheet's files into an existing ``folder`` (CSV, PNG, summary.json).
+
+        Parameters
+        ----------
+        folder : path
+
+        Returns
+        -------
+        dict
+            The summary with the names of the files written
+            (:func:`toothfem.report.stiffness.write_stiffness`).
+        """
+        from .report.stiffness import write_stiffness
+        return write_stiffness(self, folder)
+
 
 def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps: int = 8,
                        positions: int = 36, te_torque_Nm: float | None = None,

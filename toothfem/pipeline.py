@@ -58,6 +58,50 @@ class ContactResult:
     members: int = 1                # moving members sharing the output torque
     outlines: tuple = ()            # fixed member's outlines, member frame at worst, (2, N) m
 
+    def table(self, published=None) -> list:
+        """The contact summary's rows, the case's published figures beside.
+
+        Parameters
+        ----------
+        published : mapping, optional
+            The case's ``[published]`` table.
+
+        Returns
+        -------
+        list of (quantity, unit, {column: value})
+            (:func:`toothfem.report.summary.contact_rows`).
+        """
+        from .report.files import contact_labels
+        from .report.summary import contact_rows
+        return contact_rows(self.summary, contact_labels(self), published)
+
+    def plot(self) -> dict:
+        """The contact's pictures over the period.
+
+        Returns
+        -------
+        dict
+            File name -> matplotlib Figure (:func:`toothfem.report.files.contact_figures`).
+        """
+        from .report.files import contact_figures
+        return contact_figures(self)
+
+    def write(self, folder) -> dict:
+        """load_sharing.csv, the pictures, the VTU field and summary.json into an existing
+        ``folder``.
+
+        Parameters
+        ----------
+        folder : path
+
+        Returns
+        -------
+        dict
+            The summary with its file list (:func:`toothfem.report.files.write_contact`).
+        """
+        from .report.files import write_contact
+        return write_contact(self, folder)
+
 
 def _output_torque(case: Case, torque_Nm) -> float:
     """The output torque of a contact analysis: given, or the case's operating point."""

@@ -9,7 +9,6 @@ from ..case_checks import TORQUE_NM
 from ..errors import CaseError, check_range
 from ..output import atomic_dir
 from ..pipeline import contact_analysis
-from ..report.files import contact_labels, write_contact
 from ..report import html as report_html, summary as report_summary
 
 
@@ -79,17 +78,15 @@ def run(args) -> int:
         result = contact_analysis(case, positions=args.positions, torque_Nm=args.torque,
                                   mode=args.mode, pins=args.pins, field=args.field,
                                   progress=progress)
-        summary = write_contact(result, tmp)
+        summary = result.write(tmp)
         report_html.write_report(tmp, case, command="contact", case_file=args.case, tables=[
             report_html.Table.of_summary(f"{result.mode} mode, {summary['positions']} "
                                          "positions over one period",
-                                         report_summary.contact_rows(
-                                             summary, contact_labels(result), case.published))])
+                                         result.table(case.published))])
     if args.json:
         print(json.dumps({k: v for k, v in summary.items() if k != "files"}, indent=2))
         return 0
-    rows = report_summary.contact_rows(summary, contact_labels(result), case.published)
-    print(report_summary.text(rows, title=f"{case.name}: {result.mode} mode, "
+    print(report_summary.text(result.table(case.published), title=f"{case.name}: {result.mode} mode, "
                                           f"{summary['positions']} positions over one period"))
     for w in summary.get("warnings", ()):
         print(f"warning: {w['message']}")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from ..efficiency.mesh_table import fe_progress
 from ..pipeline import run_case
-from ..report.files import contact_labels
 from ..report import summary as report_summary
 
 
@@ -71,8 +70,7 @@ def run(args) -> int:
     if res.contact is not None:
         print()
         print(report_summary.text(
-            report_summary.contact_rows(res.contact.summary, contact_labels(res.contact),
-                                        case.published),
+            res.contact.table(case.published),
             title=f"contact ({res.contact.mode} mode)"))
     heat, life, strength = (dur[k] for k in ("heat", "life", "strength"))
     l10 = life["unit_l10_h"]

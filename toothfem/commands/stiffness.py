@@ -10,7 +10,6 @@ from pathlib import Path
 from ..case import load_case
 from ..output import atomic_dir
 from ..datasheet import stiffness_analysis
-from ..report.stiffness import datasheet_rows, write_stiffness
 from ..report import html as report_html, summary as report_summary
 
 
@@ -70,9 +69,9 @@ def run(args) -> int:
                                     positions=args.positions, te_torque_Nm=args.te_torque,
                                     te_samples=args.te_samples,
                                     te_positions=args.te_positions, friction=args.friction)
-        summary = write_stiffness(result, tmp)
+        summary = result.write(tmp)
         report_html.write_report(tmp, case, command="stiffness", case_file=args.case, tables=[
-            report_html.Table.of_summary("datasheet", datasheet_rows(summary))])
+            report_html.Table.of_summary("datasheet", result.table())])
     keep = ("rated_torque_Nm", "rated_torque_assumed", "torsional_rigidity_Nm_per_arcmin",
             "lost_motion_arcmin", "backlash_arcmin", "hysteresis_loss_arcmin",
             "compliance_shares", "te_mean_arcsec", "te_peak_to_peak_arcsec", "te_rms_arcsec",
@@ -82,7 +81,7 @@ def run(args) -> int:
         print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
         return 0
     print(report_summary.text([(what, "", {"value": value})
-                               for what, value in datasheet_rows(summary)],
+                               for what, value in result.table()],
                               f"{case.name}: datasheet"))
     print(f"wrote {Path(args.out).resolve()} (summary.json, report.html, pictures)")
     return 0

@@ -33,7 +33,6 @@ from . import (contact as report_contact, durability as report_durability, html 
                plots, save, summary as report_summary)
 from .contact import ContactLabels
 from .plots import Marked
-from .stiffness import datasheet_rows, write_stiffness
 
 if TYPE_CHECKING:   # annotations only: the pipeline imports this module
     from ..pipeline import ContactResult, RunAnalysis
@@ -79,6 +78,25 @@ def contact_labels(result: ContactResult):
                          reducer_max_ph_MPa=s.get("max_ph_reducer_MPa"))
 
 
+def contact_figures(result: ContactResult) -> dict:
+    """The contact's pictures over the period: the load per contact, the load around the
+    ring and the transmission error (the stress field's need the VTU: :func:`write_contact`).
+
+    Parameters
+    ----------
+    result : ContactResult
+
+    Returns
+    -------
+    dict
+        File name -> matplotlib Figure.
+    """
+    ls, labels = result.load_sharing, contact_labels(result)
+    return {f"load_per_{result.contact_name}.png": report_contact.load_per_contact(ls, labels),
+            "load_around_ring.png": report_contact.load_around_ring(ls, labels),
+            "transmission_error.png": report_contact.transmission_error(ls, labels)}
+
+
 def write_contact(result: ContactResult, folder: Path) -> dict:
     """Write load_sharing.csv, the pictures, the VTU field and summary.json into ``folder``.
 
@@ -103,17 +121,14 @@ def write_contact(result: ContactResult, folder: Path) -> dict:
 
     folder = Path(folder)
     ls = result.load_sharing
-    labels = contact_labels(result)
     with open(folder / "load_sharing.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(CONTACT_COLUMNS)
         for row in ls.rows():
             w.writerow([f"{v:.9g}" if isinstance(v, float) else v for v in row])
-    pictures = {f"load_per_{result.contact_name}.png": report_contact.load_per_contact,
-                "load_around_ring.png": report_contact.load_around_ring,
-                "transmission_error.png": report_contact.transmission_error}
-    for name, draw in pictures.items():
-        save(draw(ls, labels), folder / name)
+    pictures = contact_figures(result)
+    for name, fig in pictures.items():
+        save(fig, folder / name)
     summary = {**result.summary, "files": ["load_sharing.csv", "summary.json", *pictures]}
     if result.body is not None:
         vtu = export.write_vtu(folder / f"{result.member_name}_worst_position.vtu",
@@ -527,10 +542,10 @@ def write_run(run: RunAnalysis, folder: Path, case_file=None) -> None:
                    "name).", ""]
     if run.datasheet is not None:
         (folder / "stiffness").mkdir()
-        stiff = write_stiffness(run.datasheet, folder / "stiffness")
-        report += ["## Datasheet (FE contact and supports in series)", "",
+        stiff = run.datasheet.write(folder / "stiffness")
+        report += ["## Datasheet (the system model of the whole reducer)", "",
                    "| quantity | value |", "|---|---|"]
-        report += [f"| {q} | {v} |" for q, v in datasheet_rows(stiff)]
+        report += [f"| {q} | {v} |" for q, v in run.datasheet.table()]
         assumed = [k for k, v in stiff["supports"].items() if v["assumed"]]
         if assumed:
             report += ["", "Assumed (not in the case): " + ", ".join(assumed) + "."]

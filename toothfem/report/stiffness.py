@@ -8,11 +8,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..datasheet import StiffnessResult
+from typing import TYPE_CHECKING
+
 from ..fem.datasheet.sheet import plural
 from ..quantities import DATASHEET
 from ..units import ARCSEC
 from . import pyplot, save
+
+if TYPE_CHECKING:      # annotations only: the record's .write() calls this module
+    from ..datasheet import StiffnessResult
 
 
 def hysteresis(sheet, title: str = ""):
@@ -192,6 +196,32 @@ def member_split(split, member_name: str = "disc", case_name: str = ""):
 HYSTERESIS_COLUMNS = ("torque_Nm", "twist_arcmin", "twist_min_arcmin", "twist_max_arcmin")
 
 
+def stiffness_figures(result: StiffnessResult) -> dict:
+    """The datasheet's pictures: the hysteresis loop, the reducer's TE over the full period
+    and, where the layout does not make it even, the split between the members.
+
+    Parameters
+    ----------
+    result : StiffnessResult
+
+    Returns
+    -------
+    dict
+        File name -> matplotlib Figure.
+    """
+    sheet = result.sheet
+    title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
+             + (" (the operating output torque: no rating named)"
+                if sheet.rated_torque_assumed else "")
+             + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
+    out = {"hysteresis.png": hysteresis(sheet, title=title),
+           "te.png": transmission_error(result.te, heading=f"{result.case_name}: the "
+                                        "reducer's TE (system model, input held)")}
+    if result.split is not None and not result.split.even_by_layout:
+        out["split.png"] = member_split(result.split, sheet.member_name, result.case_name)
+    return out
+
+
 def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
     """hysteresis.csv/png, te.csv/png, split.csv (several members), split.png (a split the
     layout does not make even) and summary.json into
@@ -241,18 +271,10 @@ def write_stiffness(result: StiffnessResult, folder: Path) -> dict:
             for g, phi in enumerate(np.degrees(result.split.crank_angle_rad)):
                 w.writerow([f"{phi:.9g}"] + [f"{x:.9g}" for x in share[:, g]])
         files.append("split.csv")
-        if not result.split.even_by_layout:
-            save(member_split(result.split, sheet.member_name,
-                                               result.case_name), folder / "split.png", dpi=120)
-            files.append("split.png")
-    title = (f"{result.case_name}\nrated {sheet.rated_torque_Nm:.4g} N m"
-             + (" (the operating output torque: no rating named)"
-                if sheet.rated_torque_assumed else "")
-             + f", rigidity {sheet.rigidity_Nm_per_arcmin:.4g} N m/arcmin")
-    save(hysteresis(sheet, title=title), folder / "hysteresis.png", dpi=120)
-    save(transmission_error(te, heading=f"{result.case_name}: the reducer's TE (system "
-                                        "model, input held)"),
-         folder / "te.png", dpi=120)
+    for name, fig in stiffness_figures(result).items():
+        save(fig, folder / name, dpi=120)
+        if name == "split.png":
+            files.append(name)
     summary = {**result.summary, "files": files}
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
     return summary
