@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from toothfem import cli
-from toothfem.report.files import TORQUE_GRID
+from toothfem.maps import TORQUE_GRID
 
 
 def test_check_prints_derived_quantities(cases_dir, capsys):

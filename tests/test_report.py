@@ -415,7 +415,7 @@ def test_the_largest_ph_contact_is_found_in_the_members_frame():
 def test_the_oil_temperature_map_takes_in_the_operating_oil():
     from types import SimpleNamespace
 
-    from toothfem.report.files import OIL_TEMPERATURE_GRID_C, oil_temperature_grid
+    from toothfem.maps import OIL_TEMPERATURE_GRID_C, oil_temperature_grid
 
     oil = SimpleNamespace(pour_point_C=-30.0, max_temperature_C=150.0)
     assert oil_temperature_grid(60.0, oil) is OIL_TEMPERATURE_GRID_C

@@ -207,16 +207,15 @@ def test_ensemble_is_seeded_and_physical(pinhousing, tmp_path):
               overrides={"disc_profile_mm": 0.0, "crank_hole_position_mm": 0.0,
                          "pin_circle_radius_mm": 0.0, "eccentricity_mm": 0.0})
     a = tolerance_analysis(pinhousing, **kw)
-    with pytest.raises(KeyboardInterrupt):
-        with resumable_dir(tmp_path / "tol", "ab12") as points:
-            record = points.record
+    with pytest.raises(KeyboardInterrupt), resumable_dir(tmp_path / "tol", "ab12") as points:
+        record = points.record
 
-            def stop_after_three(point, output):
-                record(point, output)
-                if len(points.done) == 3:
-                    raise KeyboardInterrupt
-            points.record = stop_after_three
-            tolerance_analysis(pinhousing, points=points, **kw)
+        def stop_after_three(point, output):
+            record(point, output)
+            if len(points.done) == 3:
+                raise KeyboardInterrupt
+        points.record = stop_after_three
+        tolerance_analysis(pinhousing, points=points, **kw)
     with resumable_dir(tmp_path / "tol", "ab12") as points:
         assert len(points.done) == 3
         solved = []
@@ -300,15 +299,14 @@ def test_a_scheduler_that_is_not_there_is_one_line():
     from toothfem.errors import ToothfemError
 
     with pytest.raises(ToothfemError, match="scheduler = 'not an address': no Dask "
-                                            "scheduler there"):
-        with dask_client("not an address", None):
-            pass
+                                            "scheduler there"), dask_client("not an address", None):
+        pass
 
 
 # -- modification design -------------------------------------------------------------------
 
 def test_with_keys_sets_a_table_and_keeps_comments():
-    from toothfem.design import with_keys
+    from toothfem.case import with_keys
 
     text = ("[cycloid]            # the disc\npin_count = 40\nrotation_modification_deg = 0.0"
             "  # none\n\n[operating]\ninput_speed_rpm = 100\n")

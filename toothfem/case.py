@@ -15,6 +15,7 @@ import contextlib
 import dataclasses
 import difflib
 import math
+import re
 import os
 import sys
 from dataclasses import dataclass, field
@@ -411,3 +412,42 @@ def case_to_dict(case: Case) -> dict:
         out["published"] = dict(case.published)
     return out
 
+
+def with_keys(text: str, section: str, values: dict) -> str:
+    """Set keys in one table of a TOML text, comments and the rest left as they are.
+
+    Parameters
+    ----------
+    text : str
+        TOML.
+    section : str
+        The table's name (``[section]``).
+    values : dict of str to float
+        Each key's line replaced, or added under the header.
+
+    Returns
+    -------
+    str
+
+    Raises
+    ------
+    CaseError
+        If ``text`` has no such table.
+    """
+    lines = text.splitlines()
+    head = next((i for i, ln in enumerate(lines)
+                 if re.match(rf"\s*\[{re.escape(section)}\]\s*(#.*)?$", ln)), None)
+    if head is None:
+        raise CaseError(f"the case file has no [{section}] table")
+    end = next((i for i in range(head + 1, len(lines))
+                if re.match(r"\s*\[", lines[i])), len(lines))
+    for key, value in values.items():
+        line = f"{key} = {value:.6g}"
+        hit = next((i for i in range(head + 1, end)
+                    if re.match(rf"\s*{re.escape(key)}\s*=", lines[i])), None)
+        if hit is None:
+            lines.insert(head + 1, line + "   # toothfem design")
+            end += 1
+        else:
+            lines[hit] = line + "   # toothfem design"
+    return "\n".join(lines) + "\n"

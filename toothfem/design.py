@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import re
 from dataclasses import dataclass
 
 import numpy as np
@@ -65,6 +64,45 @@ class DesignResult:
     member_torque_Nm: float | None = None      # its peak member torque (one disc held)
     warnings: tuple = ()                       # toothfem.limits.Exceeded: the best's
     limits: dict = dataclasses.field(default_factory=dict)   # {"max_ph_MPa": [...]} drawn
+
+    def table(self) -> list:
+        """The search's rows: the targets, the best modification and its figures.
+
+        Returns
+        -------
+        list of (quantity, unit, {column: value})
+            (:func:`toothfem.report.design.summary_rows`).
+        """
+        from .report.design import summary_rows
+        return summary_rows(self.summary())
+
+    def plot(self) -> dict:
+        """The trade-off picture.
+
+        Returns
+        -------
+        dict
+            File name -> matplotlib Figure (:func:`toothfem.report.design.tradeoff`).
+        """
+        from .report.design import tradeoff
+        return {"tradeoff.png": tradeoff(self)}
+
+    def write(self, folder, source_text: str) -> dict:
+        """The search's files into an existing ``folder``, with the case file to use.
+
+        Parameters
+        ----------
+        folder : path
+        source_text : str
+            The case file's text; ``best_case.toml`` is it with the best modification.
+
+        Returns
+        -------
+        dict
+            The summary with the files written (:func:`toothfem.report.design.write_design`).
+        """
+        from .report.design import write_design
+        return write_design(self, folder, source_text)
 
     def pareto(self) -> list:
         """The trade-off between backlash and pressure.
@@ -367,41 +405,3 @@ def _verify(case: Case, nominal: Candidate, positions: int, torque: float):
             if k in summary}, check
 
 
-def with_keys(text: str, section: str, values: dict) -> str:
-    """Set keys in one table of a TOML text, comments and the rest left as they are.
-
-    Parameters
-    ----------
-    text : str
-        TOML.
-    section : str
-        The table's name (``[section]``).
-    values : dict of str to float
-        Each key's line replaced, or added under the header.
-
-    Returns
-    -------
-    str
-
-    Raises
-    ------
-    CaseError
-        If ``text`` has no such table.
-    """
-    lines = text.splitlines()
-    head = next((i for i, ln in enumerate(lines)
-                 if re.match(rf"\s*\[{re.escape(section)}\]\s*(#.*)?$", ln)), None)
-    if head is None:
-        raise CaseError(f"the case file has no [{section}] table")
-    end = next((i for i in range(head + 1, len(lines))
-                if re.match(r"\s*\[", lines[i])), len(lines))
-    for key, value in values.items():
-        line = f"{key} = {value:.6g}"
-        hit = next((i for i in range(head + 1, end)
-                    if re.match(rf"\s*{re.escape(key)}\s*=", lines[i])), None)
-        if hit is None:
-            lines.insert(head + 1, line + "   # toothfem design")
-            end += 1
-        else:
-            lines[hit] = line + "   # toothfem design"
-    return "\n".join(lines) + "\n"

@@ -25,6 +25,7 @@ from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.elastic import Body
 from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
+from .maps import EfficiencyMaps, efficiency_maps
 from .output import atomic_dir, target
 from .report.files import write_run
 from .units import ARCSEC, MPA_PER_PA, PA_PER_MPA
@@ -423,7 +424,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     out = target(out)
     run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress)
     with atomic_dir(out) as tmp:
-        write_run(run, tmp, case_file)
+        run.write(tmp, case_file)
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
                      efficiency=run.efficiency, speed_rpm=run.speed_rpm,
                      output_torque_Nm=run.output_torque_Nm, case=case,
@@ -449,6 +450,8 @@ class RunAnalysis:
         {"heat", "life", "strength"} summaries (:mod:`toothfem.durability`).
     speed_rpm, output_torque_Nm : float
         The operating point.
+    maps : toothfem.maps.EfficiencyMaps
+        The efficiency over the operating range (curves and maps).
     """
     case: Case
     contact: ContactResult | None
@@ -457,12 +460,37 @@ class RunAnalysis:
     durability: dict
     speed_rpm: float
     output_torque_Nm: float
+    maps: EfficiencyMaps
 
     @property
     def warnings(self) -> list:
         """Every limit the run's results pass, one line each (:func:`limits.run_warnings`)."""
         return limits.run_warnings(None if self.contact is None else self.contact.summary,
                                    self.efficiency, self.durability)
+
+    def table(self) -> list:
+        """The run's efficiency rows (a column per load source and method), then the
+        contact's, the case's published figures beside.
+
+        Returns
+        -------
+        list of (quantity, unit, {column: value})
+        """
+        from .report.summary import efficiency_rows
+        rows = efficiency_rows(self.efficiency, self.case.published)
+        return rows + ([] if self.contact is None else self.contact.table(self.case.published))
+
+    def write(self, folder, case_file=None) -> None:
+        """Every file of ``toothfem run`` into an existing, empty ``folder``
+        (:func:`toothfem.report.files.write_run`).
+
+        Parameters
+        ----------
+        folder : path
+        case_file : path, optional
+            The case file, named in the reports.
+        """
+        write_run(self, Path(folder), case_file)
 
 
 def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
@@ -498,5 +526,7 @@ def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
            "life": durability.life_summary(
                case, known=None if datasheet is None else datasheet.bearings),
            "strength": durability.strength_summary(case, contact=contact)}
+    maps = efficiency_maps(case, speed, torque, sources)
     return RunAnalysis(case=case, contact=contact, datasheet=datasheet, efficiency=results,
-                       durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque))
+                       durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque),
+                       maps=maps)

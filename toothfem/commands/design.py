@@ -7,10 +7,9 @@ from pathlib import Path
 
 from ..case import load_case
 from ..design import design_analysis
-from ..report.design import write_design
 from ..errors import decode_text
 from ..output import atomic_dir
-from ..report import design as report_design, html as report_html
+from ..report import html as report_html
 from ..report import summary as report_summary
 
 
@@ -58,7 +57,7 @@ def run(args) -> int:
     source = decode_text(Path(args.case).read_bytes(), args.case)
     with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
         result = design_analysis(case, positions=args.positions)
-        summary = write_design(result, tmp, source)
+        summary = result.write(tmp, source)
         report_html.write_report(tmp, case, command="design", case_file=args.case)
     if args.json:
         print(json.dumps({"case": summary["case"], "best": summary["best"],
@@ -67,7 +66,7 @@ def run(args) -> int:
                           "datasheet": summary["datasheet"],
                           "warnings": summary["warnings"]}, indent=2))
         return 0
-    print(report_summary.text(report_design.summary_rows(summary),
+    print(report_summary.text(result.table(),
                               f"{case.name}: the best modification"))
     iv = summary.get("percentile_interval")
     if iv is not None and not iv["has_interval"]:

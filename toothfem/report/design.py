@@ -5,9 +5,14 @@ import csv
 import json
 from pathlib import Path
 
-from ..design import Candidate, DesignResult, percentile_interval, with_keys
+from typing import TYPE_CHECKING
+
+from ..case import with_keys
 from ..units import M_PER_MM, UM_PER_M
 from . import pyplot, save, wrap
+
+if TYPE_CHECKING:      # annotations only: the record's .write() calls this module
+    from ..design import Candidate, DesignResult
 
 #: Margin of the zoomed view around the candidates that meet every target, as a fraction
 #: of their span on each axis.
@@ -18,9 +23,9 @@ def _where(summary_or_result) -> str:
     """What a candidate's figures are: '(P90 of 8 built reducers: no 95 % interval ...)'
     or '(nominal design)'."""
 
-    t = summary_or_result["targets"] if isinstance(summary_or_result, dict) else \
-        summary_or_result.targets
-    iv = percentile_interval(t)
+    summary = summary_or_result if isinstance(summary_or_result, dict) else \
+        summary_or_result.summary()
+    iv = summary.get("percentile_interval")
     return iv["text"] if iv else "the design as drawn (no deviations)"
 
 

@@ -23,8 +23,6 @@ from .. import cad
 from ..cad_parts import part_drawing
 from ..case import Case
 from ..derived import derived
-from ..efficiency import evaluate
-from ..efficiency.thermal import heat_balance
 from ..errors import CaseError, check_range
 from ..fem import export
 from ..fem.drives import drive_for
@@ -35,6 +33,7 @@ from .contact import ContactLabels
 from .plots import Marked
 
 if TYPE_CHECKING:   # annotations only: the pipeline imports this module
+    from ..maps import EfficiencyMaps
     from ..pipeline import ContactResult, RunAnalysis
 
 #: Largest b_ref-scaled zoom of the contact close-up: 6 half-widths around the worst contact
@@ -309,72 +308,6 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     (folder / "check.json").write_text(json.dumps(summary, indent=2))
     return summary
 
-#: Output torques of the efficiency curves and maps, as fractions of the largest torque of
-#: the case (its operating point or a measured point): from near no load to 10 % beyond it,
-#: so every marked point sits inside the chart, not on its edge.
-TORQUE_GRID = np.linspace(0.02, 1.1, 55)
-#: Input speeds of the speed map, as fractions of the operating speed.
-SPEED_GRID = np.linspace(0.1, 2.0, 60)
-#: Oil temperatures of the temperature map [deg C]; widened in OIL_TEMPERATURE_STEP_C steps
-#: to take in the operating point's oil temperature (within the lubricant's range).
-OIL_TEMPERATURE_GRID_C = np.linspace(20.0, 100.0, 41)
-OIL_TEMPERATURE_STEP_C = 2.0
-
-
-def oil_temperature_grid(oil_C: float, lubricant) -> np.ndarray:
-    """The oil temperatures [deg C] of the temperature map: OIL_TEMPERATURE_GRID_C, widened
-    to take in ``oil_C`` with a margin of one tenth of the range, within the lubricant's
-    pour point and largest temperature.
-
-    Parameters
-    ----------
-    oil_C : float
-        The operating point's oil temperature [deg C].
-    lubricant : toothfem.case_sections.Lubricant
-        Its ``pour_point_C`` and ``max_temperature_C`` bound the grid.
-
-    Returns
-    -------
-    numpy.ndarray
-        Ascending [deg C].
-    """
-    lo, hi = float(OIL_TEMPERATURE_GRID_C[0]), float(OIL_TEMPERATURE_GRID_C[-1])
-    if lo <= oil_C <= hi:
-        return OIL_TEMPERATURE_GRID_C
-    margin = 0.1 * (max(hi, oil_C) - min(lo, oil_C))
-    step = OIL_TEMPERATURE_STEP_C
-    lo = max(min(lo, math.floor((oil_C - margin) / step) * step), lubricant.pour_point_C)
-    hi = min(max(hi, math.ceil((oil_C + margin) / step) * step), lubricant.max_temperature_C)
-    return np.linspace(lo, hi, int(round((hi - lo) / step)) + 1)
-
-
-def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
-    """The oil temperature [deg C] of the operating point and what it is: the heat
-    balance's equilibrium with the run's loads (the report's heat balance), else the
-    lubricant's reference temperature, said so.
-
-    Parameters
-    ----------
-    case : Case
-    speed, torque : float
-        Input speed [rpm] and output torque [N m].
-    loads : {"analytic", "fem"}
-        The loads of the run's heat balance.
-
-    Returns
-    -------
-    (float, str)
-        The temperature [deg C] and its words for a label.
-    """
-
-    try:
-        oil = float(heat_balance(case, speed, torque, loads=loads).temperature_C[0])
-    except CaseError as e:          # no balance below the oil's largest temperature
-        ref = case.lubricant.reference_temperature_C
-        return ref, (f"oil at {ref:g} deg C, the lubricant's reference (no heat balance: "
-                     f"{str(e).split(':')[0]})")
-    return oil, f"oil at {oil:.1f} deg C, the heat balance's equilibrium ({loads} loads)"
-
 
 def loss_shares_chart(case: Case, results: dict, speed: float, torque: float):
     """The loss shares at the operating point (:func:`toothfem.report.plots.loss_shares`)
@@ -401,37 +334,31 @@ def loss_shares_chart(case: Case, results: dict, speed: float, torque: float):
                                    f"{case.name}", published=published or None)
 
 
-def efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, sources) -> list:
+def efficiency_charts(case: Case, maps: EfficiencyMaps, tmp: Path, results: dict) -> list:
     """Efficiency against torque (with the measured and published points) and the two
-    catalogue maps into ``tmp``; the loss shares again with the case's published ones,
-    where it has them (from ``tmp/efficiency.json``).
+    catalogue maps into ``tmp``, from the run's :class:`toothfem.maps.EfficiencyMaps`; the
+    loss shares again with the case's published ones, where it has them.
 
     Parameters
     ----------
     case : toothfem.case.Case
+    maps : toothfem.maps.EfficiencyMaps
+        The efficiency over the operating range.
     tmp : pathlib.Path
         The run's folder being written.
-    speed, torque : float
-        The operating point [rpm], [N m].
-    sources : list of str
-        The efficiency's load sources ("analytic", "fem").
+    results : dict
+        {source: efficiency summary} at the operating point.
 
     Returns
     -------
     list of str
         The report's lines.
     """
-
-    if (tmp / "efficiency.json").exists() and any(k.startswith("loss_share_")
-                                                  for k in case.published):
-        results = json.loads((tmp / "efficiency.json").read_text())
+    speed, torque, sources = maps.speed_rpm, maps.torque_Nm, maps.sources
+    if any(k.startswith("loss_share_") for k in case.published):
         save(loss_shares_chart(case, results, speed, torque), tmp / "loss_shares.png")
-
-    t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
-    speed_curve = case.measured[0].input_speed_rpm if case.measured else speed
     oil = f"oil at {case.lubricant.reference_temperature_C:g} deg C (the lubricant's reference)"
-    t_grid = TORQUE_GRID * t_max
-    curves = {s: evaluate(case, speed_curve, t_grid, loads=s).efficiency for s in sources}
+    t_grid, curves, speed_curve = maps.torque_grid_Nm, maps.curves, maps.curve_speed_rpm
     with open(tmp / "efficiency_vs_torque.csv", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["output_torque_Nm"] + [f"efficiency_{s}" for s in sources])
@@ -440,16 +367,15 @@ def efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, source
     at = " (the measured points' speed)" if speed_curve != speed else ""
     shown = {f"{s} loads, {speed_curve:g} rpm{at}": curves[s] for s in sources}
     dashed: tuple[str, ...] = ()
-    if speed_curve != speed:            # the operating point's own speed as well
+    if maps.operating_speed_curve is not None:     # the operating point's own speed as well
         label = f"analytic loads, {speed:g} rpm (the operating point's speed)"
-        shown[label] = evaluate(case, speed, t_grid).efficiency
+        shown[label] = maps.operating_speed_curve
         dashed = (label,)
-    eta_op = float(evaluate(case, speed, torque).efficiency[0])
+    eta_op = maps.operating_efficiency
     marked = [Marked(x=torque, y=eta_op, kind="operating",
                      label=f"operating point: {speed:g} rpm, {torque:.4g} N m, "
                            f"{100 * eta_op:.2f} % (analytic)")]
-    for m in case.measured:            # each with its gap to the model, never left silent
-        model = float(evaluate(case, m.input_speed_rpm, m.output_torque_Nm).efficiency[0])
+    for m, model in zip(case.measured, maps.measured_model):   # each with its gap to the model
         marked.append(Marked(
             x=m.output_torque_Nm, y=m.efficiency,
             label=f"measured {100 * m.efficiency:.2f} % ({m.input_speed_rpm:g} rpm, "
@@ -472,8 +398,7 @@ def efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, source
         title=f"Efficiency against output torque; {oil}\n{case.name}"),
         tmp / "efficiency_vs_torque.png")
     # catalogue charts: torque x speed, and torque x oil temperature
-    tt, nn = np.meshgrid(t_grid, SPEED_GRID * speed)
-    eta = evaluate(case, nn, tt).efficiency.reshape(nn.shape)
+    tt, nn, eta = maps.speed_map
     save(plots.efficiency_map(
         tt, nn, eta, "output torque [N m]", "input speed [rpm]",
         f"Efficiency [%] over output torque and input speed (analytic loads); {oil}\n"
@@ -482,18 +407,14 @@ def efficiency_charts(case: Case, tmp: Path, speed: float, torque: float, source
            for m in case.measured[:1]]),
         tmp / "efficiency_map.png")
     # at the operating point's speed, like the speed map; the point at its oil temperature
-    oil_op, oil_words = operating_oil(case, speed, torque,
-                                      "fem" if "fem" in sources else "analytic")
-    tt2, th = np.meshgrid(t_grid, oil_temperature_grid(oil_op, case.lubricant))
-    eta_t = evaluate(case, speed, tt2, th).efficiency.reshape(th.shape)
-    eta_oil = float(evaluate(case, speed, torque, oil_op).efficiency[0])
+    tt2, th, eta_t = maps.temperature_map
     save(plots.efficiency_map(
         tt2, th, eta_t, "output torque [N m]", "oil temperature [deg C]",
         f"Efficiency [%] over output torque and oil temperature at {speed:g} rpm input (the "
         f"operating point's speed; analytic loads)\n{case.name}",
-        marked=[Marked(x=torque, y=oil_op, kind="operating",
-                       label=f"operating point: {torque:.4g} N m, {oil_words}: "
-                             f"{100 * eta_oil:.2f} % (analytic)")]),
+        marked=[Marked(x=torque, y=maps.oil_C, kind="operating",
+                       label=f"operating point: {torque:.4g} N m, {maps.oil_words}: "
+                             f"{100 * maps.operating_oil_efficiency:.2f} % (analytic)")]),
         tmp / "efficiency_temperature.png")
     np.savetxt(tmp / "efficiency_map.csv",
                np.column_stack([tt.ravel(), nn.ravel(), eta.ravel()]), delimiter=",",
@@ -570,8 +491,7 @@ def write_run(run: RunAnalysis, folder: Path, case_file=None) -> None:
                            title=f"Loss shares at the operating point ({point})\n"
                                  f"{case.name}"), folder / "loss_shares.png")
     report += ["", "![loss shares](loss_shares.png)", ""]
-    sources = [s for s in ("analytic", "fem") if s in results]
-    report += efficiency_charts(case, folder, speed, torque, sources)
+    report += efficiency_charts(case, run.maps, folder, results)
     dur = run.durability
     (folder / "durability.json").write_text(json.dumps(dur, indent=2))
     rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
