@@ -222,7 +222,7 @@ def disc_contact_losses(case, table, torque_disc, crank_speed, eta0, notes=None,
     mu_disc, _ = contact_mu(si, drive_for(si).e_star_Pa, table, force, ph, crank_speed, eta0,
                             notes, limits)
     mu = pin_contact_mu(si, mu_disc)
-    if si.cycloid.pin_structure == "conventional":
+    if si.cycloid is not None and si.cycloid.pin_structure == "conventional":
         share = np.mean(mu_disc > si.friction.pin_groove_coefficient)
         notes.append(f"conventional pins turn in their grooves at {100 * share:.0f} % of the "
                      "loaded contacts (groove friction below the disc contact's)")

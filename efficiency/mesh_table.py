@@ -104,7 +104,8 @@ class MeshTable:
         m = force.shape[0]
         out = np.zeros((m, self.n_positions, 2))
         for k in range(2):
-            np.add.at(out[:, :, k], (slice(None), self.position), force * self.normal[:, k])
+            np.add.at(out[:, :, k], (slice(None), self.position),  # type: ignore[arg-type]
+                      force * self.normal[:, k])
         return out
 
     def scaled(self, ratio):

@@ -469,7 +469,8 @@ def _sub_triangle(tri: Triangle, rows):
 def _groups(counts, limit):
     """Consecutive runs of ``counts`` whose sums stay within ``limit`` (a larger count
     alone)."""
-    out, cur = [], []
+    out: list[list] = []
+    cur: list = []
     for c in counts:
         if cur and sum(cur) + c > limit:
             out.append(cur)

@@ -70,7 +70,7 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     pitch = geom.pin_pitch_radius_m * np.array([math.cos(crank_angle_rad),
                                                 math.sin(crank_angle_rad)])
     for j in np.flatnonzero(m.moment_arm[0] < 0):
-        k = m.point[0, j]
+        k = int(m.point[0, j])
         for ax in axes:
             ax.plot([k[0] * MM_PER_M, pitch[0] * MM_PER_M], [k[1] * MM_PER_M, pitch[1] * MM_PER_M],
                     "k-", lw=0.4)

@@ -68,8 +68,8 @@ def hysteresis(result):
     window = 0.1 * rated
     zoom = axes[1]
     zoom.set_xlim(-window, window)
-    near = [c.twist_arcmin[np.abs(c.torque_Nm) <= window] - shift for c in meas.curves]
-    near = np.concatenate([n for n in near if n.size] or [np.zeros(1)])
+    parts = [c.twist_arcmin[np.abs(c.torque_Nm) <= window] - shift for c in meas.curves]
+    near = np.concatenate([n for n in parts if n.size] or [np.zeros(1)])
     pad = 0.15 * max(float(np.ptp(near)), 1e-3)
     zoom.set_ylim(float(near.min()) - pad, float(near.max()) + pad)
     zoom.set_title("near zero torque (±10 % of rated)", fontsize=10)
