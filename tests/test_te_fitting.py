@@ -6,8 +6,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from toothfem.efficiency.loop.te.fitting import (Observations, TeEffect, TeProblem,
-                                                  parameter)
+from toothfem.efficiency.loop.te.problem import (Observations, TeEffect, TeProblem,
+                                                 parameter)
 
 T = np.repeat(np.linspace(0.1, 1.0, 10), 6)          # 10 torque levels x 6 rows
 X = np.tile(np.linspace(0, 1, 6), 10)
@@ -68,7 +68,7 @@ def test_a_candidate_the_rows_cannot_tell_apart_is_an_alias_whatever_its_bic():
     rows lie D ~ 3 sigma from ecc's (the weighted distance; BIC about D^2 worse, beyond
     the 6 of the BIC rule): the separation rule (D < 6) names it in ecc's group with its
     own fitted value; 'play' (far: hundreds of sigma) stays out."""
-    from toothfem.efficiency.loop.te.fitting import ALIAS_SEPARATION
+    from toothfem.efficiency.loop.te.problem import RULES
 
     shapes = {"ecc": SHAPES["ecc"], "mirror": SHAPES["ecc"] + 0.01 * T, "play": SHAPES["play"]}
 
@@ -88,7 +88,7 @@ def test_a_candidate_the_rows_cannot_tell_apart_is_an_alias_whatever_its_bic():
     step = loop.steps[0]
     fits = {n: problem.fit(("ecc",) if n == "ecc" else (n,)) for n in ("ecc", "mirror")}
     d = problem.separation(fits["ecc"], fits["mirror"])
-    assert 1.5 < d < ALIAS_SEPARATION
+    assert 1.5 < d < RULES.alias_separation
     scored = {row[0]: row[1] for row in step.scored}
     assert scored["mirror"] - scored["ecc"] > 6          # the BIC rule alone would miss it
     assert loop.alias_groups["ecc"] == ("mirror",)

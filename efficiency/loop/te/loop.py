@@ -3,8 +3,8 @@ the error before and after (docs/te_rig.md, "The loop").
 
 :func:`run_te_loop` reads the recordings (:mod:`.recordings`), takes their model-free
 figures (:mod:`.figures`), turns them into rows with their uncertainty
-(:mod:`.observations`), and fits the catalog's effects (:mod:`.effects`) to them by the
-measured-data loop's rules (:mod:`.fitting`) on the case's system model
+(:mod:`.observations`), and fits the catalog's effects (:mod:`.effects`) to them with the
+fitting engine, by the TE loop's rules (:mod:`.problem`), on the case's system model
 (:class:`~.model.RecordingModel`). Nothing here draws or writes: the reporting layer
 (``toothfem.report.te``) renders a :class:`TeLoopResult`.
 """
@@ -19,7 +19,7 @@ import numpy as np
 from ..settings import DEFAULT_SETTINGS
 from .effects import catalog, effects_of
 from .figures import HysteresisFigures, TeFigures, hysteresis_figures, te_figures
-from .fitting import TeLoop, TeProblem
+from .problem import TeLoop, TeProblem
 from .model import ModelRecordings, RecordingModel
 from .observations import Layout, observations, model_rows
 from .recordings import read_hysteresis, read_te_recordings, recording_paths

@@ -1,4 +1,4 @@
-"""What a fit compares: the recordings' figures as rows of :class:`~.fitting.Observations`,
+"""What a fit compares: the recordings' figures as rows of :class:`~.problem.Observations`,
 and the model's recordings on the same rows (docs/te_rig.md, "The loop").
 
 Rows, each with its own uncertainty from the recordings themselves:
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fitting import Observations
+from .problem import Observations
 
 #: The loop's rows: these fractions of the rated torque, each sign, each branch (the
 #: staircase's own fractions past the knee: lost motion at 3 %, the backlash fit to 10 %,
