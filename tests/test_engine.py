@@ -6,7 +6,7 @@ is not added, an effect made redundant leaves again, the k-fold held-out error i
 refits on each fold give, and a model that fails is a failed candidate.
 
 Each selection test runs under the rules of both loops (the efficiency loop's
-``problem.RULES`` and the TE loop's ``te.problem.RULES``), the thresholds of
+``problem.EFFICIENCY_RULES`` and the TE loop's ``te.problem.TE_RULES``), the thresholds of
 ``Settings()``. The rows: 10 fold groups (levels t) x 6 rows (x), each effect a shape
 times its parameter, noise sigma 0.05 (the signals are 60 sigma: the tests check the
 rules, not the limit of detection).
@@ -19,9 +19,9 @@ import numpy as np
 import pytest
 
 from toothfem.efficiency.loop import engine as en
-from toothfem.efficiency.loop.problem import RULES as EFFICIENCY
+from toothfem.efficiency.loop.problem import EFFICIENCY_RULES as EFFICIENCY
 from toothfem.efficiency.loop.settings import Settings
-from toothfem.efficiency.loop.te.problem import RULES as TE
+from toothfem.efficiency.loop.te.problem import TE_RULES as TE
 from toothfem.errors import ToothfemError
 
 T = np.repeat(np.linspace(0.1, 1.0, 10), 6)          # 10 fold groups x 6 rows

@@ -21,7 +21,7 @@ effects from the catalog one at a time while they help. One job per module:
   squares, BIC, k-fold held-out errors, forward selection with alias groups and the
   separating-measurement hook, the at-bound rule;
 * :mod:`.problem`: the efficiency loop's side of it: the measured points as rows, the
-  model with effects at them, and the loop's :data:`~.problem.RULES`;
+  model with effects at them, and the loop's :data:`~.problem.EFFICIENCY_RULES`;
 * :mod:`.trends`: residual trends against the covariates, and each effect's signature;
 * :mod:`.run`: the data checked and binned (:func:`loop_data`), the loop itself
   (:func:`run_loop`); an effect that helps only at its parameter's physical bound is not
@@ -37,14 +37,14 @@ Pictures and the Markdown text of a report are the reporting layer's
 """
 from .engine import AT_BOUND_REL, Fit, HeldOut, at_bound  # noqa: F401
 from .binning import Binning, bin_rows  # noqa: F401
-from .problem import RULES, Problem  # noqa: F401
+from .problem import EFFICIENCY_RULES, Problem  # noqa: F401
 from .report import Candidate, Closing, EffectFit, LoopReport, Step  # noqa: F401
 from .run import candidates_of, final_case, loop_data, run_loop  # noqa: F401
 from .settings import Settings  # noqa: F401
 from .separation import AliasGroup, alias_group  # noqa: F401
 from .trends import Trend, most_followed, residual_trends, signatures  # noqa: F401
 
-__all__ = ["AT_BOUND_REL", "RULES", "Binning", "Candidate", "Closing", "EffectFit", "Fit",
+__all__ = ["AT_BOUND_REL", "EFFICIENCY_RULES", "Binning", "Candidate", "Closing", "EffectFit", "Fit",
            "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
            "bin_rows", "candidates_of", "final_case", "loop_data", "residual_trends",
            "run_loop", "signatures", "AliasGroup", "alias_group", "most_followed"]

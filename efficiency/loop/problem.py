@@ -1,7 +1,7 @@
 """The efficiency loop's side of the fitting engine (:mod:`.engine`): measured efficiencies
 as the engine's rows, the catalog's effects bound to the case and data, the model with
 those effects at the measured points (:class:`Problem`), and the rules it fits and selects
-by (:data:`RULES`).
+by (:data:`EFFICIENCY_RULES`).
 
 Weights: the residual r = eta_measured - eta_model at every point is weighted by 1/sigma
 where the data give an uncertainty (the rig's torque sensors), else unweighted; the weights
@@ -27,7 +27,7 @@ from .engine import Engine, Rules
 from .settings import Settings
 
 #: The efficiency loop's rules (:class:`.engine.Rules`), the reason beside each.
-RULES = Rules(
+EFFICIENCY_RULES = Rules(
     fd_step=1e-3,           # on parameters scaled by their typical value: the model is
                             # smooth there (the clearance tables are PCHIP-interpolated)
     fit_tol=1e-6,           # the parameters' standard errors are percents, so a relative
@@ -119,7 +119,7 @@ class Problem:
         self._cache: dict[tuple[tuple[str, ...], tuple[float, ...]], np.ndarray] = {}
         self._evals: dict[tuple, Efficiency] = {}   # model evaluations (effects.predict's cache)
         self.engine = Engine(Rows(self.eta, self.w, np.arange(self.n)), self.effects.values(),
-                             self, rules=RULES, settings=settings)
+                             self, rules=EFFICIENCY_RULES, settings=settings)
 
     def predict(self, names, values) -> np.ndarray:
         """Efficiency at the measured points with the effects ``names`` set

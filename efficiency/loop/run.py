@@ -7,18 +7,18 @@ catalog one at a time while they help:
 
 1. Baseline: the case as it is, its residual trends (:mod:`.trends`) and each candidate's
    signature.
-2. Selection (:func:`.engine.select` by the efficiency loop's :data:`.problem.RULES`): every
+2. Selection (:func:`.engine.select` by the efficiency loop's :data:`.problem.EFFICIENCY_RULES`): every
    applicable candidate not declared by the case is fitted together with the effects
    already added, scored by its k-fold held-out error and by BIC; the candidate with the
    lowest held-out error among those that lower BIC by at least :attr:`Settings.delta_bic`
    and the held-out error by at least :attr:`Settings.min_cv_gain` is added (of candidates
-   within ``RULES.tie_bic`` of each other, the one first in the catalog). A candidate that
+   within ``EFFICIENCY_RULES.tie_bic`` of each other, the one first in the catalog). A candidate that
    would pass only with a parameter at its physical bound is not added: the data ask for
    more than it can give. Candidates within :attr:`Settings.alias_bic` of the added one are
    named as aliases, an alias group with the measurement that would separate them
    (:mod:`.separation`, the engine's separating-measurement hook). After each step the
    covariate the residual follows most is recorded.
-3. Backward: any earlier effect whose removal now costs less than ``RULES.prune_fraction``
+3. Backward: any earlier effect whose removal now costs less than ``EFFICIENCY_RULES.prune_fraction``
    of the BIC threshold is dropped again (an effect taken on the way can be made redundant
    by a later one); repeat from 2. When no candidate passes, the loop stops and says which
    came closest and by how much it fell short.

@@ -146,7 +146,7 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
     ----------
     rated_torque_Nm : float
         The loop's fractions are of it.
-    loop : toothfem.efficiency.loop.te.figures.HysteresisFigures, optional
+    loop : toothfem.efficiency.loop.te.hysteresis.HysteresisFigures, optional
         A hysteresis recording's figures (its binned branch curves).
     te : toothfem.efficiency.loop.te.figures.TeFigures, optional
         TE recordings' figures per condition (each condition's torque is needed).

@@ -1,7 +1,7 @@
 """The TE/hysteresis loop's side of the fitting engine (:mod:`..engine`; docs/te_rig.md,
 "The loop"): the recordings' figures as the engine's rows (:class:`Observations`), the
 loop's effects (:class:`TeEffect`), its model evaluation (:class:`TeModel`), the rules it
-fits and selects by (:data:`RULES`) and its report record (:class:`TeLoop`).
+fits and selects by (:data:`TE_RULES`) and its report record (:class:`TeLoop`).
 
 The rows are weighted by their uncertainty (weight 1/sigma, so a weighted residual is in
 sigma); an effect is added only where BIC falls by :attr:`Settings.delta_bic` and the
@@ -28,7 +28,7 @@ from ..engine import Parameter, parameter  # noqa: F401  (the TE effects' parame
 from ..settings import DEFAULT_SETTINGS
 
 #: The TE loop's rules (:class:`..engine.Rules`), the reason beside each.
-RULES = en.Rules(
+TE_RULES = en.Rules(
     fd_step=1e-2,            # the system model is smooth in a play or an error of
                              # micrometres at this step, and its contact solve settles to
                              # less than finer steps would read
@@ -366,7 +366,7 @@ class TeProblem:
         self.catalog = {e.name: e for e in catalog}
         self.settings = settings
         self.model = TeModel(observations, model, self.catalog)
-        self.engine = en.Engine(observations, self.catalog.values(), self.model, rules=RULES,
+        self.engine = en.Engine(observations, self.catalog.values(), self.model, rules=TE_RULES,
                                 settings=settings)
 
     def fit(self, names, start: dict | None = None, free=None) -> en.Fit:
@@ -387,7 +387,7 @@ class TeProblem:
         return self.engine.fit(names, start, free=free)
 
     def separation(self, a: en.Fit, b: en.Fit) -> float:
-        """The weighted distance between two fits' rows [sigma] (``RULES.alias_separation``).
+        """The weighted distance between two fits' rows [sigma] (``TE_RULES.alias_separation``).
 
         Parameters
         ----------
