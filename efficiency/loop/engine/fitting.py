@@ -145,6 +145,8 @@ class Engine:
             return Solution(np.zeros(0), np.zeros((self.n, 0)), r, 0)
         start = start or {}
         free = set(names if free is None else free)
+        tol = tol or self.rules.fit_tol
+        max_nfev = max_nfev or self.settings.max_nfev
         typ = np.array([p.typical for p in params])
         lo = np.array([p.lo for p in params]) / typ
         hi = np.array([p.hi for p in params]) / typ
@@ -155,8 +157,10 @@ class Engine:
                              np.array([p.starts[0] for p in self.effects[n].parameters],
                                       float) for n in names])
 
+        held = x0 / typ             # scaled; the parameters held stay at theirs
+
         def values_of(x):
-            z = x0 / typ
+            z = held.copy()
             z[moving] = x
             return z * typ
 
@@ -180,9 +184,7 @@ class Engine:
                 break
             res = least_squares(fun, np.clip(x, lo_f, hi_f), bounds=(lo_f, hi_f),
                                 method="trf", diff_step=self.rules.fd_step, x_scale=1.0,
-                                ftol=tol or self.rules.fit_tol, xtol=tol or self.rules.fit_tol,
-                                gtol=tol or self.rules.fit_tol,
-                                max_nfev=max_nfev or self.settings.max_nfev)
+                                ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
             nfev += res.nfev
             if best is None or res.cost < best.cost:
                 best = res
