@@ -104,7 +104,7 @@ class MeshTable:
         m = force.shape[0]
         out = np.zeros((m, self.n_positions, 2))
         for k in range(2):
-            np.add.at(out[:, :, k], (slice(None), self.position),  # type: ignore[arg-type]
+            np.add.at(out[:, :, k], (np.arange(m)[:, None], self.position[None, :]),
                       force * self.normal[:, k])
         return out
 

@@ -466,7 +466,7 @@ def _sub_triangle(tri: Triangle, rows):
     return rows, csc_matrix((cols.data, index, cols.indptr), shape=(rows.size, rows.size))
 
 
-def _groups(counts, limit):
+def _groups(counts, limit) -> list:
     """Consecutive runs of ``counts`` whose sums stay within ``limit`` (a larger count
     alone)."""
     out: list[list] = []

@@ -81,7 +81,7 @@ def test_bin_rows_without_sigma_weights_by_the_rows_of_each_point():
 
 def test_many_rows_are_binned_and_the_report_says_so(sine):
     """More rows than Settings.max_points: the loop fits the bins, finds the effect all the
-    same (drag of 20 N mm, within the 10 % of test_loop.py) and says in its notes, JSON
+    same (drag of 20 N mm, within 10 %) and says in its notes, JSON
     and Markdown how many rows, how many points and how."""
     data = sy.generate(sine, {"drag_torque": (20.0,)}, n_points=600, seed=3)
     rep = lp.run_loop(sine, data, DRAG, settings=lp.Settings(max_points=60))

@@ -44,9 +44,13 @@ def test_shipped_demo_data_is_what_the_script_writes(name, cases_dir):
 
 
 def test_readme_demo_command(tmp_path, capsys):
-    """The README's `toothfem loop` on the sine demo: the windage named, the held-out error
-    cut as the README says (its figures rounded as printed there); with --json the
-    command prints report.json's content, alias groups included, and nothing else."""
+    """The README's `toothfem loop` on the sine demo, the efficiency loop end to end (the
+    engine's rules are tests/test_engine.py's): the windage named with its value, the
+    held-out error cut as the README says (its figures rounded as printed there); with
+    --json the command prints report.json's content, alias groups included, and nothing
+    else; report.md, the residual plots and the final case's fields are written; each step
+    names the covariate the residual follows most (the last as the final trends say), and
+    the candidates that would help only at their parameter's bound are said so."""
     from toothfem import cli
 
     readme = (ROOT / "README.md").read_text()
@@ -58,8 +62,25 @@ def test_readme_demo_command(tmp_path, capsys):
     rep = json.loads((out / "report.json").read_text())
     assert json.loads(capsys.readouterr().out) == rep and "alias_groups" in rep
     assert [e["name"] for e in rep["effects"]] == ["windage"]
+    windage = rep["effects"][0]["parameters"]["windage_torque_Nmm"]["value"]
+    assert windage == pytest.approx(GEN.SETS["sine_prototype"][1][0], rel=0.05)
+    assert rep["final_case_fields"]["friction.windage_torque_Nmm"] == pytest.approx(windage)
     before, after = (float(x) for x in re.search(
         r"held-out\s+error from ([\d.]+) to ([\d.]+) points", readme).groups())
     assert 100 * rep["baseline"]["rmse"] == pytest.approx(before, abs=0.05)
     assert 100 * rep["final"]["rmse"] == pytest.approx(after, abs=0.005)
     assert rep["baseline"]["rmse"] >= 3 * rep["final"]["rmse"]
+    assert rep["n_rows"] == rep["n_points"] and rep["notes"] == [] and rep["binning"] is None
+    steps = rep["steps"]
+    assert len(steps) >= 2 and all(s["residual_follows_most"]["covariate"] for s in steps)
+    last = max((t for t in rep["trends_after"] if t["r2"] is not None),
+               key=lambda t: (t["follows"], t["r2"]))
+    assert steps[-1]["residual_follows_most"] == last
+    assert last["follows"] == bool(rep["unexplained"])
+    assert steps[0]["bounded"] and all(c["bounded"] for c in steps[0]["candidates"]
+                                      if c["name"] in steps[0]["bounded"])
+    text = (out / "report.md").read_text()
+    assert "held-out RMSE" in text and "windage" in text
+    assert "After this step the residual" in text and "no, at its bound" in text
+    for png in ("residuals_before.png", "residuals_after.png"):
+        assert (out / png).stat().st_size > 10_000

@@ -17,13 +17,17 @@ effects from the catalog one at a time while they help. One job per module:
 * :mod:`.binning`: many rows onto fewer operating points (the mean of each cell of a grid);
 * :mod:`.synthetic`: synthetic rig data (the model plus effects the case does not declare,
   plus sensor noise) for the tests and the figures;
-* :mod:`.fit`: bounded least squares of a set of effects, BIC, k-fold held-out errors;
+* :mod:`.engine` (a subpackage): the fitting engine both loops adapt: bounded least
+  squares, BIC, k-fold held-out errors, forward selection with alias groups and the
+  separating-measurement hook, the at-bound rule;
+* :mod:`.problem`: the efficiency loop's side of it: the measured points as rows, the
+  model with effects at them, and the loop's :data:`~.problem.EFFICIENCY_RULES`;
 * :mod:`.trends`: residual trends against the covariates, and each effect's signature;
-* :mod:`.selection`: the data checked and binned (:func:`loop_data`), forward-backward
-  selection by BIC and held-out gain (:func:`run_loop`); an effect that helps only at its
-  parameter's physical bound is not added;
+* :mod:`.run`: the data checked and binned (:func:`loop_data`), the loop itself
+  (:func:`run_loop`); an effect that helps only at its parameter's physical bound is not
+  added;
 * :mod:`.report`: the :class:`LoopReport` record and its JSON;
-* :mod:`.settings`: the thresholds of all of the above;
+* :mod:`.settings`: the thresholds of all of the above (both loops');
 * :mod:`.te` (a subpackage, imported on its own): TE and hysteresis rig recordings read
   file by file, the TE spectrum in orders named by the drive's orders, and the model-free
   rigidity, lost motion, hysteresis loss and width (docs/te_rig.md).
@@ -31,16 +35,16 @@ effects from the catalog one at a time while they help. One job per module:
 Pictures and the Markdown text of a report are the reporting layer's
 (``toothfem.report.loop``): this package computes, it does not draw.
 """
-from .fit import (AT_BOUND_REL, FD_STEP, FIT_TOL, Fit, HeldOut, Problem,  # noqa: F401
-                  at_bound)
+from .engine import AT_BOUND_REL, Fit, HeldOut, at_bound  # noqa: F401
 from .binning import Binning, bin_rows  # noqa: F401
+from .problem import EFFICIENCY_RULES, Problem  # noqa: F401
 from .report import Candidate, Closing, EffectFit, LoopReport, Step  # noqa: F401
-from .selection import candidates_of, final_case, loop_data, run_loop  # noqa: F401
+from .run import candidates_of, final_case, loop_data, run_loop  # noqa: F401
 from .settings import Settings  # noqa: F401
 from .separation import AliasGroup, alias_group  # noqa: F401
 from .trends import Trend, most_followed, residual_trends, signatures  # noqa: F401
 
-__all__ = ["AT_BOUND_REL", "FD_STEP", "FIT_TOL", "Binning", "Candidate", "Closing", "EffectFit",
-           "Fit", "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
+__all__ = ["AT_BOUND_REL", "EFFICIENCY_RULES", "Binning", "Candidate", "Closing", "EffectFit", "Fit",
+           "HeldOut", "LoopReport", "Problem", "Settings", "Step", "Trend", "at_bound",
            "bin_rows", "candidates_of", "final_case", "loop_data", "residual_trends",
            "run_loop", "signatures", "AliasGroup", "alias_group", "most_followed"]

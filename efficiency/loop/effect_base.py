@@ -18,21 +18,10 @@ from ...errors import ToothfemError, check_range
 from ...fem.drives import drive_for
 from ...si import si_of
 from ..evaluation import evaluate
+from .engine import Parameter  # noqa: F401  (the effects' parameters: the engine's record)
 
 # ---------------------------------------------------------------------------------------
 # Records
-
-
-@dataclass(frozen=True)
-class Parameter:
-    """A fitted parameter: name (with unit), bounds and starting values (absolute)."""
-    name: str
-    unit: str
-    lo: float
-    hi: float
-    starts: tuple            # starting values tried before the fit (absolute)
-    typical: float           # scale of the fit (x_scale) and of a signature's step
-    doc: str = ""
 
 
 @dataclass(frozen=True)

@@ -65,8 +65,7 @@ from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_fac
                           declared_if_changed, need_cycloid, predict, prepare, read, setter,
                           true_points, with_effects)
 from .loss_effects import bearing_preload, viscosity_grade, windage
-from .rig_effects import (input_torque_offset, oil_temp_offset, output_torque_offset,
-                          warm_up)
+from .rig_effects import input_torque_offset, oil_temp_offset, output_torque_offset, warm_up
 from .thermal_effect import thermal
 from ...units import rpm_to_rad_s
 

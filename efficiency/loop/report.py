@@ -1,6 +1,6 @@
 """What the measured-data loop found: the :class:`LoopReport` record and its JSON.
 
-The records here hold data only; the selection (:mod:`.selection`) builds them. Pictures and
+The records here hold data only; the loop (:mod:`.run`) builds them. Pictures and
 the Markdown text of a report are the reporting layer's (``toothfem.report.loop``).
 """
 from __future__ import annotations
@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .fit import Fit, HeldOut
+from .engine import Fit, HeldOut
 from .separation import AliasGroup
 from .trends import Trend
 

@@ -182,9 +182,9 @@ def separating_points(prob, fits: dict) -> tuple:
 
     Parameters
     ----------
-    prob : fit.Problem
+    prob : problem.Problem
         The data, case and (bounded) effects.
-    fits : dict of str to fit.Fit
+    fits : dict of str to engine.Fit
         Member name -> its fit (the effects before it plus the member, all data).
 
     Returns
@@ -286,11 +286,11 @@ def alias_group(prob, step: int, fits: dict) -> AliasGroup:
 
     Parameters
     ----------
-    prob : fit.Problem
+    prob : problem.Problem
         The data, case and effects.
     step : int
         The selection step (1-based).
-    fits : dict of str to fit.Fit
+    fits : dict of str to engine.Fit
         Member name -> its fit, the added effect first.
 
     Returns

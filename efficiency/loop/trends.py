@@ -20,7 +20,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ...errors import ToothfemError
-from .fit import Fit, Problem
+from .engine import Fit
+from .problem import Problem
 from .settings import DEFAULT_SETTINGS
 
 #: Fewest residual degrees of freedom of a trend's F-test: with fewer the residual variance

@@ -70,10 +70,10 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     pitch = geom.pin_pitch_radius_m * np.array([math.cos(crank_angle_rad),
                                                 math.sin(crank_angle_rad)])
     for j in np.flatnonzero(m.moment_arm[0] < 0):
-        k = int(m.point[0, j])
+        pt = m.point[0, j]
         for ax in axes:
-            ax.plot([k[0] * MM_PER_M, pitch[0] * MM_PER_M], [k[1] * MM_PER_M, pitch[1] * MM_PER_M],
-                    "k-", lw=0.4)
+            ax.plot([pt[0] * MM_PER_M, pitch[0] * MM_PER_M],
+                    [pt[1] * MM_PER_M, pitch[1] * MM_PER_M], "k-", lw=0.4)
     axes[0].plot(*pitch * MM_PER_M, "k+", ms=12, mew=1.6)
     r = geom.pin_circle_radius_m * MM_PER_M
     a0 = crank_angle_rad + math.pi / 2

@@ -16,7 +16,7 @@ from typing import TypedDict
 import numpy as np
 
 from ....fem.drives.assembly import SCALABLE
-from .fitting import TeEffect, parameter
+from .problem import TeEffect, parameter
 from .model import DEFAULT_TE_SAMPLES, Effects, ring_order, ring_samples
 from ....units import ARCMIN, M_PER_MM, M_PER_UM
 

@@ -2,9 +2,9 @@
 the error before and after (docs/te_rig.md, "The loop").
 
 :func:`run_te_loop` reads the recordings (:mod:`.recordings`), takes their model-free
-figures (:mod:`.figures`), turns them into rows with their uncertainty
-(:mod:`.observations`), and fits the catalog's effects (:mod:`.effects`) to them by the
-measured-data loop's rules (:mod:`.fitting`) on the case's system model
+figures (:mod:`.figures`, :mod:`.hysteresis`), turns them into rows with their uncertainty
+(:mod:`.observations`), and fits the catalog's effects (:mod:`.effects`) to them with the
+fitting engine, by the TE loop's rules (:mod:`.problem`), on the case's system model
 (:class:`~.model.RecordingModel`). Nothing here draws or writes: the reporting layer
 (``toothfem.report.te``) renders a :class:`TeLoopResult`.
 """
@@ -18,11 +18,12 @@ import numpy as np
 
 from ..settings import DEFAULT_SETTINGS
 from .effects import catalog, effects_of
-from .figures import HysteresisFigures, TeFigures, hysteresis_figures, te_figures
-from .fitting import TeLoop, TeProblem
+from .figures import TeFigures, te_figures
+from .hysteresis import HysteresisFigures, hysteresis_figures, read_hysteresis
+from .problem import TeLoop, TeProblem
 from .model import ModelRecordings, RecordingModel
 from .observations import Layout, observations, model_rows
-from .recordings import read_hysteresis, read_te_recordings, recording_paths
+from .recordings import read_te_recordings, recording_paths
 
 #: Named orders fitted: up to this multiple of the lowest named order above the output's
 #: own (the crank's or the pins' passing): the model's TE resolves its period's first three

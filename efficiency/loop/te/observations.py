@@ -1,4 +1,4 @@
-"""What a fit compares: the recordings' figures as rows of :class:`~.fitting.Observations`,
+"""What a fit compares: the recordings' figures as rows of :class:`~.problem.Observations`,
 and the model's recordings on the same rows (docs/te_rig.md, "The loop").
 
 Rows, each with its own uncertainty from the recordings themselves:
@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .fitting import Observations
+from .problem import Observations
 
 #: The loop's rows: these fractions of the rated torque, each sign, each branch (the
 #: staircase's own fractions past the knee: lost motion at 3 %, the backlash fit to 10 %,
@@ -146,7 +146,7 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
     ----------
     rated_torque_Nm : float
         The loop's fractions are of it.
-    loop : toothfem.efficiency.loop.te.figures.HysteresisFigures, optional
+    loop : toothfem.efficiency.loop.te.hysteresis.HysteresisFigures, optional
         A hysteresis recording's figures (its binned branch curves).
     te : toothfem.efficiency.loop.te.figures.TeFigures, optional
         TE recordings' figures per condition (each condition's torque is needed).

@@ -12,10 +12,8 @@ directions at a staircase of torques. Two recordings are read here.
     (``+1``/``-1`` or ``forward``/``backward``, :data:`.columns.DIRECTION_WORDS`); several
     conditions and sweeps may follow one another in it.
 
-**Hysteresis** (:func:`read_hysteresis`): the torque staircase with the input held,
-``output_torque_Nm, twist_arcmin`` and optionally ``direction`` or ``branch`` (+1 where the
-torque rises, -1 where it falls; without it :mod:`.figures` finds the branches from the
-torque).
+**Hysteresis**: the torque staircase with the input held (:func:`.hysteresis.read_hysteresis`,
+on this module's file reading).
 
 The unit is the column name's suffix: angles and TE in ``_deg``, ``_arcmin``, ``_arcsec``
 or ``_rad``; the output torque in ``_Nm`` (``_Nmm``, ``_kNm``), the input speed in ``_rpm``
@@ -56,7 +54,7 @@ import csv
 import itertools
 import math
 from array import array
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -124,23 +122,6 @@ class TeRecordings:
     def samples(self) -> int:
         """Samples in all runs (both directions counted)."""
         return int(sum(r.samples for r in self.runs))
-
-
-@dataclass(frozen=True, kw_only=True)
-class HysteresisRecording:
-    """A hysteresis (torque staircase) recording: output twist against output torque."""
-    source: str
-    torque_Nm: np.ndarray           # (N,) applied output torque
-    twist_rad: np.ndarray           # (N,) output twist, input held
-    branch: np.ndarray | None       # (N,) +1 rising, -1 falling, from the file; None: not
-                                    # given (found from the torque)
-    lines: np.ndarray               # (N,) each sample's line in the file
-    condition: Condition = Condition()
-    provenance: dict = field(default_factory=dict)
-    notes: tuple = ()
-
-    def __len__(self):
-        return int(self.torque_Nm.size)
 
 
 class _Table:
@@ -582,72 +563,3 @@ def read_te_recordings(paths, *, name_pattern=None, angle_bins: int = ANGLE_BINS
     return TeRecordings(runs=tuple(runs), files=tuple(str(p) for p, _ in results),
                         refused=tuple(refused), notes=tuple(notes),
                         angle_bins=int(angle_bins), window=window, max_order=float(max_order))
-
-
-def read_hysteresis(path, *, name_pattern=None) -> HysteresisRecording:
-    """A hysteresis recording: ``output_torque_<unit>``, ``twist_<unit>`` and optionally a
-    ``direction`` or ``branch`` column (+1 rising torque, -1 falling).
-
-    Parameters
-    ----------
-    path : str or pathlib.Path
-        The CSV.
-    name_pattern : str or re.Pattern, optional
-        File-name pattern of its condition (speed, oil temperature; the torque is the
-        column's).
-
-    Returns
-    -------
-    HysteresisRecording
-        Torque [N m] and twist [rad] in file order.
-
-    Raises
-    ------
-    MeasuredDataError
-        One line naming the file (and the line and column).
-    """
-    pattern = _pattern(name_pattern)
-    with _Table(path) as table:
-        src, header = table.source, table.header
-        cols, ignored = _columns(table)
-        fixed = _file_values(table, pattern)
-        for q in ("output_torque", "twist"):
-            if q not in cols:
-                unit = "Nm" if q == "output_torque" else f"<unit> ({ANGLE_UNITS_TEXT})"
-                raise _missing(src, f"{q}_{unit}", header)
-        jt, ft, ot, nt = cols["output_torque"]
-        jw, fw, _, nw = cols["twist"]
-        jd, nd = (cols["direction"][0], cols["direction"][3]) if "direction" in cols \
-            else (None, None)
-        others = [c for c in _condition_columns(cols) if c[4] != "output_torque_Nm"]
-        torque, twist, branch, lines = array("d"), array("d"), array("b"), array("l")
-        sums = {c[4]: 0.0 for c in others}
-        for line, cells in table.rows():
-            torque.append(_cell(cells, jt, nt, ft, ot, src, line))
-            twist.append(_cell(cells, jw, nw, fw, 0.0, src, line))
-            lines.append(line)
-            for j, f, o, name, fld in others:
-                sums[fld] += _cell(cells, j, name, f, o, src, line)
-            if jd is not None:
-                d = DIRECTION_WORDS.get(cells[jd].strip().lower())
-                if d is None:
-                    raise MeasuredDataError(
-                        f"{src}: line {line}: column {nd!r} = {cells[jd].strip()!r} is not a "
-                        "branch (+1 rising torque, -1 falling)")
-                branch.append(d)
-    n = len(torque)
-    if n == 0:
-        raise MeasuredDataError(f"{src}: no data rows")
-    values = {k: v for k, v in fixed.items() if k not in ("direction", "output_torque_Nm")}
-    for fld, s in sums.items():
-        if fld in values and not close(fld, s / n, values[fld]):
-            raise MeasuredDataError(f"{src}: {fld} = {s / n:g} (the column's mean) disagrees "
-                                    f"with {values[fld]:g} from the file name or a comment")
-        values[fld] = s / n
-    return HysteresisRecording(
-        source=src, torque_Nm=np.frombuffer(torque, dtype=float).copy(),
-        twist_rad=np.frombuffer(twist, dtype=float).copy(),
-        branch=np.frombuffer(branch, dtype=np.int8).astype(int) if jd is not None else None,
-        lines=np.asarray(lines, dtype=int), condition=Condition(**values),
-        provenance=dict(table.provenance),
-        notes=tuple(f"{src}: column {name!r} not used" for name in ignored))

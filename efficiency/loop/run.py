@@ -1,24 +1,27 @@
-"""Effect selection: forward by BIC and held-out gain, backward by BIC; the loop itself.
+"""The measured-data loop (:func:`run_loop`): the efficiency loop's adapter of the fitting
+engine (:mod:`.engine`), with the data checked and binned (:func:`loop_data`) and the
+report records built (:mod:`.report`).
 
 :func:`run_loop` compares the model with measured efficiencies and adds effects of the
 catalog one at a time while they help:
 
 1. Baseline: the case as it is, its residual trends (:mod:`.trends`) and each candidate's
    signature.
-2. Forward: every applicable candidate not declared by the case is fitted together with the
-   effects already added (:meth:`.fit.Problem.make_fit`), scored by its k-fold held-out
-   error and by BIC; the candidate with the lowest held-out error among those that lower BIC
-   by at least :attr:`Settings.delta_bic` and the held-out error by at least
-   :attr:`Settings.min_cv_gain` is added (of candidates within :data:`TIE_BIC` of each other,
-   the one first in the catalog). A candidate that would pass only with a parameter at its
-   physical bound is not added: the data ask for more than it can give. Candidates within
-   :attr:`Settings.alias_bic` of the added one are named as aliases, an alias group with the
-   measurement that would separate them (:mod:`.separation`). After each step the covariate
-   the residual follows most is recorded.
-3. Backward: any earlier effect whose removal now costs less than :data:`PRUNE_FRACTION` of
-   the BIC threshold is dropped again (an effect taken on the way can be made redundant by a
-   later one); repeat from 2. When no candidate passes, the loop stops and says which came
-   closest and by how much it fell short.
+2. Selection (:func:`.engine.select` by the efficiency loop's :data:`.problem.EFFICIENCY_RULES`): every
+   applicable candidate not declared by the case is fitted together with the effects
+   already added, scored by its k-fold held-out error and by BIC; the candidate with the
+   lowest held-out error among those that lower BIC by at least :attr:`Settings.delta_bic`
+   and the held-out error by at least :attr:`Settings.min_cv_gain` is added (of candidates
+   within ``EFFICIENCY_RULES.tie_bic`` of each other, the one first in the catalog). A candidate that
+   would pass only with a parameter at its physical bound is not added: the data ask for
+   more than it can give. Candidates within :attr:`Settings.alias_bic` of the added one are
+   named as aliases, an alias group with the measurement that would separate them
+   (:mod:`.separation`, the engine's separating-measurement hook). After each step the
+   covariate the residual follows most is recorded.
+3. Backward: any earlier effect whose removal now costs less than ``EFFICIENCY_RULES.prune_fraction``
+   of the BIC threshold is dropped again (an effect taken on the way can be made redundant
+   by a later one); repeat from 2. When no candidate passes, the loop stops and says which
+   came closest and by how much it fell short.
 4. After the last effect, a residual that still follows a covariate is reported as
    unexplained, with that covariate.
 
@@ -40,24 +43,15 @@ import numpy as np
 
 from ...errors import MeasuredDataError, ToothfemError
 from . import effects as fx
+from . import engine as en
 from .binning import bin_rows
-from .fit import EXACT_TOL, Fit, Problem, at_bound, fold_count
 from .measured import MeasuredData, require_distinct
+from .problem import Problem
 from .report import Candidate, Closing, EffectFit, LoopReport, Step
 from .separation import AliasGroup, alias_group
 from .settings import DEFAULT_SETTINGS, Settings
 from .trends import most_followed, residual_trends, signatures
 
-#: An effect leaves again when removing it costs less than this fraction of the BIC entry
-#: threshold: below the threshold, so an effect just added does not leave at once.
-PRUNE_FRACTION = 0.5
-#: Selection steps allowed per candidate: each can be added once and removed once; more
-#: steps than that means the selection keeps exchanging effects.
-STEPS_PER_CANDIDATE = 2
-#: Candidates whose BIC changes differ by less than this are a tie (a likelihood ratio
-#: of 1.05: no preference; exact aliases differ by the fit's rounding, near aliases such
-#: as the two torque meters' offsets by about 1e-3).
-TIE_BIC = 0.1
 #: A candidate alone "meets the data" when its RMSE is below this [efficiency]: 0.01
 #: points, far below a rig's uncertainty (the sine prototype's rig: 2 points).
 CLOSING_RMSE = 1e-4
@@ -126,7 +120,7 @@ def loop_data(data: MeasuredData, settings: Settings = DEFAULT_SETTINGS) -> tupl
         require_distinct(data, 2, "comparing the change of the efficiency between points")
     points, binning = bin_rows(data, settings.max_points)
     if len(points) >= settings.min_points:
-        k = fold_count(len(points), settings)
+        k = en.fold_count(len(points), settings.folds)
         require_distinct(points, k, f"the selection's {k}-fold held-out error (a distinct "
                                     "point per fold; fewer folds need fewer)", rows=rows)
     return points, binning
@@ -173,8 +167,8 @@ def run_loop(case, data, effects=None, *, settings=DEFAULT_SETTINGS, loads="anal
     prob = Problem(case=case, data=data, effects=effects, settings=settings, loads=loads)
     cands, skipped = candidates_of(case, prob.points, effects)
     covs = data.covariates()
-    base = prob.make_fit(())
-    baseline = prob.held_out(base)
+    base = prob.engine.fit(())
+    baseline = prob.engine.held_out(base)
     trends_before = residual_trends(base.residual, covs, prob.w, settings)
     common = dict(case_name=case.name, data_source=data.source, n_points=prob.n,
                   weighted=prob.weighted, baseline=baseline, baseline_fit=base,
@@ -192,17 +186,90 @@ def run_loop(case, data, effects=None, *, settings=DEFAULT_SETTINGS, loads="anal
                           trends_after=trends_before, unexplained=(), stop_reason=stop,
                           closing=_closing(prob, cands), selection=False,
                           elapsed_s=time.perf_counter() - t0, evaluations=prob.evaluations)
-    current, steps, stop = _select(prob, cands, base, settings, say, covs)
-    final = prob.held_out(current)
+    told = _Steps(prob, covs, say)
+    sel = en.select(prob.engine, cands, base=base, separate=lambda i, fits: _group(prob, i, fits),
+                    listener=told)
+    current, steps = sel.final, tuple(told.steps)
+    final = prob.engine.held_out(current)
     trends_after = residual_trends(current.residual, covs, prob.w, settings)
     return LoopReport(**common, final=final, final_fit=current,
                       effects=tuple(_effect_fit(prob.effects[n], current)
                                     for n in current.effects),
                       steps=steps, trends_after=trends_after,
                       unexplained=tuple(t.covariate for t in trends_after if t.follows),
-                      stop_reason=stop, closing=(), selection=True,
+                      stop_reason=_stop_reason(sel, steps, settings), closing=(),
+                      selection=True,
                       alias_groups=tuple(s.group for s in steps if s.group is not None),
                       elapsed_s=time.perf_counter() - t0, evaluations=prob.evaluations)
+
+
+#: The selection's stop kinds in the loop's words (nothing passing: the last step's
+#: reason, :meth:`_Steps.stepped`).
+STOP_REASONS = {
+    en.NO_CANDIDATES: ("no candidate: every effect of the catalog is declared in the case or "
+                       "cannot act on this drive and data (see 'skipped')"),
+    en.ALL_TRIED: "every candidate effect has been added",
+    en.TOO_FEW_ROWS: "too few points left for another parameter",
+    en.EXCHANGING: "the selection keeps exchanging effects: stopped",
+}
+
+
+def _stop_reason(sel: en.Selection, steps, settings: Settings) -> str:
+    """Why the selection stopped, in the loop's words."""
+    if sel.stop == en.NOTHING_PASSES:
+        return steps[-1].reason
+    if sel.stop == en.MAX_EFFECTS:
+        return f"the limit of {settings.max_effects} effects is reached"
+    return STOP_REASONS[sel.stop]
+
+
+class _Steps(en.Listener):
+    """The engine's steps as the report's :class:`~.report.Step` records, each added one
+    told to ``say`` as it is taken."""
+
+    def __init__(self, prob: Problem, covs, say):
+        self.prob, self.covs, self.say = prob, covs, say
+        self.steps: list[Step] = []
+
+    def stepped(self, step: en.Step) -> None:
+        prob, settings = self.prob, self.prob.settings
+        current = step.before
+        # the candidates by held-out error, those that pass first and the one added first
+        order = en.ranked(step.scores, "held_out")
+        if step.added is not None:
+            order.sort(key=lambda c: c.name != step.added)
+        cands = tuple(_candidate(prob, c) for c in order)
+        bounded = tuple(c.name for c in cands if c.bounded)
+        trend = most_followed(residual_trends(step.after.residual, self.covs, prob.w,
+                                              settings))
+        if step.added is None:
+            closest = min(cands, key=lambda c: c.cv_wrmse)
+            stop = (f"nothing helps: the best candidate, {closest.name}, changes the held-out "
+                    f"error {_change(closest.cv_wrmse, current.cv_wrmse)} and BIC "
+                    f"by {closest.delta_bic:+.1f} (needs <= -{settings.min_cv_gain:.0%} and "
+                    f"<= -{settings.delta_bic:g})")
+            if bounded:
+                stop += (f"; {', '.join(bounded)} would explain the data only at the bound of "
+                         "its parameter: the data ask for more than it can physically give, "
+                         "so it is not an explanation")
+            self.steps.append(Step(index=step.index, added=None, candidates=cands,
+                                   reason=stop, bounded=bounded, trend=trend))
+            return
+        best = cands[0]
+        reason = (f"added {best.name}: held-out weighted RMS {current.cv_wrmse:.4g} -> "
+                  f"{best.cv_wrmse:.4g}, BIC {best.delta_bic:+.1f}")
+        if step.aliased:
+            reason += f"; the data cannot tell it from {', '.join(step.aliased)}"
+        if bounded:
+            reason += (f"; not added, at the bound of its parameter: {', '.join(bounded)}")
+        if step.removed:
+            reason += "; then removed " + ", ".join(step.removed) + " (no longer needed)"
+        group = step.group
+        assert group is None or isinstance(group, AliasGroup)      # _group's
+        self.steps.append(Step(index=step.index, added=step.added, candidates=cands,
+                               reason=reason, aliased=step.aliased, removed=step.removed,
+                               bounded=bounded, group=group, trend=trend))
+        self.say(reason)
 
 
 def _group(prob: Problem, step: int, fits: dict) -> AliasGroup:
@@ -216,71 +283,6 @@ def _group(prob: Problem, step: int, fits: dict) -> AliasGroup:
                                f"for a separating measurement failed: {exc}")
 
 
-def _select(prob: Problem, cands, base: Fit, settings: Settings, say, covs):
-    """Forward-backward selection from ``base``: (final fit, steps, stop reason)."""
-    current = base
-    steps: list[Step] = []
-    stop = ""
-    while True:
-        pool = [c for c in cands if c not in current.effects]
-        if not cands:
-            stop = ("no candidate: every effect of the catalog is declared in the case or "
-                    "cannot act on this drive and data (see 'skipped')")
-            break
-        if not pool:
-            stop = "every candidate effect has been added"
-            break
-        if len(current.effects) >= settings.max_effects:
-            stop = f"the limit of {settings.max_effects} effects is reached"
-            break
-        if prob.n - current.n_params - 1 < settings.min_points:
-            stop = "too few points left for another parameter"
-            break
-        scored = _score(prob, current, pool, settings)
-        best_fit, best = scored[0]
-        cand_records = tuple(c for _, c in scored)
-        bounded = tuple(c.name for c in cand_records if c.bounded)
-        if not best.passed:
-            closest = min((c for _, c in scored), key=lambda c: c.cv_wrmse)
-            stop = (f"nothing helps: the best candidate, {closest.name}, changes the held-out "
-                    f"error {_change(closest.cv_wrmse, current.cv_wrmse)} and BIC "
-                    f"by {closest.delta_bic:+.1f} (needs <= -{settings.min_cv_gain:.0%} and "
-                    f"<= -{settings.delta_bic:g})")
-            if bounded:
-                stop += (f"; {', '.join(bounded)} would explain the data only at the bound of "
-                         "its parameter: the data ask for more than it can physically give, "
-                         "so it is not an explanation")
-            steps.append(Step(index=len(steps) + 1, added=None, candidates=cand_records,
-                              reason=stop, bounded=bounded,
-                              trend=most_followed(residual_trends(current.residual, covs,
-                                                                  prob.w, settings))))
-            break
-        aliased = tuple(c.name for _, c in scored[1:]
-                        if c.passed and abs(c.delta_bic - best.delta_bic) < settings.alias_bic)
-        reason = (f"added {best.name}: held-out weighted RMS {current.cv_wrmse:.4g} -> "
-                  f"{best.cv_wrmse:.4g}, BIC {best.delta_bic:+.1f}")
-        group = None
-        if aliased:
-            reason += f"; the data cannot tell it from {', '.join(aliased)}"
-            fits = {best.name: best_fit}
-            fits.update((c.name, f) for f, c in scored[1:] if c.name in aliased)
-            group = _group(prob, len(steps) + 1, fits)
-        if bounded:
-            reason += (f"; not added, at the bound of its parameter: {', '.join(bounded)}")
-        current, removed = _prune(prob, best_fit, best.name, settings)
-        if removed:
-            reason += "; then removed " + ", ".join(removed) + " (no longer needed)"
-        trend = most_followed(residual_trends(current.residual, covs, prob.w, settings))
-        steps.append(Step(index=len(steps) + 1, added=best.name, candidates=cand_records,
-                          reason=reason, aliased=aliased, removed=tuple(removed),
-                          bounded=bounded, group=group, trend=trend))
-        say(reason)
-        if len(steps) >= STEPS_PER_CANDIDATE * len(cands):
-            stop = "the selection keeps exchanging effects: stopped"
-            break
-    return current, tuple(steps), stop
-
-
 def _change(new: float, old: float) -> str:
     """'by -12.3 %': the relative change of a held-out error; from 0 (the model already
     meets every held-out point) there is no relative change to give."""
@@ -289,74 +291,24 @@ def _change(new: float, old: float) -> str:
     return f"from 0 to {new:.4g}"
 
 
-def _score(prob: Problem, current: Fit, pool, settings: Settings) -> list:
-    """[(fit or None, Candidate)] of each candidate of ``pool`` fitted with the effects of
-    ``current``, those that pass first, then by held-out error."""
-    scored: list[tuple[Fit | None, Candidate]] = []
-    for name in pool:
-        try:
-            f = prob.make_fit(current.effects + (name,), dict(current.values))
-        except ToothfemError as exc:
-            scored.append((None, Candidate(name=name, values=(), stderr=(), rmse=float("nan"),
-                                           cv_wrmse=float("inf"), delta_bic=float("inf"),
-                                           passed=False, note=f"failed: {exc}")))
-            continue
-        dbic = f.bic - current.bic
-        gain = 1 - f.cv_wrmse / current.cv_wrmse if current.cv_wrmse > 0 else 0.0
-        helps = dbic <= -settings.delta_bic and gain >= settings.min_cv_gain
-        # an effect that helps only with a parameter at its physical bound is not an
-        # explanation: the data ask for more than it can give
-        bounded = helps and any(f.at_bound[name])
-        note = ""
-        if any(f.at_bound[name]):
-            eff = prob.effects[name]
-            note = "at its bound: " + ", ".join(
-                f"{p.name} = {v:.4g} {p.unit} (bounds {p.lo:.4g} to {p.hi:.4g})"
-                for p, v, b in zip(eff.parameters, f.values[name], f.at_bound[name]) if b)
-        scored.append((f, Candidate(name=name, values=f.values[name], stderr=f.stderr[name],
-                                    rmse=f.rmse, cv_wrmse=f.cv_wrmse, delta_bic=dbic,
-                                    passed=helps and not bounded, bounded=bounded,
-                                    note=note)))
-    scored.sort(key=lambda fc: (not fc[1].passed, fc[1].cv_wrmse))
-    if scored and scored[0][1].passed:
-        # exact aliases (a drag on the input and the input meter's offset) tie up to the
-        # fit's rounding: the one first in the catalog, the reducer's before the rig's, is
-        # added; the step names the others
-        top = scored[0][1].delta_bic
-        order = list(prob.effects)
-        first = min((fc for fc in scored
-                     if fc[1].passed and abs(fc[1].delta_bic - top) <= TIE_BIC),
-                    key=lambda fc: order.index(fc[1].name))
-        scored.remove(first)
-        scored.insert(0, first)
-    return scored
+def _candidate(prob: Problem, c: en.Score) -> Candidate:
+    """The report's record of a candidate's score."""
+    if c.fit is None:
+        return Candidate(name=c.name, values=(), stderr=(), rmse=float("nan"),
+                         cv_wrmse=float("inf"), delta_bic=float("inf"), passed=False,
+                         note=f"failed: {c.failure}")
+    f, note = c.fit, ""
+    if c.at_bound:
+        eff = prob.effects[c.name]
+        note = "at its bound: " + ", ".join(
+            f"{p.name} = {v:.4g} {p.unit} (bounds {p.lo:.4g} to {p.hi:.4g})"
+            for p, v, b in zip(eff.parameters, f.values[c.name], f.at_bound[c.name]) if b)
+    return Candidate(name=c.name, values=f.values[c.name], stderr=f.stderr[c.name],
+                     rmse=f.rmse, cv_wrmse=f.cv_wrmse, delta_bic=c.delta_bic,
+                     passed=c.passed, bounded=c.bounded, note=note)
 
 
-def _prune(prob: Problem, fit: Fit, keep: str, settings: Settings):
-    """Backward step: drop, one at a time, an effect (other than ``keep``, the one just
-    added) whose removal costs less than :data:`PRUNE_FRACTION` of the entry threshold of
-    BIC; an effect added early can be made redundant by later ones. Returns (fit, removed
-    names)."""
-    removed = []
-    while len(fit.effects) >= 2:
-        trials = []
-        for name in fit.effects:
-            if name == keep:
-                continue
-            rest = tuple(n for n in fit.effects if n != name)
-            f = prob.make_fit(rest, {n: fit.values[n] for n in rest})
-            trials.append((f.bic - fit.bic, name, f))
-        if not trials:
-            break
-        cost, name, f = min(trials, key=lambda t: t[0])
-        if cost >= PRUNE_FRACTION * settings.delta_bic:
-            break
-        removed.append(name)
-        fit = f
-    return fit, removed
-
-
-def _effect_fit(eff, fit: Fit) -> EffectFit:
+def _effect_fit(eff, fit: en.Fit) -> EffectFit:
     """The record of an added effect: each parameter's value, error, unit and bounds."""
     params = {}
     for p, v, s, b in zip(eff.parameters, fit.values[eff.name], fit.stderr[eff.name],
@@ -372,7 +324,7 @@ def _closing(prob: Problem, cands) -> tuple:
     out = []
     for name in cands:
         try:
-            x, _, _, _ = prob.fit((name,), tol=EXACT_TOL)
+            x = prob.engine.solve((name,), tol=en.EXACT_TOL).values
         except ToothfemError as exc:
             out.append(Closing(name=name, values=(), rmse=float("nan"), at_bound=False,
                                note=f"failed: {exc}"))
@@ -380,7 +332,7 @@ def _closing(prob: Problem, cands) -> tuple:
         params = prob.effects[name].parameters
         pred = prob.predict((name,), x)
         rmse = float(np.sqrt(np.mean((prob.eta - pred) ** 2)))
-        bound = any(at_bound(v, p) for v, p in zip(x, params))
+        bound = any(en.at_bound(v, p) for v, p in zip(x, params))
         if bound and rmse > CLOSING_RMSE:
             note = "at its bound: this effect alone cannot reach the data"
         elif rmse <= CLOSING_RMSE:
