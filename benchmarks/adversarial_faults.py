@@ -740,8 +740,9 @@ MEASURED = {"';' delimiter": (";", False), "tab delimiter": ("\t", False),
 
 def _loop_csv(sep, comma):
     def fn(box):
-        cell = lambda v: (f'"{v}"' if sep == "," else v).replace(".", ",") if comma and "." in v \
-            else v
+        def cell(v):
+            return (f'"{v}"' if sep == "," else v).replace(".", ",") if comma and "." in v \
+                    else v
         (box / "rig.csv").write_text("".join(
             sep.join(map(cell, row)) + "\n"
             for row in [("input_speed_rpm", "output_torque_Nm", "efficiency")] + _ROWS))
@@ -750,7 +751,7 @@ def _loop_csv(sep, comma):
         if o.rc == 0:                    # read as such, and said so: every row, no silence
             rows = json.loads((box / "res" / "report.json").read_text()).get("n_rows", 3)
             return f"read {rows} of 3 rows" if rows != 3 else None if said else \
-                f"read without a word about the delimiter or decimal commas"
+                "read without a word about the delimiter or decimal commas"
         if said and not one_line(o):
             return None
         return f"the message says neither delimiter nor decimal comma ({o.describe()})"

@@ -27,16 +27,16 @@ sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
 from toothfem.fem import cycloid_fe as cf  # noqa: E402
-from toothfem.fem.drives import drive_for
+from toothfem.fem.drives import drive_for  # noqa: E402
 
 TOLERANCE = 0.05   # issue 3, item 5e
 
 
 def read_peer(folder, mesh):
-    pos = [r for r in csv.DictReader(open(folder / "positions.csv"))
-           if float(r["mesh_size_mm"]) == mesh]
-    pins = [r for r in csv.DictReader(open(folder / "pins.csv"))
-            if float(r["mesh_size_mm"]) == mesh]
+    with open(folder / "positions.csv") as fh:
+        pos = [r for r in csv.DictReader(fh) if float(r["mesh_size_mm"]) == mesh]
+    with open(folder / "pins.csv") as fh:
+        pins = [r for r in csv.DictReader(fh) if float(r["mesh_size_mm"]) == mesh]
     return pos, pins
 
 

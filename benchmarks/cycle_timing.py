@@ -20,7 +20,7 @@ sys.path.insert(0, str(ROOT))
 
 from toothfem import load_case  # noqa: E402
 from toothfem.fem import cycloid_fe as cf  # noqa: E402
-from toothfem.fem.drives import drive_for
+from toothfem.fem.drives import drive_for  # noqa: E402
 
 
 def main(argv=None):
@@ -40,7 +40,7 @@ def main(argv=None):
                        endpoint=False)
     t0 = time.perf_counter()
     solver = cf.CycleSolver(model, phis)
-    solver._setup                                   # meshes, factorisation, pin/housing model
+    _ = solver._setup                               # meshes, factorisation, pin/housing model
     t1 = time.perf_counter()
     ls = solver.solve(torque)
     t2 = time.perf_counter()
@@ -55,8 +55,8 @@ def main(argv=None):
         folder = out
     else:
         folder = ROOT / "benchmarks" / "calculix" / "results"
-    rows = [r for r in csv.DictReader(open(folder / "positions.csv"))
-            if float(r["mesh_size_mm"]) == args.peer_mesh_mm]
+    with open(folder / "positions.csv") as fh:
+        rows = [r for r in csv.DictReader(fh) if float(r["mesh_size_mm"]) == args.peer_mesh_mm]
     peer = float(np.mean([float(r["ccx_wall_s"]) for r in rows]))
     per_position = cycle / args.positions
     print(f"pins: {args.pins}; F_max over the cycle {ls.force.max():.1f} N; "

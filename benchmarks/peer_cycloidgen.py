@@ -13,7 +13,6 @@ and this script runs its half there (``--peer-python``). Run from the project's 
 """
 import argparse
 import json
-import math
 import subprocess
 import sys
 from dataclasses import replace

@@ -747,6 +747,9 @@ def explanation(mine, theirs, bores) -> str:
     d_ecc = m0["compliance_arcmin_per_Nm"].get("eccentric bearings", 0.0)
     d_shaft = (m0["compliance_arcmin_per_Nm"].get("input shaft torsion", 0.0)
                - 1 / parts["input_shaft"])
+    torsion = 1 / max(m0['compliance_arcmin_per_Nm'].get('input shaft torsion', 1e-30), 1e-30)
+    peer_torsion = 100 * sh[f"peer {CLEARANCES_MM[0]} resampled"]['input shaft torsion']
+    backlash_gap = 100 * (m1['backlash_arcmin'] / r1['backlash_arcmin'] - 1)
     out = f"""
 Differences, each explained (numbers of this run; compliances in arcmin per N m, 0 um
 unless said, the peer resampled where its polyline spoils the figure):
@@ -801,17 +804,17 @@ unless said, the peer resampled where its polyline spoils the figure):
    bearings and input shaft bending (ours {100 * s0['input bearings']:.1f} % and
    {100 * s0['input shaft bending']:.1f} %): assumed tapered rollers and an assumed 17.6 mm
    shaft on a 32 mm span; not in the peer.
-6. Input shaft torsion: ours {1 / max(m0['compliance_arcmin_per_Nm'].get('input shaft torsion', 1e-30), 1e-30):.0f}
+6. Input shaft torsion: ours {torsion:.0f}
    against the peer's {parts['input_shaft']:.0f} N m/arcmin, both referred to the output by
    29^2: ours twists the assumed 17.6 mm journal shaft over half its span (16 mm, eccentrics
    to the held end); the peer its default 10 mm input shaft over the stack plus two
    overhangs (stack_height + 2 shaft_overhang). The diameter alone is (17.6/10)^4 = 9.6x;
-   in the peer this is {100 * sh[f"peer {CLEARANCES_MM[0]} resampled"]['input shaft torsion']:.0f} % of the compliance, in ours
+   in the peer this is {peer_torsion:.0f} % of the compliance, in ours
    {100 * s0['input shaft torsion']:.1f} %. Neither shaft is the case's (it gives none).
 7. Backlash, 10 um: ours {m1['backlash_arcmin']:.4f} against {r1['backlash_arcmin']:.4f}
    resampled: both the rigid rotation that closes the first pin's clearance, input held;
    ours from the exact gaps at the FE's pins over the pitch (36 positions), the peer's the
-   max over its 144 angles of its resampled gaps ({100 * (m1['backlash_arcmin'] / r1['backlash_arcmin'] - 1):+.2f} %).
+   max over its 144 angles of its resampled gaps ({backlash_gap:+.2f} %).
    As shipped the peer gives 0: its polyline's ~10-20 um chord error swallows the 10 um.
    Lost motion +-3 %: the backlash plus the wind-up at 1.2 N m each way; ours
    ({m0['lost_motion_arcmin']:.3f} at 0 um) winds up more than the peer
@@ -924,7 +927,7 @@ def main(argv=None):
         f"{mine[str(c)]['output_pin_forces_disc']}: "
         + ", ".join(f"{f:.1f}" for f in mine[str(c)]["output_pin_forces_N"])
         for c in CLEARANCES_MM))
-    print(f"ring stage vs the FE's held bore radius (diagnostic, 0 um): " + ", ".join(
+    print("ring stage vs the FE's held bore radius (diagnostic, 0 um): " + ", ".join(
         f"{b} mm: {v:.0f}" for b, v in bores["ring_rigidity_Nm_per_arcmin"].items())
         + " N m/arcmin")
     print(explanation(mine, theirs, bores))

@@ -22,7 +22,6 @@ import argparse
 import dataclasses
 import json
 import subprocess
-import sys
 from pathlib import Path
 
 import numpy as np

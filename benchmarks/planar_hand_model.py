@@ -122,7 +122,7 @@ def solve(params):
 
     act = (np.sign(T) * cross_z(u[:, None], n) > 0).ravel()             # initial guess only
     q = np.linalg.solve(Kb + kp * B[act].T @ B[act], F)
-    for it in range(200):
+    for it in range(200):  # noqa: B007 (its count is read after the loop)
         g = grad(q)
         act = B @ q > 0
         H = Kb + kp * B[act].T @ B[act]

@@ -130,7 +130,7 @@ def solve(g, support, mesh="lumped"):
     Q = np.full(g["n"], 4 * T / (g["n"] * g["Rw"]))
     Fb = 2000.0
     act = lev > 0
-    for it in range(300):
+    for it in range(300):  # noqa: B007 (its count is read after the loop)
         K = support if isinstance(support, float) else None
         if isinstance(support, str):
             K = 1 / support_compliance(g, Fb, support == "full")

@@ -180,8 +180,8 @@ def cycle_and_detailed(args):
         folder, how = out, "this run"
     else:
         folder, how = ROOT / "benchmarks" / "calculix" / "results", "recorded"
-    rows = [r for r in csv.DictReader(open(folder / "positions.csv"))
-            if float(r["mesh_size_mm"]) == 0.004]
+    with open(folder / "positions.csv") as fh:
+        rows = [r for r in csv.DictReader(fh) if float(r["mesh_size_mm"]) == 0.004]
     peer = float(np.mean([float(r["ccx_wall_s"]) for r in rows]))
     report(f"CalculiX per position ({how}, 4 um contact mesh)", peer, "s")
     report("CalculiX / cycle mode time per position", peer / per_pos, "x", ">= 10 x",
@@ -209,7 +209,6 @@ def loop_time():
     from toothfem.efficiency.loop import effects as fx
     from toothfem.efficiency import loop as lp
     from toothfem.efficiency.loop import synthetic as sy
-    from toothfem.fem.drives import drive_for
 
     sine = load_case(ROOT / "cases" / "sine_prototype.toml")
     cyc = load_case(ROOT / "cases" / "cycloid_pinhousing.toml")

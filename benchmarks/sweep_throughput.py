@@ -83,7 +83,6 @@ def repeated_load(case, positions, pins):
 
 def main(argv=None):
     from toothfem import load_case
-    from toothfem.fem.drives import drive_for
 
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--designs", type=int, default=8)

@@ -48,12 +48,10 @@ import argparse
 import contextlib
 import dataclasses
 import json
-import math
 import sys
 import time
 from pathlib import Path
 
-import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))

@@ -85,7 +85,8 @@ def main(argv=None):
     print(f"{'':28s}{'cold':>10s}{'warm':>10s}{'ratio':>8s}{'target':>16s}")
     c, w = out["system_cold"]["total_s"], out["system_warm"]["total_s"]
     print(f"{'loop, total [s]':28s}{c:10.2f}{w:10.2f}{c / w:8.2f}{'15 cold, 3 warm':>16s}")
-    print(f"{'%d rings on %d workers [s]' % (args.rings, args.workers):28s}{wall:10.1f}"
+    rings = f"{args.rings} rings on {args.workers} workers [s]"
+    print(f"{rings:28s}{wall:10.1f}"
           f"{'':18s}{90.0 * args.rings / 1000:9.1f}")
     res = ROOT / "benchmarks" / "results" / "system_timing.json"
     res.write_text(json.dumps(out, indent=2))

@@ -192,7 +192,8 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
     centre_m, theta = cycloid_mesh.disc_pose(geom, phi)
     oc = centre_m[:, 0] * 1e3                       # disc centre, mm
     rot = _rot(float(theta[0]))
-    to_h = lambda pts: (rot @ pts).T + oc           # disc frame (2, n) mm -> (n, 2) housing
+    def to_h(pts):
+        return (rot @ pts).T + oc           # disc frame (2, n) mm -> (n, 2) housing
 
     state = cycloid_mesh.meshing(geom, phi)
     kpts = state.point[0] * 1e3                      # (Zb, 2) contact points, housing, mm
@@ -308,7 +309,7 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
             out = []
             for c in curves:
                 types, _, nodes = gmsh.model.mesh.getElements(1, c)
-                for t, nn in zip(types, nodes):
+                for _t, nn in zip(types, nodes):
                     out.append(index[np.asarray(nn, np.int64)].reshape(-1, 2))
             return np.concatenate(out) if out else np.zeros((0, 2), np.int64)
 
@@ -326,7 +327,8 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
     keep = np.full(xy.shape[0], -1, np.int64)
     keep[used] = np.arange(used.size)
     xy = xy[used]
-    rn = lambda a: keep[a]
+    def rn(a):
+        return keep[a]
     dq, dt = rn(dq), rn(dt)
     pq = [rn(q) for q in pq]
     pt = [rn(t) for t in pt]
@@ -409,7 +411,8 @@ def write_deck(pb: Problem, mesh: Mesh2D, phi: float, opt: Options) -> Deck:
     xy = mesh.xy
     n = xy.shape[0]
     t = opt.slab
-    nid = lambda i, top=False: i + 1 + (n if top else 0)       # 1-based 3D node ids
+    def nid(i, top=False):
+        return i + 1 + (n if top else 0)       # 1-based 3D node ids
     out = ["*HEADING", f"toothfem ccx peer: {pb.name}, crank angle {math.degrees(phi):.6f} deg",
            "** units: mm, N, MPa. Plane strain slab of thickness "
            f"{t} mm; forces scale by {pb.face_width / t:g} to the face width.",

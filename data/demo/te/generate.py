@@ -6,8 +6,9 @@ its true value, the noise).
 - ``rv40e_crank_play/``: crank-bearing play 10 um; shape A (one file per torque, forward
   and backward columns) and the hysteresis staircase;
 - ``rv40e_eccentric/``: the eccentric under crank 1, disc 1, 5 um off its place: 4 um
-  radially (its eccentricity) and 3 um across (its phase, 8 arcmin at e = 1.3 mm); shape B (one long table with a direction column, re-zeroed from its second torque on) and
-  the staircase.
+  radially (its eccentricity) and 3 um across (its phase, 8 arcmin at e = 1.3 mm); shape B
+  (one long table with a direction column, re-zeroed from its second torque on) and the
+  staircase.
 
 ``toothfem te-loop cases/rv40e.toml --te data/demo/te/rv40e_crank_play/ --hysteresis
 data/demo/te/rv40e_crank_play/hysteresis.csv --out DIR`` then finds the play and reports the
