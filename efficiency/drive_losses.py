@@ -34,6 +34,7 @@ from ..limits import Exceeded
 from .bearing_set import bearing_losses, main_preload_N
 from .bearings import main_bearing_load
 from .envelope import envelope
+from .losses import LOSSES
 from .contact_friction import contact_mu, sliding_loss
 from .mesh_table import fe_member_split, fe_reference, mesh_table
 from .no_load import no_load_losses
@@ -414,40 +415,6 @@ def bearing_component(drive) -> str | None:
     return drive.layout.loss_model.bearing_coefficient_component
 
 
-#: The law and source of each loss component (docs/efficiency.md); a drive kind's own
-#: reading of a component in its loss model (:class:`LossModel` ``sources``).
-LOSS_SOURCES = {
-    "mesh": "sliding friction of every loaded contact over the meshing period: EHL (Xu 2007) "
-            "and asperity (boundary coefficient) shares of mixed lubrication",
-    "pin_contacts": "pin-disc contacts: EHL (Xu 2007) and asperity shares of mixed "
-                    "lubrication, the pin turning in its groove where that slides more "
-                    "easily; the 2K-V train by Chen & Angeles' virtual power",
-    "first_stage": "spur stage: Ohlendorf's loss factor with Schlenk's mean friction "
-                   "(ISO/TR 14179-2), or the declared mesh efficiency",
-    "crank_bearings": "Palmgren M0 + mu P d_m/2 of each needle bearing at its load "
-                      "(Harris & Kotzalas 2007)",
-    "crank_support_bearings": "Palmgren M0 + mu P d_m/2 of each tapered roller bearing, load "
-                              "sum T/R_c (Harris & Kotzalas 2007)",
-    "main_bearings": "Palmgren M0 + mu P d_m/2 of the angular contact rows at their preload "
-                     "and the external loads (Harris & Kotzalas 2007)",
-    "input_bearings": "Palmgren M0 + mu P d_m/2 of the input shaft's ball bearings "
-                      "(Harris & Kotzalas 2007)",
-    "eccentric_bearing": "Palmgren M0 + mu P d_m/2 of the eccentric's rollers at the "
-                         "member's equilibrium load (Harris & Kotzalas 2007)",
-    "output_mechanism": "pins sliding in the member's holes, mu sum Q 2 a0 w (Lu & Xu 2024, "
-                        "Eqs. 37-39)",
-    "plain_bearings": "the output pins' plain bearings, M_f w (Lu & Xu 2024, Eq. 34)",
-    "churning": "oil-bath no-load loss, Lu & Xu 2024 Eq. 42 (after Xu & Yang 1998): "
-                "validated by its source on the sine stage only",
-    "bearing_drag": "Palmgren's viscous moment M0 of every bearing (f0 by type and "
-                    "lubrication, Harris & Kotzalas 2007)",
-    "seals": "radial lip seals, ISO/TR 14179-1: 7.69e-6 D^2 n W",
-    "drag": "declared drag torque on the input (friction.drag_torque_Nmm)",
-    "windage": "declared drag on the input growing with speed squared, T_w (n/1000 rpm)^2 "
-               "(friction.windage_torque_Nmm; Dawson 1984)",
-    "sun_planet_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
-    "cycloid_mesh": "RV paper Eqs. 8-15 with the declared mesh efficiency",
-}
 def loss_sources(drive, names) -> dict:
     """The law and source of each named loss component of a drive.
 
@@ -463,7 +430,7 @@ def loss_sources(drive, names) -> dict:
         name -> source.
     """
     own = drive.layout.loss_model.sources
-    return {n: own.get(n, LOSS_SOURCES.get(n, "")) for n in names}
+    return {n: own.get(n, LOSSES[n].law if n in LOSSES else "") for n in names}
 
 
 @dataclass(frozen=True)
@@ -476,7 +443,7 @@ class LossModel:
         (si, drive, points) -> :class:`DriveLosses`.
     sources : dict
         The layout's own reading of a component's law and source (beside
-        :data:`LOSS_SOURCES`).
+        :data:`toothfem.efficiency.losses.LOSSES`).
     bearing_coefficient_component : str or None
         The component proportional to ``friction.bearing_coefficient`` alone (the sine
         paper's Eq. 32); None where the coefficient is the load term of every bearing's

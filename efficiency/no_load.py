@@ -33,10 +33,11 @@ One cited law per mechanism, none counted twice:
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 
 import numpy as np
 
-from .envelope import envelope
+from .envelope import Envelope, envelope
 from .lubricant import churning_lu_xu_2024
 from .bearing_set import bearing_losses
 from .palmgren import palmgren_f0, palmgren_no_load_moment
@@ -79,9 +80,123 @@ def seal_loss(diameter_m, speed_rad_s):
     return SEAL_LOSS_W * d_mm ** 2 * np.abs(np.asarray(speed_rad_s, float)) * RPM_PER_RAD_S
 
 
+@dataclass(frozen=True, kw_only=True)
+class NoLoadPoints:
+    """What a load-independent loss is computed from, at M operating points: the gear
+    stages' (centre distance a0 [m], (M,) pinion speed relative to its carrier [rad/s]),
+    the input's and the output's speeds (M,) [rad/s], the oil's viscosity factor
+    eta(T)/eta(T_ref) (M,), whether the bearings' drag is counted here (``bearings``), and
+    the seals' and bearings' sizes (:class:`~toothfem.efficiency.envelope.Envelope`)."""
+    stages: tuple
+    input_rad_s: np.ndarray
+    output_rad_s: np.ndarray
+    viscosity_factor: np.ndarray
+    bearings: bool
+    envelope: Envelope
+
+
+class NoLoadLoss:
+    """A load-independent loss (module docstring): its ``name`` (a key of
+    :data:`toothfem.efficiency.losses.LOSSES`, which holds its law and source), whether a
+    case has it and its power. A new one is a subclass listed in :data:`NO_LOAD`."""
+    name = ""
+
+    def applies(self, si, points: NoLoadPoints) -> bool:
+        """Whether the case has this loss.
+
+        Parameters
+        ----------
+        si : toothfem.si.CaseSI
+        points : NoLoadPoints
+
+        Returns
+        -------
+        bool
+        """
+        return True
+
+    def power_W(self, si, drive, points: NoLoadPoints):
+        """The loss [W] at the points.
+
+        Parameters
+        ----------
+        si : toothfem.si.CaseSI
+        drive : toothfem.fem.drives.Drive
+        points : NoLoadPoints
+
+        Returns
+        -------
+        numpy.ndarray, shape (M,)
+        """
+        raise NotImplementedError
+
+
+class Churning(NoLoadLoss):
+    """Each gear stage in the oil bath (Lu & Xu 2024, Eq. 42), scaled by
+    ``lubricant.churning_scale``."""
+    name = "churning"
+
+    def applies(self, si, points):
+        lub = si.lubricant
+        return lub.lubrication == "oil_bath" and lub.churning != "none"
+
+    def power_W(self, si, drive, points):
+        lub = si.lubricant
+        nu = lub.kinematic_viscosity_m2_s * np.asarray(points.viscosity_factor, float)
+        return lub.churning_scale * sum(
+            churning_lu_xu_2024(a0, np.abs(n) * RPM_PER_RAD_S, nu) for a0, n in points.stages)
+
+
+class BearingDrag(NoLoadLoss):
+    """Every bearing of the set at its speed with no load term (no oil bath to churn)."""
+    name = "bearing_drag"
+
+    def applies(self, si, points):
+        return si.lubricant.lubrication != "oil_bath" and points.bearings
+
+    def power_W(self, si, drive, points):
+        return sum(bearing_losses(si, drive, {}, points.input_rad_s,
+                                  points.viscosity_factor).values())
+
+
+class Seals(NoLoadLoss):
+    """The input's and the output's lip seals (ISO/TR 14179-1)."""
+    name = "seals"
+
+    def power_W(self, si, drive, points):
+        env = points.envelope
+        return (seal_loss(env.input_seal_diameter_m, points.input_rad_s)
+                + seal_loss(env.output_seal_diameter_m, points.output_rad_s))
+
+
+class Drag(NoLoadLoss):
+    """A declared drag torque on the input."""
+    name = "drag"
+
+    def power_W(self, si, drive, points):
+        return si.friction.drag_torque_Nm * np.abs(points.input_rad_s)
+
+
+class Windage(NoLoadLoss):
+    """A declared drag on the input growing with the square of its speed."""
+    name = "windage"
+
+    def applies(self, si, points):
+        return bool(si.friction.windage_torque_Nm)
+
+    def power_W(self, si, drive, points):
+        w = np.abs(points.input_rad_s)
+        return si.friction.windage_torque_Nm * (w / WINDAGE_REFERENCE_RAD_S) ** 2 * w
+
+
+#: The load-independent losses, in the order the summaries list them.
+NO_LOAD: tuple[NoLoadLoss, ...] = (Churning(), BearingDrag(), Seals(), Drag(), Windage())
+
+
 def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_factor,
                    bearings=True) -> dict:
-    """The load-independent losses of a drive at M operating points [W] (module docstring).
+    """The load-independent losses of a drive at M operating points [W]: each of
+    :data:`NO_LOAD` the case has (module docstring).
 
     Parameters
     ----------
@@ -102,28 +217,13 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
     Returns
     -------
     dict
-        ``churning`` (oil bath) or ``bearing_drag`` (otherwise), ``seals``, ``drag``: (M,)
-        arrays.
+        ``churning`` (oil bath) or ``bearing_drag`` (otherwise), ``seals``, ``drag`` and
+        ``windage`` where declared: (M,) arrays.
     """
-    lub = si.lubricant
-    env = envelope(si, drive)
-    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
-    out = {}
-    if lub.lubrication == "oil_bath":
-        if lub.churning != "none":
-            out["churning"] = lub.churning_scale * sum(
-                churning_lu_xu_2024(a0, np.abs(n) * RPM_PER_RAD_S, nu) for a0, n in stages)
-    elif bearings:           # every bearing of the set at its speed, no load term
-        out["bearing_drag"] = sum(bearing_losses(si, drive, {}, input_rad_s,
-                                                 viscosity_factor).values())
-    out["seals"] = (seal_loss(env.input_seal_diameter_m, input_rad_s)
-                    + seal_loss(env.output_seal_diameter_m, output_rad_s))
-    out["drag"] = si.friction.drag_torque_Nm * np.abs(input_rad_s)
-    if si.friction.windage_torque_Nm:
-        out["windage"] = (si.friction.windage_torque_Nm
-                          * (np.abs(input_rad_s) / WINDAGE_REFERENCE_RAD_S) ** 2
-                          * np.abs(input_rad_s))
-    return out
+    points = NoLoadPoints(stages=tuple(stages), input_rad_s=input_rad_s,
+                          output_rad_s=output_rad_s, viscosity_factor=viscosity_factor,
+                          bearings=bearings, envelope=envelope(si, drive))
+    return {x.name: x.power_W(si, drive, points) for x in NO_LOAD if x.applies(si, points)}
 
 
 #: An output speed of a slow twist test [rad/s] (a few degrees per minute): Palmgren's
