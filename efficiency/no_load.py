@@ -33,6 +33,7 @@ One cited law per mechanism, none counted twice:
 """
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -95,102 +96,71 @@ class NoLoadPoints:
     envelope: Envelope
 
 
+@dataclass(frozen=True)
 class NoLoadLoss:
     """A load-independent loss (module docstring): its ``name`` (a key of
-    :data:`toothfem.efficiency.losses.LOSSES`, which holds its law and source), whether a
-    case has it and its power. A new one is a subclass listed in :data:`NO_LOAD`."""
-    name = ""
-
-    def applies(self, si, points: NoLoadPoints) -> bool:
-        """Whether the case has this loss.
-
-        Parameters
-        ----------
-        si : toothfem.si.CaseSI
-        points : NoLoadPoints
-
-        Returns
-        -------
-        bool
-        """
-        return True
-
-    def power_W(self, si, drive, points: NoLoadPoints):
-        """The loss [W] at the points.
-
-        Parameters
-        ----------
-        si : toothfem.si.CaseSI
-        drive : toothfem.fem.drives.Drive
-        points : NoLoadPoints
-
-        Returns
-        -------
-        numpy.ndarray, shape (M,)
-        """
-        raise NotImplementedError
+    :data:`toothfem.efficiency.losses.LOSSES`, which holds its law and source), its power
+    law ``power(si, drive, points) -> (M,) [W]`` and ``applies(si, points) -> bool``,
+    whether a case has it (None: every case). A new one is one more of these in
+    :data:`NO_LOAD`."""
+    name: str
+    power: Callable[..., np.ndarray]
+    applies: Callable[..., bool] | None = None
 
 
-class Churning(NoLoadLoss):
-    """Each gear stage in the oil bath (Lu & Xu 2024, Eq. 42), scaled by
-    ``lubricant.churning_scale``."""
-    name = "churning"
-
-    def applies(self, si, points):
-        lub = si.lubricant
-        return lub.lubrication == "oil_bath" and lub.churning != "none"
-
-    def power_W(self, si, drive, points):
-        lub = si.lubricant
-        nu = lub.kinematic_viscosity_m2_s * np.asarray(points.viscosity_factor, float)
-        return lub.churning_scale * sum(
-            churning_lu_xu_2024(a0, np.abs(n) * RPM_PER_RAD_S, nu) for a0, n in points.stages)
+def _churning_applies(si, points) -> bool:
+    lub = si.lubricant
+    return lub.lubrication == "oil_bath" and lub.churning != "none"
 
 
-class BearingDrag(NoLoadLoss):
-    """Every bearing of the set at its speed with no load term (no oil bath to churn)."""
-    name = "bearing_drag"
-
-    def applies(self, si, points):
-        return si.lubricant.lubrication != "oil_bath" and points.bearings
-
-    def power_W(self, si, drive, points):
-        return sum(bearing_losses(si, drive, {}, points.input_rad_s,
-                                  points.viscosity_factor).values())
+def _churning(si, drive, points):
+    """Each gear stage in the oil bath (Lu & Xu 2024, Eq. 42), times churning_scale."""
+    lub = si.lubricant
+    nu = lub.kinematic_viscosity_m2_s * np.asarray(points.viscosity_factor, float)
+    return lub.churning_scale * sum(
+        churning_lu_xu_2024(a0, np.abs(n) * RPM_PER_RAD_S, nu) for a0, n in points.stages)
 
 
-class Seals(NoLoadLoss):
+def _bearing_drag_applies(si, points) -> bool:
+    return si.lubricant.lubrication != "oil_bath" and points.bearings
+
+
+def _bearing_drag(si, drive, points):
+    """Every bearing of the set at its speed, no load term (no bath to churn)."""
+    return sum(bearing_losses(si, drive, {}, points.input_rad_s,
+                              points.viscosity_factor).values())
+
+
+def _seals(si, drive, points):
     """The input's and the output's lip seals (ISO/TR 14179-1)."""
-    name = "seals"
-
-    def power_W(self, si, drive, points):
-        env = points.envelope
-        return (seal_loss(env.input_seal_diameter_m, points.input_rad_s)
-                + seal_loss(env.output_seal_diameter_m, points.output_rad_s))
+    env = points.envelope
+    return (seal_loss(env.input_seal_diameter_m, points.input_rad_s)
+            + seal_loss(env.output_seal_diameter_m, points.output_rad_s))
 
 
-class Drag(NoLoadLoss):
+def _drag(si, drive, points):
     """A declared drag torque on the input."""
-    name = "drag"
-
-    def power_W(self, si, drive, points):
-        return si.friction.drag_torque_Nm * np.abs(points.input_rad_s)
+    return si.friction.drag_torque_Nm * np.abs(points.input_rad_s)
 
 
-class Windage(NoLoadLoss):
+def _windage_applies(si, points) -> bool:
+    return bool(si.friction.windage_torque_Nm)
+
+
+def _windage(si, drive, points):
     """A declared drag on the input growing with the square of its speed."""
-    name = "windage"
-
-    def applies(self, si, points):
-        return bool(si.friction.windage_torque_Nm)
-
-    def power_W(self, si, drive, points):
-        w = np.abs(points.input_rad_s)
-        return si.friction.windage_torque_Nm * (w / WINDAGE_REFERENCE_RAD_S) ** 2 * w
+    w = np.abs(points.input_rad_s)
+    return si.friction.windage_torque_Nm * (w / WINDAGE_REFERENCE_RAD_S) ** 2 * w
 
 
 #: The load-independent losses, in the order the summaries list them.
-NO_LOAD: tuple[NoLoadLoss, ...] = (Churning(), BearingDrag(), Seals(), Drag(), Windage())
+NO_LOAD: tuple[NoLoadLoss, ...] = (
+    NoLoadLoss("churning", _churning, _churning_applies),
+    NoLoadLoss("bearing_drag", _bearing_drag, _bearing_drag_applies),
+    NoLoadLoss("seals", _seals),
+    NoLoadLoss("drag", _drag),
+    NoLoadLoss("windage", _windage, _windage_applies),
+)
 
 
 def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_factor,
@@ -223,7 +193,8 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
     points = NoLoadPoints(stages=tuple(stages), input_rad_s=input_rad_s,
                           output_rad_s=output_rad_s, viscosity_factor=viscosity_factor,
                           bearings=bearings, envelope=envelope(si, drive))
-    return {x.name: x.power_W(si, drive, points) for x in NO_LOAD if x.applies(si, points)}
+    return {x.name: x.power(si, drive, points) for x in NO_LOAD
+            if x.applies is None or x.applies(si, points)}
 
 
 #: An output speed of a slow twist test [rad/s] (a few degrees per minute): Palmgren's

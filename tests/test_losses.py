@@ -1,7 +1,7 @@
 """Every loss component once (efficiency/losses.py): each shipped case's losses are in the
 table with a law, the loop's effects that scale a loss name one of them, and a new
-load-independent loss is one class (efficiency/no_load.py, docs/architecture.md "Adding a
-loss")."""
+load-independent loss is one entry with its law (efficiency/no_load.py,
+docs/architecture.md "Adding a loss")."""
 from __future__ import annotations
 
 import numpy as np
@@ -45,21 +45,18 @@ def test_the_loops_effects_scale_losses_of_the_table(cases_dir):
     assert {x.name for x in nl.NO_LOAD} <= set(ls.LOSSES)
 
 
-class Viscous(nl.NoLoadLoss):
+def viscous(si, drive, points):
     """A probe: a drag torque proportional to the input speed, c w^2 [W]."""
-    name = "viscous_drag"
-
-    def power_W(self, si, drive, points):
-        return 1e-3 * np.asarray(points.input_rad_s, float) ** 2
+    return 1e-3 * np.asarray(points.input_rad_s, float) ** 2
 
 
-def test_a_new_load_independent_loss_is_one_class(cases_dir, monkeypatch):
-    """Listed in NO_LOAD and in LOSSES, a NoLoadLoss is in every evaluation's losses with
-    its law, and the efficiency falls by exactly its power."""
+def test_a_new_load_independent_loss_is_one_entry(cases_dir, monkeypatch):
+    """A NoLoadLoss with its power law, listed in NO_LOAD and its law in LOSSES, is in every
+    evaluation's losses with its law, and the input power rises by exactly its power."""
     case = load_case(cases_dir / "sine_prototype.toml")
     point = operating_point(case)
     before = evaluate(case, *point)
-    monkeypatch.setattr(nl, "NO_LOAD", nl.NO_LOAD + (Viscous(),))
+    monkeypatch.setattr(nl, "NO_LOAD", nl.NO_LOAD + (nl.NoLoadLoss("viscous_drag", viscous),))
     monkeypatch.setitem(ls.LOSSES, "viscous_drag",
                         ls.Loss("viscous_drag", None, "a probe: c w_in^2"))
     after = evaluate(case, *point)
