@@ -28,7 +28,7 @@ CASES = ("cycloid_pinhousing", "cycloid_khv", "rv40e", "rv_paper_example", "sine
 #: Keys whose values are run metadata, not results.
 IGNORED_KEYS = {"elapsed_s", "seconds", "time_s", "date", "created", "command", "version",
                 "out", "output", "folder", "path", "report", "command_line", "duration_s",
-                "wall_s", "toothfem_version", "written", "files", "cache_dir"}
+                "wall_s", "toothfem_version", "written", "files", "cache_dir", "setup_s"}
 
 
 def runs() -> list[tuple[str, list[str]]]:
@@ -111,7 +111,12 @@ def _leaves(path: Path) -> dict:
     if path.suffix == ".csv":
         rows = [r for r in csv.reader(line for line in text.splitlines()
                                        if not line.startswith("#"))]
-        return {f"[{i}][{j}]": _num(c) for i, r in enumerate(rows) for j, c in enumerate(r)}
+        if not rows:
+            return {}
+        head = rows[0]
+        return {f"[{i}].{head[j] if j < len(head) else j}": _num(c)
+                for i, r in enumerate(rows[1:], 1) for j, c in enumerate(r)
+                if j >= len(head) or head[j] not in IGNORED_KEYS}
     try:
         return dict(_numbers(json.loads(text)))
     except json.JSONDecodeError:
