@@ -36,7 +36,7 @@ from .bearings import main_bearing_load
 from .envelope import envelope
 from .losses import LOSSES
 from .contact_friction import contact_mu, sliding_loss
-from .mesh_table import fe_member_split, fe_reference, mesh_table
+from .mesh_table import LoadsMemo, fe_reference
 from .no_load import no_load_losses
 from ..si import si_of
 
@@ -56,13 +56,15 @@ class OperatingPoints:
     """M operating points: input speed [rad/s], output torque [N m], oil temperature
     [deg C] or None (the reference), viscosity factor eta(T)/eta_ref, the load source and
     positions of the meshing table, or the ``table`` itself (a built reducer's contacts,
-    :func:`toothfem.efficiency.mesh_table.table_from_records`)."""
+    :func:`toothfem.efficiency.mesh_table.table_from_records`); ``memo``: the loads the
+    calling computation has met (:class:`~toothfem.efficiency.mesh_table.LoadsMemo`)."""
     input_speed_rad_s: np.ndarray
     output_torque_Nm: np.ndarray
     viscosity_factor: np.ndarray
     loads: str
     n_positions: int
     table: object = None
+    memo: LoadsMemo = field(default_factory=LoadsMemo)
 
 
 def mesh_table_of(si, drive, points, member_torque, notes):
@@ -89,7 +91,7 @@ def mesh_table_of(si, drive, points, member_torque, notes):
         declared = si.declared_output_torque_Nm()
         ref = fe_reference(None if declared is None else
                            drive.member_torque(declared, peak=False), member_torque, notes)
-    return mesh_table(drive, points.loads, points.n_positions, ref)
+    return points.memo.table(drive, points.loads, points.n_positions, ref)
 
 
 def _members(si, drive, points, table, member_torque, notes):
@@ -104,7 +106,7 @@ def _members(si, drive, points, table, member_torque, notes):
     if points.loads != "fem" or points.table is not None or m == 1:
         return [("", table, member_torque, m)]
     ref = si.declared_output_torque_Nm() or float(np.max(points.output_torque_Nm))
-    split = fe_member_split(drive, drive.supports(si.supports), ref, table.n_positions)
+    split = points.memo.split(drive, drive.supports(si.supports), ref, table.n_positions)
     if split.even_by_layout:
         notes.append(f"FE split between the {m} discs: even at every position by the layout's "
                      "symmetry (each disc at the first's configuration, the crankshafts "

@@ -19,7 +19,7 @@ from . import rv_paper
 from .drive_losses import OperatingPoints
 from .. import limits
 from .lubricant import viscosity_factor
-from .mesh_table import LOADS
+from .mesh_table import LOADS, LoadsMemo
 from ..si import si_of
 from ..units import W_PER_KW, rpm_to_rad_s
 
@@ -87,7 +87,7 @@ def _points(speed_rpm, torque_Nm, oil_temp_C):
 
 
 def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
-             method="power_flow", positions=36, table=None) -> Efficiency:
+             method="power_flow", positions=36, table=None, memo=None) -> Efficiency:
     """Losses of every component of ``case`` at the operating points.
 
     Parameters
@@ -107,6 +107,9 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     table : toothfem.efficiency.mesh_table.MeshTable, optional
         The loaded contacts to use instead of those of ``loads`` (a built reducer's,
         :func:`~toothfem.efficiency.mesh_table.table_from_records`).
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met (each table computed once for it); None:
+        this call's own.
 
     Returns
     -------
@@ -146,7 +149,8 @@ def evaluate(case, speed_rpm, torque_Nm, oil_temp_C=None, *, loads="analytic",
     points = OperatingPoints(
         input_speed_rad_s=rpm_to_rad_s(n), output_torque_Nm=t,
         viscosity_factor=viscosity_factor(si.lubricant, temp) * np.ones_like(n),
-        loads=loads, n_positions=int(positions), table=table)
+        loads=loads, n_positions=int(positions), table=table,
+        memo=LoadsMemo() if memo is None else memo)
     res = drive.layout.loss_model(si, drive, points)
     return Efficiency(**record, output_power_W=res.output_power_W, losses_W=res.losses_W,
                       loads=loads, method=method, notes=res.notes,
@@ -209,6 +213,7 @@ def operating_point(case, **kw):
     lossless = si.declared_output_torque_Nm()
     if lossless is None:
         raise CaseError("[operating] needs output_torque_Nm, input_torque_Nm or input_power_kW")
+    kw = {"memo": LoadsMemo(), **kw}          # every evaluation at one drive's loads
     t2 = lossless
     for _ in range(OPERATING_MAX_ITER):       # contraction: eta varies slowly with torque
         new = lossless * float(evaluate(si, speed, t2, **kw).efficiency[0])

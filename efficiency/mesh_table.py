@@ -12,7 +12,6 @@ import contextlib
 import math
 from contextvars import ContextVar
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 import numpy as np
 
@@ -27,8 +26,6 @@ LOADS = ("analytic", "fem")
 #: does not depend on the other points of the call); outside the range F/T is held at the end
 #: value and the notes say so.
 FE_TORQUE_FRACTIONS = (0.02, 0.05, 0.1, 0.2, 0.5, 1.0, 2.0, 5.0)
-#: Mesh tables kept per process (designs x load sources x torque references of one run).
-TABLES_KEPT = 16
 #: How an FE load table shows its progress: None (quietly), or a progress-bar factory
 #: called as ``bar(total=..., desc=..., unit=...)`` that returns a context manager with an
 #: ``update()`` method (tqdm's signature). The command line sets it for one command
@@ -160,7 +157,6 @@ def table_from_records(state, records, loads):
         hertz_invalid=np.any([r.hertz_invalid[pos, con] for r in records], axis=0))
 
 
-@lru_cache(maxsize=TABLES_KEPT)
 def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
                torque_ref: float | None = None) -> MeshTable:
     """The meshing table of a drive over one period.
@@ -200,7 +196,6 @@ def mesh_table(drive, loads: str = "analytic", n_positions: int = 36,
     return table_from_records(state, recs, loads)
 
 
-@lru_cache(maxsize=TABLES_KEPT)
 def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
     """The FE split of the output torque between the members, its solvers counted on the
     :data:`FE_PROGRESS` bar when one is set: even where the layout makes it so
@@ -233,6 +228,59 @@ def fe_member_split(drive, supports, output_torque_Nm: float, n_positions: int):
         return even_split(drive, output_torque_Nm, n_positions)
     return system_te(drive, supports, output_torque_Nm, samples=DEFAULT_SAMPLES,
                      per_pitch=n_positions, progress=counted)[1]   # the split
+
+
+class LoadsMemo:
+    """The loads one computation has met (a run, a heat balance, a fit), kept by that
+    computation and passed as an argument (``evaluate(..., memo=)``): each drive's mesh
+    table and FE split is computed once for it, and nothing is kept between computations
+    (no module-level cache).
+    """
+
+    def __init__(self):
+        self._tables: dict = {}
+        self._splits: dict = {}
+
+    def table(self, drive, loads: str, n_positions: int, torque_ref: float | None = None):
+        """:func:`mesh_table`, computed once per drive, load source, positions and
+        reference torque.
+
+        Parameters
+        ----------
+        drive : toothfem.fem.drives.Drive
+        loads : {"analytic", "fem"}
+        n_positions : int
+        torque_ref : float, optional
+            [N m] on the member (the FE table's).
+
+        Returns
+        -------
+        MeshTable
+        """
+        key = (drive, loads, int(n_positions), torque_ref)
+        if key not in self._tables:
+            self._tables[key] = mesh_table(drive, loads, n_positions, torque_ref)
+        return self._tables[key]
+
+    def split(self, drive, supports, output_torque_Nm: float, n_positions: int):
+        """:func:`fe_member_split`, computed once per drive, supports, torque and positions.
+
+        Parameters
+        ----------
+        drive : toothfem.fem.drives.Drive
+        supports : toothfem.fem.datasheet.supports.Supports
+        output_torque_Nm : float
+            [N m].
+        n_positions : int
+
+        Returns
+        -------
+        toothfem.fem.datasheet.transmission.MemberSplit or None
+        """
+        key = (drive, supports, float(output_torque_Nm), int(n_positions))
+        if key not in self._splits:
+            self._splits[key] = fe_member_split(drive, supports, output_torque_Nm, n_positions)
+        return self._splits[key]
 
 
 @contextlib.contextmanager

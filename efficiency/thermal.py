@@ -44,6 +44,7 @@ from ..fem.drives import drive_for
 from .envelope import envelope
 from .evaluation import Efficiency, evaluate
 from .lubricant import temperature_range
+from .mesh_table import LoadsMemo
 from ..si import si_of
 
 #: Stefan-Boltzmann constant [W/(m^2 K^4)] (CODATA 2018, exact in SI).
@@ -256,7 +257,8 @@ def heat_balance(case, speed_rpm, torque_Nm, *, tol_K=TEMPERATURE_TOL_K, **kw) -
     tol_K : float
         Convergence of the fixed point [K].
     **kw
-        As :func:`toothfem.efficiency.evaluate` (``loads``, ``positions``).
+        As :func:`toothfem.efficiency.evaluate` (``loads``, ``positions``, ``memo``: the
+        balance's evaluations share one, the caller's where given).
 
     Returns
     -------
@@ -269,6 +271,7 @@ def heat_balance(case, speed_rpm, torque_Nm, *, tol_K=TEMPERATURE_TOL_K, **kw) -
         oil's ``max_temperature_C``.
     """
     si = si_of(case)
+    kw = {"memo": LoadsMemo(), **kw}          # every evaluation at one drive's loads
     h = housing(si)
     _check_ambient(si, h)
     n, t = (np.ravel(a).astype(float) for a in np.broadcast_arrays(
@@ -341,6 +344,7 @@ def warm_up(case, speed_rpm, torque_Nm, duration_s, *, samples=41, **kw) -> Warm
     """
     check_range("duration_s", duration_s, 0.0, None, lo_open=True, error=CaseError)
     si = si_of(case)
+    kw = {"memo": LoadsMemo(), **kw}          # every evaluation at one drive's loads
     eq = heat_balance(si, speed_rpm, torque_Nm, **kw)
     h = eq.housing
     n, t = float(np.ravel(speed_rpm)[0]), float(np.ravel(torque_Nm)[0])

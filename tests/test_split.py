@@ -106,8 +106,8 @@ def test_losses_are_each_members_at_its_own_torque(pinhousing, monkeypatch, khv)
     split = tr.MemberSplit(share=np.repeat(shares[:, None], k, axis=1),
                            crank_angle_rad=np.zeros(k), output_torque_Nm=TORQUE,
                            offsets=(0, 0), per_pitch=n_pos, even_by_layout=False)
-    monkeypatch.setattr(dl, "mesh_table", lambda *a, **kw: table)
-    monkeypatch.setattr(dl, "fe_member_split", lambda *a, **kw: split)
+    monkeypatch.setattr(mt, "mesh_table", lambda *a, **kw: table)
+    monkeypatch.setattr(mt, "fe_member_split", lambda *a, **kw: split)
     speed = np.array([1000.0])
     e = ev.evaluate(case, speed, TORQUE, loads="fem", positions=n_pos)
     assert any("0.6000 / 0.4000" in n for n in e.notes)
@@ -222,12 +222,9 @@ def test_rigid_crankshafts_split_nearly_even(three):
 
 @pytest.fixture
 def system_te_samples(monkeypatch):
-    """The efficiency model's FE split on SYSTEM_TE_SAMPLES pitches; its cache of splits
-    (lru) emptied before and after, so that no split of another sampling is read or left."""
+    """The efficiency model's FE split on SYSTEM_TE_SAMPLES pitches (each evaluation
+    computes its own split: nothing kept between calls)."""
     monkeypatch.setattr(mt, "DEFAULT_SAMPLES", SYSTEM_TE_SAMPLES)
-    mt.fe_member_split.cache_clear()
-    yield
-    mt.fe_member_split.cache_clear()
 
 
 @pytest.mark.slow

@@ -12,7 +12,7 @@ from .efficiency import bearings as br
 from .efficiency import strength as st
 from .efficiency import thermal as th
 from .efficiency.bearing_set import main_tilt
-from .efficiency.mesh_table import mesh_table
+from .efficiency.mesh_table import LoadsMemo
 from .efficiency.evaluation import operating_point
 from .fem.drives import drive_for
 from .units import PA_PER_MPA, S_PER_H
@@ -25,7 +25,8 @@ def _f(x):
     return None if x is None else float(x)
 
 
-def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=None) -> dict:
+def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=None,
+                    memo=None) -> dict:
     """The heat balance at one operating point (and the warm-up over ``duration_h``).
 
     Parameters
@@ -36,13 +37,16 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
     loads : {"analytic", "fem"}
     duration_h : float, optional
         Warm-up from the ambient over this time [h].
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met.
 
     Returns
     -------
     dict
         Equilibrium oil temperature, heat transfer, housing, efficiency there; the warm-up.
     """
-    hb = th.heat_balance(case, speed_rpm, torque_Nm, loads=loads)
+    memo = LoadsMemo() if memo is None else memo
+    hb = th.heat_balance(case, speed_rpm, torque_Nm, loads=loads, memo=memo)
     h = hb.housing
     out = {
         "ambient_C": h.ambient_C, "housing_area_m2": h.area_m2,
@@ -56,7 +60,8 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
         "warnings": [w.as_dict() for w in hb.warnings],
     }
     if duration_h is not None:
-        w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * S_PER_H, loads=loads)
+        w = th.warm_up(case, speed_rpm, torque_Nm, duration_h * S_PER_H, loads=loads,
+                       memo=memo)
         out["time_constant_h"] = w.time_constant_s / S_PER_H
         out["warm_up"] = [{"time_h": float(t / S_PER_H), "oil_temp_C": float(T),
                            "efficiency": float(e)}
@@ -131,7 +136,8 @@ def life_summary(case, *, progress=None, known=None) -> dict:
     return out
 
 
-def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> dict:
+def strength_summary(case, *, contact=None, loads="analytic", positions=36,
+                     memo=None) -> dict:
     """Safety factors of the contact and, with an FE contact result, of the member.
 
     Parameters
@@ -144,6 +150,8 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> d
         Load source of the meshing table when ``contact`` is None.
     positions : int
         Positions of that table.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met.
 
     Returns
     -------
@@ -159,7 +167,8 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36) -> d
         torque = operating_point(case)[1]
         t_member = drive.member_torque(torque, peak=True)
         ref = t_member if loads == "fem" else None
-        _, p = mesh_table(drive, loads, positions, ref).at(np.array([t_member]))
+        table = (LoadsMemo() if memo is None else memo).table(drive, loads, positions, ref)
+        _, p = table.at(np.array([t_member]))
         ph, source, body, u = float(p.max()), f"{loads} loads", None, None
     s = st.strength(si, ph, body, u, member=drive.member_name)
     return {"source": source, "ph_max_MPa": ph / PA_PER_MPA,

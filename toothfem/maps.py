@@ -12,6 +12,7 @@ import numpy as np
 
 from .case import Case
 from .efficiency import evaluate
+from .efficiency.mesh_table import LoadsMemo
 from .efficiency.thermal import heat_balance
 from .errors import CaseError
 
@@ -60,7 +61,7 @@ def oil_temperature_grid(oil_C: float, lubricant) -> np.ndarray:
     return np.linspace(lo, hi, int(round((hi - lo) / step)) + 1)
 
 
-def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
+def operating_oil(case: Case, speed: float, torque: float, loads: str, memo=None) -> tuple:
     """The oil temperature [deg C] of the operating point and what it is: the heat
     balance's equilibrium with the run's loads (the report's heat balance), else the
     lubricant's reference temperature, said so.
@@ -72,6 +73,8 @@ def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
         Input speed [rpm] and output torque [N m].
     loads : {"analytic", "fem"}
         The loads of the run's heat balance.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met.
 
     Returns
     -------
@@ -80,7 +83,8 @@ def operating_oil(case: Case, speed: float, torque: float, loads: str) -> tuple:
     """
 
     try:
-        oil = float(heat_balance(case, speed, torque, loads=loads).temperature_C[0])
+        oil = float(heat_balance(case, speed, torque, loads=loads,
+                                 memo=LoadsMemo() if memo is None else memo).temperature_C[0])
     except CaseError as e:          # no balance below the oil's largest temperature
         ref = case.lubricant.reference_temperature_C
         return ref, (f"oil at {ref:g} deg C, the lubricant's reference (no heat balance: "
@@ -110,7 +114,8 @@ class EfficiencyMaps:
     operating_oil_efficiency: float  # analytic, at the operating point and its oil
 
 
-def efficiency_maps(case: Case, speed: float, torque: float, sources) -> EfficiencyMaps:
+def efficiency_maps(case: Case, speed: float, torque: float, sources,
+                    memo=None) -> EfficiencyMaps:
     """The efficiency of a case over its operating range (:class:`EfficiencyMaps`).
 
     Parameters
@@ -121,6 +126,8 @@ def efficiency_maps(case: Case, speed: float, torque: float, sources) -> Efficie
     sources : sequence of str
         The curves' load sources ("analytic", "fem"); the maps take the analytic loads,
         the heat balance the FE's where given.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met (each table computed once for it).
 
     Returns
     -------
@@ -130,20 +137,24 @@ def efficiency_maps(case: Case, speed: float, torque: float, sources) -> Efficie
     t_max = max([torque] + [m.output_torque_Nm for m in case.measured])
     speed_curve = case.measured[0].input_speed_rpm if case.measured else speed
     t_grid = TORQUE_GRID * t_max
-    curves = {s: evaluate(case, speed_curve, t_grid, loads=s).efficiency for s in sources}
-    at_speed = evaluate(case, speed, t_grid).efficiency if speed_curve != speed else None
-    measured = tuple(float(evaluate(case, m.input_speed_rpm, m.output_torque_Nm).efficiency[0])
-                     for m in case.measured)
+    memo = LoadsMemo() if memo is None else memo
+    curves = {s: evaluate(case, speed_curve, t_grid, loads=s, memo=memo).efficiency
+              for s in sources}
+    at_speed = evaluate(case, speed, t_grid, memo=memo).efficiency if speed_curve != speed \
+        else None
+    measured = tuple(float(evaluate(case, m.input_speed_rpm, m.output_torque_Nm,
+                                    memo=memo).efficiency[0]) for m in case.measured)
     tt, nn = np.meshgrid(t_grid, SPEED_GRID * speed)
-    eta = evaluate(case, nn, tt).efficiency.reshape(nn.shape)
+    eta = evaluate(case, nn, tt, memo=memo).efficiency.reshape(nn.shape)
     oil_op, oil_words = operating_oil(case, speed, torque,
-                                      "fem" if "fem" in sources else "analytic")
+                                      "fem" if "fem" in sources else "analytic", memo)
     tt2, th = np.meshgrid(t_grid, oil_temperature_grid(oil_op, case.lubricant))
-    eta_t = evaluate(case, speed, tt2, th).efficiency.reshape(th.shape)
+    eta_t = evaluate(case, speed, tt2, th, memo=memo).efficiency.reshape(th.shape)
     return EfficiencyMaps(
         speed_rpm=float(speed), torque_Nm=float(torque), sources=sources, torque_grid_Nm=t_grid,
         curve_speed_rpm=float(speed_curve), curves=curves, operating_speed_curve=at_speed,
-        operating_efficiency=float(evaluate(case, speed, torque).efficiency[0]),
+        operating_efficiency=float(evaluate(case, speed, torque, memo=memo).efficiency[0]),
         measured_model=measured, speed_map=(tt, nn, eta), oil_C=oil_op, oil_words=oil_words,
         temperature_map=(tt2, th, eta_t),
-        operating_oil_efficiency=float(evaluate(case, speed, torque, oil_op).efficiency[0]))
+        operating_oil_efficiency=float(evaluate(case, speed, torque, oil_op,
+                                                memo=memo).efficiency[0]))

@@ -20,6 +20,7 @@ from .case import Case, as_case
 from .datasheet import TE_DEFINITION, StiffnessResult, stiffness_analysis
 from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
+from .efficiency.mesh_table import LoadsMemo
 from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.elastic import Body
@@ -330,7 +331,7 @@ def stack_records(records):
 
 
 def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
-                       method="power_flow") -> dict:
+                       method="power_flow", memo=None) -> dict:
     """The efficiency record of one operating point as a plain mapping (the JSON).
 
     Parameters
@@ -347,6 +348,8 @@ def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
         The meshing table's load source.
     method : {"power_flow", "rv_split_power"}
         As :func:`toothfem.efficiency.evaluation.evaluate`.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling computation has met.
 
     Returns
     -------
@@ -354,7 +357,7 @@ def efficiency_summary(case, speed, torque, oil_temp=None, loads="analytic",
         Efficiency [-], powers and losses [W], loss shares [-], mesh efficiencies and
         notes.
     """
-    e = evaluate(case, speed, torque, oil_temp, loads=loads, method=method)
+    e = evaluate(case, speed, torque, oil_temp, loads=loads, method=method, memo=memo)
     shares = e.shares()
     return {
         "case": case.name, "loads": e.loads, "method": e.method,
@@ -512,21 +515,23 @@ def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
         contact = contact_analysis(case, positions=positions, field=field, progress=progress)
         # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
         datasheet = stiffness_analysis(case, positions=positions)
-    # efficiency at the operating point, analytic and FE loads side by side
+    # efficiency at the operating point, analytic and FE loads side by side; the run's
+    # analyses share each load table (one memo, passed)
+    memo = LoadsMemo()
     speed, torque = operating_point(case)
     sources = ["analytic"] + (["fem"] if fem else [])
-    results = {s: efficiency_summary(case, speed, torque, loads=s) for s in sources}
+    results = {s: efficiency_summary(case, speed, torque, loads=s, memo=memo) for s in sources}
     if case.rv is not None:       # the RV paper method beside ours
         results["rv_split_power"] = efficiency_summary(case, speed, torque,
                                                       method="rv_split_power")
     # life, strength and heat beside the efficiency, from the FE loads where the FE has
     # run (the strength from its contact result)
     loads = "fem" if fem else "analytic"
-    dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads),
+    dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads, memo=memo),
            "life": durability.life_summary(
                case, known=None if datasheet is None else datasheet.bearings),
-           "strength": durability.strength_summary(case, contact=contact)}
-    maps = efficiency_maps(case, speed, torque, sources)
+           "strength": durability.strength_summary(case, contact=contact, memo=memo)}
+    maps = efficiency_maps(case, speed, torque, sources, memo)
     return RunAnalysis(case=case, contact=contact, datasheet=datasheet, efficiency=results,
                        durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque),
                        maps=maps)

@@ -307,7 +307,7 @@ class _Losses:
 
 
 def predict(case, points: Points, assignment=None, prepared=None, *, loads="analytic",
-            cache=None) -> Prediction:
+            cache=None, memo=None) -> Prediction:
     """Efficiency of ``case`` with the effects ``assignment`` at the points.
 
     An effect with a linear component (:meth:`Effect.linear_component`) is evaluated at its
@@ -329,6 +329,8 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
         The meshing table's load source.
     cache : dict, optional
         Keeps model evaluations keyed by the values of the effects that need one.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        The loads the calling fit has met (each drive's table computed once for it).
 
     Returns
     -------
@@ -354,7 +356,8 @@ def predict(case, points: Points, assignment=None, prepared=None, *, loads="anal
     ran = true_points(case, points, assignment)
     ev = None if cache is None else cache.get(key)
     if ev is None:
-        ev = evaluate(model_case, ran.speed_rpm, ran.torque_Nm, ran.oil_temp_C, loads=loads)
+        ev = evaluate(model_case, ran.speed_rpm, ran.torque_Nm, ran.oil_temp_C, loads=loads,
+                      memo=memo)
         if cache is not None:
             cache[key] = ev
     losses = dict(ev.losses_W)

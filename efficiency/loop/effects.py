@@ -50,7 +50,6 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -356,7 +355,6 @@ CLEARANCE_TORQUES = 8
 CLEARANCE_POSITIONS = 36
 
 
-@lru_cache(maxsize=8)
 def contact_compliance(drive) -> float:
     """Compliance of one pin contact for the equal-springs contact model.
 

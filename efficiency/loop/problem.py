@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..evaluation import Efficiency
+from ..mesh_table import LoadsMemo
 from . import effects as fx
 from .engine import Engine, Rules
 from .settings import Settings
@@ -118,6 +119,7 @@ class Problem:
         # (names, values) -> efficiency
         self._cache: dict[tuple[tuple[str, ...], tuple[float, ...]], np.ndarray] = {}
         self._evals: dict[tuple, Efficiency] = {}   # model evaluations (effects.predict's cache)
+        self.memo = LoadsMemo()        # each drive's load tables, computed once for this fit
         self.engine = Engine(Rows(self.eta, self.w, np.arange(self.n)), self.effects.values(),
                              self, rules=EFFICIENCY_RULES, settings=settings)
 
@@ -152,7 +154,7 @@ class Problem:
                 self.prepared[name] = eff.prepare(self.case, self.points)
         before = len(self._evals)
         eta = fx.predict(self.case, self.points, assignment, self.prepared,
-                         loads=self.loads, cache=self._evals).efficiency
+                         loads=self.loads, cache=self._evals, memo=self.memo).efficiency
         self.evaluations += len(self._evals) - before
         if len(self._cache) > PREDICTION_CACHE_SIZE:
             self._cache.clear()

@@ -248,7 +248,7 @@ def _member_at(prob, grid, name, fit):
     fit's standard errors."""
     assignment = {prob.effects[n]: fit.values[n] for n in fit.effects}
     eff = prob.effects[name]
-    base = fx.predict(prob.case, grid, assignment, loads=prob.loads).efficiency
+    base = fx.predict(prob.case, grid, assignment, loads=prob.loads, memo=prob.memo).efficiency
     q = np.zeros_like(base)
     values = list(fit.values[name])
     for j, (p, se) in enumerate(zip(eff.parameters, fit.stderr[name])):
@@ -258,7 +258,8 @@ def _member_at(prob, grid, name, fit):
         moved = values[j] + h if values[j] + h <= p.hi else values[j] - h
         trial = dict(assignment)
         trial[eff] = tuple(moved if k == j else v for k, v in enumerate(values))
-        g = (fx.predict(prob.case, grid, trial, loads=prob.loads).efficiency - base) / (
+        g = (fx.predict(prob.case, grid, trial, loads=prob.loads,
+                        memo=prob.memo).efficiency - base) / (
             moved - values[j])
         q += (g * se) ** 2
     return base, q
