@@ -377,7 +377,7 @@ def _sheet(system, rated):
 def _unbend_output_pins(system):
     """The output pins' bending taken out of a built model (the benchmark's own limit case,
     no option exists for it): the pins' influence matrix, read at each solve by
-    ``CycloidSystem._output_pins``, set to zero; what is left of the output stage is its
+    ``fem.system.output_pins.pin_contacts``, set to zero; what is left of the output stage is its
     line contacts (Palmgren at the hole and at the roller's bore)."""
     if not hasattr(system, "output_pin_bending"):
         raise RuntimeError("CycloidSystem has no output_pin_bending any more: adapt "
@@ -423,7 +423,7 @@ def _disc_translation(system, state) -> float:
     coordinates ``disc{j}``: x, y, theta); NaN if the model's internals changed."""
     try:
         u = state.equilibrium.u
-        return max(float(np.hypot(*u[system._coords.index[f"disc{j}"]][:2]))
+        return max(float(np.hypot(*u[system.coords.index[f"disc{j}"]][:2]))
                    for j in range(system.discs))
     except (AttributeError, KeyError):
         return float("nan")

@@ -171,7 +171,7 @@ def toothfem_state(g, K, rigid):
     kw = {} if K is None else {"crank_bearing_stiffness_N_per_m": K}
     sysm = g["drive"].system_model(g["sup"], 12, rigid=rigid, **kw)
     st = sysm.solve(T, P)
-    d = st.equilibrium.u[sysm._coords.index["disc0"]]
+    d = st.equilibrium.u[sysm.coords.index["disc0"]]
     e = g["e"]
     p = st.paths_rad
     Fb = st.bearing_force_N["eccentric bearing disc 1"]

@@ -206,6 +206,7 @@ def assumed_inputs(case_path, drive, supports) -> dict:
     cyc = [f"[cycloid] {m}" for m in section_assumed("cycloid")] + \
         [f"[cycloid.disc_holes] {m}" for m in section_assumed("cycloid.disc_holes")]
     fs = section_assumed("first_stage")
+    stage = getattr(drive.path, "first_stage", None)     # a 2K-V drive's spur stage
     out = {
         MESH: {"assumed": bool(cyc), "what": (
             "case " + ", ".join(cyc)) if cyc else "the case's geometry"},
@@ -238,9 +239,9 @@ def assumed_inputs(case_path, drive, supports) -> dict:
             "assumed": True,
             "what": "ISO 6336-1 c_gamma = 20 N/(mm um) (a constant)"
                     + (f"; case [first_stage]: {', '.join(fs)}" if fs else "")
-                    + ("" if drive.first_stage is None or
-                       getattr(drive.first_stage, "face_width_m", None) is None else
-                       f"; face width {1e3 * drive.first_stage.face_width_m:.1f} mm")},
+                    + ("" if stage is None or
+                       getattr(stage, "face_width_m", None) is None else
+                       f"; face width {1e3 * stage.face_width_m:.1f} mm")},
     }
     if "carrier_stiffness_Nm_per_rad" in a:
         out["carrier"] = {"assumed": True, "what": "no carrier stiffness given: rigid"}

@@ -96,7 +96,7 @@ def test_backlash_input_held_is_the_2kv_closing_angle(pinhousing):
     s = system(dataclasses.replace(pinhousing, cycloid=cyc), pin_spring_m_per_N=1e-14,
                rigid=ALL_RIGID)
     g = s.drive.geometry
-    closed = 2 * 1e-5 / (g.eccentricity_m * (s.drive.stage.lobe_count + 1 + s.sun_over_planet)) / ARCMIN
+    closed = 2 * 1e-5 / (g.eccentricity_m * (s.drive.stage.lobe_count + 1 + s.path.sun_over_planet)) / ARCMIN
     backlash = np.mean([s.solve(1e-4, p).twist_rad - s.solve(-1e-4, p).twist_rad
                         for p in range(s.n_positions)]) / ARCMIN
     assert backlash == pytest.approx(closed, rel=5e-3)
@@ -109,7 +109,7 @@ def test_disc_torque_is_the_power_flow(pinhousing):
     made rigid)."""
     s = system(pinhousing, pin_spring_m_per_N=1e-9)
     st = s.solve(167.0, 3)
-    i = 1 + s.drive.geometry.pin_count / s.sun_over_planet
+    i = 1 + s.drive.geometry.pin_count / s.path.sun_over_planet
     expect = 167.0 * (1 - 1 / i) * (s.drive.stage.lobe_count / s.drive.geometry.pin_count) / 2
     assert st.disc_torque_Nm == pytest.approx([expect, expect], rel=1e-6)
 
@@ -165,7 +165,7 @@ def test_against_the_planar_hand_model(pinhousing, layout, phases_deg):
     h = hand_model().solve(dict(
         pins=s.drive.geometry.pin_count, lobes=s.drive.stage.lobe_count, pin_circle_radius=g.pin_circle_radius_m,
         eccentricity=g.eccentricity_m, pin_radius=g.pin_radius_m, face_width=0.01,
-        cranks=s.cranks, crank_circle_radius=s.r_c, sun_over_planet=s.sun_over_planet,
+        cranks=s.cranks, crank_circle_radius=s.r_c, sun_over_planet=s.path.sun_over_planet,
         youngs_modulus=208e9, poisson_ratio=0.295, crank_diameter=d, crank_span=span,
         k_pin=k_pin, k_bearing=k_b, torque=167.0, phi=0.0,
         phases=phases))

@@ -86,7 +86,7 @@ def setup(cases_dir):
                                   pin_radius=radius, profile=np.zeros((za, 2)),
                                   member_offset=np.zeros(2))
     # the output torque whose power-flow disc torque is the existing test's member torque
-    z = drive.first_teeth[0] / drive.first_teeth[1]
+    z = drive.path.sun_over_planet
     i = 1 + zb / z
     per_disc = (1 - 1 / i) * za / zb / drive.members
     output = drive.member_torque(case.to_si().declared_output_torque_Nm()) / per_disc

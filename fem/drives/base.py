@@ -16,6 +16,7 @@ from ..contracts import CycleSolver, DetailedSolution, ReducerModel
 
 if TYPE_CHECKING:
     from ...layout import Layout
+    from ..system.paths import OutputPath
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
 #: 40-pin drive, enough for the load per pin to converge (docs/fem.md).
@@ -39,6 +40,9 @@ class Drive(abc.ABC):
     #: instead of branching on the drive; each implementation holds it as a field that
     #: takes no part in the drive's equality and hash.
     layout: Layout
+    #: How the torque reaches the output (:class:`toothfem.fem.system.paths.OutputPath`):
+    #: the train's speeds, the members' torque and the system model ask it.
+    path: OutputPath
     #: what the moving member and a contact are called in outputs ("disc", "pin", "pins";
     #: "planet", "tooth", "teeth"): labels and summary keys, never a branch.
     member_name: str = ""
@@ -207,11 +211,6 @@ class Drive(abc.ABC):
             Closed (2, N) polylines [m] (each pin's circle; the ring's tooth profile).
         """
 
-    @property
-    def two_stage(self) -> bool:
-        """A 2K-V (RV-type) train: a spur first stage drives the cranks (default: no)."""
-        return False
-
     def te_orders(self) -> dict:
         """Orders per output revolution at which a transmission-error ripple is expected
         (the naming of a measured TE spectrum, toothfem.efficiency.loop.te.spectrum).
@@ -332,32 +331,11 @@ class Drive(abc.ABC):
                             "periods, not a whole number")
         return int(round(n))
 
-    def with_crank_period(self, pitches: int, deviation) -> int:
-        """``pitches`` made a whole number of the crank's turns against the carrier where
-        the deviation has crank eccentricity errors on cranks off the axis (2K-V: each
-        crank's own error repeats once per such turn, :meth:`crank_period_pitches`).
-
-        Parameters
-        ----------
-        pitches : int
-        deviation : object
-            The drive's record of :mod:`toothfem.fem.deviations`.
-
-        Returns
-        -------
-        int
-        """
-        crank = np.asarray(getattr(deviation, "crank_eccentricity_m", ()), float)
-        if self.two_stage and np.any(crank):
-            return math.lcm(pitches, self.crank_period_pitches())
-        return pitches
-
     def deviation_period_pitches(self, deviation) -> int:
         """Meshing periods after which a built stage's model repeats: the full period
         (:attr:`full_period_pitches`) without deviation or with deviations that are alike
         at every tooth (an eccentricity error); the pairing period with any other; with
-        crank eccentricity errors on cranks off the axis (2K-V), also a whole number of
-        the crank's turns against the carrier (:meth:`crank_period_pitches`).
+        crank eccentricity errors, the path's period of them (``path.with_crank_period``).
 
         Parameters
         ----------
@@ -371,7 +349,7 @@ class Drive(abc.ABC):
         k = self.full_period_pitches
         if deviation is None:
             return k
-        k = self.with_crank_period(k, deviation)
+        k = self.path.with_crank_period(k, self, deviation)
         uniform = {"eccentricity", "crank_eccentricity_m", "crank_phase_rad"}
         for name, value in vars(deviation).items():
             if name not in uniform and np.any(np.asarray(value, float)):

@@ -11,7 +11,6 @@ import numpy as np
 
 from ...errors import CaseError
 from ...geometry import cycloid as cy, cycloid_mesh as cym
-from ...geometry.train import khv_speeds, rv_speeds
 from .. import cycloid_fe as cf
 from .. import deviations as dv
 from ..datasheet import supports as sp
@@ -19,24 +18,23 @@ from .assembly import CycloidSystem
 from ..system.mesh import PinMesh
 from .base import Drive, _merged_orders
 from ...geometry.disc import disc_polygon
-from ...si import CycloidStageSI, MaterialSI, OutputMechanismSI, SpurStageSI
+from ...si import CycloidStageSI, MaterialSI
 from ...units import MM2_PER_M2
 
 if TYPE_CHECKING:
     from ...layout import Layout
+    from ..system.paths import OutputPath
 
 
 @dataclass(frozen=True, kw_only=True)
 class CycloidDrive(Drive):
-    """A cycloid disc stage in SI (:class:`toothfem.si.CycloidStageSI`) with its train:
-    ``first_teeth`` (sun, planet) of the spur first stage of a 2K-V drive, or None for a
-    K-H-V drive whose disc is the output member."""
+    """A cycloid disc stage in SI (:class:`toothfem.si.CycloidStageSI`) with its train: the
+    output ``path`` its layout builds (:mod:`toothfem.fem.system.paths`: ``Cranks`` of a
+    2K-V drive, ``PinsInHoles`` of a K-H-V drive whose discs drive the output pins)."""
     stage: CycloidStageSI
     material_si: MaterialSI
     layout: Layout = field(compare=False, repr=False)
-    first_teeth: tuple[int, int] | None = None
-    first_stage: SpurStageSI | None = None      # of a 2K-V drive, if the case has it
-    output: OutputMechanismSI | None = None     # a K-H-V drive's output pins
+    path: OutputPath
 
     kind = "cycloid"
     member_name = "disc"
@@ -48,7 +46,7 @@ class CycloidDrive(Drive):
     both_flanks_options = {"sides": (0,)}
 
     @classmethod
-    def from_case(cls, si, layout: Layout) -> CycloidDrive:
+    def from_case(cls, si, layout: Layout, path: OutputPath) -> CycloidDrive:
         """The drive of a case.
 
         Parameters
@@ -57,11 +55,12 @@ class CycloidDrive(Drive):
             The case in SI (:meth:`toothfem.case.Case.to_si`).
         layout : toothfem.layout.Layout
             Its layout (K-H-V or RV).
+        path : toothfem.fem.system.paths.OutputPath
+            The layout's output path.
 
         Returns
         -------
         CycloidDrive
-            With the first stage's (sun, planet) teeth of a 2K-V train.
 
         Raises
         ------
@@ -73,15 +72,7 @@ class CycloidDrive(Drive):
                             "required for the contact analyses of this drive")
         if si.material is None:
             raise CaseError("a [material] section is required for the contact analyses")
-        if si.rv is not None:
-            first = (si.rv.sun_teeth, si.rv.planet_teeth)
-        elif si.first_stage is not None:
-            first = (si.first_stage.sun_teeth, si.first_stage.planet_teeth)
-        else:
-            first = None
-        return cls(stage=si.cycloid, material_si=si.material, layout=layout, first_teeth=first,
-                   first_stage=si.first_stage,
-                   output=None if first is not None else si.output_mechanism)
+        return cls(stage=si.cycloid, material_si=si.material, layout=layout, path=path)
 
     @property
     def geometry(self) -> cy.CycloidGeometry:
@@ -109,22 +100,21 @@ class CycloidDrive(Drive):
         return math.inf
 
     @property
-    def two_stage(self) -> bool:
-        """A 2K-V (RV-type) train: a spur first stage drives the cranks."""
-        return self.first_teeth is not None
+    def output(self):
+        """The output pins in the discs' holes, where the path has them (K-H-V)."""
+        return self.path.output_mechanism
 
     @property
     def eccentric_race_radius_m(self) -> float:
-        """The eccentric bearings' outer raceway: the crank hole (2K-V) or the centre bore
-        (K-H-V) [m]."""
-        h = self.stage.holes
-        return h.crank_hole_radius_m if self.two_stage else h.centre_bore_radius_m
+        """The eccentric bearings' outer raceway, the path's: the crank hole (2K-V) or the
+        centre bore (K-H-V) [m]."""
+        return self.path.eccentric_race_radius_m(self.stage.holes)
 
     def members_torque(self, output_torque_Nm):
-        """The discs' torque together: a 2K-V drive's pins turn the discs against the
-        cranks, and the power flow gives T (1 - 1/i)(Za/Zb) (the output torque less what
-        the spur stage carries, over the pins' lever; the system model's pin moments
-        agree to 1e-6, tests/test_system.py); a K-H-V drive's discs are the output: T.
+        """The discs' torque together, from the path's power flow
+        (:meth:`toothfem.fem.system.paths.OutputPath.members_torque_per_output`): a 2K-V
+        drive's pins turn the discs against the cranks, T (1 - 1/i)(Za/Zb); a K-H-V
+        drive's discs are the output: T.
 
         Parameters
         ----------
@@ -140,27 +130,20 @@ class CycloidDrive(Drive):
 
     @cached_property
     def _members_torque_per_output(self) -> float:
-        if not self.two_stage:
-            return 1.0
-        i = abs(1.0 / self.speeds()["output"])
-        return (1 - 1 / i) * self.stage.lobe_count / self.geometry.pin_count
+        return self.path.members_torque_per_output(self.speeds(), self.stage.lobe_count,
+                                                   self.geometry.pin_count)
 
     def speeds(self) -> dict:
-        """Per unit input speed, from :func:`~toothfem.geometry.train.rv_speeds` (2K-V) or
-        :func:`~toothfem.geometry.train.khv_speeds`.
+        """Per unit input speed, the path's (:meth:`~toothfem.fem.system.paths.OutputPath.
+        speeds`: :func:`~toothfem.geometry.train.rv_speeds` of 2K-V,
+        :func:`~toothfem.geometry.train.khv_speeds` of K-H-V).
 
         Returns
         -------
         dict of str to float
             input, crank, member (the disc), output (the carrier; K-H-V: the disc).
         """
-        z4, z5 = self.stage.lobe_count, self.geometry.pin_count
-        if self.first_teeth is not None:
-            w = rv_speeds(*self.first_teeth, z4, z5)
-            return {"input": 1.0, "crank": w["planet"], "member": w["disc"],
-                    "output": w["carrier"]}
-        w = khv_speeds(z4, z5)
-        return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
+        return self.path.speeds(self.stage.lobe_count, self.geometry.pin_count)
 
     def te_orders(self) -> dict:
         """Orders per output revolution at which a TE ripple is expected, in the cycloid's
@@ -176,8 +159,8 @@ class CycloidDrive(Drive):
           ``eccentric against the disc``, the same order: an eccentric's own error (its
           eccentricity off the drawing, in the disc's bore) repeats once per that turn;
         - ``pin mesh``: the meshing period, Zp per crank turn;
-        - 2K-V: ``first-stage mesh``, the sun's teeth per turn of the input against the
-          carrier.
+        - the path's own (:meth:`~toothfem.fem.system.paths.OutputPath.te_orders`; 2K-V:
+          ``first-stage mesh``, the sun's teeth per turn of the input against the carrier).
 
         Returns
         -------
@@ -193,10 +176,7 @@ class CycloidDrive(Drive):
                  ("pin passing (Zp)", abs(w["crank"] - w["member"]) / out),
                  ("eccentric against the disc", abs(w["crank"] - w["member"]) / out),
                  ("pin mesh", self.geometry.pin_count * crank)]
-        if self.first_teeth is not None:
-            pairs.append(("first-stage mesh",
-                          self.first_teeth[0] * abs(w["input"] - w["output"]) / out))
-        return _merged_orders(pairs)
+        return _merged_orders(pairs + self.path.te_orders(w))
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
         """:func:`toothfem.geometry.cycloid.meshing` with the pins fixed.
@@ -412,7 +392,7 @@ class CycloidDrive(Drive):
         return PinMesh(self, pin_spring_m_per_N)
 
     def system_model(self, supports, n_positions: int, **options):
-        """The cycloid reducer's system model, 2K-V or K-H-V
+        """The cycloid reducer's system model on its path
         (:class:`toothfem.fem.drives.assembly.CycloidSystem`).
 
         Parameters
@@ -530,7 +510,7 @@ class CycloidDrive(Drive):
         prof = np.asarray(d.profile, float)
         if np.any(d.member_offset) or (prof.size and np.any(np.ptp(prof, axis=0) > 0)):
             k = math.lcm(k, self.stage.lobe_count)
-        return self.with_crank_period(k, d)
+        return self.path.with_crank_period(k, self, d)
 
     @property
     def pairing_period_pitches(self) -> int:

@@ -8,18 +8,19 @@ import numpy as np
 
 from ...errors import CaseError
 from ...geometry import sine as sg
-from ...geometry.train import khv_speeds
 from ...geometry.vectors import rotate
 from .. import deviations as dv
 from .. import sine_fe as sf
 from ..datasheet import supports as sp
 from .assembly import CycloidSystem
+from ..system.paths import PinsInHoles
 from ..system.mesh import ToothMesh
 from .base import Drive, _merged_orders
 from ...si import MaterialSI, OutputMechanismSI, SineStageSI
 
 if TYPE_CHECKING:
     from ...layout import Layout
+    from ..system.paths import OutputPath
 
 #: Eccentric bearing's inner raceway when the case has no [output_mechanism]: a quarter of
 #: the planet's pitch radius (ASSUMPTION; the prototype's 10 mm is 0.28 of its 35.55 mm).
@@ -33,12 +34,14 @@ SINE_IN_MESH_GAP_M = 5e-6
 
 @dataclass(frozen=True, kw_only=True)
 class SineDrive(Drive):
-    """The sine pair in SI (:class:`toothfem.si.SineStageSI`); the output mechanism (pins
-    in holes) sets where the FE model holds the planet."""
+    """The sine pair in SI (:class:`toothfem.si.SineStageSI`) on its K-H-V output ``path``
+    (:class:`toothfem.fem.system.paths.PinsInHoles`: the planet on the input's eccentric,
+    its torque out through the output pins in its holes); the output mechanism (pins in
+    holes) sets where the FE model holds the planet."""
     stage: SineStageSI
     material_si: MaterialSI
     layout: Layout = field(compare=False, repr=False)
-    output_mechanism: OutputMechanismSI | None = None
+    path: OutputPath = PinsInHoles()
 
     kind = "sine"
     member_name = "planet"
@@ -69,7 +72,12 @@ class SineDrive(Drive):
         if si.material is None:
             raise CaseError("a [material] section is required for the contact analyses")
         return cls(stage=si.sine, material_si=si.material, layout=layout,
-                   output_mechanism=si.output_mechanism)
+                   path=PinsInHoles(si.output_mechanism))
+
+    @property
+    def output_mechanism(self) -> OutputMechanismSI | None:
+        """The output mechanism (pins in the planet's holes), the path's."""
+        return self.path.output_mechanism
 
     @property
     def output(self):
@@ -101,15 +109,15 @@ class SineDrive(Drive):
         return SINE_IN_MESH_GAP_M
 
     def speeds(self) -> dict:
-        """K-H-V speeds of the pair (:func:`~toothfem.geometry.train.khv_speeds`).
+        """K-H-V speeds of the pair, the path's
+        (:func:`~toothfem.geometry.train.khv_speeds`).
 
         Returns
         -------
         dict of str to float
             The crank turns with the input; member and output are the planet.
         """
-        w = khv_speeds(self.pair.planet_teeth, self.pair.ring_teeth)
-        return {"input": 1.0, "crank": 1.0, "member": w["moving"], "output": w["moving"]}
+        return self.path.speeds(self.pair.planet_teeth, self.pair.ring_teeth)
 
     def te_orders(self) -> dict:
         """Orders per output revolution at which a TE ripple is expected, in the sine
@@ -137,7 +145,7 @@ class SineDrive(Drive):
             ("output revolution", 1.0), ("input revolution", abs(w["input"]) / out),
             ("crank revolution", crank), ("planet-tooth passing (Z1)", crank),
             ("ring-tooth passing (Z2)", abs(w["crank"] - w["member"]) / out),
-            ("tooth mesh", 2 * np.pi / self.period_rad * crank)])
+            ("tooth mesh", 2 * np.pi / self.period_rad * crank)] + self.path.te_orders(w))
 
     def meshing(self, positions_rad, crank_speed_rad_s: float = 1.0):
         """:func:`toothfem.geometry.sine.meshing` of the pair.

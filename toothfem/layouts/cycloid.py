@@ -1,6 +1,6 @@
 """What the K-H-V and RV layouts share: a cycloid disc on its pins. The rows ``toothfem
 check`` prints of the disc, the drawing of the disc among its pins and its CAD parts, and
-the drive of the stage (the layouts tell the output path apart by their sections)."""
+the drive of the stage on the output path each layout builds."""
 from __future__ import annotations
 
 import math
@@ -29,8 +29,8 @@ CYCLOID_TOLERANCES = ("pin_position_mm", "pin_diameter_lower_mm", "pin_diameter_
                       "pin_circle_radius_mm", "disc_profile_mm", "crank_hole_position_mm")
 
 
-def cycloid_drive(si, layout):
-    """The cycloid disc stage of a case, with the layout's output path
+def cycloid_drive(si, layout, path):
+    """The cycloid disc stage of a case on the layout's output path
     (:meth:`toothfem.fem.drives.CycloidDrive.from_case`).
 
     Parameters
@@ -38,12 +38,14 @@ def cycloid_drive(si, layout):
     si : toothfem.si.CaseSI
     layout : toothfem.layout.Layout
         The layout the drive belongs to.
+    path : toothfem.fem.system.paths.OutputPath
+        Its output path (:mod:`toothfem.fem.system.paths`).
 
     Returns
     -------
     toothfem.fem.drives.CycloidDrive
     """
-    return CycloidDrive.from_case(si, layout)
+    return CycloidDrive.from_case(si, layout, path)
 
 
 def pair_drawing(drive, case_name: str):

@@ -6,7 +6,7 @@ from ...cad_parts import cycloid_parts
 from ...efficiency.bearings import output_pin_force, pin_held_loads
 from ...efficiency.drive_losses import LossModel
 from ...layout import Layout
-from ..cycloid import CYCLOID_DESIGN, CYCLOID_TOLERANCES, cycloid_drive, cycloid_rows, pair_drawing
+from ..cycloid import CYCLOID_DESIGN, CYCLOID_TOLERANCES, cycloid_rows, pair_drawing
 from . import parts, template
 
 LAYOUT = Layout(
@@ -15,7 +15,7 @@ LAYOUT = Layout(
     stage_section="cycloid", tolerance_keys=CYCLOID_TOLERANCES, design_keys=CYCLOID_DESIGN,
     required_sections={"cycloid": ("cycloid", "material")},
     components=frozenset({"pins", "eccentric_bearing", "output_mechanism", "main_bearings"}),
-    drive=cycloid_drive, ratio=parts.ratio, case_checks=parts.case_checks,
+    drive=parts.khv_drive, ratio=parts.ratio, case_checks=parts.case_checks,
     case_template=template.KHV_TEMPLATE, derived_rows=cycloid_rows,
     loss_model=LossModel(parts.losses), envelope=parts.envelope, bearing_set=parts.bearings,
     eccentric_loads=pin_held_loads, main_row_force=output_pin_force, drawing=pair_drawing,

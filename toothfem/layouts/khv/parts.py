@@ -14,10 +14,12 @@ from ...efficiency.drive_losses import (DriveLosses, OperatingPoints, PowerFlow,
                                         cycloid_losses, w_mechanism)
 from ...efficiency.envelope import BALL_PITCH_PER_BORE, cycloid_envelope, input_shaft_m
 from ...errors import CaseError, GeometryError
+from ...fem.system.paths import PinsInHoles
 from ...geometry import train
 from ...geometry.disc import disc_polygon
 from ...units import M_PER_MM
 from ..common import need, needs_output_pins
+from ..cycloid import cycloid_drive
 
 
 def ratio(case: Case) -> float:
@@ -34,6 +36,22 @@ def ratio(case: Case) -> float:
     """
     cyc = need(case.cycloid, "cycloid", case)
     return train.khv_ratio(cyc.lobe_count, cyc.pin_count)
+
+
+def khv_drive(si, layout):
+    """The K-H-V drive: its discs on the input shaft's eccentrics, their torque out through
+    the output pins in their holes (:class:`toothfem.fem.system.paths.PinsInHoles`).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    layout : toothfem.layout.Layout
+
+    Returns
+    -------
+    toothfem.fem.drives.CycloidDrive
+    """
+    return cycloid_drive(si, layout, PinsInHoles(si.output_mechanism))
 
 
 def case_checks(case: Case) -> None:

@@ -6,7 +6,7 @@ from ...cad_parts import cycloid_parts
 from ...efficiency.bearings import carrier_force, crank_held_loads
 from ...efficiency.drive_losses import LossModel
 from ...layout import Layout
-from ..cycloid import CYCLOID_DESIGN, CYCLOID_TOLERANCES, cycloid_drive, pair_drawing
+from ..cycloid import CYCLOID_DESIGN, CYCLOID_TOLERANCES, pair_drawing
 from . import parts, template
 
 LAYOUT = Layout(
@@ -22,7 +22,7 @@ LAYOUT = Layout(
     case_temperature_source="Nabtesco RV-E catalogue: the reducer's surface at most 60 C; "
                             "ASSUMPTION for this case (thermal.case_temperature_limit_C sets "
                             "it)",
-    drive=cycloid_drive, ratio=parts.ratio, case_checks=parts.case_checks,
+    drive=parts.rv_drive, ratio=parts.ratio, case_checks=parts.case_checks,
     case_template=template.RV_TEMPLATE, derived_rows=parts.rows,
     loss_model=LossModel(parts.losses), envelope=parts.envelope, bearing_set=parts.bearings,
     eccentric_loads=crank_held_loads, main_row_force=carrier_force, drawing=pair_drawing,

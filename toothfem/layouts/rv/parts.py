@@ -20,10 +20,11 @@ from ...efficiency.drive_losses import (DriveLosses, OperatingPoints, PowerFlow,
                                         cycloid_losses)
 from ...efficiency.envelope import cycloid_envelope
 from ...errors import CaseError
+from ...fem.system.paths import Cranks
 from ...geometry import train
 from ...units import MM_PER_M
 from ..common import need, rounded
-from ..cycloid import cycloid_rows
+from ..cycloid import cycloid_drive, cycloid_rows
 
 
 def ratio(case: Case) -> float:
@@ -44,6 +45,35 @@ def ratio(case: Case) -> float:
     fs = need(case.first_stage, "first_stage", case)
     cyc = need(case.cycloid, "cycloid", case)
     return train.rv_ratio(fs.sun_teeth, fs.planet_teeth, cyc.lobe_count, cyc.pin_count)
+
+
+def rv_drive(si, layout):
+    """The 2K-V drive: its discs on crankshafts turned by the spur first stage's planets
+    (:class:`toothfem.fem.system.paths.Cranks`, the teeth from [rv], else from
+    [first_stage]).
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    layout : toothfem.layout.Layout
+
+    Returns
+    -------
+    toothfem.fem.drives.CycloidDrive
+
+    Raises
+    ------
+    CaseError
+        Without the first stage's teeth, the [cycloid] or the [material] section.
+    """
+    if si.rv is not None:
+        teeth = (si.rv.sun_teeth, si.rv.planet_teeth)
+    elif si.first_stage is not None:
+        teeth = (si.first_stage.sun_teeth, si.first_stage.planet_teeth)
+    else:
+        raise CaseError(f"drive = {si.drive!r}: [rv] or [first_stage] is required (the "
+                        "sun and planet teeth that turn the cranks)")
+    return cycloid_drive(si, layout, Cranks(teeth, si.first_stage))
 
 
 def case_checks(case: Case) -> None:
@@ -158,7 +188,7 @@ def power_flow(si, drive, points, st: StageLoads) -> PowerFlow:
                  si, sum(count * t_j for _, _, t_j, count in st.members))}
     ratio = abs(1 / w["output"])
     eta1 = _first_stage_efficiency(si, t2 / ratio, w_in * (1 - w["output"]), st.eta0)
-    zs, zp = drive.first_teeth
+    zs, zp = drive.path.teeth
     cyc = si.cycloid
     r, z4, z5 = zp / zs, cyc.lobe_count, cyc.geometry.pin_count
     if np.any(z5 - z4 * st.eta2 <= 0):
