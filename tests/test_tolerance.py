@@ -16,7 +16,7 @@ from toothfem.fem.cycloid_fe.cycle import deviation_gaps
 from toothfem.fem.cycloid_fe.model import _positions
 from toothfem.fem.deviations import CycloidDeviation, SineDeviation, in_zone, only
 from toothfem.fem.drives import drive_for
-from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
+from toothfem.geometry import cycloid as cy, cycloid_distance as cyd, cycloid_mesh as cym
 from toothfem.geometry.vectors import rotate
 from toothfem.tolerance import ALONE_OVER_ALL, tolerance_analysis
 
@@ -98,7 +98,7 @@ def _exact_gap(model, phi, pins, psi_guess, dev):
     centre, rot = cym.disc_pose(g, [phi])
     centre = centre[:, 0] + dev.eccentricity * np.array([math.cos(phi), math.sin(phi)])
     local = rotate(c - centre[:, None], -rot[0]) - dev.member_offset[:, None]
-    psi, _ = cym.foot_point(g.generating(), local, psi_guess)
+    psi, _ = cyd.foot_point(g.generating(), local, psi_guess)
     foot = cy.working_profile(g.generating(), psi)
     return np.hypot(*(local - foot)) - g.pin_radius_m - dev.pin_radius[pins]
 
