@@ -551,6 +551,7 @@ def main_tilt(si, drive) -> dict:
         ``row_span_mm``, ``preload_N``, the pair's ``assumed`` values.
     """
     from ..fem.datasheet import tilt
+    from ..fem.datasheet.ball_pair import BallPair
     b = main_pair(si, drive)
     # bearings.main_span_mm is between the rows' load (pressure cone) centres, the pair's
     # span between its ball planes: back to back, they differ by d_m tan(alpha)
@@ -565,12 +566,12 @@ def main_tilt(si, drive) -> dict:
         raise CaseError(f"bearings.main_span_mm = {declared * MM_PER_M:.4g} is below the pair's "
                         f"pressure-cone spread d_m tan(alpha) = {cone * MM_PER_M:.4g} mm of a "
                         "back-to-back pair: the rows would overlap")
-    pair = tilt.BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
-                         pitch_diameter_m=b.pitch_diameter_m,
-                         contact_angle_rad=math.radians(b.contact_angle_deg), row_span_m=span,
-                         preload_N=main_preload_N(si, drive),
-                         youngs_modulus_Pa=si.material.youngs_modulus_Pa,
-                         poisson_ratio=si.material.poisson_ratio)
+    pair = BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
+                    pitch_diameter_m=b.pitch_diameter_m,
+                    contact_angle_rad=math.radians(b.contact_angle_deg), row_span_m=span,
+                    preload_N=main_preload_N(si, drive),
+                    youngs_modulus_Pa=si.material.youngs_modulus_Pa,
+                    poisson_ratio=si.material.poisson_ratio)
     momentary = tilt.moment_at_pressure(pair)
     allowable = momentary / MOMENTARY_PER_ALLOWABLE
     return {"momentary_moment_Nm": float(momentary), "allowable_moment_Nm": float(allowable),
