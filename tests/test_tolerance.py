@@ -12,7 +12,7 @@ from toothfem.case import load_case, parse_case, case_to_dict
 from toothfem.cli import main
 from toothfem.errors import CaseError
 from toothfem.fem.cycloid_fe import CycleSolver, solve_detailed
-from toothfem.fem.cycloid_fe.cycle import deviation_gaps
+from toothfem.fem.cycloid_fe.built_stage import deviation_gaps
 from toothfem.fem.cycloid_fe.model import _positions
 from toothfem.fem.deviations import CycloidDeviation, SineDeviation, in_zone, only
 from toothfem.fem.drives import drive_for
