@@ -18,7 +18,8 @@ from toothfem.fem.deviations import CycloidDeviation, SineDeviation, in_zone, on
 from toothfem.fem.drives import drive_for
 from toothfem.geometry import cycloid as cy, cycloid_distance as cyd, cycloid_mesh as cym
 from toothfem.geometry.vectors import rotate
-from toothfem.tolerance import ALONE_OVER_ALL, tolerance_analysis
+from toothfem.tolerance import tolerance_analysis
+from toothfem.tolerance_result import ALONE_OVER_ALL
 
 
 #: The ensembles here fill every pitch's tables from 3 sampled pitches (the default 13 is
@@ -390,7 +391,7 @@ def test_percentile_intervals_cover_and_refuse_too_few_rings():
     needs 368), P10/P90 need 36."""
     from scipy.stats import norm
 
-    from toothfem.tolerance import percentile_ci, rings_needed
+    from toothfem.tolerance_result import percentile_ci, rings_needed
 
     assert (rings_needed(0.5), rings_needed(0.9), rings_needed(0.1), rings_needed(0.99)) == \
         (6, 36, 36, 368)
@@ -408,7 +409,7 @@ def test_percentile_intervals_cover_and_refuse_too_few_rings():
 def test_percentiles_on_the_unfavourable_side():
     """Fewest contacts and efficiencies by P10/P1 (low is worse), the rest by P90/P99."""
     from toothfem.report.tolerance import TAIL_COLUMNS, summary_rows
-    from toothfem.tolerance import OUTPUTS, ToleranceResult
+    from toothfem.tolerance_result import OUTPUTS, ToleranceResult
 
     rng = np.random.default_rng(0)
     samples = {k: rng.normal(10, 1, size=50) for k in OUTPUTS}
