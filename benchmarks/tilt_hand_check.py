@@ -1,4 +1,5 @@
-"""Hand checks of the main-bearing tilt model (toothfem.fem.datasheet.tilt), as a table:
+"""Hand checks of the main-bearing tilt model (toothfem.fem.datasheet.tilt, .ball_pair,
+.hertz_point), as a table:
 the Hertz constant against closed forms, a single row under axial and radial load against
 the textbook load shares, the pair under a moment against its torque balance and the
 analytic linear stiffness, the mirror symmetry, and an RV-40E-like pair beside the
@@ -10,7 +11,7 @@ import math
 
 import numpy as np
 
-from toothfem.fem.datasheet import tilt as T
+from toothfem.fem.datasheet import ball_pair as B, hertz_point as H, tilt as T
 from toothfem.fem.hertz import reduced_modulus
 
 #: The RV-40E-like pair of the comparison (not Nabtesco's data: the catalogue gives no
@@ -43,7 +44,7 @@ def rows():
     es = float(reduced_modulus(e, 0.3, e, 0.3))
     d, q = 9e-3, 500.0
     # 1. Hertz
-    flat = T.hertz_point_contact(q, d / 2, d / 2, es)
+    flat = H.hertz_point_contact(q, d / 2, d / 2, es)
     hertz = (9 * q * q / (16 * es * es * d / 2)) ** (1 / 3)
     out.append(("1a ball on flat, exact vs Hertz circular (Johnson 4.2)", flat.approach_m * 1e6,
                 hertz * 1e6, "um"))
@@ -53,9 +54,9 @@ def rows():
     harris = 2.79e-4 * (4 / (d * 1e3)) ** (1 / 3) * q ** (2 / 3) * 1e-3
     out.append(("1c ball on flat vs Harris 2.79e-4 Q^2/3 (sum rho)^1/3", flat.approach_m * 1e6,
                 harris * 1e6, "um"))
-    pair = T.BallPair(**RV40E_LIKE)
-    hb = T.BallPair(**RV40E_LIKE, hertz_method="hamrock_brewe")
-    rc, rch = T.raceway_contact(pair), T.raceway_contact(hb)
+    pair = B.BallPair(**RV40E_LIKE)
+    hb = B.BallPair(**RV40E_LIKE, hertz_method="hamrock_brewe")
+    rc, rch = B.raceway_contact(pair), B.raceway_contact(hb)
     out.append(("1d K of ball (both contacts), Hamrock-Brewe vs exact", rch.K, rc.K, "N/m^1.5"))
     out.append(("1e p/Q^(1/3) inner, Hamrock-Brewe vs exact", rch.pressure_coeff_inner / 1e6,
                 rc.pressure_coeff_inner / 1e6, "MPa N^-1/3"))
@@ -68,7 +69,7 @@ def rows():
                 fa / (pair.balls_per_row * math.sin(r.contact_angle_rad[0, 0])), "N"))
     # 3. single row, radial, zero clearance
     for z in (9, 40):
-        p0 = T.BallPair(z, d, 65e-3 if z == 9 else 150e-3, 0.0, 0.0, 0.0)
+        p0 = B.BallPair(z, d, 65e-3 if z == 9 else 150e-3, 0.0, 0.0, 0.0)
         fr = 2000.0
         r = T.solve_row(p0, fr, 0.0)
         c = np.cos(p0.azimuths_rad)
@@ -105,7 +106,7 @@ ARC = T.ARCMIN
 
 
 def rv40e_like():
-    pair = T.BallPair(**RV40E_LIKE)
+    pair = B.BallPair(**RV40E_LIKE)
     lines = []
     for m in (0.0, 400.0, RV40E_ALLOWABLE_MOMENT):
         r = T.solve(pair, 0.0, 0.0, m)

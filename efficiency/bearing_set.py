@@ -1,4 +1,4 @@
-"""Every rolling bearing of a cycloid or RV reducer: its size, ratings, speed and friction.
+"""Every rolling bearing of a cycloid or RV reducer: its size, ratings and speed.
 
 One record (:class:`Bearing`) per group of like bearings of the layout, built from the
 case where it names them and from the geometry where it does not (each assumed value
@@ -21,16 +21,8 @@ A bearing without a declared rating has the ISO 281 / ISO 76 ratings of its roll
 bearing that cannot fit where it sits is refused naming the keys that clash
 (:func:`check_fits`).
 
-Friction (:func:`friction_moment`): Palmgren's two terms, M = M0 + M1 (A. Palmgren, *Ball
-and Roller Bearing Engineering*, 1959; T. A. Harris & M. N. Kotzalas, *Essential Concepts
-of Bearing Technology*, 2007, Ch. 10): the viscous M0 of :mod:`.no_load` (f0 by type and
-lubrication) and the load term M1 = f1 P d_m written with the case's one coefficient
-``friction.bearing_coefficient`` = mu = 2 f1 (M1 = mu P d_m / 2, the makers' constant
-coefficient form). Palmgren's model and not the SKF four-term model: the latter's
-constants (R1, R2, S1, S2, the seals' K_S1 ...) are per bearing series of one maker and
-exist only for catalogue bearings, while these bearings are sized from the geometry;
-Palmgren's needs the type, the pitch diameter, the load and the viscosity, which the
-model has for every bearing.
+Their friction and losses: :mod:`.bearing_friction`; the main pair's preload and its
+figures under a tilting moment: :mod:`.main_bearing`.
 """
 from __future__ import annotations
 
@@ -38,11 +30,8 @@ import math
 from dataclasses import dataclass
 from typing import TypedDict
 
-import numpy as np
-
 from ..errors import CaseError
 from .envelope import envelope
-from .palmgren import palmgren_f0, palmgren_no_load_moment
 from .rating import dynamic_rating_N, static_rating_N
 from ..units import M_PER_MM, MM_PER_M, N_PER_KN
 
@@ -69,11 +58,8 @@ ROLLER_LENGTH_PER_WIDTH = 0.7
 CONTACT_ANGLE_DEG = {"ball": 0.0, "angular_ball": 40.0, "tapered": 15.0, "cylindrical": 0.0,
                      "needle": 0.0}
 #: ASSUMPTION: the main bearing's balls, as a share of its pitch diameter (RV-E reducers'
-#: integral main bearings run balls of about 6-8 % of the pitch circle), and the
-#: distance between the two rows' ball centres per ball diameter (two rows side by side
-#: with a shoulder between them).
+#: integral main bearings run balls of about 6-8 % of the pitch circle).
 MAIN_BALL_PER_PITCH = 0.06
-MAIN_ROW_SPACING_PER_BALL = 2.5
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -467,153 +453,3 @@ def reducer_bearings(si, drive) -> tuple:
                         "system model's roller set (supports.bearing_roller_*), a 'needle' "
                         "bearing; another type is not modelled")
     return drive.layout.bearing_set(si, drive)
-
-
-def friction_moment(bearing: Bearing, load_N, nu_m2_s, speed_rad_s, lubrication: str,
-                    coefficient: float):
-    """Palmgren's friction moment of one bearing [N m]: M0 (viscous, f0 of the type and
-    lubrication) + mu P d_m / 2 (module docstring).
-
-    Parameters
-    ----------
-    bearing : Bearing
-    load_N : array_like
-        Equivalent load P on the bearing [N].
-    nu_m2_s : array_like
-        The oil's (grease's base oil's) kinematic viscosity [m^2/s].
-    speed_rad_s : array_like
-        Speed of the rotating ring relative to the other [rad/s].
-    lubrication : str
-        "grease", "oil_mist", "oil_bath" or "oil_jet".
-    coefficient : float
-        mu = 2 f1 [-] (``friction.bearing_coefficient``).
-
-    Returns
-    -------
-    numpy.ndarray
-        M [N m].
-    """
-    m0 = palmgren_no_load_moment(palmgren_f0(bearing.bearing_type, lubrication), nu_m2_s,
-                                 speed_rad_s, bearing.pitch_diameter_m)
-    return m0 + coefficient * np.abs(np.asarray(load_N, float)) * bearing.pitch_diameter_m / 2
-
-
-#: ASSUMPTION: each row's axial preload as a share of its static rating C0 (a light
-#: preload of makers' matched angular contact pairs is of the order of 1-2 % of C0).
-MAIN_PRELOAD_PER_C0 = 0.02
-
-
-def main_preload_N(si, drive) -> float:
-    """Axial preload of each main bearing row [N]: ``bearings.main_preload_N``, else
-    :data:`MAIN_PRELOAD_PER_C0` of the row's static rating (an ASSUMPTION). The tilt model
-    stiffens the pair with it and the friction model loads each row's Palmgren load term
-    with it, so the two read one preload.
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.Drive
-
-    Returns
-    -------
-    float
-        [N].
-    """
-    declared = None if si.bearings is None else si.bearings.main_preload_N
-    if declared is not None:
-        return float(declared)
-    return MAIN_PRELOAD_PER_C0 * main_pair(si, drive).static_rating_N
-
-
-#: Makers list a momentary maximum allowable moment twice the allowable moment (Nabtesco
-#: RV-E catalogue: RV-40E 3332 and 1666 N m); the momentary one is taken as the moment at
-#: which the most loaded ball reaches ISO 76's static limit.
-MOMENTARY_PER_ALLOWABLE = 2.0
-
-
-def main_tilt(si, drive) -> dict:
-    """The main bearing pair against a tilting moment, ball by ball
-    (:mod:`toothfem.fem.datasheet.tilt`): the moment at ISO 76's static limit (4200 MPa at
-    the most loaded ball; the catalogue's momentary maximum allowable moment), the
-    allowable moment (half of it, the catalogue's ratio :data:`MOMENTARY_PER_ALLOWABLE`),
-    and the moment rigidity (the secant M/theta at the allowable moment, the catalogue's
-    figure; the pair alone, its housing and carrier rigid).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.Drive
-
-    Returns
-    -------
-    dict
-        ``momentary_moment_Nm``, ``allowable_moment_Nm``, ``moment_rigidity_Nm_per_arcmin``,
-        ``row_span_mm``, ``preload_N``, the pair's ``assumed`` values.
-    """
-    from ..fem.datasheet import tilt
-    b = main_pair(si, drive)
-    # bearings.main_span_mm is between the rows' load (pressure cone) centres, the pair's
-    # span between its ball planes: back to back, they differ by d_m tan(alpha)
-    cone = b.pitch_diameter_m * math.tan(math.radians(b.contact_angle_deg))
-    declared = None if si.bearings is None else si.bearings.main_span_m
-    span = (MAIN_ROW_SPACING_PER_BALL * b.element_diameter_m if declared is None
-            else declared - cone)
-    if span <= 0:
-        if declared is None:      # the assumed spacing of positive balls: never below 0
-            raise CaseError(f"the main bearings' assumed row span {span * MM_PER_M:.4g} mm is "
-                            "not positive (ball diameter times MAIN_ROW_SPACING_PER_BALL)")
-        raise CaseError(f"bearings.main_span_mm = {declared * MM_PER_M:.4g} is below the pair's "
-                        f"pressure-cone spread d_m tan(alpha) = {cone * MM_PER_M:.4g} mm of a "
-                        "back-to-back pair: the rows would overlap")
-    pair = tilt.BallPair(balls_per_row=b.elements, ball_diameter_m=b.element_diameter_m,
-                         pitch_diameter_m=b.pitch_diameter_m,
-                         contact_angle_rad=math.radians(b.contact_angle_deg), row_span_m=span,
-                         preload_N=main_preload_N(si, drive),
-                         youngs_modulus_Pa=si.material.youngs_modulus_Pa,
-                         poisson_ratio=si.material.poisson_ratio)
-    momentary = tilt.moment_at_pressure(pair)
-    allowable = momentary / MOMENTARY_PER_ALLOWABLE
-    return {"momentary_moment_Nm": float(momentary), "allowable_moment_Nm": float(allowable),
-            "moment_rigidity_Nm_per_arcmin": float(
-                tilt.moment_rigidity_Nm_per_arcmin(pair, allowable)),
-            "row_span_mm": span * MM_PER_M, "preload_N": pair.preload_N,
-            "balls_per_row": b.elements, "ball_diameter_mm": b.element_diameter_m * MM_PER_M,
-            "pitch_diameter_mm": b.pitch_diameter_m * MM_PER_M,
-            "assumed": list(b.assumed) + (["preload"] if si.bearings is None or
-                                          si.bearings.main_preload_N is None else [])
-                       + ["row span"]}
-
-
-def bearing_losses(si, drive, loads: dict, input_rad_s, viscosity_factor) -> dict:
-    """Friction loss of every bearing group of a reducer [W]: each bearing's Palmgren
-    moment (:func:`friction_moment`) at its load and its speed relative to its other ring;
-    in an oil bath with a churning law its load term only (the law lumps the bearings'
-    viscous drag, :mod:`.no_load`).
-
-    Parameters
-    ----------
-    si : toothfem.si.CaseSI
-    drive : toothfem.fem.drives.Drive
-    loads : dict
-        Group name -> (M,) sum of the loads on the group's bearings [N] (a group left out
-        carries none: its viscous moment only).
-    input_rad_s, viscosity_factor : numpy.ndarray
-        (M,) input speed [rad/s] and eta(T)/eta_ref of the oil.
-
-    Returns
-    -------
-    dict
-        Group name -> (M,) [W].
-    """
-    lub = si.lubricant
-    nu = lub.kinematic_viscosity_m2_s * np.asarray(viscosity_factor, float)
-    # in an oil bath the churning law lumps the bearings' viscous drag (efficiency/no_load.py)
-    lumped = lub.lubrication == "oil_bath" and lub.churning != "none"
-    out = {}
-    for b in reducer_bearings(si, drive):
-        speed = np.abs(input_rad_s) * b.speed_per_input
-        m0 = 0.0 if lumped else friction_moment(b, 0.0, nu, speed, lub.lubrication, 0.0)
-        load = loads.get(b.name, 0.0)
-        m1 = si.friction.bearing_coefficient * load * b.pitch_diameter_m / 2
-        out[b.name] = (b.count * m0 + m1) * speed
-    return out

@@ -31,7 +31,8 @@ import numpy as np
 from ..errors import CaseError
 from ..fem.drives import drive_for
 from ..limits import Exceeded
-from .bearing_set import bearing_losses, main_preload_N
+from .bearing_friction import bearing_losses
+from .main_bearing import main_preload_N
 from .bearings import main_bearing_load
 from .envelope import envelope
 from .losses import LOSSES

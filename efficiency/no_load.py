@@ -40,7 +40,7 @@ import numpy as np
 
 from .envelope import Envelope, envelope
 from .lubricant import churning_lu_xu_2024
-from .bearing_set import bearing_losses
+from .bearing_friction import bearing_losses
 from .palmgren import palmgren_f0, palmgren_no_load_moment
 from ..fem.drives.assembly import PathFriction
 from ..units import MM_PER_M, RPM_PER_RAD_S, rpm_to_rad_s
@@ -182,7 +182,7 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
         (M,) eta(T)/eta(T_ref) of the oil.
     bearings : bool
         Whether ``bearing_drag`` is counted here (False: the caller counts every bearing's
-        viscous moment with its load, :mod:`.bearing_set`).
+        viscous moment with its load, :mod:`.bearing_friction`).
 
     Returns
     -------

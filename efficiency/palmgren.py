@@ -1,8 +1,8 @@
 """Palmgren's load-independent (viscous) friction moment of a rolling bearing: the law and
 its factor f0 by bearing type and lubrication (A. Palmgren, *Ball and Roller Bearing
 Engineering*, 1959; T.A. Harris & M.N. Kotzalas, *Essential Concepts of Bearing
-Technology*, 2007). Used by every bearing of :mod:`.bearing_set`; :mod:`.no_load` sums
-them as the bearings' drag where no churning law lumps it.
+Technology*, 2007). Used by every bearing of :mod:`.bearing_set` (:mod:`.bearing_friction`);
+:mod:`.no_load` sums them as the bearings' drag where no churning law lumps it.
 """
 from __future__ import annotations
 

@@ -27,8 +27,10 @@ Delta delta toward its tooth centre: the disc is the intersection of the profile
 by +Delta delta and by -Delta delta; a negative Delta delta turns each flank away, the
 disc is their union: docs/derivations.md 8).
 
-The disc in its housing (pose, pin contacts, foot points, clearances, ``meshing``):
-:mod:`toothfem.geometry.cycloid_mesh`.
+The disc in its housing (pose, pin contacts, ``meshing``, exact clearances):
+:mod:`toothfem.geometry.cycloid_mesh`; foot points and distances on the profile:
+:mod:`toothfem.geometry.cycloid_distance`; the disc before load (backlash, first-order
+clearance): :mod:`toothfem.geometry.cycloid_backlash`.
 """
 from __future__ import annotations
 

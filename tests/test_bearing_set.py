@@ -14,8 +14,8 @@ from toothfem import CaseError, cli, load_case, parse_case
 from toothfem.case import case_to_dict
 from toothfem.efficiency import evaluate
 from toothfem.efficiency import rating
-from toothfem.efficiency.bearing_set import (ISO15_SERIES_0, main_tilt, reducer_bearings,
-                                             standard_size)
+from toothfem.efficiency.bearing_set import ISO15_SERIES_0, reducer_bearings, standard_size
+from toothfem.efficiency.main_bearing import main_tilt
 from toothfem.fem.drives import drive_for
 
 R = dataclasses.replace

@@ -295,7 +295,7 @@ def test_vtu_fields_state_their_units(tmp_path):
 
     from toothfem.fem import export
     from toothfem.fem.elastic import Body, lame_parameters
-    from toothfem.report.contact import field_png
+    from toothfem.report.field import field_png
 
     mesh = MeshTri().refined(2).scaled(0.01)                     # a 10 mm square [m]
     body = Body(SimpleNamespace(mesh=mesh), 2e11, 0.3, np.array([0]))

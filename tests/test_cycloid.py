@@ -13,7 +13,8 @@ import pytest
 from shapely import affinity
 
 from toothfem.errors import GeometryError
-from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
+from toothfem.geometry import (cycloid as cy, cycloid_backlash as cyb, cycloid_distance as cyd,
+                               cycloid_mesh as cym)
 from toothfem.geometry.disc import DiscHolesSI, disc_polygon
 
 PIN_HOUSING = cy.CycloidGeometry(40, 0.100, 0.001, 0.002)
@@ -32,7 +33,7 @@ def _pins_in_disc_frame(g, phi):
 def test_unmodified_profile_tangent_to_every_pin(g):
     """|distance(pin centre, working profile) - rz| < 1e-6 Rz at 12 crank angles, every pin,
     measured by a Newton foot point on the parametric curve started from a global search."""
-    d = cym.distance_to_profile(g, _pins_in_disc_frame(g, CRANK))
+    d = cyd.distance_to_profile(g, _pins_in_disc_frame(g, CRANK))
     err = np.max(np.abs(d - g.pin_radius_m))
     assert err < 1e-6 * g.pin_circle_radius_m
     assert err < 1e-12  # in fact exact to rounding: the pins lie on the theoretical curve
@@ -82,7 +83,7 @@ def test_clearance_closed_form_matches_exact_geometry(mods):
     g = cy.CycloidGeometry(40, 0.100, 0.001, 0.002, **mods)
     theta = np.linspace(0.02, math.pi - 0.02, 90)
     exact0 = cym.clearance_exact(g, -theta)[:, 0]    # pin 0 at angle theta from the centres' line
-    d0, d, beta0 = cym.clearance_closed_form(g, theta)
+    d0, d, beta0 = cyb.clearance_closed_form(g, theta)
     scale = np.max(np.abs(d0))
     assert np.max(np.abs(exact0 - d0)) < 0.02 * scale
     arm = np.abs(cym.seed_moment_arm(g, theta))
@@ -101,7 +102,7 @@ def test_clearance_error_is_second_order():
         g = cy.CycloidGeometry(40, 0.100, 0.001, 0.002, equidistant_m=40e-6 * s,
                                move_distance_m=-40e-6 * s, rotation_rad=2e-4 * s)
         errs.append(np.max(np.abs(cym.clearance_exact(g, -theta)[:, 0]
-                                  - cym.clearance_closed_form(g, theta)[0])))
+                                  - cyb.clearance_closed_form(g, theta)[0])))
     assert 50 < errs[0] / errs[1] < 200
 
 
@@ -112,7 +113,7 @@ def test_textbook_form_for_positive_equidistant_negative_move():
     s = np.sqrt(1 + k1**2 - 2 * k1 * np.cos(theta))
     book = (15e-6 * (1 - np.sin(theta) / s)
             + 8e-6 * (1 - k1 * np.cos(theta) - math.sqrt(1 - k1**2) * np.sin(theta)) / s)
-    assert np.allclose(cym.clearance_closed_form(g, theta)[1], book, rtol=0, atol=1e-15)
+    assert np.allclose(cyb.clearance_closed_form(g, theta)[1], book, rtol=0, atol=1e-15)
 
 
 @pytest.mark.parametrize("kwargs, match", [
@@ -157,7 +158,7 @@ def test_kinematics_against_profile_and_seed(g):
     # -- from the profile: foot point of each pin centre, normal of the working curve there
     gg = g.generating()
     local = _pins_in_disc_frame(g, phi)
-    psi, _ = cym.foot_point(gg, local, cym._nearest_psi(gg, local))
+    psi, _ = cyd.foot_point(gg, local, cyd._nearest_psi(gg, local))
     n_loc = -cy.inward_normal(gg, psi)                 # outward normal of the disc
     k_loc = cy.working_profile(gg, psi)
     centre, rot = cym.disc_pose(g, phi)

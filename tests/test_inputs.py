@@ -19,7 +19,7 @@ from toothfem.report import plots
 from toothfem.efficiency.loop import measured as ms
 from toothfem.errors import MeasuredDataError, ToothfemError, check_range
 from toothfem.fem.cache import CacheWarning, DiskCache, content_key
-from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
+from toothfem.geometry import cycloid as cy, cycloid_distance as cyd, cycloid_mesh as cym
 from toothfem.output import atomic_dir, clean_stale
 
 try:
@@ -219,7 +219,7 @@ def test_cycloid_clearance_of_a_strongly_curtate_modified_disc():
     # each turned profile's distance, Newton from the unmodified contact parameter (the
     # disc's own distance takes the corner where the two cross: issue 28)
     psi0 = (2 * math.pi * np.arange(89)[None, :] / 89 + phi[:, None] / 88).ravel()
-    d = np.maximum(*(cym.distance_to_profile(g, local, f, psi0) for f in (1, -1))
+    d = np.maximum(*(cyd.distance_to_profile(g, local, f, psi0) for f in (1, -1))
                    ).reshape(2, 89) - g.pin_radius_m
     psi = np.linspace(0, 2 * np.pi, 200_001)
     ref = []

@@ -70,7 +70,7 @@ def test_maker_rated_life_scaling():
 def test_crank_bearing_loads_match_the_loss_model(cases):
     """Two code paths: the crank-hole load over the relative angle, averaged (p = 1), is
     the load the crank-bearing loss takes (Palmgren: per bearing M0 + mu F d_m/2 at w_rel,
-    efficiency/bearing_set.py); the RV's disc load factor is 1, so peak and even shares
+    efficiency/bearing_friction.py); the RV's disc load factor is 1, so peak and even shares
     agree. The loss model takes the period's mean resultant before the angle, the life each
     position's: they differ by the resultant's ripple (1.5e-7 here), hence 1e-5. Each hole
     carries at least the torque couple's T/(k R_c) at some angle."""

@@ -18,7 +18,8 @@ import pytest
 from toothfem import load_case
 from toothfem.efficiency import evaluate
 from toothfem.efficiency import loop as lp
-from toothfem.efficiency.bearing_set import main_pair, main_tilt
+from toothfem.efficiency.bearing_set import main_pair
+from toothfem.efficiency.main_bearing import main_tilt
 from toothfem.efficiency.loop import effects as fx
 from toothfem.efficiency.loop import synthetic as sy
 from toothfem.efficiency.loop.loss_effects import grade_viscosity_mm2_s

@@ -155,7 +155,7 @@ def test_a_field_scale_ends_at_its_99th_percentile_by_area():
     ends near 1 MPa (the body readable), not at the spike."""
     from matplotlib.tri import Triangulation
 
-    from toothfem.report.contact import robust_max
+    from toothfem.report.field import robust_max
 
     x, y = np.meshgrid(np.linspace(0, 1, 41), np.linspace(0, 1, 41))
     tri = Triangulation(x.ravel(), y.ravel())
@@ -375,7 +375,7 @@ def test_loss_share_labels_are_exact_enough_and_never_overlap():
 def test_the_whole_members_view_takes_in_the_outlines_and_a_close_up_its_own_max():
     from matplotlib.tri import Triangulation
 
-    from toothfem.report.contact import field_limits, view_max
+    from toothfem.report.field import field_limits, view_max
 
     x, y = np.meshgrid(np.linspace(-10, 10, 21), np.linspace(-10, 10, 21))
     tri = Triangulation(x.ravel(), y.ravel())

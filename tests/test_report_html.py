@@ -288,7 +288,7 @@ def test_a_tolerance_page_lists_the_limits_its_percentiles_pass(cases_dir, tmp_p
     from tests.test_tolerance_report import synthetic
     from toothfem.case import load_case
     from toothfem.report.tolerance import write_tolerance
-    from toothfem.tolerance import check_limits
+    from toothfem.tolerance_result import check_limits
 
     case_file = cases_dir / "cycloid_khv.toml"
     case = load_case(case_file)

@@ -21,7 +21,7 @@ from toothfem import load_case
 from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.deviations import CycloidDeviation
 from toothfem.fem.drives import drive_for
-from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
+from toothfem.geometry import cycloid as cy, cycloid_backlash as cyb, cycloid_mesh as cym
 from toothfem.derived import derived
 
 ARCSEC = math.pi / (180 * 3600)
@@ -124,7 +124,7 @@ def test_exact_gaps_of_every_pin_against_the_first_order(mods):
     for scale in (1.0, 0.25):
         g = _geometry(**{k: v * scale for k, v in mods.items()})
         theta = np.mod(2 * math.pi * np.arange(40)[None, :] / 40 - phi[:, None], 2 * math.pi)
-        d0 = cym.clearance_closed_form(g, theta)[0]
+        d0 = cyb.clearance_closed_form(g, theta)[0]
         exact = cym.clearance_exact(g, phi, 0)
         errs.append(np.max(np.abs(exact - d0)))
         assert errs[-1] < 0.05 * np.max(np.abs(d0)) + 1e-12
@@ -138,12 +138,12 @@ def test_before_load_backlash_and_interference():
     closed, the interference and its pins named on both flanks."""
     phi = np.linspace(0, 2 * math.pi / 40, 12, endpoint=False)
     d = math.radians(0.05)
-    b = cym.before_load(_geometry(rotation_rad=d), phi)
+    b = cyb.before_load(_geometry(rotation_rad=d), phi)
     assert b["backlash_min_arcmin"] == pytest.approx(2 * 0.05 * 60, rel=1e-9)
     assert b["interference_before_load_um"] == 0 and not b["interference_pins"]
-    none = cym.before_load(_geometry(), phi)
+    none = cyb.before_load(_geometry(), phi)
     assert none["backlash_max_arcmin"] == 0 and none["clearance_before_load_um"] == 0
-    b = cym.before_load(_geometry(equidistant_m=5e-6, rotation_rad=-math.radians(0.02)), phi)
+    b = cyb.before_load(_geometry(equidistant_m=5e-6, rotation_rad=-math.radians(0.02)), phi)
     assert b["backlash_min_arcmin"] is None
     # first order: 5 um - 0.02 deg x the largest arm (about 34 mm) = -6.9 um
     assert 5 < b["interference_before_load_um"] < 10

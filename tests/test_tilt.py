@@ -1,4 +1,5 @@
-"""The main bearing pair's tilt model (toothfem.fem.datasheet.tilt) against hand checks:
+"""The main bearing pair's tilt model (toothfem.fem.datasheet.tilt, .ball_pair,
+.hertz_point) against hand checks:
 Hertz's closed forms, the load shares of a single row (pure axial: equal; pure radial:
 Stribeck), the torque balance and the analytic linear tilt stiffness of the pair, and its
 mirror symmetry. ``benchmarks/tilt_hand_check.py`` prints the same checks as a table.
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from toothfem.errors import ToothfemError
-from toothfem.fem.datasheet import tilt as T
+from toothfem.fem.datasheet import ball_pair as B, hertz_point as H, tilt as T
 from toothfem.fem.hertz import reduced_modulus
 
 E, NU = 208e9, 0.3
@@ -20,7 +21,7 @@ RV40E_LIKE = dict(balls_per_row=40, ball_diameter_m=9e-3, pitch_diameter_m=150e-
 
 @pytest.fixture(scope="module")
 def pair():
-    return T.BallPair(**RV40E_LIKE)
+    return B.BallPair(**RV40E_LIKE)
 
 
 def _arms(pair, res):
@@ -43,7 +44,7 @@ def test_ball_on_flat_reproduces_hertz_closed_form():
     alpha_r = 1 is Hertz's (Johnson 1985, Sec. 4.2), delta = (9 Q^2/(16 E*^2 R))^(1/3),
     a = (3 Q R/(4 E*))^(1/3), p0 = 3 Q/(2 pi a^2)."""
     d, q = 9e-3, np.array([10.0, 500.0, 5000.0])
-    h = T.hertz_point_contact(q, d / 2, d / 2, E_STAR)
+    h = H.hertz_point_contact(q, d / 2, d / 2, E_STAR)
     r = d / 2
     a = (3 * q * r / (4 * E_STAR)) ** (1 / 3)
     # rtol: round-off only (the bisection leaves m ~ 1e-23 at alpha_r = 1)
@@ -51,7 +52,7 @@ def test_ball_on_flat_reproduces_hertz_closed_form():
                                          rel=1e-12)
     assert h.semi_major_m == pytest.approx(a, rel=1e-12)
     assert h.p_max_Pa == pytest.approx(3 * q / (2 * np.pi * a ** 2), rel=1e-12)
-    hb = T.hertz_point_contact(q, d / 2, d / 2, E_STAR, method="hamrock_brewe")
+    hb = H.hertz_point_contact(q, d / 2, d / 2, E_STAR, method="hamrock_brewe")
     # Hamrock & Brewe's closed forms are exact at alpha_r = 1 (k = 1, E = K = pi/2)
     assert hb.approach_m == pytest.approx(h.approach_m, rel=1e-12)
 
@@ -63,7 +64,7 @@ def test_ball_on_flat_against_palmgren_and_harris():
     Measured: +1.3 % from Palmgren, -0.3 % from Harris (E = 208 GPa here)."""
     for d_mm in (6.0, 9.0, 12.7):
         for q in (50.0, 500.0, 2000.0):
-            got = T.hertz_point_contact(q, d_mm / 2e3, d_mm / 2e3, E_STAR).approach_m * 1e3
+            got = H.hertz_point_contact(q, d_mm / 2e3, d_mm / 2e3, E_STAR).approach_m * 1e3
             # 3 %: Palmgren's constant is a rounded steel constant of an older modulus
             assert got == pytest.approx(4.36e-4 * q ** (2 / 3) * d_mm ** (-1 / 3), rel=0.03)
             # 0.5 %: the moduli differ by 0.25 % (E* enters as E*^(-2/3))
@@ -76,8 +77,8 @@ def test_raceway_contact_exact_against_hamrock_brewe(pair):
     integrals against Hamrock & Brewe's 1983 closed forms (K -0.25 %, p +0.7 % measured).
     Tolerance 1.5 %: the closed forms' error over 5 <= alpha_r <= 30 (compared here with the
     exact solution: at most 1.1 % in the pressure, 2.5 % in the approach near alpha_r = 5)."""
-    hb = T.BallPair(**RV40E_LIKE, hertz_method="hamrock_brewe")
-    ex, ap = T.raceway_contact(pair), T.raceway_contact(hb)
+    hb = B.BallPair(**RV40E_LIKE, hertz_method="hamrock_brewe")
+    ex, ap = B.raceway_contact(pair), B.raceway_contact(hb)
     assert ap.K == pytest.approx(ex.K, rel=0.015)
     assert ap.pressure_coeff_inner == pytest.approx(ex.pressure_coeff_inner, rel=0.015)
     assert ap.pressure_coeff_outer == pytest.approx(ex.pressure_coeff_outer, rel=0.015)
@@ -95,7 +96,7 @@ def test_exact_ellipse_satisfies_hertz_relation():
     Sec. 4.2) written with scipy's ellipk/ellipe directly."""
     from scipy.special import ellipe, ellipk
     for ratio in (1.5, 5.0, 17.0, 27.0, 100.0):
-        h = T.hertz_point_contact(100.0, 1e-3, ratio * 1e-3, E_STAR)
+        h = H.hertz_point_contact(100.0, 1e-3, ratio * 1e-3, E_STAR)
         m = 1 - 1 / float(h.ellipticity) ** 2
         k, e = ellipk(m), ellipe(m)
         # rtol: the cancellation K - E of the check itself at small m (1e-10 is ample)
@@ -108,7 +109,7 @@ def test_exact_ellipse_satisfies_hertz_relation():
 def test_single_row_pure_axial_equal_share(pair, model):
     """Every ball carries F_a/(Z sin alpha), alpha the loaded contact angle (alpha_0 for the
     fixed model). Exact: the balls are alike by symmetry; 1e-10 is Newton's tolerance."""
-    p = T.BallPair(**{**RV40E_LIKE, "contact_angle_model": model})
+    p = B.BallPair(**{**RV40E_LIKE, "contact_angle_model": model})
     fa = 5000.0
     r = T.solve_row(p, 0.0, fa)
     alpha = r.contact_angle_rad
@@ -131,7 +132,7 @@ def test_single_row_radial_stribeck(z, offset):
     (1e-9: Newton's tolerance); and Q_0 Z / F_r ~ Stribeck's 4.37 within 1 % (the discrete sum
     of Z balls against his integral: +0.35 % for Z = 9, -0.3 % half a pitch turned). Q_0 is
     the most loaded ball's load when a ball sits on the load line."""
-    p = T.BallPair(z, 9e-3, 150e-3 if z > 20 else 65e-3, 0.0, 0.0, 0.0,
+    p = B.BallPair(z, 9e-3, 150e-3 if z > 20 else 65e-3, 0.0, 0.0, 0.0,
                    half_pitch_offset=offset)
     fr = 2000.0
     r = T.solve_row(p, fr, 0.0)
@@ -151,7 +152,7 @@ def test_single_row_angular_radial_held_axially():
     the axial reaction F_a = tan(alpha) F_r sum cos^1.5 / sum cos^2.5 (NSK's 1.216 F_r tan(alpha)
     for Stribeck's integral, NSK CAT. No. E728g Sec. 5.1; 1 % for the discrete sum of
     40 balls)."""
-    p = T.BallPair(40, 9e-3, 150e-3, math.radians(40), 0.0, 0.0,
+    p = B.BallPair(40, 9e-3, 150e-3, math.radians(40), 0.0, 0.0,
                    contact_angle_model="fixed")
     fr = 3000.0
     r = T.solve_row(p, fr, 0.0, hold_axial=True)
@@ -178,7 +179,7 @@ def test_pair_torque_balance(pair, m):
     assert abs(r.row_radial_N.sum()) < 1e-8 * m / 0.075
     assert r.max_ball_load_N == r.ball_load_N.max()
     assert r.max_pressure_Pa == pytest.approx(
-        float(T.ball_pressure_Pa(pair, r.max_ball_load_N,
+        float(B.ball_pressure_Pa(pair, r.max_ball_load_N,
                                  r.contact_angle_rad[r.max_ball_index])), rel=1e-12)
     if m > 1000:                     # large moments unload balls: they carry exactly zero
         lost = r.approach_m <= 0
@@ -189,9 +190,9 @@ def test_pair_linear_tilt_stiffness_fixed_angle():
     """Fixed contact angle: the tangent tilt stiffness at zero moment is
     sum_i k_i arm_i^2 with k = 1.5 K delta_0^0.5, delta_0 = (F_pre/(Z K sin a))^(2/3) and
     arm = (cos a z_c - s sin a R_i) cos psi, all from the geometry and the preload by hand."""
-    p = T.BallPair(**{**RV40E_LIKE, "contact_angle_model": "fixed"})
+    p = B.BallPair(**{**RV40E_LIKE, "contact_angle_model": "fixed"})
     a = p.contact_angle_rad
-    k_const = T.raceway_contact(p).K
+    k_const = B.raceway_contact(p).K
     d0 = (p.preload_N / (p.balls_per_row * k_const * math.sin(a))) ** (2 / 3)
     k = 1.5 * k_const * math.sqrt(d0)
     z = p.balls_per_row
@@ -216,7 +217,7 @@ def test_pair_linear_tilt_stiffness_varying_angle(pair):
     line, sum k arm_n^2 + (Q/L) arm_t^2 (L = A + delta_0), at the preload's loaded angle.
     The second term is 0.24 % of the whole here."""
     r0 = T.solve(pair, 0.0, 0.0, 0.0)
-    k_const = T.raceway_contact(pair).K
+    k_const = B.raceway_contact(pair).K
     kn = 1.5 * k_const * np.sqrt(r0.approach_m)
     geo = r0.ball_load_N / (pair.groove_centre_distance_m + r0.approach_m)
     arm_n, arm_t = _arms(pair, r0)
@@ -268,7 +269,7 @@ def test_plus_minus_moment_mirror(radial, offset):
     """Mirroring the pair in its centre plane (z -> -z) swaps the rows and the moment's sign:
     theta(-M) = -theta(M) and Q(-M)[row r] = Q(+M)[row 1-r], with the same radial
     displacement (1e-9 of the scale: Newton's tolerance)."""
-    p = T.BallPair(**{**RV40E_LIKE, "half_pitch_offset": offset})
+    p = B.BallPair(**{**RV40E_LIKE, "half_pitch_offset": offset})
     m = 2000.0
     rp, rm = T.solve(p, radial, 0.0, m), T.solve(p, radial, 0.0, -m)
     assert rm.tilt_rad == pytest.approx(-rp.tilt_rad, rel=1e-9)
@@ -285,13 +286,13 @@ def test_plus_minus_moment_mirror(radial, offset):
 
 def test_bad_input_named():
     with pytest.raises(ToothfemError, match="f_inner"):
-        T.BallPair(**{**RV40E_LIKE, "f_inner": 0.5})
+        B.BallPair(**{**RV40E_LIKE, "f_inner": 0.5})
     with pytest.raises(ToothfemError, match="contact_angle_rad"):
-        T.BallPair(**{**RV40E_LIKE, "contact_angle_rad": math.pi / 2})
+        B.BallPair(**{**RV40E_LIKE, "contact_angle_rad": math.pi / 2})
     with pytest.raises(ToothfemError, match="do not fit"):
-        T.BallPair(**{**RV40E_LIKE, "balls_per_row": 60})
+        B.BallPair(**{**RV40E_LIKE, "balls_per_row": 60})
     with pytest.raises(ToothfemError, match="moment_Nm"):
-        T.solve(T.BallPair(**RV40E_LIKE), 0.0, 0.0, float("nan"))
+        T.solve(B.BallPair(**RV40E_LIKE), 0.0, 0.0, float("nan"))
 
 
 def test_convergence_error_names_the_loads(pair, monkeypatch):

@@ -12,13 +12,14 @@ from toothfem.case import load_case, parse_case, case_to_dict
 from toothfem.cli import main
 from toothfem.errors import CaseError
 from toothfem.fem.cycloid_fe import CycleSolver, solve_detailed
-from toothfem.fem.cycloid_fe.cycle import deviation_gaps
+from toothfem.fem.cycloid_fe.built_stage import deviation_gaps
 from toothfem.fem.cycloid_fe.model import _positions
 from toothfem.fem.deviations import CycloidDeviation, SineDeviation, in_zone, only
 from toothfem.fem.drives import drive_for
-from toothfem.geometry import cycloid as cy, cycloid_mesh as cym
+from toothfem.geometry import cycloid as cy, cycloid_distance as cyd, cycloid_mesh as cym
 from toothfem.geometry.vectors import rotate
-from toothfem.tolerance import ALONE_OVER_ALL, tolerance_analysis
+from toothfem.tolerance import tolerance_analysis
+from toothfem.tolerance_result import ALONE_OVER_ALL
 
 
 #: The ensembles here fill every pitch's tables from 3 sampled pitches (the default 13 is
@@ -98,7 +99,7 @@ def _exact_gap(model, phi, pins, psi_guess, dev):
     centre, rot = cym.disc_pose(g, [phi])
     centre = centre[:, 0] + dev.eccentricity * np.array([math.cos(phi), math.sin(phi)])
     local = rotate(c - centre[:, None], -rot[0]) - dev.member_offset[:, None]
-    psi, _ = cym.foot_point(g.generating(), local, psi_guess)
+    psi, _ = cyd.foot_point(g.generating(), local, psi_guess)
     foot = cy.working_profile(g.generating(), psi)
     return np.hypot(*(local - foot)) - g.pin_radius_m - dev.pin_radius[pins]
 
@@ -388,7 +389,7 @@ def test_percentile_intervals_cover_and_refuse_too_few_rings():
     needs 368), P10/P90 need 36."""
     from scipy.stats import norm
 
-    from toothfem.tolerance import percentile_ci, rings_needed
+    from toothfem.tolerance_result import percentile_ci, rings_needed
 
     assert (rings_needed(0.5), rings_needed(0.9), rings_needed(0.1), rings_needed(0.99)) == \
         (6, 36, 36, 368)
@@ -406,7 +407,7 @@ def test_percentile_intervals_cover_and_refuse_too_few_rings():
 def test_percentiles_on_the_unfavourable_side():
     """Fewest contacts and efficiencies by P10/P1 (low is worse), the rest by P90/P99."""
     from toothfem.report.tolerance import TAIL_COLUMNS, summary_rows
-    from toothfem.tolerance import OUTPUTS, ToleranceResult
+    from toothfem.tolerance_result import OUTPUTS, ToleranceResult
 
     rng = np.random.default_rng(0)
     samples = {k: rng.normal(10, 1, size=50) for k in OUTPUTS}

@@ -14,8 +14,9 @@ import pytest
 from toothfem.case import load_case
 from toothfem.report import pyplot, wrap
 from toothfem.report import tolerance as report
-from toothfem.tolerance import (ALONE_OVER_ALL, LOADS_SYSTEM, OUTPUTS,
-                                ToleranceResult, check_limits, output_labels)
+from toothfem.tolerance import LOADS_SYSTEM
+from toothfem.tolerance_result import (ALONE_OVER_ALL, OUTPUTS, ToleranceResult, check_limits,
+                                       output_labels)
 from toothfem.report.tolerance import write_tolerance
 
 #: Settings of a synthetic ensemble (as tolerance_analysis writes them).

@@ -183,7 +183,7 @@ def check_limits(si, targets: dict, best: Candidate, check: dict,
 
 def percentile_interval(targets: dict) -> dict | None:
     """Whether the search's percentile, taken of ``samples`` reducers per candidate, has a
-    95 % confidence interval (:func:`toothfem.tolerance.rings_needed`: a P90 needs 36
+    95 % confidence interval (:func:`toothfem.tolerance_result.rings_needed`: a P90 needs 36
     reducers, as its contacts' P10), and the words that say so.
 
     Parameters
@@ -198,7 +198,7 @@ def percentile_interval(targets: dict) -> dict | None:
         ``has_interval`` and ``text`` ("P90 of 8 built reducers: no 95 % interval (a P90
         needs 36)").
     """
-    from .tolerance import rings_needed
+    from .tolerance_result import rings_needed
 
     q = targets.get("percentile")
     if q is None:

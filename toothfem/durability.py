@@ -11,7 +11,7 @@ from . import limits
 from .efficiency import bearings as br
 from .efficiency import strength as st
 from .efficiency import thermal as th
-from .efficiency.bearing_set import main_tilt
+from .efficiency.main_bearing import main_tilt
 from .efficiency.mesh_table import LoadsMemo
 from .efficiency.evaluation import operating_point
 from .fem.drives import drive_for
@@ -82,7 +82,7 @@ def life_summary(case, *, progress=None, known=None) -> dict:
     """ISO 281 life of every bearing over the case's duty cycle (else its operating
     point), from the system model's loads
     (:func:`~toothfem.efficiency.bearings.reducer_life`), the main pair's tilting figures
-    (:func:`~toothfem.efficiency.bearing_set.main_tilt`), and the maker's rated life
+    (:func:`~toothfem.efficiency.main_bearing.main_tilt`), and the maker's rated life
     scaled to the duty where ``[published]`` gives one (``rated_life_h``,
     ``rated_torque_Nm``, ``rated_output_speed_rpm``).
 
@@ -125,7 +125,7 @@ def life_summary(case, *, progress=None, known=None) -> dict:
     found = [limits.above(
         "external tilting moment on the main bearings", moment, tilt["allowable_moment_Nm"],
         "N m", "the main bearing pair's allowable moment: half the moment at ISO 76's "
-        "static limit, 4200 MPa (efficiency/bearing_set.py)")]
+        "static limit, 4200 MPa (efficiency/main_bearing.py)")]
     if "maker" in out and unit is not None:
         found.append(limits.below(
             f"L10 of the reducer's bearings (limiting: {limiting})", unit,

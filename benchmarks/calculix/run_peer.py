@@ -185,7 +185,7 @@ def _ccw(conn, xy):
 
 def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = None) -> Mesh2D:
     import gmsh
-    from toothfem.geometry import cycloid, cycloid_mesh
+    from toothfem.geometry import cycloid, cycloid_distance, cycloid_mesh
 
     geom = pb.geom
     g = geom.generating()
@@ -348,7 +348,7 @@ def build_mesh(pb: Problem, phi: float, opt: Options, msh_path: Path | None = No
     cand = (j[:, None] + np.arange(-60, 61)[None, :]) % dense.size
     d2 = (wd[0][cand] - local[0][:, None]) ** 2 + (wd[1][cand] - local[1][:, None]) ** 2
     psi0 = dense[cand[np.arange(cand.shape[0]), np.argmin(d2, axis=1)]]
-    psi, dist = cycloid_mesh.foot_point(g, local, psi0)
+    psi, dist = cycloid_distance.foot_point(g, local, psi0)
     move_prof = float(np.max(np.abs(dist))) * 1e3
     xy[prof_nodes] = to_h(cycloid.working_profile(g, psi) * 1e3)
     move_pin = 0.0

@@ -56,7 +56,7 @@ import numpy as np
 from ...errors import ToothfemError
 from ...fem import cycloid_fe as cf
 from ...fem.drives import drive_for
-from ..bearing_set import bearing_losses
+from ..bearing_friction import bearing_losses
 from ..drive_losses import bearing_component, disc_contact_losses
 from ..lubricant import viscosity_factor
 from ..mesh_table import table_from_records

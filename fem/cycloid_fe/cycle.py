@@ -1,5 +1,7 @@
 """Cycle mode of the cycloid disc: influence coefficients from one factorisation, the Hertz
-local approach and the complementarity solve per position (fem/cycloid_fe/__init__.py)."""
+local approach (:mod:`.local_approach`) and the complementarity solve per position
+(fem/cycloid_fe/__init__.py); a built stage's gaps: :mod:`.built_stage`; the record:
+:mod:`.record`."""
 from __future__ import annotations
 
 import dataclasses
@@ -9,26 +11,24 @@ from functools import cached_property
 
 import numpy as np
 
-from ..hertz import line_half_width
 from ...errors import ToothfemError
 from ...geometry import cycloid_mesh as cy
-from ...geometry.vectors import rotate
+from ...geometry.cycloid import CycloidGeometry
 from .. import contact
 from ..cache import DiskCache, content_key
-from ..elastic import Body, plane_modulus
+from ..elastic import Body
 from ..linsolve import one_blas_thread
-from ..load_sharing import LoadSharing, check_member_torque, hertz_fields, position_pitches
+from ..load_sharing import LoadSharing, check_member_torque, position_pitches
 from ..mesh import Refinement, mesh_rings
+from .built_stage import deviation_gaps
+from .local_approach import local_law
 from .model import (LOCAL_MAX_ITER, LOCAL_RTOL, CycloidFEModel, PinModel, _disc_rings,
-                    _held_nodes, _Position, _positions, _window, housing_body, patch_loads,
-                    strip_width_correction)
+                    _held_nodes, _Position, _positions, _window, housing_body, patch_loads)
+from .record import record
 
 # ---------------------------------------------------------------------------------------
 # Cycle mode
 
-#: A body's approach at the centre of a Hertzian strip less its pressure-weighted mean,
-#: per unit force per length, times E': 1/(2 pi) (docs/derivations.md, 6).
-CENTRE_APPROACH = 1 / (2 * math.pi)
 #: Initial gap [m] of a candidate that a modified profile cannot reach (no contact point on
 #: its working profile): far beyond any elastic approach.
 MODIFIED_GAP_FAR = 1e-3
@@ -338,8 +338,9 @@ class CycleSolver:
         progress : callable, optional
             Wraps the iterable of positions (e.g. a progress bar).
         deviation : toothfem.fem.deviations.CycloidDeviation, optional
-            Shifts the initial gaps of the candidates (:func:`deviation_gaps`), the
-            influence tables unchanged.
+            Shifts the initial gaps of the candidates
+            (:func:`~toothfem.fem.cycloid_fe.built_stage.deviation_gaps`), the influence
+            tables unchanged.
         pitches : array_like of int, shape (P,), optional
             Puts position p that many pin pitches on, where other pins and lobes take the
             contacts' places (the tables of pitch 0: the holes' effect on the disc's
@@ -412,7 +413,7 @@ class CycleSolver:
             For a geometry that differs in more than its modifications.
         """
         # (geometry, {side: gaps per position}) of the last geometry asked for
-        kept: tuple[cy.CycloidGeometry, dict[int, list[np.ndarray]]] | None = \
+        kept: tuple[CycloidGeometry, dict[int, list[np.ndarray]]] | None = \
             self.__dict__.get("_modified")
         if kept is not None and kept[0] == geometry and side in kept[1]:
             return kept[1][side]
@@ -493,7 +494,8 @@ class CycleSolver:
 
     def local_law(self, q: _Position, q_load: float):
         """:meth:`local_compliance` of one position's candidates as a function of the
-        forces alone (what does not depend on them taken once).
+        forces alone (what does not depend on them taken once;
+        :func:`~toothfem.fem.cycloid_fe.local_approach.local_law`).
 
         Parameters
         ----------
@@ -506,26 +508,7 @@ class CycleSolver:
         callable
             lam (..., C) [N/m] -> (..., C) [m per N/m].
         """
-        m = self.model
-        e_p = m.e_plane
-        # the tables measure each body's pressure-weighted mean approach; the gap closes at
-        # the contact's centre, F/(2 pi E') further per elastic body (docs/derivations.md 6)
-        fixed = CENTRE_APPROACH * (1 if m.pin_structure == "rigid" else 2) / e_p
-        strips = [(self.b_ref, e_p)]                 # the disc's strip of b_ref
-        if m.pin_structure == "integral":           # housing tooth: strip of b_ref/2
-            strips.append((self.b_ref / 2, e_p))
-        elif m.pin_structure == "conventional":     # the pin's table and its strip
-            pin = self._pin
-            fixed = fixed + np.interp(q.gamma, pin.angles, pin.table)
-            strips.append((pin.b_ref, plane_modulus(pin.youngs_modulus, pin.poisson_ratio,
-                                                    pin.plane)))
-        mean, r_eq, e_star = _mean_load(q_load, q.arm), np.abs(q.r_eq), m.e_star
-
-        def law(lam):
-            lam = np.asarray(lam, float)
-            b = line_half_width(np.where(lam > 0, lam, mean), r_eq, e_star)
-            return fixed + sum(strip_width_correction(b, ref, e) for ref, e in strips)
-        return law
+        return local_law(self.model, self._pin, self.b_ref, q, q_load)
 
     def candidates(self, side: int = 1) -> list:
         """The candidate contacts of every position for a torque of sign ``side``.
@@ -556,73 +539,6 @@ class CycleSolver:
                                    f"crank angle {math.degrees(q.phi):.3f} deg")
 
 
-def deviation_gaps(model, q: _Position, deviation, pitch: int = 0) -> np.ndarray:
-    """Change of the initial gaps of one position's candidates for a built disc stage.
-
-    To first order in the deviations: each pin's move against the disc projected on the
-    disc's outward normal n opens its gap (:func:`pin_moves`); a larger pin or added
-    profile material closes it (on the flank of the contact's moment arm: < 0 carries a
-    positive torque, column 0).
-
-    Parameters
-    ----------
-    model : CycloidFEModel
-    q : _Position
-        The candidates of one crank angle (disc frame).
-    deviation : toothfem.fem.deviations.CycloidDeviation
-    pitch : int
-        Pin pitches on from ``q``.
-
-    Returns
-    -------
-    numpy.ndarray, shape (C,)
-        Gap change [m] (> 0 opens).
-    """
-    za = model.geometry.lobe_count
-    d, dr = pin_moves(model, q, deviation, pitch)
-    # lobe l spans psi in [2 pi l/Za, 2 pi (l+1)/Za): root to root, both flanks
-    lobes = (np.floor(np.mod(q.psi, 2 * math.pi) * za / (2 * math.pi)).astype(int)
-             + int(pitch)) % za
-    return np.sum(q.normal * d, axis=0) - dr - deviation.profile[lobes, (q.arm > 0).astype(int)]
-
-
-def pin_moves(model, q: _Position, deviation, pitch: int = 0):
-    """Moves of the candidate pins against the disc for a built stage.
-
-    At crank angle phi + m 2 pi/Zb the stage is the one at phi turned by 2 pi m/Zb: pin
-    j + m and lobe l + m take the places of pin j and lobe l (docs/tolerance.md). A pin's
-    offset is turned back by 2 pi m/Zb and into the disc frame (by phi/Za); the disc's
-    own move (the crank's eccentricity error along the crank, its profile off its bore)
-    counts against every pin.
-
-    Parameters
-    ----------
-    model : CycloidFEModel
-    q : _Position
-        The candidates of one crank angle.
-    deviation : toothfem.fem.deviations.CycloidDeviation
-    pitch : int
-        m, the pin pitches on.
-
-    Returns
-    -------
-    move : numpy.ndarray, shape (2, C)
-        Each candidate pin centre's move against the disc [m], disc frame of pitch 0.
-    radius : numpy.ndarray, shape (C,)
-        Each candidate pin's radius change [m].
-    """
-    g = model.geometry
-    zb, za = g.pin_count, g.lobe_count
-    m = int(pitch)
-    pins = (q.pins + m) % zb
-    to_disc = q.phi / za                     # housing -> disc frame at crank angle phi
-    d = rotate(rotate(deviation.pin_offset[:, pins], -2 * math.pi * m / zb), to_disc)
-    crank = np.array([math.cos(q.phi), math.sin(q.phi)])
-    disc = rotate(deviation.eccentricity * crank, to_disc) \
-        + rotate(np.asarray(deviation.member_offset, float), -2 * math.pi * m / za)
-    return d - disc[:, None], deviation.pin_radius[pins]
-
-
 def _merged(windows):
     """[(lo, hi)] of the windows [(pin, lo, hi)] with the overlapping windows of one pin
     joined (a pin near the tip or root is a candidate for both torque signs); one window
@@ -644,42 +560,3 @@ def _seed_guess(q: _Position, q_load):
     s = 1.0 if q_load > 0 else -1.0
     w = np.where(s * q.arm < 0, -s * q.arm, 0.0)
     return w * q_load / np.sum(w * -q.arm)
-
-
-def _mean_load(q_load, arm) -> float:
-    """The force per length [N/m] an unloaded candidate's half-width is taken at: the
-    member's load shared over the carrying flank's arms."""
-    carry = (arm < 0) if q_load > 0 else (arm > 0)
-    return abs(q_load) / np.sum(np.abs(arm[carry])) if np.any(carry) else abs(q_load)
-
-
-def record(method, model, state, force, gap, beta, torque) -> LoadSharing:
-    """The load sharing record of a disc from its pin forces: Hertz half-widths and
-    pressures from the forces (:func:`toothfem.fem.load_sharing.hertz_fields`).
-
-    Parameters
-    ----------
-    method : str
-        "cycle", "detailed" or "system".
-    model : CycloidFEModel
-    state : toothfem.geometry.kinematics.MeshingState
-        The meshing at the positions.
-    force, gap : numpy.ndarray, shape (P, Zb)
-        Pin forces [N] and remaining gaps [m].
-    beta : numpy.ndarray, shape (P,)
-        The transmission error of the record [rad].
-    torque : float
-        The disc's torque [N m].
-
-    Returns
-    -------
-    LoadSharing
-    """
-    b, ph, invalid = hertz_fields(force, model.face_width, state.equivalent_radius, model.e_star,
-                                  (state.radius_moving, state.radius_fixed))
-    return LoadSharing(
-        method=method, position_rad=state.position_rad, contact_id=state.contact_id,
-        force=force, point=state.point, moment_arm=state.moment_arm, half_width=b, ph=ph,
-        gap=np.where(force > 0, 0.0, gap), transmission_error=beta, torque=float(torque),
-        face_width=model.face_width, pressure_from_fe=np.zeros_like(invalid),
-        equivalent_radius=state.equivalent_radius, hertz_invalid=invalid)

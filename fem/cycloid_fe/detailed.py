@@ -15,7 +15,9 @@ from .. import contact
 from ..elastic import Body
 from ..load_sharing import LoadSharing, check_member_torque
 from ..mesh import Refinement, mesh_rings
-from .cycle import _seed_guess, pin_moves, record
+from .built_stage import pin_moves
+from .cycle import _seed_guess
+from .record import record
 from . import flanks as fl
 from .model import CycloidFEModel, _held_nodes, _positions, _Position, housing_body
 

@@ -3,7 +3,7 @@ modification and the projection of a pin's contact zone on the flank it meets.
 
 A rotation modification Delta delta turns each flank of every lobe: the disc is the
 intersection (Delta delta > 0) or the union (< 0) of the working profile turned by
-+Delta delta and by -Delta delta (:func:`toothfem.geometry.cycloid_mesh.modified_distance`).
++Delta delta and by -Delta delta (:func:`toothfem.geometry.cycloid_distance.modified_distance`).
 The flank that carries a torque of sign s is the profile turned by -s Delta delta. The
 detailed mode meshes the disc turned by s Delta delta from its nominal pose: there the
 loaded flank is the unmodified profile itself, the other flank the profile turned by
@@ -18,7 +18,8 @@ import math
 
 import numpy as np
 
-from ...geometry import cycloid_mesh as cy
+from ...geometry.cycloid import inward_normal, working_profile
+from ...geometry.cycloid_distance import foot_point, polar_parameter
 from ...geometry.vectors import rotate
 from .model import _disc_rings
 
@@ -82,9 +83,9 @@ def project(gen, points, turn: float, psi0):
     normal : numpy.ndarray, shape (2, N)
         Outward unit normals there (turned).
     """
-    psi, _ = cy.foot_point(gen, rotate(points, -turn) if turn else points, psi0)
-    point = cy.working_profile(gen, psi)
-    normal = -cy.inward_normal(gen, psi)
+    psi, _ = foot_point(gen, rotate(points, -turn) if turn else points, psi0)
+    point = working_profile(gen, psi)
+    normal = -inward_normal(gen, psi)
     if turn:
         point, normal = rotate(point, turn), rotate(normal, turn)
     return psi, point, normal
@@ -127,8 +128,8 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
     alpha = step * np.arange(2 * za + 1)            # symmetry lines, own frame
     # which turned profile bounds each half-lobe: a point of the +delta profile inside the
     # -delta disc (intersection) or outside it (union) says +delta
-    mid = rotate(cy.working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
-    d_other = cy.foot_point(gen, rotate(mid, delta), alpha[:-1] + 0.5 * step)[1]
+    mid = rotate(working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
+    d_other = foot_point(gen, rotate(mid, delta), alpha[:-1] + 0.5 * step)[1]
     plus = (d_other <= 0) if delta > 0 else (d_other > 0)
     a_own = np.where(plus, delta, -delta)
     base_step = 2 * math.pi / (za * base_per_lobe)
@@ -136,7 +137,7 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
     pieces = []
     for k in range(2 * za):
         a = float(a_own[k])
-        lo, hi = cy.polar_parameter(gen, np.array([alpha[k] - a, alpha[k + 1] - a]))
+        lo, hi = polar_parameter(gen, np.array([alpha[k] - a, alpha[k + 1] - a]))
         zones = [np.asarray(psi, float) for psi, t in inserts
                  if math.isclose(t - pose, a, abs_tol=1e-15)]
         zones = [z[(z > lo + margin) & (z < hi - margin)] for z in zones]
@@ -147,7 +148,7 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
             keep &= ~((base >= z.min() - margin) & (base <= z.max() + margin))
         psi = np.sort(np.concatenate([[lo], base[keep], *zones]))
         psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
-        pieces.append(rotate(cy.working_profile(gen, psi), a + pose))
+        pieces.append(rotate(working_profile(gen, psi), a + pose))
     rings, names = [np.concatenate(pieces, axis=1)], ["profile"]
     for x, y, r, label in model.holes.circles():
         n = max(48, int(2 * math.pi * r / (0.02 * g.pin_circle_radius_m)))

@@ -9,7 +9,10 @@ from functools import cached_property
 import numpy as np
 
 from ...errors import ToothfemError, check_range
-from ...geometry import cycloid_mesh as cy  # with the profile names it imports
+from ...geometry import cycloid_mesh as cy
+from ...geometry.cycloid import CycloidGeometry, inward_normal, working_profile
+from ...geometry.cycloid_backlash import before_load
+from ...geometry.cycloid_distance import foot_point
 from ...geometry.vectors import rotate
 from .. import contact
 from ..elastic import Body, SameMaterial, plane_modulus
@@ -37,7 +40,7 @@ PIN_STRUCTURES = ("conventional", "integral", "rigid")
 @dataclass(frozen=True, kw_only=True)
 class CycloidFEModel(SameMaterial):
     """A disc, its pins and material; torques in N m over the face width."""
-    geometry: cy.CycloidGeometry
+    geometry: CycloidGeometry
     holes: DiscHolesSI
     youngs_modulus: float
     poisson_ratio: float
@@ -53,14 +56,14 @@ class CycloidFEModel(SameMaterial):
         -------
         dict
             ``pin_structure`` and, over one meshing period (:data:`BEFORE_LOAD_POSITIONS`
-            crank angles), :func:`toothfem.geometry.cycloid_mesh.before_load` of the
+            crank angles), :func:`toothfem.geometry.cycloid_backlash.before_load` of the
             modified disc: backlash of both flanks, clearance or interference before load
             (um, which pins, which flank).
         """
         g = self.geometry
         phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS,
                            endpoint=False)
-        return {"pin_structure": self.pin_structure, **cy.before_load(g, phis)}
+        return {"pin_structure": self.pin_structure, **before_load(g, phis)}
 
     def __post_init__(self):
         check_range("youngs_modulus", self.youngs_modulus, 0, None, lo_open=True)
@@ -140,9 +143,9 @@ def _positions(model: CycloidFEModel, phis, state=None, side: int = 1):
         c_house = cy.pin_centres(g)[:, pins]
         c_disc = cy.to_disc_frame(g, [phi], c_house[:, None, :])[:, 0, :]
         psi0 = 2 * math.pi * pins / g.pin_count + phi / g.lobe_count
-        psi, _ = cy.foot_point(gen, c_disc, psi0)
-        point = cy.working_profile(gen, psi)
-        normal = -cy.inward_normal(gen, psi)
+        psi, _ = foot_point(gen, c_disc, psi0)
+        point = working_profile(gen, psi)
+        normal = -inward_normal(gen, psi)
         # contact angle on the pin, in the housing frame (the groove is fixed there)
         towards = -c_house / np.hypot(*c_house)
         d = rotate(-normal, -phi / g.lobe_count)
@@ -168,7 +171,7 @@ def _disc_rings(model: CycloidFEModel, inserts=(), base_per_lobe=48):
         keep &= ~(np.mod(base - lo, 2 * math.pi) <= hi - lo)
     psi = np.sort(np.mod(np.concatenate([base[keep]] + list(inserts)), 2 * math.pi))
     psi = psi[np.concatenate([[True], np.diff(psi) > 1e-12])]
-    rings, names = [cy.working_profile(gen, psi)], ["profile"]
+    rings, names = [working_profile(gen, psi)], ["profile"]
     for x, y, r, label in model.holes.circles():
         n = max(48, int(2 * math.pi * r / (0.02 * g.pin_circle_radius_m)))
         t = np.linspace(0, 2 * math.pi, n, endpoint=False)
@@ -180,8 +183,8 @@ def _disc_rings(model: CycloidFEModel, inserts=(), base_per_lobe=48):
 def _window(gen, lo, hi, spacing):
     """Profile parameters from lo to hi at most ``spacing`` apart along the curve."""
     mid = 0.5 * (lo + hi)
-    speed = np.hypot(*(cy.working_profile(gen, mid + 1e-7)
-                       - cy.working_profile(gen, mid - 1e-7))) / 2e-7
+    speed = np.hypot(*(working_profile(gen, mid + 1e-7)
+                       - working_profile(gen, mid - 1e-7))) / 2e-7
     n = max(int(math.ceil((hi - lo) * speed / spacing)), 2)
     return np.linspace(lo, hi, n + 1)
 

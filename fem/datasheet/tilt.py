@@ -1,97 +1,14 @@
 """The output (main) bearing pair of a precision reducer under a radial force, an axial force
-and a tilting moment: its tilt, its ball loads and Hertz pressures, the catalogue's "moment
-rigidity" (N m/arcmin) and the moment at a given contact pressure.
+and a tilting moment: its tilt, its ball loads and Hertz pressures (:func:`solve`), the
+catalogue's "moment rigidity" (N m/arcmin, :func:`moment_rigidity_Nm_per_arcmin`) and the
+moment at a given contact pressure (:func:`moment_at_pressure`, N m). Units SI everywhere (N,
+m, Pa, rad); the catalogue's N m/arcmin only in the names that say so.
 
-The pair is the RV-E's (Nabtesco): two rows of angular-contact balls back to back (O
-arrangement), preloaded, the inner raceways ground on the carrier (the output, loaded) and the
-outer raceways in the housing (held). Units SI everywhere (N, m, Pa, rad); the catalogue's
-N m/arcmin only in the names that say so.
-
-Model
------
-* Rigid rings (carrier and housing), balls without mass (quasi-static, no centrifugal or
-  gyroscopic load: a reducer's output turns at a few rpm), no friction. Only the Hertz
-  approach of each ball on its two raceways is elastic; the housing, the carrier's flanges,
-  the bolts and the rings' own bending are rigid here (the catalogue's rigidity includes them).
-* Geometry of one row (Harris & Kotzalas 2007a, Ch. 2): Z balls of diameter D_w on the pitch
-  diameter d_m, groove radii r_i = f_i D_w and r_e = f_e D_w; the centres of curvature of the two
-  grooves of one ball lie on its contact line, A = (f_i + f_e - 1) D_w apart when the ball just
-  touches both (no load, no preload), at the free ("nominal") contact angle alpha_0. The inner
-  groove's centres lie on a circle of radius R_i = d_m/2 + (f_i - 1/2) D_w cos(alpha_0).
-* Both rows are alike. ``row_span_m`` is the axial distance between the two rows' ball-centre
-  planes (the drawing's dimension). Back to back, each row's contact lines meet the axis
-  outside the pair, d_m/2 tan(alpha_0) beyond its ball plane: the distance of the
-  pressure-cone apexes is ``BallPair.pressure_centre_spread_m`` = span + d_m tan(alpha_0).
-* Axes: z along the bearing axis, x along the radial force, y completes the right-handed set.
-  Row 0 sits at z = -span/2 and carries an axial force on the carrier toward +z; row 1 sits at
-  z = +span/2 and carries one toward -z. The moment is M_y about the pair's centre (the point
-  of the axis midway between the rows), the tilt theta is the carrier's rotation about y.
-  Ball j of a row sits at psi_j = 2 pi j / Z from +x (half a pitch further with
-  ``half_pitch_offset``); both rows alike, so the loads stay in the x-z plane.
-* Preload (Harris & Kotzalas 2007a, Ch. 1; "axial preload"): given as the axial force
-  ``preload_N`` each row carries at zero external load. It is applied as an axial
-  interference: each row's inner groove centres are moved e into contact along the axis; e is
-  solved from the preload once (:func:`preload_state`). Between the rows the interference is
-  2 e (the axial play of the free pair is -2 e).
-* Ball load (Jones 1960; Harris & Kotzalas 2007b, Ch. 1): the carrier's displacement
-  (delta_x, delta_z, theta) moves ball j's inner groove centre by u_r = (delta_x + theta z_c)
-  cos(psi_j) radially and u_z = delta_z - theta R_i cos(psi_j) axially, z_c being that centre's
-  axial position. The groove-centre distance becomes
-  L = |(A cos(alpha_0) + u_r, A sin(alpha_0) + e + s u_z)| (s = +1 row 0, -1 row 1); the ball's
-  approach is delta = L - A, its loaded contact angle alpha = atan2(A sin(alpha_0) + e + s u_z,
-  A cos(alpha_0) + u_r), and its load Q = K max(delta, 0)^1.5 along that line (a ball that
-  loses contact carries nothing). With ``contact_angle_model="fixed"`` the angle stays alpha_0
-  and delta = e sin(alpha_0) + cos(alpha_0) u_r + sin(alpha_0) s u_z (the first model of
-  Harris's Ch. 7); it holds while both rows keep balls in contact (alone, a row's ball
-  forces all pass through its pressure-cone apex and cannot balance a radial force and a
-  moment independently: the solver then says so). Forces and their arms are taken at the
-  unloaded positions of the groove centres (small displacements).
-* K is Hertz's for the inner and the outer contact in series: delta = (c_i + c_e) Q^(2/3),
-  K = (c_i + c_e)^(-3/2), each contact's c from its principal radii (Harris & Kotzalas 2007a,
-  Ch. 2; gamma = D_w cos(alpha)/d_m): inner R_x = D_w (1 - gamma)/2, outer
-  R_x = D_w (1 + gamma)/2 (rolling direction), R_y = f D_w/(2 f - 1) (across the groove).
-  K is taken at alpha_0 (a change of the contact angle by 5 deg changes K by well under 1 %);
-  each ball's pressure at its loaded angle.
-* Hertz's elliptic point contact, ``hertz_method="exact"`` (default): the ellipse's eccentricity
-  from alpha_r = R_y/R_x = ((a/b)^2 E(e) - K(e)) / (K(e) - E(e)) (Johnson 1985, Sec. 4.2, K
-  and E the complete elliptic integrals), written with Carlson's symmetric integrals of
-  scipy.special (``ellipk``, ``elliprd``) so that it has no cancellation near a circle;
-  ``"hamrock_brewe"``: Hamrock & Brewe's (1983) closed-form approximations
-  k = alpha_r^(2/pi), E ~ 1 + q/alpha_r, K ~ pi/2 + q ln(alpha_r), q = pi/2 - 1 (also in
-  Hamrock, Schmid & Jacobson 2004, Ch. 8), within about 1.5 % of the exact approach and
-  pressure for the alpha_r of ball bearings (5 to 30).
-* The solver is Newton's method with the analytic tangent stiffness (the ball's
-  k n n^T + (Q/L)(I - n n^T), the second term the turning of its contact line) and a
-  backtracking line search; a failure raises :class:`TiltConvergenceError` naming the loads.
-
-Catalogue quantities
---------------------
-* Moment rigidity (Nabtesco's "moment rigidity", N m/arcmin): the secant M / theta at the given
-  moment, theta measured from the tilt at zero moment under the same radial and axial force
-  (:func:`moment_rigidity_Nm_per_arcmin`); the tangent dM/dtheta is
-  :func:`tangent_moment_rigidity_Nm_per_arcmin`.
-* The moment at a contact pressure (:func:`moment_at_pressure`): ISO 76's static rating
-  corresponds to 4200 MPa at the centre of the most heavily loaded contact of a ball bearing
-  (4600 MPa for self-aligning ones), :data:`ISO76_BALL_PRESSURE_PA`.
-
-Sources
--------
-* H. Hertz (1882), J. reine angew. Math. 92, 156-171; K. L. Johnson, *Contact Mechanics*,
-  Cambridge University Press 1985, Sec. 4.2 (circular and elliptic contact).
-* B. J. Hamrock, D. E. Brewe (1983), "Simplified solution for stresses and deformations",
-  ASME J. Lubrication Technology 105, 171-177; B. J. Hamrock, S. R. Schmid, B. O. Jacobson,
-  *Fundamentals of Machine Elements*, 2nd ed., McGraw-Hill 2004, Ch. 8.
-* A. B. Jones (1960), "A general theory for elastically constrained ball and radial roller
-  bearings under arbitrary load and speed conditions", ASME J. Basic Eng. 82, 309-320.
-* T. A. Harris, M. N. Kotzalas, *Essential Concepts of Bearing Technology* (2007a) and
-  *Advanced Concepts of Bearing Technology* (2007b), 5th ed., CRC Press: geometry (Ch. 2 of
-  the first), Hertz contact (Ch. 6), load distribution and Stribeck's 4.37 (Ch. 7), loaded
-  contact angle with rigid rings (Ch. 1 of the second).
-* R. Stribeck (1901), "Kugellager fuer beliebige Belastungen", Z. VDI 45.
-* ISO 76:2006, Rolling bearings - Static load ratings (4200 MPa); ISO 76 and ISO 281 base
-  their f_0 and f_c tables on groove radii of at most 0.52 D_w (inner) and 0.53 D_w (outer) of
-  radial and angular-contact ball bearings: the default conformities here, since a reducer
-  catalogue does not give its raceways' radii.
+The pair (:class:`~toothfem.fem.datasheet.ball_pair.BallPair`) is the RV-E's: two rows of
+angular-contact balls back to back, preloaded, the carrier loaded and the housing held. The
+model (rigid rings, Jones's loaded contact angle, the preload as an axial interference,
+Newton's method on the carrier's displacement), the catalogue quantities and the sources:
+docs/tilt.md.
 """
 from __future__ import annotations
 
@@ -100,11 +17,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.optimize import brentq
-from scipy.special import ellipk, elliprd
 
 from ...errors import ToothfemError, check_range
-from ..hertz import reduced_modulus
 from ...units import ARCMIN, PA_PER_MPA
+from .ball_pair import BallPair, ball_pressure_Pa, raceway_contact
 
 #: ISO 76's contact pressure at the static load rating of a ball bearing (self-aligning
 #: ones excepted: 4600 MPa) [Pa].
@@ -118,287 +34,10 @@ STRIBECK_POINT = 4.37
 #: round-off of the sums over 2 Z balls is near 1e-15).
 _TOL = 1e-12
 _MAX_ITER = 100
-_MODELS = ("varying", "fixed")
-_METHODS = ("exact", "hamrock_brewe")
 
 
 class TiltConvergenceError(ToothfemError):
     """The bearing pair's equilibrium was not found (the message names the loads)."""
-
-
-@dataclass(frozen=True)
-class BallPair:
-    """A back-to-back (O) pair of identical angular-contact ball rows; every field in SI.
-
-    ``contact_angle_rad`` is the free contact angle alpha_0 (balls just touching, no load, no
-    preload); ``row_span_m`` the axial distance between the rows' ball-centre planes;
-    ``preload_N`` the axial force each row carries at zero external load (0: zero clearance,
-    no preload). ``f_inner``/``f_outer`` are r_i/D_w and r_e/D_w; 0.52 and 0.53 are the
-    largest groove radii that ISO 76's and ISO 281's rating factors assume, and a reducer's
-    catalogue does not give its own. ``youngs_modulus_Pa``/``poisson_ratio``: bearing steel
-    (both bodies). ``half_pitch_offset`` turns both rows by half a ball pitch (ball 0 off the
-    load line). ``contact_angle_model``: "varying" (Jones) or "fixed"; ``hertz_method``:
-    "exact" (elliptic integrals) or "hamrock_brewe" (1983 approximations).
-    """
-
-    balls_per_row: int
-    ball_diameter_m: float
-    pitch_diameter_m: float
-    contact_angle_rad: float
-    row_span_m: float
-    preload_N: float
-    f_inner: float = 0.52
-    f_outer: float = 0.53
-    youngs_modulus_Pa: float = 208e9
-    poisson_ratio: float = 0.3
-    half_pitch_offset: bool = False
-    contact_angle_model: str = "varying"
-    hertz_method: str = "exact"
-
-    def __post_init__(self):
-        if isinstance(self.balls_per_row, bool) or not isinstance(self.balls_per_row,
-                                                                   (int, np.integer)):
-            raise ToothfemError(f"balls_per_row = {self.balls_per_row!r} is not an integer")
-        check_range("balls_per_row", self.balls_per_row, 3, why="balls in a row")
-        check_range("ball_diameter_m", self.ball_diameter_m, 0.0, lo_open=True)
-        check_range("pitch_diameter_m", self.pitch_diameter_m, self.ball_diameter_m,
-                    lo_open=True, why="the pitch diameter exceeds the ball diameter")
-        check_range("contact_angle_rad", self.contact_angle_rad, 0.0, math.pi / 2,
-                    hi_open=True, why="free contact angle in [0, pi/2)")
-        check_range("row_span_m", self.row_span_m, 0.0, why="distance of the ball planes")
-        check_range("preload_N", self.preload_N, 0.0, why="axial preload of each row")
-        check_range("f_inner", self.f_inner, 0.5, lo_open=True, why="groove radius / D_w")
-        check_range("f_outer", self.f_outer, 0.5, lo_open=True, why="groove radius / D_w")
-        check_range("youngs_modulus_Pa", self.youngs_modulus_Pa, 0.0, lo_open=True)
-        check_range("poisson_ratio", self.poisson_ratio, -1.0, 0.5, lo_open=True)
-        if self.contact_angle_model not in _MODELS:
-            raise ToothfemError(f"contact_angle_model = {self.contact_angle_model!r}: "
-                                f"one of {_MODELS}")
-        if self.hertz_method not in _METHODS:
-            raise ToothfemError(f"hertz_method = {self.hertz_method!r}: one of {_METHODS}")
-        if (self.contact_angle_model == "fixed" and self.preload_N > 0
-                and self.contact_angle_rad == 0):
-            raise ToothfemError("a fixed contact angle of 0 cannot carry an axial preload")
-        if self.balls_per_row * self.ball_diameter_m >= math.pi * self.pitch_diameter_m:
-            raise ToothfemError(f"{self.balls_per_row} balls of {self.ball_diameter_m:g} m "
-                                f"do not fit on the pitch circle of {self.pitch_diameter_m:g} m")
-
-    @property
-    def groove_centre_distance_m(self) -> float:
-        """A = (f_i + f_e - 1) D_w [m], the groove-centre distance of a just-touching ball."""
-        return (self.f_inner + self.f_outer - 1.0) * self.ball_diameter_m
-
-    @property
-    def inner_centre_radius_m(self) -> float:
-        """R_i [m], radius of the circle of the inner groove's curvature centres."""
-        return (0.5 * self.pitch_diameter_m
-                + (self.f_inner - 0.5) * self.ball_diameter_m * math.cos(self.contact_angle_rad))
-
-    @property
-    def inner_centre_z_m(self) -> tuple:
-        """Axial positions [m] of the inner groove centres of rows 0 and 1."""
-        off = (self.f_inner - 0.5) * self.ball_diameter_m * math.sin(self.contact_angle_rad)
-        return (-0.5 * self.row_span_m + off, 0.5 * self.row_span_m - off)
-
-    @property
-    def pressure_centre_spread_m(self) -> float:
-        """Axial distance [m] of the two rows' pressure-cone apexes: span + d_m tan(alpha_0)."""
-        return self.row_span_m + self.pitch_diameter_m * math.tan(self.contact_angle_rad)
-
-    @property
-    def azimuths_rad(self) -> np.ndarray:
-        """Azimuths psi_j [rad] of the balls of a row, from the radial force's direction."""
-        z = self.balls_per_row
-        return 2 * np.pi * (np.arange(z) + (0.5 if self.half_pitch_offset else 0.0)) / z
-
-
-# ---------------------------------------------------------------------------------------
-# Hertz point contact
-# ---------------------------------------------------------------------------------------
-
-@dataclass(frozen=True)
-class HertzPoint:
-    """Hertz's elliptic contact of two bodies under a normal load (SI)."""
-
-    approach_m: np.ndarray        # mutual approach delta of distant points
-    semi_major_m: np.ndarray      # a, along the larger principal radius
-    semi_minor_m: np.ndarray      # b
-    p_max_Pa: np.ndarray          # 3 Q / (2 pi a b)
-    ellipticity: np.ndarray       # k = a / b
-
-
-def _eccentricity_sq(ratio):
-    """m = e^2 of the contact ellipse for alpha_r = R_major / R_minor >= 1 (vectorised
-    bisection on t = -ln(1 - m); alpha_r(m) = (3 K(m)/R_D(0, 1-m, 1) - 1)/(1 - m) rises
-    monotonically from 1)."""
-    ratio = np.asarray(ratio, float)
-
-    def alpha_r(t):
-        m = -np.expm1(-t)
-        return (3 * ellipk(m) / elliprd(0.0, np.exp(-t), 1.0) - 1.0) * np.exp(t)
-
-    lo = np.zeros_like(ratio)
-    hi = np.full_like(ratio, 36.0)          # 1 - m = 2.3e-16: alpha_r ~ 1e15
-    for _ in range(80):
-        mid = 0.5 * (lo + hi)
-        low = alpha_r(mid) < ratio
-        lo = np.where(low, mid, lo)
-        hi = np.where(low, hi, mid)
-    return -np.expm1(-0.5 * (lo + hi))
-
-
-def hertz_point_contact(load_N, rx_m, ry_m, reduced_modulus_Pa, method: str = "exact"
-                        ) -> HertzPoint:
-    """Hertz's elliptic point contact: approach, semi-axes and peak pressure.
-
-    Parameters
-    ----------
-    load_N : array_like
-        Normal load Q [N], >= 0.
-    rx_m, ry_m : array_like
-        Effective principal radii of relative curvature [m] (1/R = 1/R_body1 + 1/R_body2 in
-        each principal plane; a concave body's radius negative), > 0.
-    reduced_modulus_Pa : float
-        E* [Pa], 1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2 (Hamrock's E' is 2 E*).
-    method : str
-        "exact": complete elliptic integrals (Johnson 1985, Sec. 4.2, through scipy.special);
-        "hamrock_brewe": the closed forms of Hamrock & Brewe (1983).
-
-    Returns
-    -------
-    HertzPoint
-        Approach [m], semi-major and semi-minor axes [m], peak pressure [Pa] and a/b, each in
-        the broadcast shape of the inputs.
-    """
-    q = np.maximum(np.asarray(load_N, float), 0.0)
-    rx, ry = np.broadcast_arrays(np.asarray(rx_m, float), np.asarray(ry_m, float))
-    if np.any(rx <= 0) or np.any(ry <= 0):
-        raise ToothfemError("hertz_point_contact: the radii of relative curvature must be > 0")
-    r_major, r_minor = np.maximum(rx, ry), np.minimum(rx, ry)
-    ratio = r_major / r_minor
-    es = float(reduced_modulus_Pa)
-    if method == "exact":
-        m = _eccentricity_sq(ratio)
-        kk = ellipk(m)
-        rd = elliprd(0.0, 1.0 - m, 1.0)
-        # a^3 = 3 Q R_major (K - E)/(pi E* m) = Q R_major R_D(0, 1-m, 1)/(pi E*)
-        a = np.cbrt(q * r_major * rd / (np.pi * es))
-        b = a * np.sqrt(1.0 - m)
-        delta = np.where(a > 0, 3 * q * kk / (2 * np.pi * np.where(a > 0, a, 1.0) * es), 0.0)
-        k = 1.0 / np.sqrt(1.0 - m)
-    elif method == "hamrock_brewe":
-        qa = np.pi / 2 - 1.0
-        k = ratio ** (2 / np.pi)
-        e_bar = 1.0 + qa / ratio
-        f_bar = np.pi / 2 + qa * np.log(ratio)
-        r = 1.0 / (1.0 / rx + 1.0 / ry)
-        e_prime = 2 * es
-        a = np.cbrt(6 * k * k * e_bar * q * r / (np.pi * e_prime))
-        b = np.cbrt(6 * e_bar * q * r / (np.pi * k * e_prime))
-        delta = f_bar * np.cbrt(9 / (2 * e_bar * r) * (q / (np.pi * k * e_prime)) ** 2)
-    else:
-        raise ToothfemError(f"hertz method {method!r}: one of {_METHODS}")
-    ab = a * b
-    p = np.where(ab > 0, 3 * q / (2 * np.pi * np.where(ab > 0, ab, 1.0)), 0.0)
-    return HertzPoint(delta, a, b, p, k)
-
-
-@dataclass(frozen=True)
-class RacewayContact:
-    """A ball on its two raceways at one contact angle: approach delta = c Q^(2/3) and peak
-    pressure p = c_p Q^(1/3) of each contact; K of both in series."""
-
-    approach_coeff_inner: float     # c_i [m N^(-2/3)]
-    approach_coeff_outer: float     # c_e [m N^(-2/3)]
-    pressure_coeff_inner: float     # [Pa N^(-1/3)]
-    pressure_coeff_outer: float     # [Pa N^(-1/3)]
-    ellipticity_inner: float        # a/b
-    ellipticity_outer: float
-    radii_inner_m: tuple            # (R_x, R_y)
-    radii_outer_m: tuple
-
-    @property
-    def K_inner(self) -> float:
-        """Q = K_i delta_i^1.5 of the inner contact [N m^-1.5]."""
-        return self.approach_coeff_inner ** -1.5
-
-    @property
-    def K_outer(self) -> float:
-        """Q = K_e delta_e^1.5 of the outer contact [N m^-1.5]."""
-        return self.approach_coeff_outer ** -1.5
-
-    @property
-    def K(self) -> float:
-        """Q = K delta^1.5 of both contacts in series, delta = delta_i + delta_e [N m^-1.5]."""
-        return (self.approach_coeff_inner + self.approach_coeff_outer) ** -1.5
-
-
-def _contact_radii(pair: BallPair, alpha) -> tuple[tuple[float | np.ndarray, float],
-                                                   tuple[float | np.ndarray, float]]:
-    """(R_x, R_y) of the inner and the outer contact at contact angle(s) alpha [m]."""
-    d = pair.ball_diameter_m
-    gamma = d * np.cos(alpha) / pair.pitch_diameter_m
-    inner = (0.5 * d * (1 - gamma), pair.f_inner * d / (2 * pair.f_inner - 1))
-    outer = (0.5 * d * (1 + gamma), pair.f_outer * d / (2 * pair.f_outer - 1))
-    return inner, outer
-
-
-def _e_star(pair: BallPair) -> float:
-    e, nu = pair.youngs_modulus_Pa, pair.poisson_ratio
-    return float(reduced_modulus(e, nu, e, nu))
-
-
-def raceway_contact(pair: BallPair, contact_angle_rad: float | None = None) -> RacewayContact:
-    """Hertz constants of a ball on its inner and outer raceway (Harris & Kotzalas 2007a,
-    Chs. 2 and 6) with ``pair.hertz_method``.
-
-    Parameters
-    ----------
-    pair : BallPair
-        The bearing (one row's geometry; both rows are alike).
-    contact_angle_rad : float, optional
-        The contact angle [rad]; default the free angle alpha_0.
-
-    Returns
-    -------
-    RacewayContact
-        Approach and pressure coefficients of both contacts, their ellipticities and radii;
-        ``.K`` is the load-deflection constant of the ball (both contacts in series).
-    """
-    alpha = pair.contact_angle_rad if contact_angle_rad is None else float(contact_angle_rad)
-    inner, outer = _contact_radii(pair, alpha)
-    es = _e_star(pair)
-    hi = hertz_point_contact(1.0, *inner, es, pair.hertz_method)
-    ho = hertz_point_contact(1.0, *outer, es, pair.hertz_method)
-    return RacewayContact(float(hi.approach_m), float(ho.approach_m), float(hi.p_max_Pa),
-                          float(ho.p_max_Pa), float(hi.ellipticity), float(ho.ellipticity),
-                          tuple(float(r) for r in inner), tuple(float(r) for r in outer))
-
-
-def ball_pressure_Pa(pair: BallPair, load_N, contact_angle_rad):
-    """Peak Hertz pressure [Pa] of balls: the larger of the inner and the outer contact.
-
-    Parameters
-    ----------
-    pair : BallPair
-        The bearing.
-    load_N : array_like
-        Ball loads Q [N].
-    contact_angle_rad : array_like
-        Their contact angles [rad] (the radii in the rolling direction depend on them).
-
-    Returns
-    -------
-    numpy.ndarray
-        max(p_inner, p_outer) [Pa], the broadcast shape.
-    """
-    q, alpha = np.broadcast_arrays(np.asarray(load_N, float),
-                                   np.asarray(contact_angle_rad, float))
-    inner, outer = _contact_radii(pair, alpha)
-    es = _e_star(pair)
-    p_in = hertz_point_contact(q, *inner, es, pair.hertz_method).p_max_Pa
-    p_out = hertz_point_contact(q, *outer, es, pair.hertz_method).p_max_Pa
-    return np.maximum(p_in, p_out)
 
 
 # ---------------------------------------------------------------------------------------
@@ -592,8 +231,6 @@ def _hint(pair: BallPair, rows: _Rows, st) -> str:
     return (f"; row {idle[0]} carries nothing, and with a fixed contact angle the other row's "
             "ball forces all pass through its pressure-cone apex, so it cannot take a radial "
             "force and a moment independently: use contact_angle_model='varying'")
-
-
 
 
 # ---------------------------------------------------------------------------------------

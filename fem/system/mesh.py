@@ -13,7 +13,9 @@ import numpy as np
 
 from ...geometry.vectors import rotate
 from ..contact import ContactError
-from ..cycloid_fe.cycle import MODIFIED_GAP_FAR, deviation_gaps, record
+from ..cycloid_fe.built_stage import deviation_gaps
+from ..cycloid_fe.cycle import MODIFIED_GAP_FAR
+from ..cycloid_fe.record import record
 from ..sine_fe.cycle import DEFAULT_SELECT_GAP, SELECT_GAP_MAX, SELECT_MARGIN, HatContacts
 from .tables import PitchTables
 from ...units import UM_PER_M

@@ -10,7 +10,7 @@ import numpy as np
 
 from ..errors import CaseError
 from ..fem.drives import CycloidDrive
-from ..geometry import cycloid as cy, cycloid_mesh as cym, train
+from ..geometry import cycloid as cy, cycloid_backlash as cyb, cycloid_mesh as cym, train
 from ..report import plots
 from ..units import ARCMIN, DEG, M_PER_MM, MM_PER_M
 from .common import rounded
@@ -125,17 +125,17 @@ def _reducer_per_disc_turn(case: Case) -> float:
 
 def _before_load(g, per_disc_turn: float = 1.0) -> dict:
     """The disc on its pins before load over one meshing period (exact gaps of both flanks,
-    :func:`toothfem.geometry.cycloid_mesh.before_load`), with the first-order backlash of
+    :func:`toothfem.geometry.cycloid_backlash.before_load`), with the first-order backlash of
     the closed form beside (docs/derivations.md C6: twice the closing rotation beta0). The
     backlash is the reducer's, input held (the disc's own closing rotation about its centre
     times ``per_disc_turn``, :func:`_reducer_per_disc_turn`), the disc's own beside."""
     phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS, endpoint=False)
-    b = cym.before_load(g, phis)
+    b = cyb.before_load(g, phis)
     lo, hi = b["backlash_min_arcmin"], b["backlash_max_arcmin"]
     d: dict = {"backlash_arcmin": None if lo is None else rounded(lo * per_disc_turn),
                "backlash_max_arcmin": None if hi is None else rounded(hi * per_disc_turn),
                "disc_backlash_arcmin": None if lo is None else rounded(lo),
-               "backlash_first_order_arcmin": rounded(2 * cym.closing_rotation(g) / ARCMIN
+               "backlash_first_order_arcmin": rounded(2 * cyb.closing_rotation(g) / ARCMIN
                                                       * per_disc_turn),
                "clearance_before_load_um": rounded(b["clearance_before_load_um"], 6),
                "interference_before_load_um": rounded(b["interference_before_load_um"], 6)}

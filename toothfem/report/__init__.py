@@ -2,12 +2,12 @@
 never computes physics.
 
 ``toothfem.report.plots``: drawings and efficiency charts; ``toothfem.report.contact``: load
-sharing, transmission error and stress fields; ``toothfem.report.summary``: the tables the
-commands print and report.md shows; ``toothfem.report.loop``: the measured-data loop's
-residual plots and report.md text; ``toothfem.report.html``: the one self-contained
-report.html of each output folder (the only place HTML is written). matplotlib is imported
-inside the functions that draw (Agg backend, off-screen: no display, no VTK window), so
-``import toothfem`` stays light.
+sharing and transmission error; ``toothfem.report.field``: stress fields;
+``toothfem.report.summary``: the tables the commands print and report.md shows;
+``toothfem.report.loop``: the measured-data loop's residual plots and report.md text;
+``toothfem.report.html``: the one self-contained report.html of each output folder (the
+only place HTML is written). matplotlib is imported inside the functions that draw (Agg
+backend, off-screen: no display, no VTK window), so ``import toothfem`` stays light.
 Every picture's title names the case and the user's quantities with units; legends sit
 outside the data.
 """

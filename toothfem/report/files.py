@@ -27,8 +27,8 @@ from ..errors import CaseError, check_range
 from ..fem import export
 from ..fem.drives import drive_for
 from ..units import MM_PER_M, PA_PER_MPA, UM_PER_M
-from . import (contact as report_contact, durability as report_durability, html as report_html,
-               plots, save, summary as report_summary)
+from . import (contact as report_contact, durability as report_durability, field as report_field,
+               html as report_html, plots, save, summary as report_summary)
 from .contact import ContactLabels
 from .plots import Marked
 
@@ -227,12 +227,12 @@ def field_pictures(result: ContactResult, vtu: Path, folder: Path) -> list:
         radius = STRUCTURAL_CLOSE_UP_M
         zone = (f"near {labels.contact} {number}, the largest P_h at this position "
                 f"({ph:.4g} MPa); structural field, Hertz stress not resolved")
-    report_contact.field_png(
+    report_field.field_png(
         vtu, folder / "von_mises.png",
         title=f"von Mises stress of the {result.member_name}, {kind}\n{case_line}\n{where}\n"
               f"lines: the fixed {labels.contacts}; {marked}{compare}",
         outlines=result.outlines, marks=marks)
-    report_contact.field_png(
+    report_field.field_png(
         vtu, folder / "von_mises_contact.png", zoom_centre=at, zoom_radius=radius,
         title=f"Close-up {zone}\n{case_line}\n{where}\n{marked}{compare}",
         outlines=result.outlines, marks=marks)

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..tolerance import ALONE_OVER_ALL, ToleranceResult, side_of
+from ..tolerance_result import ALONE_OVER_ALL, ToleranceResult, side_of
 from . import NBSP, pyplot, save, wrap
 
 #: A value marked on a histogram (the nominal design, a limit) farther outside the sample's
@@ -44,7 +44,7 @@ def operating_text(summary: dict) -> str:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
 
     Returns
     -------
@@ -63,7 +63,7 @@ def model_text(summary: dict) -> str:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
 
     Returns
     -------
@@ -99,7 +99,7 @@ def histograms_title(summary: dict) -> str:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
 
     Returns
     -------
@@ -121,7 +121,7 @@ def shares_title(summary: dict) -> str:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
 
     Returns
     -------
@@ -185,7 +185,7 @@ def histograms(result, outputs: dict, title: str):
 
     Parameters
     ----------
-    result : toothfem.tolerance.ToleranceResult
+    result : toothfem.tolerance_result.ToleranceResult
     outputs : dict
         {column: (label, unit)} of the outputs to draw.
     title : str
@@ -312,7 +312,7 @@ def shares(result, outputs: dict, title: str):
 
     Parameters
     ----------
-    result : toothfem.tolerance.ToleranceResult
+    result : toothfem.tolerance_result.ToleranceResult
         Its ``shares`` (ALONE_OVER_ALL left out).
     outputs : dict
         {column: (label, unit)}, one group of bars each.
@@ -363,7 +363,7 @@ def markdown(summary: dict, outputs: dict) -> str:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary` with ``share_samples``.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary` with ``share_samples``.
     outputs : dict
         {column: (label, unit)}, one table row each.
 
@@ -450,7 +450,7 @@ def limits_text(summary: dict) -> list:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
 
     Returns
     -------
@@ -498,9 +498,9 @@ def summary_rows(summary: dict, outputs: dict) -> list:
     Parameters
     ----------
     summary : dict
-        :meth:`toothfem.tolerance.ToleranceResult.summary`.
+        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
     outputs : dict
-        Column -> (label, unit) (:data:`toothfem.tolerance.OUTPUTS`).
+        Column -> (label, unit) (:data:`toothfem.tolerance_result.OUTPUTS`).
 
     Returns
     -------

@@ -2,12 +2,13 @@
 with its centre bore round the eccentric bearing and the output pins through its holes."""
 from __future__ import annotations
 
-from ...case_template import (DISC_HELP, DISC_RANGES, ECCENTRICITY_RANGE, GREASE,
-                              HOLE_PER_HALF_SPACING, HOLE_PER_ROOM, OPERATING_HELP,
-                              OPERATING_RANGES, OUTPUT_PIN_COUNT, OUTPUT_PIN_FRICTION,
-                              PIN_GROOVE_FRICTION, LayoutSections, NewCaseTemplate, centre_bore,
-                              check_lobes, cycloid_stage, disc_keys, disc_lobes, disc_name,
-                              hole_radius, pin_tolerances, put, round_to, zero_clearance)
+from ...case_template import (OPERATING_HELP, OPERATING_RANGES, OUTPUT_PIN_COUNT,
+                              OUTPUT_PIN_FRICTION, LayoutSections, NewCaseTemplate, put,
+                              round_to, zero_clearance)
+from ...cycloid_template import (DISC_HELP, DISC_RANGES, ECCENTRICITY_RANGE, GREASE,
+                                 HOLE_PER_HALF_SPACING, HOLE_PER_ROOM, PIN_GROOVE_FRICTION,
+                                 centre_bore, check_lobes, cycloid_stage, disc_keys, disc_lobes,
+                                 disc_name, hole_radius, pin_tolerances)
 from ...fem.datasheet.supports import ROLLER_DIAMETER_REL
 
 

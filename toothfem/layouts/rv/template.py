@@ -4,12 +4,12 @@ first stage whose centre distance puts the cranks there."""
 from __future__ import annotations
 
 from ...case_sections import RVTrain, SpurStage
-from ...case_template import (DISC_COUNT, DISC_HELP, DISC_RANGES, ECCENTRICITY_RANGE, GREASE,
-                              HOLE_PER_HALF_SPACING, HOLE_PER_ROOM, OPERATING_HELP,
-                              OPERATING_RANGES, PIN_GROOVE_FRICTION, LayoutSections,
-                              NewCaseTemplate, centre_bore, check_lobes, cycloid_stage,
-                              disc_keys, disc_lobes, disc_name, hole_radius, pin_tolerances,
-                              put, round_to)
+from ...case_template import (OPERATING_HELP, OPERATING_RANGES, LayoutSections,
+                              NewCaseTemplate, put, round_to)
+from ...cycloid_template import (DISC_COUNT, DISC_HELP, DISC_RANGES, ECCENTRICITY_RANGE, GREASE,
+                                 HOLE_PER_HALF_SPACING, HOLE_PER_ROOM, PIN_GROOVE_FRICTION,
+                                 centre_bore, check_lobes, cycloid_stage, disc_keys, disc_lobes,
+                                 disc_name, hole_radius, pin_tolerances)
 
 
 RV_BORE_PER_ROOT = 0.13
