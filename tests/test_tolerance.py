@@ -19,7 +19,7 @@ from toothfem.fem.drives import drive_for
 from toothfem.geometry import cycloid as cy, cycloid_distance as cyd, cycloid_mesh as cym
 from toothfem.geometry.vectors import rotate
 from toothfem.tolerance import tolerance_analysis
-from toothfem.tolerance_result import ALONE_OVER_ALL
+from toothfem.quantities import ALONE_OVER_ALL
 
 
 #: The ensembles here fill every pitch's tables from 3 sampled pitches (the default 13 is

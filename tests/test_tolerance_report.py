@@ -15,8 +15,8 @@ from toothfem.case import load_case
 from toothfem.report import pyplot, wrap
 from toothfem.report import tolerance as report
 from toothfem.tolerance import LOADS_SYSTEM
-from toothfem.tolerance_result import (ALONE_OVER_ALL, OUTPUTS, ToleranceResult, check_limits,
-                                       output_labels)
+from toothfem.quantities import ALONE_OVER_ALL
+from toothfem.tolerance_result import OUTPUTS, ToleranceResult, check_limits, output_labels
 from toothfem.report.tolerance import write_tolerance
 
 #: Settings of a synthetic ensemble (as tolerance_analysis writes them).

@@ -122,3 +122,40 @@ DATASHEET = {q.key: q for q in (
              "the output's lag behind its kinematic position, input held (system model)"),
     Quantity("te_peak_to_peak_arcsec", "  its peak to peak over the full period ({period})"),
 )}
+
+
+# -- the tolerance ensemble's outputs: which side of each is worse -------------------------
+
+#: Outputs where low is worse (the rest: high is worse); their tail percentiles are taken
+#: on that side: P10/P1 of the fewest contacts and the efficiencies, P90/P99 of forces,
+#: pressures, lost motion and TE.
+LOW_IS_WORSE = frozenset({"contacts_min", "mesh_efficiency_pct", "total_efficiency_pct"})
+
+#: Outputs bad on both sides, with both tails given: the backlash (above: play, lost
+#: motion at the output; below zero: the flanks interfere, the stage is preloaded, its
+#: friction and heat rise and it may not assemble). One tail alone would hide the other.
+TWO_SIDED = frozenset({"backlash_arcmin"})
+
+#: Percentiles of each output, the median and the unfavourable tail (1 in 10 and 1 in
+#: 100 of the built reducers worse than it), by the side that is worse; both sides for
+#: TWO_SIDED.
+PERCENTILES = {"high": (50, 90, 99), "low": (50, 10, 1), "both": (50, 10, 90, 1, 99)}
+
+def side_of(output: str) -> str:
+    """Which side of an output is worse: "high", "low" or "both" (PERCENTILES' keys).
+
+    Parameters
+    ----------
+    output : str
+        A column of OUTPUTS.
+
+    Returns
+    -------
+    str
+    """
+    return "both" if output in TWO_SIDED else "low" if output in LOW_IS_WORSE else "high"
+
+#: Key of the shares' last row: the one-tolerance variances summed, over the whole
+#: ensemble's (1: the tolerances add up; above 1 they mask each other, as when one
+#: tolerance's interference already decides which pins carry; below 1 they compound).
+ALONE_OVER_ALL = "sum_alone_over_all"

@@ -44,8 +44,8 @@ from .fem.drives import drive_for
 from .fem.linsolve import one_blas_thread
 from .datasheet import TE_DEFINITION
 from .fem.system.datasheet import SystemTwist, system_backlash_arcmin
-from .tolerance_result import (ALONE_OVER_ALL, MAX_SAMPLES, OUTPUTS, ToleranceResult,
-                               check_limits)
+from .quantities import ALONE_OVER_ALL
+from .tolerance_result import MAX_SAMPLES, OUTPUTS, ToleranceResult, check_limits
 from .units import MPA_PER_PA
 
 #: What a ring's forces and TE are (the summary says it).

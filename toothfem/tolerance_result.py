@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import limits
+from .quantities import PERCENTILES, side_of
 
 #: Where the outputs come from (the labels say it: the nominal design's figures differ from
 #: ``toothfem contact``'s, whose counts and forces are one disc held at its bearing seats
@@ -68,37 +69,10 @@ def output_labels(contact: str = "contact", contacts: str = "contacts", member: 
 #: The outputs of a sample: column -> (label, unit) for tables and pictures (the system
 #: model's words; :func:`output_labels` gives a drive's own).
 OUTPUTS = output_labels()
-#: Outputs where low is worse (the rest: high is worse); their tail percentiles are taken
-#: on that side: P10/P1 of the fewest contacts and the efficiencies, P90/P99 of forces,
-#: pressures, lost motion and TE.
-LOW_IS_WORSE = frozenset({"contacts_min", "mesh_efficiency_pct", "total_efficiency_pct"})
-#: Outputs bad on both sides, with both tails given: the backlash (above: play, lost
-#: motion at the output; below zero: the flanks interfere, the stage is preloaded, its
-#: friction and heat rise and it may not assemble). One tail alone would hide the other.
-TWO_SIDED = frozenset({"backlash_arcmin"})
 #: Outputs that are counts: their percentiles are sample values (an order statistic on the
 #: unfavourable side, COUNT_METHOD), never between two counts ("7.5 pins").
 COUNTS = frozenset({"contacts_min"})
 COUNT_METHOD = "lower"
-#: Percentiles of each output, the median and the unfavourable tail (1 in 10 and 1 in
-#: 100 of the built reducers worse than it), by the side that is worse; both sides for
-#: TWO_SIDED.
-PERCENTILES = {"high": (50, 90, 99), "low": (50, 10, 1), "both": (50, 10, 90, 1, 99)}
-
-
-def side_of(output: str) -> str:
-    """Which side of an output is worse: "high", "low" or "both" (PERCENTILES' keys).
-
-    Parameters
-    ----------
-    output : str
-        A column of OUTPUTS.
-
-    Returns
-    -------
-    str
-    """
-    return "both" if output in TWO_SIDED else "low" if output in LOW_IS_WORSE else "high"
 
 
 #: Confidence of a percentile's interval (distribution-free, from the order statistics:
@@ -134,6 +108,47 @@ class ToleranceResult:
     film_ratio: dict = dataclasses.field(default_factory=dict)
     limits: dict = dataclasses.field(default_factory=dict)
     warnings: tuple = ()
+
+    def table(self) -> list:
+        """The ensemble's rows: each output's nominal value and percentiles, in the drive's
+        words.
+
+        Returns
+        -------
+        list of (quantity, unit, {column: value})
+            (:func:`toothfem.report.tolerance.summary_rows`).
+        """
+        from .report.tolerance import summary_rows
+        return summary_rows(self.summary(), self.outputs())
+
+    def plot(self) -> dict:
+        """The ensemble's pictures.
+
+        Returns
+        -------
+        dict
+            File name -> matplotlib Figure (:func:`toothfem.report.tolerance.
+            tolerance_figures`).
+        """
+        from .report.tolerance import tolerance_figures
+        return tolerance_figures(self)
+
+    def write(self, folder) -> dict:
+        """samples.csv, summary.json, the pictures and report.md into an existing
+        ``folder``.
+
+        Parameters
+        ----------
+        folder : path
+
+        Returns
+        -------
+        dict
+            The summary with the files written (:func:`toothfem.report.tolerance.
+            write_tolerance`).
+        """
+        from .report.tolerance import write_tolerance
+        return write_tolerance(self, folder)
 
     def percentiles(self) -> dict:
         """The ensemble's percentiles of each output on its unfavourable side
@@ -335,7 +350,3 @@ def check_limits(result: ToleranceResult, si) -> tuple:
     return found, {"max_ph_MPa": limits.contact_pressure_lines(si.material)}
 
 
-#: Key of the shares' last row: the one-tolerance variances summed, over the whole
-#: ensemble's (1: the tolerances add up; above 1 they mask each other, as when one
-#: tolerance's interference already decides which pins carry; below 1 they compound).
-ALONE_OVER_ALL = "sum_alone_over_all"

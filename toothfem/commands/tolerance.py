@@ -10,7 +10,6 @@ from ..fem.cache import content_key
 from ..output import atomic_dir, resumable_dir
 from ..report import html as report_html, summary as report_summary
 from ..report import tolerance as report_tolerance
-from ..report.tolerance import write_tolerance
 from ..tolerance import tolerance_analysis
 
 
@@ -76,7 +75,7 @@ def run(args) -> int:
                                     scheduler=args.scheduler,
                                     share_samples=args.share_samples, points=points)
     with atomic_dir(args.out) as tmp:
-        summary = write_tolerance(result, tmp)
+        summary = result.write(tmp)
         report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
     if args.json:
         print(json.dumps({"case": summary["case"], "samples": summary["samples"],
@@ -84,7 +83,7 @@ def run(args) -> int:
                           "percentiles": summary["percentiles"],
                           "warnings": summary["warnings"]}, indent=2))
         return 0
-    print(report_summary.text(report_tolerance.summary_rows(summary, result.outputs()),
+    print(report_summary.text(result.table(),
                               f"{case.name}: {summary['samples']} built reducers; "
                               f"{report_tolerance.operating_text(summary)}; "
                               f"{report_tolerance.model_text(summary)}"))

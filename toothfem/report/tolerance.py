@@ -11,8 +11,13 @@ from typing import Any
 
 import numpy as np
 
-from ..tolerance_result import ALONE_OVER_ALL, ToleranceResult, side_of
+from typing import TYPE_CHECKING
+
+from ..quantities import ALONE_OVER_ALL, side_of
 from . import NBSP, pyplot, save, wrap
+
+if TYPE_CHECKING:      # annotations only: the record's .write() calls this module
+    from ..tolerance_result import ToleranceResult
 
 #: A value marked on a histogram (the nominal design, a limit) farther outside the sample's
 #: range than this many of its spans is drawn as an arrow at the axis' edge with its value:
@@ -544,6 +549,26 @@ def _percentile_text(q: str, p: dict, fmt: str) -> str:
     return f"{q} {p['value']:{fmt}} [{lo:{fmt}}, {hi:{fmt}}]"
 
 
+def tolerance_figures(result: ToleranceResult) -> dict:
+    """The ensemble's pictures: the histograms of every output and, with several
+    tolerances, each one's share of each output's variance.
+
+    Parameters
+    ----------
+    result : ToleranceResult
+
+    Returns
+    -------
+    dict
+        File name -> matplotlib Figure.
+    """
+    outputs, summary = result.outputs(), result.summary()
+    out = {"histograms.png": histograms(result, outputs, histograms_title(summary))}
+    if len(result.shares) > 1:
+        out["shares.png"] = shares(result, outputs, shares_title(summary))
+    return out
+
+
 def write_tolerance(result: ToleranceResult, folder) -> dict:
     """Write the ensemble's files.
 
@@ -567,13 +592,11 @@ def write_tolerance(result: ToleranceResult, folder) -> dict:
         for i in range(len(next(iter(result.samples.values())))):
             w.writerow([i, *(f"{result.samples[k][i]:.9g}" for k in outputs)])
     summary = result.summary()
-    save(histograms(result, outputs, histograms_title(summary)),
-         folder / "histograms.png")
     files = ["samples.csv", "summary.json", "histograms.png", "report.md"]
-    if len(result.shares) > 1:
-        save(shares(result, outputs, shares_title(summary)),
-             folder / "shares.png")
-        files.insert(3, "shares.png")
+    for name, fig in tolerance_figures(result).items():
+        save(fig, folder / name)
+        if name == "shares.png":
+            files.insert(3, name)
     summary["files"] = files
     (folder / "summary.json").write_text(json.dumps(summary, indent=2))
     (folder / "report.md").write_text(markdown(summary, outputs))
