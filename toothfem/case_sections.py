@@ -134,7 +134,7 @@ class Material(_Section):
     """Elastic constants, and the hardness and strengths of life and strength checks
     (defaults: through-hardened bearing steel)."""
     _section = "material"
-    youngs_modulus_GPa: float = _f(1.0, 1000.0, doc="Young's modulus of the meshing parts")
+    youngs_modulus_GPa: float = _f(1.0, 1000.0)
     poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
     density_kg_m3: float = _f(500.0, 25000.0, default=7850.0,
                               doc="density of the parts (the housing's heat capacity)",
@@ -170,15 +170,11 @@ class Material(_Section):
 class DiscHoles(_Section):
     """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
     _section = "cycloid.disc_holes"
-    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0,
-                                      doc="the discs' centre bore (a K-H-V eccentric bearing)",
-                                      source=_NO_HOLE)
-    crank_hole_count: int = _f(0, 12, integer=True, default=0,
-                               doc="crank-bearing holes of a 2K-V disc", source=_NO_HOLE)
+    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
+    crank_hole_count: int = _f(0, 12, integer=True, default=0, source=_NO_HOLE)
     crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
     crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
-    pillar_hole_count: int = _f(0, 12, integer=True, default=0,
-                                doc="holes the carrier's pillars pass through", source=_NO_HOLE)
+    pillar_hole_count: int = _f(0, 12, integer=True, default=0, source=_NO_HOLE)
     pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
     pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
 
@@ -197,12 +193,12 @@ class DiscHoles(_Section):
 class CycloidStage(_Section):
     """Cycloid disc and pin ring (K-H-V stage). Angles of modification in degrees."""
     _section = "cycloid"
-    pin_count: int = _f(4, 400, integer=True, doc="pins in the housing, Zb")
-    lobe_count: int = _f(3, 399, integer=True, doc="lobes of the disc, Za = pin_count - 1")
-    pin_circle_radius_mm: float = _f(*RADIUS_MM, doc="radius of the pins' centres, Rz")
-    eccentricity_mm: float = _f(*ECCENTRICITY_MM, doc="the crank's eccentricity, A")
-    pin_radius_mm: float = _f(*PIN_RADIUS_MM, doc="radius of each pin, rz")
-    face_width_mm: float = _f(*FACE_WIDTH_MM, doc="width of one disc")
+    pin_count: int = _f(4, 400, integer=True)
+    lobe_count: int = _f(3, 399, integer=True)
+    pin_circle_radius_mm: float = _f(*RADIUS_MM)
+    eccentricity_mm: float = _f(*ECCENTRICITY_MM)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     disc_count: int = _f(1, 4, integer=True, default=1,
                          source="one disc, the simplest K-H-V stage (the shipped cases "
                                 "declare theirs)")
@@ -309,8 +305,8 @@ class SpurStage(_Section):
     """First (involute spur planetary) stage of an RV-type drive: sun on the input shaft,
     planets on the crankshafts."""
     _section = "first_stage"
-    sun_teeth: int = _f(6, 400, integer=True, doc="z1")
-    planet_teeth: int = _f(6, 400, integer=True, doc="z2")
+    sun_teeth: int = _f(6, 400, integer=True)
+    planet_teeth: int = _f(6, 400, integer=True)
     planet_count: int = _f(1, 8, integer=True, default=2,
                            source="ASSUMPTION: one planet on each of two crankshafts, as the "
                                   "shipped RV cases")
@@ -334,11 +330,11 @@ class SpurStage(_Section):
 class SineStage(_Section):
     """One-tooth-difference sine-profile pair (planet inside a fixed ring)."""
     _section = "sine"
-    planet_teeth: int = _f(10, 1000, integer=True, doc="z1")
-    ring_teeth: int = _f(11, 1001, integer=True, doc="z2 > z1")
-    module_mm: float = _f(*MODULE_MM, doc="m")
-    tooth_height_mm: float = _f(0.0, None, lo_open=True, doc="a, the sine's amplitude")
-    face_width_mm: float = _f(*FACE_WIDTH_MM, doc="L, the length of the contact line")
+    planet_teeth: int = _f(10, 1000, integer=True)
+    ring_teeth: int = _f(11, 1001, integer=True)
+    module_mm: float = _f(*MODULE_MM)
+    tooth_height_mm: float = _f(0.0, None, lo_open=True)
+    face_width_mm: float = _f(*FACE_WIDTH_MM)
     centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None,
                                           doc="a0; checked against m (z2 - z1)/2",
                                           unset="m (z2 - z1)/2",
@@ -383,10 +379,10 @@ class SineStage(_Section):
 class RVTrain(_Section):
     """Tooth numbers of a 2K-V (RV) train as in the RV paper's notation."""
     _section = "rv"
-    sun_teeth: int = _f(6, 400, integer=True, doc="z1")
-    planet_teeth: int = _f(6, 400, integer=True, doc="z2")
-    disc_teeth: int = _f(3, 399, integer=True, doc="z4 = z4'")
-    pin_count: int = _f(4, 400, integer=True, doc="z5")
+    sun_teeth: int = _f(6, 400, integer=True)          # z1
+    planet_teeth: int = _f(6, 400, integer=True)       # z2
+    disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
+    pin_count: int = _f(4, 400, integer=True)          # z5
     disc_count: int = _f(1, 4, integer=True, default=2,
                          source="the RV paper's two discs, 4 and 4'")
     mesh_efficiency: float = _f(MESH_EFFICIENCY_MIN, 1.0, default=0.94,
@@ -579,9 +575,8 @@ class OutputMechanism(_Section):
         """The radius that touches the hole: the roller's, else the pin's [mm]."""
         return self.roller_radius_mm if self.roller_radius_mm is not None else self.pin_radius_mm
     pin_count: int = _f(2, 24, integer=True, default=8, source=_NO_SOURCE)
-    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0, doc="R_w",
-                                          source=_NO_SOURCE)
-    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0, doc="r_x", source=_NO_SOURCE)
+    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0, source=_NO_SOURCE)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0, source=_NO_SOURCE)
     roller_radius_mm: float | None = _f(*PIN_RADIUS_MM, default=None,
                                         doc="a roller sleeve on each pin",
                                         unset="bare pins",
