@@ -43,11 +43,6 @@ def _stress(default: float, doc: str, source: str):
     return _f(0.0, None, lo_open=True, default=default, doc=doc, source=source)
 
 
-def _none(what: str):
-    """The source of a default of 0 or an empty value that switches a part off."""
-    return f"0: {what}"
-
-
 class _Section:
     """Mixin: validate every field against the range in its metadata."""
 
