@@ -142,7 +142,8 @@ def test_report_tells_where_each_input_came_from(folders, cases_dir):
     page = _parse(folders["run"] / "report.html")
     inputs = page.sections["inputs"]["text"]
     assert re.search(r"face_width_mm\s*8\.0\s*mm\s*declared", inputs)
-    assert re.search(r"hardness_HV\s*700\.0\s*HV\s*default\s*700 HV = 60 HRC", inputs)
+    assert re.search(r"hardness_HV\s*700\.0\s*HV\s*default\s*hardness of the flanks[^;]*; "
+                     r"60 HRC by the ASTM E140 conversion table", inputs)
     assert re.search(r"density_kg_m3\s*7850\.0\s*kg/m³\s*declared\s*ASSUMPTION\s*"
                      r"ASSUMPTION \(steel\)", inputs)
     assumptions = page.sections["assumptions"]["text"]

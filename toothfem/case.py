@@ -27,7 +27,7 @@ from . import si
 from .case_checks import STATED_RATIO_MAX, check_type, expected_type
 from .errors import CaseError, check_range, decode_text, short_repr
 from .layout import Layout
-from .layouts import layout_of, stage_sections
+from .layouts import case_drives, layout_of, stage_sections
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -37,17 +37,25 @@ else:  # pragma: no cover
 # the sections, re-exported: ``from toothfem.case import Material`` and the like
 from .case_sections import (Bearings, CycloidStage, DiscHoles, DutyPoint, Friction, Lubricant,
                             Material, MeasuredPoint, Operating, OutputMechanism, RVTrain, Seals,
-                            SineStage, SpurStage, Supports, Thermal, check_ambient,
+                            SineStage, SpurStage, Supports, Thermal, _f, check_ambient,
                             check_duty_cycle)
 from .case_design import Design, Tolerances, check_tolerances
 
 
 @dataclass(frozen=True)
 class Case:
-    name: str
-    drive: str                      # "cycloid" | "sine" | "rv"
-    source: str = ""
-    stated_ratio: float | None = None
+    # the [case] table's keys, their schema as the sections' (toothfem.case_schema); parse_case
+    # checks them
+    name: str = _f(doc="the reducer, as the reports title it")
+    drive: str = _f(choices=case_drives(), doc="the meshing stage; with the sections it "
+                                               "selects the layout (toothfem.layouts)")
+    source: str = _f(default="", doc="where the case's values come from",
+                     source="empty: none stated")
+    stated_ratio: float | None = _f(-STATED_RATIO_MAX, STATED_RATIO_MAX, default=None,
+                                    doc="the ratio as the source states it (signed or its "
+                                        "magnitude), checked against the tooth numbers",
+                                    unset="not checked",
+                                    source="none: nothing to check against")
     material: Material | None = None
     cycloid: CycloidStage | None = None
     first_stage: SpurStage | None = None

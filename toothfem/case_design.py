@@ -16,13 +16,18 @@ from .layouts import LAYOUTS
 TOLERANCE_MAX_MM = 0.1
 
 
+#: The source of every zone's default: the part as drawn.
+_EXACT = "0: the part is made exactly"
+
+
 def _zone(doc: str):
-    return _f(0.0, TOLERANCE_MAX_MM, default=0.0, doc=doc)
+    return _f(0.0, TOLERANCE_MAX_MM, default=0.0, doc=doc, source=_EXACT)
 
 
 def _own_distribution():
     return _f(choices=DISTRIBUTIONS, default=None,
-              doc="this tolerance's distribution instead of the section's")
+              doc="this tolerance's distribution instead of the section's",
+              unset="the section's distribution", source="none: the section's distribution")
 
 
 @dataclass(frozen=True)
@@ -32,14 +37,20 @@ class Tolerances(_Section):
     +-a, ISO 286 deviation limits of a diameter (docs/tolerance.md)."""
     _section = "tolerances"
     distribution: str = _f(choices=DISTRIBUTIONS, default="normal",
-                           doc="normal: 3 sigma at the zone's limit; uniform: over the zone")
-    pin_position_mm: float = _zone("true-position zone diameter of each pin's centre")
+                           doc="normal: 3 sigma at the zone's limit; uniform: over the zone "
+                               "(a true-position zone: over its area)",
+                           source="a capable process: 3 sigma at each limit (Cpk = 1)")
+    pin_position_mm: float = _zone("ISO 1101 true-position zone diameter of each pin's "
+                                   "centre")
     pin_diameter_lower_mm: float = _f(-TOLERANCE_MAX_MM, TOLERANCE_MAX_MM, default=0.0,
-                                      doc="lower deviation of each pin's diameter")
+                                      doc="ISO 286 lower deviation of each pin's diameter "
+                                          "(h5 on 3-6 mm: -0.005 and 0)", source=_EXACT)
     pin_diameter_upper_mm: float = _f(-TOLERANCE_MAX_MM, TOLERANCE_MAX_MM, default=0.0,
-                                      doc="upper deviation of each pin's diameter")
-    pin_circle_radius_mm: float = _zone("+- limit of the pin-circle radius")
-    disc_profile_mm: float = _zone("+- limit of each disc flank's normal deviation")
+                                      doc="ISO 286 upper deviation of each pin's diameter",
+                                      source=_EXACT)
+    pin_circle_radius_mm: float = _zone("+- limit of the pin-circle radius (one value for the ring)")
+    disc_profile_mm: float = _zone("+- limit of each disc flank's normal deviation (one value per "
+                                   "flank)")
     eccentricity_mm: float = _zone("+- limit of the crank's eccentricity")
     crank_hole_position_mm: float = _zone("true-position zone diameter of the disc's crank "
                                           "hole(s) against its profile")
@@ -63,6 +74,9 @@ class Tolerances(_Section):
 
 #: Percentiles of a tolerance ensemble a target may be set at.
 PERCENTILE_RANGE = (50.0, 99.9)
+#: The source of the search box's default bounds.
+_BOUNDS = ("ASSUMPTION: 0.02 of each modification on the side that opens clearance, "
+           "both sides for the rotation (docs/tolerance.md)")
 
 
 @dataclass(frozen=True)
@@ -73,22 +87,33 @@ class Design(_Section):
     the bounds of each modification searched."""
     _section = "design"
     max_backlash_arcmin: float = _f(0.0, 60.0, lo_open=True, default=1.0,
-                                    doc="catalogue class of precision reducers: 1 arcmin")
-    min_contacts: int = _f(1, 400, integer=True, default=3)
+                                    doc="the largest backlash sought",
+                                    source="the catalogue class of precision robot reducers: "
+                                           "1 arcmin")
+    min_contacts: int = _f(1, 400, integer=True, default=3,
+                           doc="pins in contact at every position at the operating torque",
+                           source="ASSUMPTION: three pins share the load (no source)")
     max_ph_MPa: float | None = _f(0.0, 10000.0, lo_open=True, default=None,
-                                  doc="limit of the maximum Hertz pressure; none: minimised")
+                                  doc="limit of the maximum Hertz pressure",
+                                  unset="minimised", source="none: the search minimises it")
     percentile: float | None = _f(*PERCENTILE_RANGE, default=None,
-                                  doc="targets hold at this percentile of [tolerances]")
+                                  doc="targets hold at this percentile of reducers built "
+                                      "within [tolerances] (backlash, pressure: P_q; "
+                                      "contacts: P_(100-q))",
+                                  unset="the nominal reducer",
+                                  source="none: the targets hold for the reducer as drawn")
     samples: int = _f(4, 2000, integer=True, default=8,
-                      doc="tolerance samples per candidate when percentile is set")
+                      doc="tolerance samples per candidate when percentile is set (the same "
+                          "draws for every candidate)",
+                      source="ASSUMPTION: a small ensemble per candidate (no source)")
     # bounds of the search; a positive equidistant and a negative move-distance
     # modification open clearance (docs/tolerance.md)
-    equidistant_min_mm: float = _f(-0.1, 0.1, default=0.0)
-    equidistant_max_mm: float = _f(-0.1, 0.1, default=0.02)
-    move_distance_min_mm: float = _f(-0.1, 0.1, default=-0.02)
-    move_distance_max_mm: float = _f(-0.1, 0.1, default=0.0)
-    rotation_min_deg: float = _f(-1.0, 1.0, default=-0.02)
-    rotation_max_deg: float = _f(-1.0, 1.0, default=0.02)
+    equidistant_min_mm: float = _f(-0.1, 0.1, default=0.0, source=_BOUNDS)
+    equidistant_max_mm: float = _f(-0.1, 0.1, default=0.02, source=_BOUNDS)
+    move_distance_min_mm: float = _f(-0.1, 0.1, default=-0.02, source=_BOUNDS)
+    move_distance_max_mm: float = _f(-0.1, 0.1, default=0.0, source=_BOUNDS)
+    rotation_min_deg: float = _f(-1.0, 1.0, default=-0.02, source=_BOUNDS)
+    rotation_max_deg: float = _f(-1.0, 1.0, default=0.02, source=_BOUNDS)
 
     def _check(self):
         for name, unit in (("equidistant", "mm"), ("move_distance", "mm"), ("rotation", "deg")):

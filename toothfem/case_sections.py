@@ -1,7 +1,13 @@
 """The sections of a case file: one frozen dataclass per TOML table, units in the key names,
 each field's valid range (and its plausibility bound, :mod:`toothfem.case_checks`) in its
 metadata, checked in ``__post_init__``. :mod:`toothfem.case` assembles them into a
-:class:`~toothfem.case.Case`."""
+:class:`~toothfem.case.Case`.
+
+The metadata is the case schema, declared here once (:func:`_f`): beside the range, ``doc``
+(what the key is), ``source`` (where its default comes from: a paper, a standard, a
+catalogue, ASSUMPTION with its reason, or what 0 or an empty value means), ``unset`` (what
+a default of None stands for) and ``unit`` (where the key's suffix does not say it).
+:mod:`toothfem.case_schema` reads it for the report's inputs and docs/case_schema.md."""
 from __future__ import annotations
 
 import dataclasses
@@ -21,16 +27,20 @@ INF = math.inf
 
 
 def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MISSING,
-       doc: str = "", choices=None, integer=False):
-    """A dataclass field with its valid range in metadata."""
+       doc: str = "", source: str = "", unset: str = "", unit: str | None = None,
+       choices=None, integer=False):
+    """A dataclass field with its schema in metadata: the valid range [lo, hi] (open ends,
+    choices, integer), ``doc`` (what the key is; refusals quote it), ``source`` (one line:
+    where the default comes from), ``unset`` (what a default of None stands for) and
+    ``unit`` (None: from the key's suffix, :func:`toothfem.case_schema.unit_of`)."""
     md = dict(lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, doc=doc, choices=choices,
-              integer=integer)
+              integer=integer, source=source, unset=unset, unit=unit)
     return field(default=default, metadata=md)
 
 
-def _stress(default: float, doc: str):
-    """A positive stress limit [MPa] with its default and source."""
-    return _f(0.0, None, lo_open=True, default=default, doc=doc)
+def _stress(default: float, doc: str, source: str):
+    """A positive stress limit [MPa] with its default and the default's source."""
+    return _f(0.0, None, lo_open=True, default=default, doc=doc, source=source)
 
 
 class _Section:
@@ -63,6 +73,9 @@ class _Section:
         """Cross-field rules of the section (override)."""
 
 
+#: The source of the modifications' defaults.
+_UNMODIFIED = "0: no modification (the theoretical conjugate profile)"
+
 #: SI parameter of a geometry record -> (case key, factor from SI to the key's unit)
 _CYCLOID_KEYS = {
     "pin_count": ("pin_count", 1.0),
@@ -93,6 +106,9 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
     return CaseError(f"{section}: {exc}")
 
 
+#: The source of the holes' defaults: a disc without the hole.
+_NO_HOLE = "0: no such hole"
+
 #: Hole names in the disc-layout messages -> the [cycloid.disc_holes] keys that place them.
 _HOLE_KEYS = {"centre_bore": ("centre_bore_radius_mm",),
               "crank": ("crank_hole_circle_radius_mm", "crank_hole_radius_mm"),
@@ -111,30 +127,51 @@ def _with_hole_keys(err: CaseError) -> CaseError:
 @dataclass(frozen=True)
 class Material(_Section):
     """Elastic constants, and the hardness and strengths of life and strength checks
-    (defaults: through-hardened bearing steel, sources in docs/case_schema.md)."""
+    (defaults: through-hardened bearing steel)."""
     _section = "material"
     youngs_modulus_GPa: float = _f(1.0, 1000.0)
     poisson_ratio: float = _f(0.0, 0.5, hi_open=True)
-    density_kg_m3: float = _f(500.0, 25000.0, default=7850.0)
-    # limits of the life and strength checks: sources in docs/case_schema.md
-    hardness_HV: float = _f(50.0, 2000.0, default=700.0, doc="700 HV = 60 HRC (ASTM E140)")
-    allowable_contact_stress_MPa: float = _stress(1500.0, "contact fatigue (ISO 281:2007)")
-    static_contact_stress_MPa: float = _stress(4000.0, "static contact (ISO 76:2006)")
-    yield_strength_MPa: float = _stress(1700.0, "0.2 % proof stress (ASSUMPTION, 100Cr6)")
-    fatigue_limit_MPa: float = _stress(700.0, "endurance limit (Shigley Eq. 6-8)")
+    density_kg_m3: float = _f(500.0, 25000.0, default=7850.0,
+                              doc="density of the parts (the housing's heat capacity)",
+                              source="carbon steel, 7854 kg/m³ (F.P. Incropera & D.P. DeWitt, "
+                                     "Fundamentals of Heat and Mass Transfer, Table A.1)")
+    # limits of the life and strength checks
+    hardness_HV: float = _f(50.0, 2000.0, default=700.0,
+                            doc="hardness of the flanks: the asperities' flow pressure "
+                                "H = HV x 9.807 MPa",
+                            source="60 HRC by the ASTM E140 conversion table (697 HV); "
+                                   "through-hardened bearing steel (100Cr6/52100) is 58-64 HRC")
+    allowable_contact_stress_MPa: float = _stress(
+        1500.0, "contact fatigue limit (life and strength checks)",
+        "ISO 281:2007: the fatigue load limit C_u of a rolling bearing gives 1500 MPa at the "
+        "most loaded contact of through-hardened bearing steel of common quality")
+    static_contact_stress_MPa: float = _stress(
+        4000.0, "static contact stress limit (permanent deformation)",
+        "ISO 76:2006: the basic static load rating of roller bearings gives 4000 MPa (a "
+        "permanent deformation of 1e-4 of the roller diameter)")
+    yield_strength_MPa: float = _stress(
+        1700.0, "0.2 % proof stress",
+        "ASSUMPTION: the lower end of the 0.2 % proof stress of through-hardened, "
+        "low-tempered 100Cr6, about 1.7-2.0 GPa (H.K.D.H. Bhadeshia, Steels for bearings, "
+        "Prog. Mater. Sci. 57 (2012) 268-435)")
+    fatigue_limit_MPa: float = _stress(
+        700.0, "endurance limit",
+        "R.G. Budynas & J.K. Nisbett, Shigley's Mechanical Engineering Design (10th ed.), "
+        "Eq. 6-8: the rotating-beam endurance limit S'e = 700 MPa for steels with "
+        "S_ut > 1400 MPa")
 
 
 @dataclass(frozen=True)
 class DiscHoles(_Section):
     """Holes of the cycloid disc: centre bore, crank-bearing holes, carrier-pillar holes."""
     _section = "cycloid.disc_holes"
-    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
-    crank_hole_count: int = _f(0, 12, integer=True, default=0)
-    crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
-    crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
-    pillar_hole_count: int = _f(0, 12, integer=True, default=0)
-    pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
-    pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0)
+    centre_bore_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
+    crank_hole_count: int = _f(0, 12, integer=True, default=0, source=_NO_HOLE)
+    crank_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
+    crank_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
+    pillar_hole_count: int = _f(0, 12, integer=True, default=0, source=_NO_HOLE)
+    pillar_hole_circle_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
+    pillar_hole_radius_mm: float = _f(0.0, RADIUS_MM[1], default=0.0, source=_NO_HOLE)
 
     def _check(self):
         for kind in ("crank", "pillar"):
@@ -157,15 +194,26 @@ class CycloidStage(_Section):
     eccentricity_mm: float = _f(*ECCENTRICITY_MM)
     pin_radius_mm: float = _f(*PIN_RADIUS_MM)
     face_width_mm: float = _f(*FACE_WIDTH_MM)
-    disc_count: int = _f(1, 4, integer=True, default=1)
-    pin_structure: str = _f(choices=("conventional", "integral"), default="conventional")
-    equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0)
-    move_distance_modification_mm: float = _f(-1.0, 1.0, default=0.0)
-    rotation_modification_deg: float = _f(-1.0, 1.0, default=0.0)
+    disc_count: int = _f(1, 4, integer=True, default=1,
+                         source="one disc, the simplest K-H-V stage (the shipped cases "
+                                "declare theirs)")
+    pin_structure: str = _f(choices=("conventional", "integral"), default="conventional",
+                            doc="pins in housing grooves, or one piece with the housing",
+                            source="the usual construction, pins in grooves (the pin-housing "
+                                   "paper's baseline beside its integral housing)")
+    equidistant_modification_mm: float = _f(-1.0, 1.0, default=0.0, source=_UNMODIFIED)
+    move_distance_modification_mm: float = _f(-1.0, 1.0, default=0.0, source=_UNMODIFIED)
+    rotation_modification_deg: float = _f(-1.0, 1.0, default=0.0, source=_UNMODIFIED)
     disc_load_factor: float = _f(1.0, 2.0, default=1.0,
-                                 doc="torque on one disc = factor * output torque / disc_count")
+                                 doc="torque on one disc = factor * output torque / disc_count",
+                                 source="an even split between the discs; the pin-housing "
+                                        "paper's 1.1 covers manufacturing errors "
+                                        "(docs/derivations.md C4)")
     housing_outer_radius_mm: float | None = _f(0.0, None, lo_open=True, default=None,
-                                               doc="outer radius of the pin housing")
+                                               doc="outer radius of the pin housing",
+                                               unset="the pin circle + 5 pin radii",
+                                               source="ASSUMPTION: a wall of 4 pin radii "
+                                                      "outside the pins (no source)")
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
@@ -254,13 +302,23 @@ class SpurStage(_Section):
     _section = "first_stage"
     sun_teeth: int = _f(6, 400, integer=True)
     planet_teeth: int = _f(6, 400, integer=True)
-    planet_count: int = _f(1, 8, integer=True, default=2)
-    module_mm: float = _f(*MODULE_MM, default=1.0)
-    pressure_angle_deg: float = _f(10.0, 35.0, default=20.0)
+    planet_count: int = _f(1, 8, integer=True, default=2,
+                           source="ASSUMPTION: one planet on each of two crankshafts, as the "
+                                  "shipped RV cases")
+    module_mm: float = _f(*MODULE_MM, default=1.0, source="ASSUMPTION: no source")
+    pressure_angle_deg: float = _f(10.0, 35.0, default=20.0,
+                                   source="the standard basic rack's 20 deg (ISO 53:1998)")
     face_width_mm: float | None = _f(*FACE_WIDTH_MM, default=None,
-                                     doc="default toothfem.si.SPUR_DEFAULT_WIDTH_MODULES modules")
+                                     unset="10 modules",
+                                     source="ASSUMPTION: the middle of the usual 8-12 modules "
+                                            "of industrial spur gears (the RV paper gives "
+                                            "none; toothfem.si.SPUR_DEFAULT_WIDTH_MODULES)")
     mesh_efficiency: float | None = _f(MESH_EFFICIENCY_MIN, 1.0, default=None,
-                                       doc="declared; default: from the friction model")
+                                       doc="the sun-planet mesh efficiency, declared",
+                                       unset="from the friction model",
+                                       source="Ohlendorf's loss factor with Schlenk's mean "
+                                              "friction coefficient (ISO/TR 14179-2; "
+                                              "efficiency/spur.py)")
 
 
 @dataclass(frozen=True)
@@ -272,7 +330,11 @@ class SineStage(_Section):
     module_mm: float = _f(*MODULE_MM)
     tooth_height_mm: float = _f(0.0, None, lo_open=True)
     face_width_mm: float = _f(*FACE_WIDTH_MM)
-    centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+    centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                          doc="a0; checked against m (z2 - z1)/2",
+                                          unset="m (z2 - z1)/2",
+                                          source="the pitch circles roll: a0 = m (z2 - z1)/2 "
+                                                 "(the sine paper's Table 2)")
 
     def _check(self):
         if self.ring_teeth <= self.planet_teeth:
@@ -316,9 +378,12 @@ class RVTrain(_Section):
     planet_teeth: int = _f(6, 400, integer=True)       # z2
     disc_teeth: int = _f(3, 399, integer=True)         # z4 = z4'
     pin_count: int = _f(4, 400, integer=True)          # z5
-    disc_count: int = _f(1, 4, integer=True, default=2)
+    disc_count: int = _f(1, 4, integer=True, default=2,
+                         source="the RV paper's two discs, 4 and 4'")
     mesh_efficiency: float = _f(MESH_EFFICIENCY_MIN, 1.0, default=0.94,
-                                doc="efficiency assumed for every gear pair (RV paper)")
+                                doc="efficiency assumed for every gear pair (RV paper)",
+                                source="the RV paper assumes 0.94 for every gear pair "
+                                       "(Eqs. 18-19)")
 
     def _check(self):
         if self.pin_count <= self.disc_teeth:
@@ -326,25 +391,41 @@ class RVTrain(_Section):
                             f"disc_teeth = {self.disc_teeth}")
 
 
+#: What an unset load key of [operating] stands for, and why.
+_LOAD_UNSET = "from the load key given"
+_LOAD_SOURCE = ("one of output_torque_Nm, input_torque_Nm and input_power_kW is required; "
+                "the others follow from it")
+
+
 @dataclass(frozen=True)
 class Operating(_Section):
     _section = "operating"
-    input_speed_rpm: float = _f(*SPEED_RPM, default=1000.0)
-    output_torque_Nm: float | None = _f(*TORQUE_NM, default=None)
-    input_torque_Nm: float | None = _f(*INPUT_TORQUE_NM, default=None)
-    input_power_kW: float | None = _f(*POWER_KW, default=None)
+    input_speed_rpm: float = _f(*SPEED_RPM, default=1000.0,
+                                source="ASSUMPTION: a round input speed (no source)")
+    output_torque_Nm: float | None = _f(*TORQUE_NM, default=None, unset=_LOAD_UNSET,
+                                        source=_LOAD_SOURCE)
+    input_torque_Nm: float | None = _f(*INPUT_TORQUE_NM, default=None, unset=_LOAD_UNSET,
+                                       source=_LOAD_SOURCE)
+    input_power_kW: float | None = _f(*POWER_KW, default=None, unset=_LOAD_UNSET,
+                                      source=_LOAD_SOURCE)
     rated_torque_Nm: float | None = _f(
         *TORQUE_NM, default=None,
         doc="rated output torque of the reducer (catalogue, datasheet): check warns above "
-            "it; the stiffness curve spans +-it")
+            "it; the stiffness curve spans +-it",
+        unset="the operating torque stands in",
+        source="none: the catalogue's rated torque where the case states it")
     start_stop_torque_Nm: float | None = _f(
         *TORQUE_NM, default=None,
         doc="allowable output torque when starting and stopping (catalogue): above it a "
-            "warning")
+            "warning",
+        unset="no check",
+        source="none: the catalogue's figure where the case states it (RV-40E: 1029 N m)")
     momentary_torque_Nm: float | None = _f(
         *TORQUE_NM, default=None,
         doc="momentary maximum output torque (catalogue, e.g. an emergency stop): above it a "
-            "warning that the reducer is damaged")
+            "warning that the reducer is damaged; rated <= start/stop <= momentary, else refused",
+        unset="no check",
+        source="none: the catalogue's figure where the case states it (RV-40E: 2058 N m)")
 
     def _check(self):
         limits = [("rated_torque_Nm", self.rated_torque_Nm),
@@ -357,33 +438,65 @@ class Operating(_Section):
                                 "rated <= start/stop <= momentary")
 
 
+#: Where the Vogel constants' defaults come from (docs/efficiency.md, "Oil temperature").
+_VOGEL_SOURCE = ("ASSUMPTION: a mineral oil; B = 1000, C = 95 °C take 100 mm²/s at 40 °C to "
+                 "10.2 at 100 °C (B = 900 reproduces ISO VG 68's 68 -> 8.7 within 5 %)")
+
+
 @dataclass(frozen=True)
 class Lubricant(_Section):
     _section = "lubricant"
-    dynamic_viscosity_Pa_s: float = _f(1e-4, 10.0, default=0.02)
-    kinematic_viscosity_mm2_s: float = _f(0.1, 10000.0, default=100.0)
-    density_kg_m3: float = _f(500.0, 1500.0, default=870.0)
-    pressure_viscosity_1_per_GPa: float = _f(1.0, 50.0, default=20.0)
-    reference_temperature_C: float = _f(-40.0, 200.0, default=40.0)
-    roughness_Ra_um: float = _f(0.0, 10.0, default=0.4)
+    dynamic_viscosity_Pa_s: float = _f(1e-4, 10.0, default=0.02,
+                                       doc="eta0 at the reference temperature (EHL friction)",
+                                       source="the sine paper's Table 3: eta0 = 2e-8 MPa s")
+    kinematic_viscosity_mm2_s: float = _f(0.1, 10000.0, default=100.0,
+                                          doc="nu at the reference temperature (churning, "
+                                              "Palmgren's drag, film thickness)",
+                                          source="ASSUMPTION: ISO VG 100 (ISO 3448: 100 mm²/s "
+                                                 "at 40 °C)")
+    density_kg_m3: float = _f(500.0, 1500.0, default=870.0,
+                              source="ASSUMPTION: a mineral gear oil (no source)")
+    pressure_viscosity_1_per_GPa: float = _f(1.0, 50.0, default=20.0,
+                                             doc="alpha of Barus' law (EHL film)",
+                                             source="ASSUMPTION: typical of mineral gear oils "
+                                                    "at moderate temperature, about 10-30 "
+                                                    "1/GPa (efficiency/friction.py)")
+    reference_temperature_C: float = _f(-40.0, 200.0, default=40.0,
+                                        doc="where the viscosities above hold",
+                                        source="ISO 3448: viscosity grades are stated at "
+                                               "40 °C")
+    roughness_Ra_um: float = _f(0.0, 10.0, default=0.4,
+                                doc="arithmetic mean roughness of the flanks",
+                                source="the sine paper's Table 3: R_a = 0.4 µm")
     vogel_B_C: float = _f(100.0, 5000.0, default=1000.0,
-                          doc="Vogel B: eta = A exp(B/(T + C)), T in deg C")
-    vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]")
+                          doc="Vogel B: eta = A exp(B/(T + C)), T in deg C",
+                          source=_VOGEL_SOURCE)
+    vogel_C_C: float = _f(0.0, 300.0, default=95.0, doc="Vogel C [deg C]",
+                          source=_VOGEL_SOURCE)
     churning: str = _f(choices=("none", "lu_xu_2024"), default="lu_xu_2024",
                        doc="churning (oil agitation and splash) law of an oil bath; "
-                           "lu_xu_2024: the sine paper's Eq. 42")
+                           "lu_xu_2024: the sine paper's Eq. 42",
+                       source="Y. Lu & L. Xu, Heliyon 10 (2024) e26300, Eq. 42, on every gear "
+                              "stage in an oil bath (was none before issue 13)")
     churning_scale: float = _f(0.0, 100.0, default=1.0,
-                               doc="factor on the churning law")
+                               doc="factor on the churning law",
+                               source="1: the law as published (the loop's churning effect "
+                                      "fits a correction)")
     lubrication: str = _f(choices=("oil_bath", "oil_mist", "oil_jet", "grease"),
                           default="oil_bath",
                           doc="how the reducer is lubricated: the churning law acts in an oil "
-                              "bath; the bearings' viscous drag takes Palmgren's f0 of it")
+                              "bath; the bearings' viscous drag takes Palmgren's f0 of it",
+                          source="ASSUMPTION: a horizontal reducer with its lower half in oil "
+                                 "(the sine paper's rig)")
     pour_point_C: float = _f(-80.0, 50.0, default=-15.0,
-                             doc="lowest temperature of the viscosity law; ASSUMPTION -15 C, "
-                                 "mineral gear oils (docs/case_schema.md)")
+                             doc="lowest temperature of the viscosity law",
+                             source="ASSUMPTION: mineral ISO VG 68-680 gear oils pour at about "
+                                    "-9 to -30 °C (makers' data sheets)")
     max_temperature_C: float = _f(0.0, 300.0, default=150.0,
-                                  doc="highest temperature of the viscosity law; 150 C, "
-                                      "mineral oil oxidation limit (docs/case_schema.md)")
+                                  doc="highest temperature of the viscosity law",
+                                  source="the upper limit of mineral oil named in issue 13 "
+                                         "(oxidation); ISO/TR 14179-1 rates gear drives at a "
+                                         "95 °C sump")
 
     def _check(self):
         t_ref = self.reference_temperature_C
@@ -396,24 +509,49 @@ class Lubricant(_Section):
 @dataclass(frozen=True)
 class Friction(_Section):
     _section = "friction"
-    coefficient: float = _f(0.0, 1.0, default=0.05)
-    bearing_coefficient: float = _f(0.0, 0.1, default=0.0015)
-    output_pin_coefficient: float = _f(0.0, 1.0, default=0.05)
+    coefficient: float = _f(0.0, 1.0, default=0.05,
+                            doc="Coulomb friction at the tooth/pin contacts (mesh_law = "
+                                "coulomb only)",
+                            source="ASSUMPTION: lubricated steel on steel (no source); read "
+                                   "by the Coulomb law only")
+    bearing_coefficient: float = _f(0.0, 0.1, default=0.0015,
+                                    doc="rolling bearings' load term M1 = mu P d_m/2 "
+                                        "(Palmgren's mu = 2 f1)",
+                                    source="SKF's constant coefficient of friction of deep "
+                                           "groove ball bearings, 0.0015 (SKF General "
+                                           "Catalogue, Friction, Table 1)")
+    output_pin_coefficient: float = _f(0.0, 1.0, default=0.05,
+                                       doc="output pins sliding in their holes or sleeves "
+                                           "(the sine paper's f_k)",
+                                       source="ASSUMPTION: lubricated steel sliding (no "
+                                              "source; the sine paper's rig: f_k = 0.03)")
     pin_groove_coefficient: float = _f(0.0, 1.0, default=0.0,
                                        doc="conventional pins sliding in their housing "
-                                           "grooves (0: pins roll freely)")
+                                           "grooves (0: pins roll freely)",
+                                       source="0: the pins roll freely in their grooves")
     mesh_law: str = _f(choices=("ehl_xu2007", "coulomb", "benedict_kelley"),
-                       default="ehl_xu2007", doc="friction law at the tooth/pin contacts")
+                       default="ehl_xu2007", doc="friction law at the tooth/pin contacts",
+                       source="the sine paper's choice: Xu, Kahraman et al., J. Mech. Des. "
+                              "129 (2007) 58-68")
     boundary_coefficient: float = _f(0.0, 1.0, default=0.1,
                                      doc="asperity (boundary) friction of lubricated steel "
-                                         "in mixed lubrication; 0.1: Bowden & Tabor 1950; "
-                                         "0: the EHL law alone")
+                                         "in mixed lubrication; 0: the EHL law alone",
+                                     source="boundary-lubricated steel, about 0.1 (Bowden & "
+                                            "Tabor 1950; Hutchings & Shipway 2017: "
+                                            "0.05-0.15); was 0 before issue 13")
     drag_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
-                                doc="load-independent drag on the input shaft (seals, preload)")
+                                doc="load-independent drag on the input shaft (seals, preload)",
+                                source="0: no drag beyond the seals and bearings modelled")
     windage_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
                                    doc="drag on the input shaft at 1000 rpm that grows with "
                                        "the square of the speed (windage: P = T_w (n/1000 "
-                                       "rpm)^2 omega_in; Dawson 1984)")
+                                       "rpm)^2 omega_in; Dawson 1984)",
+                                   source="0: these reducers turn slowly in an oil bath, "
+                                          "whose churning law covers the bath")
+
+
+#: The source of an output mechanism's size where the case gives none.
+_NO_SOURCE = "ASSUMPTION: no source fixes it (the sine prototype declares its own)"
 
 
 @dataclass(frozen=True)
@@ -431,19 +569,36 @@ class OutputMechanism(_Section):
     def contact_radius_mm(self) -> float:
         """The radius that touches the hole: the roller's, else the pin's [mm]."""
         return self.roller_radius_mm if self.roller_radius_mm is not None else self.pin_radius_mm
-    pin_count: int = _f(2, 24, integer=True, default=8)
-    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0)
-    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0)
+    pin_count: int = _f(2, 24, integer=True, default=8, source=_NO_SOURCE)
+    pin_hole_circle_radius_mm: float = _f(*RADIUS_MM, default=30.0, source=_NO_SOURCE)
+    pin_radius_mm: float = _f(*PIN_RADIUS_MM, default=5.0, source=_NO_SOURCE)
     roller_radius_mm: float | None = _f(*PIN_RADIUS_MM, default=None,
-                                        doc="a roller sleeve on each pin (None: bare pins)")
+                                        doc="a roller sleeve on each pin",
+                                        unset="bare pins",
+                                        source="none: a sleeve is declared where the "
+                                               "drawing has one")
     hole_radius_mm: float | None = _f(*PIN_RADIUS_MM, default=None,
-                                      doc="the member's holes (None: the pin's or roller's "
-                                          "radius plus the eccentricity, zero clearance)")
-    eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0)
-    plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0)
+                                      doc="radius of the member's holes the pins pass "
+                                          "through",
+                                      unset="the pin's or roller's radius plus the "
+                                            "eccentricity",
+                                      source="zero nominal clearance: the pin touches its hole "
+                                             "as the disc orbits (the K-H-V output "
+                                             "mechanism's kinematics)")
+    eccentric_bearing_inner_radius_mm: float = _f(*PIN_RADIUS_MM, default=10.0,
+                                                  doc="r_p, the eccentric bearing's inner "
+                                                      "radius",
+                                                  source="the sine paper's Table 4: r_p = "
+                                                         "10 mm")
+    plain_bearing_friction_torque_Nmm: float = _f(*DRAG_NMM, default=0.0,
+                                                  doc="M_f of the bearings on the "
+                                                      "non-eccentric shaft (sine paper Eq. 34)",
+                                                  source="0: the sine paper states no M_f")
 
 
 BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")
+#: The source of the external loads' defaults.
+_NO_LOAD = "0: no external load on the output"
 
 
 @dataclass(frozen=True)
@@ -452,10 +607,18 @@ class Seals(_Section):
     None: the drive's own diameter (efficiency/envelope.py, ASSUMPTION); 0: no seal."""
     _section = "seals"
     # a shaft no larger than the largest reducer the case model takes (RADIUS_MM)
-    input_diameter_mm: float | None = _f(0.0, 2 * RADIUS_MM[1], default=None,
-                                         doc="shaft diameter under the input seal")
-    output_diameter_mm: float | None = _f(0.0, 2 * RADIUS_MM[1], default=None,
-                                          doc="shaft diameter under the output seal")
+    input_diameter_mm: float | None = _f(
+        0.0, 2 * RADIUS_MM[1], default=None,
+        doc="shaft diameter under the input seal; seal loss P = 7.69e-6 D² n W (D in mm, n in "
+            "rpm), ISO/TR 14179-1:2001; 0: no seal",
+        unset="the drive's (efficiency/envelope.py)",
+        source="ASSUMPTION: cycloid, RV: the input shaft in the discs' centre bore; sine: "
+               "through the eccentric bearing (2 r_p)")
+    output_diameter_mm: float | None = _f(
+        0.0, 2 * RADIUS_MM[1], default=None,
+        doc="shaft diameter under the output seal; the same law at the output speed",
+        unset="the drive's (efficiency/envelope.py)",
+        source="ASSUMPTION: the pin-circle diameter (cycloid, RV); 2 (R_w + r_x) (sine)")
 
 
 @dataclass(frozen=True)
@@ -465,76 +628,133 @@ class Bearings(_Section):
     external loads on the output. None: the drive's own value (efficiency/envelope.py)."""
     _section = "bearings"
     eccentric_type: str | None = _f(choices=BEARING_TYPES, default=None,
-                                    doc="rolling-element type of the eccentric bearings")
-    eccentric_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+                                    doc="rolling-element type of the eccentric bearings "
+                                        "(ISO 281's exponent, Palmgren's f0)",
+                                    unset="needle",
+                                    source="RV reducers' crank bearings are needle roller "
+                                           "bearings (Nabtesco's RV construction): the "
+                                           "system model's rollers; another type is refused")
+    eccentric_pitch_diameter_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        doc="checked to lie between the journal and the hole (refused naming the hole's key)",
+        unset="the rollers' pitch circle",
+        source="the system model's rollers: the hole less one roller diameter (2K-V crank "
+               "hole, K-H-V centre bore); 2 r_p plus one roller (sine)")
     eccentric_dynamic_rating_kN: float | None = _f(
         0.0, None, lo_open=True, default=None,
-        doc="basic dynamic load rating C of one eccentric bearing (ISO 281)")
+        doc="basic dynamic load rating C of one eccentric bearing (ISO 281); refused above "
+            "1.3x the rating of the rolling set that fits the hole",
+        unset="ISO 281 of the rollers that fit (sine: no life)",
+        source="ISO 281 of the needle rollers that fit the hole (efficiency/bearing_set.py); "
+               "a sine reducer's has none")
     main_type: str = _f(choices=BEARING_TYPES, default="angular_ball",
-                        doc="main bearing pair: angular contact ball bearings (RV-E)")
-    main_pitch_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
+                        doc="main bearing pair: angular contact ball bearings (RV-E)",
+                        source="the RV-E's built-in main bearings; ISO 281:2007 Table 3 of a "
+                               "40 deg contact: X = 0.35, Y = 0.57, e = 1.14")
+    main_pitch_diameter_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None,
+        unset="the pin-circle diameter (sine: 2 (R_w + r_x))",
+        source="ASSUMPTION: the rows at the pin circle (Palmgren drag without an oil bath)")
     main_dynamic_rating_kN: float | None = _f(
         0.0, None, lo_open=True, default=None,
-        doc="basic dynamic load rating C of one main bearing row (ISO 281)")
+        doc="basic dynamic load rating C of one main bearing row (ISO 281)",
+        unset="ISO 281 of an assumed ball set (sine: none)",
+        source="ASSUMPTION: ISO 281 of a ball set with balls 6 % of the pitch diameter "
+               "(cycloid, RV); a sine reducer's has none")
     contamination: str | None = _f(
         choices=("extreme_cleanliness", "high_cleanliness", "normal_cleanliness",
                  "slight_contamination", "typical_contamination", "severe_contamination",
                  "very_severe_contamination"), default=None,
         doc="lubricant cleanliness (ISO 281:2007 Table 13): with it, the modified life "
-            "L10m = a_ISO L10 of every bearing")
+            "L10m = a_ISO L10 of every bearing",
+        unset="no modified life",
+        source="none: ISO 281's basic rating life L10 alone")
     main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
-                                    doc="distance between the load centres of the two rows")
+                                    doc="distance between the load centres of the two rows",
+                                    unset="needed with an external moment",
+                                    source="none: needed only with an external moment")
     main_preload_N: float | None = _f(0.0, None, default=None,
-                                      doc="axial preload of each main bearing row; None: "
-                                          "ASSUMPTION 2 % of the row's C0 (a light preload "
-                                          "of makers' matched pairs)")
-    external_radial_load_N: float = _f(0.0, None, default=0.0)
-    external_axial_load_N: float = _f(0.0, None, default=0.0)
+                                      doc="axial preload of each main bearing row",
+                                      unset="ASSUMPTION 2 % of the row's C0",
+                                      source="ASSUMPTION: a light preload of makers' matched "
+                                             "angular contact pairs is about 1-2 % of C0")
+    external_radial_load_N: float = _f(0.0, None, default=0.0, source=_NO_LOAD)
+    external_axial_load_N: float = _f(0.0, None, default=0.0, source=_NO_LOAD)
     external_moment_Nm: float = _f(0.0, None, default=0.0,
                                    doc="tilting moment on the output besides the one the "
-                                       "offsets below give")
+                                       "offsets below give",
+                                   source=_NO_LOAD)
     external_radial_offset_mm: float = _f(0.0, None, default=0.0,
                                           doc="axial distance from the main pair's centre to "
-                                              "the radial load's line (its moment arm)")
+                                              "the radial load's line (its moment arm)",
+                                          source=_NO_LOAD)
     external_axial_radius_mm: float = _f(0.0, None, default=0.0,
                                          doc="distance from the axis to the axial load's line "
-                                             "(its moment arm)")
+                                             "(its moment arm)",
+                                         source=_NO_LOAD)
 
 
 @dataclass(frozen=True)
 class Thermal(_Section):
     """Heat balance of the housing: losses = h A (T_oil - T_ambient). None: a cited
-    estimate (efficiency/thermal.py, docs/case_schema.md)."""
+    estimate (efficiency/thermal.py)."""
     _section = "thermal"
     ambient_C: float = _f(-40.0, 100.0, default=20.0,
-                          doc="ambient air; ASSUMPTION 20 C (a laboratory)")
+                          doc="ambient air; within [pour point, max_temperature_C) of the oil",
+                          source="ASSUMPTION: a laboratory")
     housing_area_m2: float | None = _f(0.0, None, lo_open=True, default=None,
-                                       doc="surface that sheds heat; default a cylinder of "
-                                           "the housing radius as long as its diameter")
+                                       doc="surface that sheds heat",
+                                       unset="6 pi r² of the housing radius r",
+                                       source="ASSUMPTION: a cylinder of the housing radius as "
+                                              "long as its diameter (RV-40E: 0.118 m² against "
+                                              "about 0.12 m² of the real reducer)")
     heat_transfer_W_m2K: float | None = _f(0.0, 1000.0, lo_open=True, default=None,
-                                           doc="default: natural convection (Holman) plus "
-                                               "radiation at the emissivity")
+                                           doc="heat transfer coefficient of the housing's "
+                                               "surface",
+                                           unset="natural convection + radiation at each "
+                                                 "temperature",
+                                           source="J.P. Holman, Heat Transfer (10th ed.), "
+                                                  "Table 7-2: a horizontal cylinder in air, "
+                                                  "h = 1.32 (dT/d)^(1/4), plus radiation")
     emissivity: float = _f(0.0, 1.0, default=0.9,
-                           doc="painted housing; 0.9 (Incropera, paints)")
+                           doc="of the housing's surface (radiation)",
+                           source="painted housing: Incropera & DeWitt, Fundamentals of Heat "
+                                  "and Mass Transfer, Table A.11 (paints 0.90-0.98)")
     heat_capacity_J_K: float | None = _f(0.0, None, lo_open=True, default=None,
-                                         doc="lumped heat capacity; default half the "
-                                             "housing envelope in steel")
+                                         doc="lumped heat capacity",
+                                         unset="half the housing envelope in steel at "
+                                               "450 J/(kg K)",
+                                         source="ASSUMPTION on the share (an RV-40E weighs "
+                                                "about 9 kg, 0.4 of its envelope); steel: 434-477 "
+                                                "J/(kg K) at 300 K (Incropera & DeWitt, Table "
+                                                "A.1)")
     sensor_resistance_K_W: float = _f(0.0, 20.0, default=0.0,
                                       doc="oil at the contacts above a sump sensor per W "
-                                          "of loss (the loop's thermal effect; 0: none)")
+                                          "of loss (the loop's thermal effect; 0: none)",
+                                      source="0: none; fitted by the loop's thermal effect "
+                                             "(docs/loop.md)")
     case_temperature_limit_C: float | None = _f(0.0, 300.0, lo_open=True, default=None,
                                                 doc="the maker's limit of the case surface "
-                                                    "(a warning above it); default 60 C for "
-                                                    "a 2K-V drive (Nabtesco RV-E), else none")
+                                                    "(a warning above it)",
+                                                unset="60 °C for a 2K-V drive, else none",
+                                                source="Nabtesco RV-E catalogue: the surface "
+                                                       "at most 60 °C (ASSUMPTION for another "
+                                                       "maker's RV)")
     mounting: str = _f(choices=("free", "flange"), default="free",
-                       doc="free: the housing sheds heat to the air only; flange: one end "
-                           "face is bolted to a machine that conducts heat away")
+                       doc="free: the housing sheds heat to the air only (convection and "
+                           "radiation); flange: one end face is bolted to a machine that "
+                           "conducts heat away",
+                       source="ASSUMPTION: no conduction into a machine (the hotter case)")
     contact_conductance_W_m2K: float = _f(1.0, 1e6, default=1000.0,
                                           doc="thermal contact conductance of the bolted "
-                                              "flange joint; ASSUMPTION 1000 (Incropera)")
+                                              "flange joint",
+                                          source="ASSUMPTION: bolted steel joints 400-1700 "
+                                                 "W/(m² K) (Incropera & DeWitt, Table 3.1)")
     mount_conductivity_W_mK: float = _f(0.1, 1000.0, default=50.0,
                                         doc="thermal conductivity of the machine the flange "
-                                            "is bolted to; 50 (steel, Incropera Table A.1)")
+                                            "is bolted to",
+                                        source="steel (Incropera & DeWitt, Table A.1: carbon "
+                                               "steel 60.5, AISI 4140 42.6)")
 
 
 @dataclass(frozen=True)
@@ -600,12 +820,28 @@ class Supports(_Section):
     the crank bearings (RV: in the disc's crank holes) or of the eccentric bearing (K-H-V),
     the crankshafts (span between their carrier bearings) and the output carrier."""
     _section = "supports"
-    bearing_roller_count: int | None = _f(3, 200, integer=True, default=None)
-    bearing_roller_length_mm: float | None = _f(0.0, None, lo_open=True, default=None)
-    bearing_roller_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
-    crankshaft_diameter_mm: float | None = _f(0.0, None, lo_open=True, default=None)
-    crankshaft_span_mm: float | None = _f(0.0, None, lo_open=True, default=None)
-    carrier_stiffness_Nm_per_arcmin: float | None = _f(0.0, None, lo_open=True, default=None)
+    bearing_roller_count: int | None = _f(
+        3, 200, integer=True, default=None, unset="as many as fit",
+        source="ASSUMPTION: rollers 1.2 diameters apart on their pitch circle, cage webs "
+               "between them (fem/datasheet/supports.py)")
+    bearing_roller_length_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None, unset="the member's face width",
+        source="ASSUMPTION: rollers as long as the disc (planet) is wide")
+    bearing_roller_diameter_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None, unset="a quarter of the raceway's radius",
+        source="ASSUMPTION: needle and cylindrical roller bearings of reducers, 0.2-0.3 of "
+               "the raceway's radius (fem/datasheet/supports.py)")
+    crankshaft_diameter_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None, unset="the journal less twice the eccentricity",
+        source="ASSUMPTION: the shaft passes through its eccentric journal (sine: "
+               "2 (r_p - a0))")
+    crankshaft_span_mm: float | None = _f(
+        0.0, None, lo_open=True, default=None, unset="(discs + 2) face widths",
+        source="ASSUMPTION: the discs side by side and one face width for each support "
+               "bearing")
+    carrier_stiffness_Nm_per_arcmin: float | None = _f(
+        0.0, None, lo_open=True, default=None, unset="a rigid carrier",
+        source="none: no carrier compliance in series")
 
 
 @dataclass(frozen=True)
@@ -613,5 +849,6 @@ class MeasuredPoint(_Section):
     _section = "measured"
     input_speed_rpm: float = _f(*SPEED_RPM)
     output_torque_Nm: float = _f(*TORQUE_NM)
-    efficiency: float = _f(0.0, 1.0, lo_open=True)
-    source: str = _f(default="")
+    efficiency: float = _f(0.0, 1.0, lo_open=True, doc="output power / input power")
+    source: str = _f(default="", doc="where the point comes from",
+                     source="empty: none stated")
