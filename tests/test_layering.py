@@ -22,7 +22,7 @@ LAYERS = {"toothfem.geometry": 0, "toothfem.fem": 1, "toothfem.efficiency": 2,
           "toothfem.efficiency.loop": 3, "toothfem.layouts": 5, "toothfem": 6}
 #: The top's modules that the layouts are built from (a case section, a template's rules,
 #: a drawing, the CAD bodies): below the layouts, so they never import one.
-PIECES = {"toothfem.case_sections": 4, "toothfem.case_template": 4,
+PIECES = {"toothfem.case_sections": 4, "toothfem.case_running": 4, "toothfem.case_template": 4,
           "toothfem.cycloid_template": 4, "toothfem.cad": 4,
           "toothfem.cad_parts": 4, "toothfem.report.plots": 4, "toothfem.report": 4}
 

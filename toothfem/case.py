@@ -35,10 +35,10 @@ else:  # pragma: no cover
     import tomli as tomllib
 
 # the sections, re-exported: ``from toothfem.case import Material`` and the like
-from .case_sections import (Bearings, CycloidStage, DiscHoles, DutyPoint, Friction, Lubricant,
-                            Material, MeasuredPoint, Operating, OutputMechanism, RVTrain, Seals,
-                            SineStage, SpurStage, Supports, Thermal, _f, check_ambient,
-                            check_duty_cycle)
+from .case_running import (Bearings, DutyPoint, Friction, Lubricant, MeasuredPoint, Operating,
+                           Seals, Thermal, check_ambient, check_duty_cycle)
+from .case_sections import (CycloidStage, DiscHoles, Material, OutputMechanism, RVTrain,
+                            SineStage, SpurStage, Supports, _f)
 from .case_design import Design, Tolerances, check_tolerances
 
 

@@ -1,6 +1,7 @@
 """The case schema: every key of a case file with its unit, valid range, default and the
 default's source, read from where it is declared once, the field metadata of the case's
-sections (:mod:`toothfem.case_sections`, :mod:`toothfem.case_design`, and the ``[case]``
+sections (:mod:`toothfem.case_sections`, :mod:`toothfem.case_running`,
+:mod:`toothfem.case_design`, and the ``[case]``
 table's keys on :class:`toothfem.case.Case`).
 
 :func:`schema` is what everything reads: the report's inputs table

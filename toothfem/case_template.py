@@ -18,7 +18,7 @@ import re
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 
-from .case_sections import Operating
+from .case_running import Operating
 from .errors import CaseError, ToothfemError
 from .units import M_PER_MM
 

@@ -43,7 +43,7 @@ def oil_temperature_grid(oil_C: float, lubricant) -> np.ndarray:
     ----------
     oil_C : float
         The operating point's oil temperature [deg C].
-    lubricant : toothfem.case_sections.Lubricant
+    lubricant : toothfem.case_running.Lubricant
         Its ``pour_point_C`` and ``max_temperature_C`` bound the grid.
 
     Returns

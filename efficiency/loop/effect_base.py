@@ -464,7 +464,7 @@ def default_of(section_cls, name):
     Parameters
     ----------
     section_cls : type
-        A section's dataclass (e.g. :class:`toothfem.case_sections.Friction`).
+        A section's dataclass (e.g. :class:`toothfem.case_running.Friction`).
     name : str
         The field.
 

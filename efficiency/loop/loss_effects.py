@@ -44,7 +44,7 @@ def grade_viscosity_mm2_s(lubricant) -> float:
 
     Parameters
     ----------
-    lubricant : toothfem.case_sections.Lubricant
+    lubricant : toothfem.case_running.Lubricant
         The case's lubricant (viscosity at its reference temperature, Vogel B and C).
 
     Returns
