@@ -49,7 +49,7 @@ class _Section:
     _section = ""
 
     def __post_init__(self):
-        for f in dataclasses.fields(self):
+        for f in dataclasses.fields(self):  # type: ignore[arg-type]  # every subclass is a dataclass
             md = f.metadata
             if not md:
                 continue

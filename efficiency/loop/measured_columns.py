@@ -178,7 +178,7 @@ def header_names(cells, source):
 
 def _columns(header, source):
     """quantity or column name -> (index, factor, offset); refuses a bad header."""
-    columns = {}
+    columns: dict = {}
     for j, name in enumerate(header):
         q, f, o = _column(name)
         key = q or name

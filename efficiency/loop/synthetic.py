@@ -103,7 +103,40 @@ def _step_125(x) -> float:
     return 10.0 ** (k + 1)  # pragma: no cover
 
 
-def running_in(initial_fraction=0.05, time_constant_h=5.0):
+@dataclass(frozen=True)
+class RunningIn:
+    """A loss outside the catalog: running-in friction that decays with operating time,
+    P = f0 P_out exp(-t / tau) [W] at (M,) points, called as ``loss(points, time_h,
+    prediction)``; ``description`` says what it is."""
+    initial_fraction: float
+    time_constant_h: float
+
+    @property
+    def description(self) -> str:
+        """What the loss is, for the data's header."""
+        return (f"running-in loss {self.initial_fraction:g} P_out "
+                f"exp(-t/{self.time_constant_h:g} h) (not in the catalog)")
+
+    def __call__(self, points, time_h, prediction):
+        """The loss [W].
+
+        Parameters
+        ----------
+        points : toothfem.efficiency.loop.effect_base.Points
+        time_h : numpy.ndarray, shape (M,)
+            Operating time [h].
+        prediction : toothfem.efficiency.loop.effect_base.Prediction
+            Its output power [W].
+
+        Returns
+        -------
+        numpy.ndarray, shape (M,)
+        """
+        return self.initial_fraction * prediction.output_power_W * np.exp(
+            -time_h / self.time_constant_h)
+
+
+def running_in(initial_fraction=0.05, time_constant_h=5.0) -> RunningIn:
     """A loss outside the catalog: running-in friction that decays with operating time,
     P = f0 P_out exp(-t / tau).
 
@@ -116,14 +149,10 @@ def running_in(initial_fraction=0.05, time_constant_h=5.0):
 
     Returns
     -------
-    callable
+    RunningIn
         ``loss(points, time_h, prediction) -> W`` ((M,) array), with a ``description``.
     """
-    def loss(points, time_h, prediction):
-        return initial_fraction * prediction.output_power_W * np.exp(-time_h / time_constant_h)
-    loss.description = (f"running-in loss {initial_fraction:g} P_out exp(-t/{time_constant_h:g} h)"
-                        " (not in the catalog)")
-    return loss
+    return RunningIn(float(initial_fraction), float(time_constant_h))
 
 
 def operating_points(n_points, *, speed_rpm=(100.0, 1500.0), torque_Nm=(5.0, 28.0),

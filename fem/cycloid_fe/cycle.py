@@ -115,7 +115,7 @@ class CycleSolver:
         every = [q for side in self._tabled for q in self._candidates(side)]
         # windows: the span of each pin's contact parameter over the positions + patch
         # (a pin may touch each flank: one window per pin and side)
-        windows = {}
+        windows: dict = {}
         for side in self._tabled:
             for p in self._candidates(side):
                 for j, s in zip(p.pins, p.psi):
@@ -136,7 +136,8 @@ class CycleSolver:
         if self.model.pin_structure == "integral":
             # windows on the housing teeth: the contact direction on each pin (housing frame)
             hb = self.b_ref / 2
-            tz, pts_h = {}, []
+            tz: dict = {}
+            pts_h: list = []
             for p_idx, p in enumerate(every):
                 p_idx = p_idx % len(pos)
                 k_h = state.point[p_idx, p.pins].T
@@ -543,7 +544,7 @@ def _merged(windows):
     """[(lo, hi)] of the windows [(pin, lo, hi)] with the overlapping windows of one pin
     joined (a pin near the tip or root is a candidate for both torque signs); one window
     per pin, as a one-sided solver has, stays as it is."""
-    out = {}
+    out: dict = {}
     for j, lo, hi in windows:
         spans = out.setdefault(j, [])
         for k, (a, b) in enumerate(spans):

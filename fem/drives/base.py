@@ -16,6 +16,7 @@ from ..contracts import CycleSolver, DetailedSolution, ReducerModel
 
 if TYPE_CHECKING:
     from ...layout import Layout
+    from ...si import MaterialSI
     from ..system.paths import OutputPath
 
 #: Meshing positions per period when a caller gives none: 10 deg of crank per position on a
@@ -79,6 +80,9 @@ class Drive(abc.ABC):
     @abc.abstractmethod
     def face_width_m(self) -> float:
         """Face width of the contacts [m]."""
+
+    #: Both members' material (each implementation's field).
+    material_si: MaterialSI
 
     @property
     def material(self):

@@ -429,7 +429,7 @@ def _split_linear(elements, n):
     [(law, B stacked (G, d, n), offsets stacked (G, d))], evaluated together)."""
     k = np.zeros((n, n))
     forced = np.zeros(n)
-    groups = {}
+    groups: dict = {}
     for e in elements:
         off = np.zeros(e.b.shape[0]) if e.offset is None else np.asarray(e.offset, float)
         if isinstance(e.law, Linear):

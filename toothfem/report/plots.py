@@ -59,10 +59,10 @@ def cycloid_drawing(geom, holes, crank_angle_rad=0.0, title="", case_name=""):
     t = np.linspace(0, 2 * math.pi, 60)
     for ax in axes:
         _draw_polygon(ax, placed, color="#9ecae1", ec="k", lw=0.5)
-        for j in range(geom.pin_count):
-            loaded = m.moment_arm[0, j] < 0
-            ax.fill((pins[0, j] + geom.pin_radius_m * np.cos(t)) * MM_PER_M,
-                    (pins[1, j] + geom.pin_radius_m * np.sin(t)) * MM_PER_M,
+        for i in range(geom.pin_count):
+            loaded = m.moment_arm[0, i] < 0
+            ax.fill((pins[0, i] + geom.pin_radius_m * np.cos(t)) * MM_PER_M,
+                    (pins[1, i] + geom.pin_radius_m * np.sin(t)) * MM_PER_M,
                     color="#d62728" if loaded else "#7f7f7f", alpha=0.8)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")

@@ -7,11 +7,9 @@ import csv
 import json
 import math
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-
-from typing import TYPE_CHECKING
 
 from ..quantities import ALONE_OVER_ALL, side_of
 from . import NBSP, pyplot, save, wrap

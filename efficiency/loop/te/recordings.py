@@ -389,7 +389,8 @@ def _read_te_rows(table, cols, fixed, sides, angle_bins, max_order, window, note
         jt, ft, _, nt = cols["te"]
         jd, nd = (cols["direction"][0], cols["direction"][3]) if "direction" in cols \
             else (None, None)
-    current, runs = {}, []
+    current: dict = {}
+    runs: list = []
 
     def finish(d):
         run, note = _reduce(current.pop(d), d, fields, src, angle_bins, max_order, window)
@@ -401,16 +402,16 @@ def _read_te_rows(table, cols, fixed, sides, angle_bins, max_order, window, note
     last = None
     for line, cells in table.rows():
         if cond_cols:
-            cond = list(constant)
+            cells_cond: list = list(constant)
             for j, f, o, name, fld in cond_cols:
                 v = _cell(cells, j, name, f, o, src, line)
                 k = fields.index(fld)
-                if cond[k] is not None and not close(fld, v, cond[k]):
+                if cells_cond[k] is not None and not close(fld, v, cells_cond[k]):
                     raise MeasuredDataError(
                         f"{src}: line {line}: column {name!r} = {cells[j].strip()} disagrees "
                         f"with {fld} = {fixed[fld]:g} from the file name or a comment")
-                cond[k] = v
-            cond = tuple(cond)
+                cells_cond[k] = v
+            cond = tuple(cells_cond)
         else:
             cond = constant
         angle = _cell(cells, ja, na, fa, oa, src, line)
@@ -421,14 +422,14 @@ def _read_te_rows(table, cols, fixed, sides, angle_bins, max_order, window, note
                     samples.append((d, _cell(cells, j, name, f, 0.0, src, line)))
         else:
             if jd is None:
-                d = fixed["direction"]
+                way = fixed["direction"]
             else:
-                d = DIRECTION_WORDS.get(cells[jd].strip().lower())
-                if d is None:
+                way = DIRECTION_WORDS.get(cells[jd].strip().lower())
+                if way is None:
                     raise MeasuredDataError(
                         f"{src}: line {line}: column {nd!r} = {cells[jd].strip()!r} is not a "
                         "direction (+1/-1, forward/backward)")
-            samples = [(d, _cell(cells, jt, nt, ft, 0.0, src, line))]
+            samples = [(way, _cell(cells, jt, nt, ft, 0.0, src, line))]
         if cond is not last and by_column and current:
             first = next(iter(current.values())).first
             if not all(a is None or close(fld, a, b) for fld, a, b in zip(fields, first, cond)
