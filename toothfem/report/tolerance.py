@@ -1,6 +1,5 @@
-"""Pictures and text of the tolerance ensemble (``toothfem tolerance``): the distribution of
-each output with the nominal design and the percentiles marked, and the share of each
-tolerance in each output's variance."""
+"""Pictures and text of the tolerance ensemble (``toothfem tolerance``): each output's
+distribution with the nominal and percentiles marked, each tolerance's variance share."""
 from __future__ import annotations
 
 import csv
