@@ -37,9 +37,8 @@ class Drive(abc.ABC):
     #: "cycloid" or "sine": the meshing stage, as its case section and the mesh efficiency
     #: are named (labels only; consumers ask :attr:`layout`, never branch on it).
     kind: str = ""
-    #: The layout it belongs to (:class:`toothfem.layout.Layout`): what every consumer asks
-    #: instead of branching on the drive; each implementation holds it as a field that
-    #: takes no part in the drive's equality and hash.
+    #: The layout it belongs to (:class:`toothfem.layout.Layout`), what every consumer asks
+    #: instead of branching on the drive (a field outside the drive's equality and hash).
     layout: Layout
     #: How the torque reaches the output (:class:`toothfem.fem.system.paths.OutputPath`):
     #: the train's speeds, the members' torque and the system model ask it.
@@ -81,12 +80,11 @@ class Drive(abc.ABC):
     def face_width_m(self) -> float:
         """Face width of the contacts [m]."""
 
-    #: Both members' material (each implementation's field).
+    #: Both members' material (each implementation's field; ``material`` reads it).
     material_si: MaterialSI
 
     @property
-    def material(self):
-        """:class:`toothfem.si.MaterialSI` of both members (each drive's ``material_si``)."""
+    def material(self) -> MaterialSI:
         return self.material_si
 
     @abc.abstractmethod
