@@ -580,8 +580,7 @@ class Drive(abc.ABC):
 
 
 def _merged_orders(pairs) -> dict:
-    """{name: order} of (name, order) pairs, rounded to 1e-9; the names of equal orders
-    joined by " = " in one entry (a K-H-V drive's crank is its input)."""
+    """{name: order} of (name, order) pairs, rounded to 1e-9; equal orders' names joined."""
     names: list[str] = []
     orders: list[float] = []
     for name, q in pairs:
