@@ -105,3 +105,25 @@ def small_khv():
         assert old in text, old
         text = text.replace(old, new)
     return parse_case_text(text)
+
+
+@pytest.fixture(scope="session")
+def fe_cache():
+    """The suite's FE disk cache (suite_cache_dir) for the cycle solvers a test builds
+    itself (``CycleSolver(..., cache=fe_cache)``; ``drive.cycle_solver`` and the commands
+    take it from TOOTHFEM_CACHE). The tables read back are the arrays these sources
+    computed when the folder was filled (its name is their hash), so such a test checks
+    the same numbers warm or cold; building them is checked in every session that starts
+    cold (a changed source, a fresh machine, TOOTHFEM_TEST_CACHE=fresh) and by the tests
+    about the cache, which keep their own folder (``DiskCache(tmp_path)``)."""
+    from toothfem.fem.cache import DiskCache
+
+    return DiskCache()
+
+
+def pytest_collection_modifyitems(config, items):
+    """The slow tests first, each group in its own order (a stable sort): under
+    pytest-xdist (``make test``: ``-n auto --dist worksteal``) the long ones then start
+    while the short ones are left to balance the workers, instead of one beginning near
+    the end and running alone."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
