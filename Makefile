@@ -27,7 +27,7 @@ lint: $(VENV)/.installed
 	$(BIN)/python tools/typecheck.py
 
 test: lint
-	$(BIN)/python -m pytest -q -rs tests
+	$(BIN)/python -m pytest -q -rs -n auto --dist worksteal tests
 
 test-fast: $(VENV)/.installed
 	$(BIN)/python -m pytest -q -m "not slow" tests

@@ -1,15 +1,78 @@
+import hashlib
 import os
+import sys
 import tempfile
+from importlib import metadata
 from pathlib import Path
 
 import pytest
 
 os.environ.setdefault("MPLBACKEND", "Agg")
-# the FE disk cache (fem/cache.py) in a fresh folder per test session, not the user's
-os.environ["TOOTHFEM_CACHE"] = tempfile.mkdtemp(prefix="toothfem-test-cache-")
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = ROOT / "cases"
+
+#: Where the suite keeps its FE disk cache: a path, or "fresh" for a new temporary folder
+#: (every table built again, as on a fresh machine; the cold timing).
+TEST_CACHE_ENV = "TOOTHFEM_TEST_CACHE"
+#: The folders whose Python sources build the FE tables, and the libraries that do so too.
+FE_SOURCES = ("geometry", "fem")
+FE_LIBRARIES = ("numpy", "scipy", "scikit-fem", "gmsh", "shapely")
+
+
+def fe_source_hash() -> str:
+    """16 hex digits of SHA-256 over every .py file of FE_SOURCES (path and bytes), the
+    versions of FE_LIBRARIES and Python's: the name of the suite's cache folder.
+
+    Why a stale cache cannot serve wrong tables: fem/cache.py keys each file by the
+    solver's inputs (geometry, material, positions, mesh density, TABLES_VERSION), not by
+    the code that turns them into tables; a change to that code under an unchanged key
+    would read old tables. Here any change to a file of geometry/ or fem/ (or to a library
+    that meshes, factorises or intersects) names another folder, which starts empty; the
+    tables of the old sources stay in the old folder, which no later session reads.
+    """
+    h = hashlib.sha256()
+    for folder in FE_SOURCES:
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            h.update(path.relative_to(ROOT).as_posix().encode() + b"\0")
+            h.update(path.read_bytes() + b"\0")
+    for lib in FE_LIBRARIES:
+        try:
+            version = metadata.version(lib)
+        except metadata.PackageNotFoundError:
+            version = "-"
+        h.update(f"{lib}={version}\0".encode())
+    h.update(sys.version.encode())
+    return h.hexdigest()[:16]
+
+
+def suite_cache_dir() -> str:
+    """The FE disk cache (fem/cache.py) of this session: ``$TOOTHFEM_TEST_CACHE``; a new
+    temporary folder if that is "fresh"; else ``<XDG cache>/toothfem-tests/<hash>``, kept
+    between sessions so that tables are built once per source state, not once per run.
+
+    Never the user's own cache. pytest-xdist's workers inherit the controller's
+    TOOTHFEM_CACHE and keep it (one folder per session, "fresh" included). Workers that
+    build the same table at once are safe: DiskCache.store writes a temporary file named
+    by its process and renames it over the key's file (os.replace, atomic on one file
+    system), so a reader sees a whole file or none, and the last of two equal writes
+    wins. Tests about the cache itself (cold against warm, corrupt, unwritable) give their
+    solver or $TOOTHFEM_CACHE a folder of their own (tmp_path).
+    """
+    if os.environ.get("PYTEST_XDIST_WORKER") and os.environ.get("TOOTHFEM_CACHE"):
+        return os.environ["TOOTHFEM_CACHE"]           # the controller's choice
+    chosen = os.environ.get(TEST_CACHE_ENV, "")
+    if chosen == "fresh":
+        return tempfile.mkdtemp(prefix="toothfem-test-cache-")
+    if chosen:
+        return chosen
+    base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
+    folder = base / "toothfem-tests" / fe_source_hash()
+    folder.mkdir(parents=True, exist_ok=True)
+    return str(folder)
+
+
+os.environ["TOOTHFEM_CACHE"] = suite_cache_dir()
 
 if os.environ.get("TOOTHFEM_TEST_WHEEL"):
     # `make test-wheel`: the suite must import the installed wheel, not the checkout
@@ -42,3 +105,25 @@ def small_khv():
         assert old in text, old
         text = text.replace(old, new)
     return parse_case_text(text)
+
+
+@pytest.fixture(scope="session")
+def fe_cache():
+    """The suite's FE disk cache (suite_cache_dir) for the cycle solvers a test builds
+    itself (``CycleSolver(..., cache=fe_cache)``; ``drive.cycle_solver`` and the commands
+    take it from TOOTHFEM_CACHE). The tables read back are the arrays these sources
+    computed when the folder was filled (its name is their hash), so such a test checks
+    the same numbers warm or cold; building them is checked in every session that starts
+    cold (a changed source, a fresh machine, TOOTHFEM_TEST_CACHE=fresh) and by the tests
+    about the cache, which keep their own folder (``DiskCache(tmp_path)``)."""
+    from toothfem.fem.cache import DiskCache
+
+    return DiskCache()
+
+
+def pytest_collection_modifyitems(config, items):
+    """The slow tests first, each group in its own order (a stable sort): under
+    pytest-xdist (``make test``: ``-n auto --dist worksteal``) the long ones then start
+    while the short ones are left to balance the workers, instead of one beginning near
+    the end and running alone."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)

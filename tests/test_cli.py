@@ -84,6 +84,43 @@ def test_help_lists_commands(capsys):
     assert "check" in out and "geometry" in out
 
 
+def test_the_console_script_answers_help_without_numpy_or_the_fe():
+    """The installed console script (a real process, its exit path) lists every command
+    under --help, and a --help imports neither numpy nor scipy nor the FE: each command
+    imports what it needs inside its own functions (toothfem/cli.py;
+    benchmarks/cli_startup.py times it). A command's own --help builds its arguments."""
+    import shutil
+    import subprocess
+    import sys
+    import textwrap
+    from pathlib import Path
+
+    script = shutil.which("toothfem", path=str(Path(sys.executable).parent))
+    assert script, f"no toothfem console script beside {sys.executable}"
+    p = subprocess.run([script, "--help"], capture_output=True, text=True, timeout=60)
+    assert p.returncode == 0 and p.stderr == "", p.stderr
+    assert all(f"    {c.NAME}" in p.stdout for c in cli.COMMANDS), p.stdout
+    probe = textwrap.dedent("""\
+        import json, sys
+        from toothfem.cli import main
+        for argv in (["--help"], ["efficiency", "--help"]):
+            try:
+                main(argv)
+            except SystemExit as e:
+                loaded = {m if m.startswith("toothfem.") else m.split(".")[0]
+                          for m in sys.modules}
+                print("LOADED", json.dumps([argv[0], e.code, sorted(loaded)]))
+        """)
+    p = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 0, p.stderr
+    top, own = (json.loads(line.split(" ", 1)[1]) for line in p.stdout.splitlines()
+                if line.startswith("LOADED "))
+    heavy = {"numpy", "scipy", "toothfem.fem", "toothfem.geometry", "toothfem.efficiency"}
+    assert top[:2] == ["--help", 0] and not heavy & set(top[2]), top
+    assert own[:2] == ["efficiency", 0] and "toothfem.efficiency" in own[2]
+
+
 def test_contact_command_writes_results(cases_dir, tmp_path, capsys):
     """Three positions, structural field: CSV columns, summary keys, VTU and PNGs."""
     import csv
@@ -197,19 +234,24 @@ def test_contact_command_sine_pair(cases_dir, tmp_path, capsys):
 def test_an_ascii_terminal_and_a_stale_matplotlib_backend_are_no_errors(cases_dir, tmp_path):
     """PYTHONIOENCODING=ascii (the efficiency table holds en dashes and Greek letters) and
     an MPLBACKEND matplotlib does not know (it refuses to import under it): the commands
-    print with the characters replaced and draw off-screen as always."""
+    print with the characters replaced and draw off-screen as always. A real process: both
+    variables act when the interpreter and matplotlib start; the two commands run in one
+    (each exit code printed), which is what the variables act on."""
     import os
     import subprocess
     import sys
 
     env = dict(os.environ, PYTHONIOENCODING="ascii", MPLBACKEND="no_such_backend")
-    for args in (["efficiency", str(cases_dir / "sine_prototype.toml")],
-                 ["geometry", str(cases_dir / "sine_prototype.toml"), "--out",
-                  str(tmp_path / "g")]):
-        p = subprocess.run([sys.executable, "-c", "import sys; from toothfem.cli import "
-                            "main; sys.exit(main())", *args], capture_output=True, env=env,
-                           timeout=120)
-        assert p.returncode == 0 and p.stderr == b"", p.stderr.decode()[-500:]
+    commands = (["efficiency", str(cases_dir / "sine_prototype.toml")],
+                ["geometry", str(cases_dir / "sine_prototype.toml"), "--out",
+                 str(tmp_path / "g")])
+    script = ("import sys; from toothfem.cli import main\n"
+              f"codes = [main(a) for a in {commands!r}]\n"
+              "print('exit codes', codes)")
+    p = subprocess.run([sys.executable, "-c", script], capture_output=True, env=env,
+                       timeout=120)
+    assert p.returncode == 0 and p.stderr == b"", p.stderr.decode()[-500:]
+    assert p.stdout.decode("ascii").splitlines()[-1] == "exit codes [0, 0]"
     assert (tmp_path / "g" / "drawing.png").stat().st_size > 0
 
 

@@ -30,8 +30,8 @@ PHIS = np.array([0.013, 0.061, 0.117])      # generic crank angles within one pi
 
 
 @pytest.fixture(scope="module")
-def cycle(model, case):
-    return cf.CycleSolver(model, PHIS).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
+def cycle(model, case, fe_cache):
+    return cf.CycleSolver(model, PHIS, cache=fe_cache).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
 
 
 def test_torque_equilibrium_every_position(cycle, case):
@@ -69,22 +69,22 @@ def test_rigid_body_limit_reproduces_seed(model, case):
                        rtol=2e-4, atol=1e-6)
 
 
-def test_clearance_modification_loads_fewer_pins_harder(case, cycle):
+def test_clearance_modification_loads_fewer_pins_harder(case, cycle, fe_cache):
     from dataclasses import replace
 
     g = replace(case.cycloid.geometry(), equidistant_m=10e-6, move_distance_m=-10e-6)
     model = replace(drive_for(case).fe_model(pin_structure="conventional"), geometry=g)
-    mod = cf.CycleSolver(model, PHIS).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
+    mod = cf.CycleSolver(model, PHIS, cache=fe_cache).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(mod.contacts_per_position < cycle.contacts_per_position)
     assert np.all(mod.force.max(axis=1) > 1.2 * cycle.force.max(axis=1))
     assert np.all(np.abs(mod.torque_residual()) < 1e-8)
     # more torque closes more clearance: the count rises with the load
-    more = cf.CycleSolver(model, PHIS[:1]).solve(3 * drive_for(case).member_torque(case.operating.output_torque_Nm))
+    more = cf.CycleSolver(model, PHIS[:1], cache=fe_cache).solve(3 * drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert more.contacts_per_position[0] > mod.contacts_per_position[0]
 
 
-def test_new_torque_reuses_influence(model, case):
-    s = cf.CycleSolver(model, PHIS[:1])
+def test_new_torque_reuses_influence(model, case, fe_cache):
+    s = cf.CycleSolver(model, PHIS[:1], cache=fe_cache)
     a = s.solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
     infl = s._influence[0]
     b = s.solve(2 * drive_for(case).member_torque(case.operating.output_torque_Nm))
@@ -94,12 +94,12 @@ def test_new_torque_reuses_influence(model, case):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("phi", [0.0, 0.05, 0.11])
-def test_cycle_and_detailed_modes_agree(model, case, phi):
+def test_cycle_and_detailed_modes_agree(model, case, phi, fe_cache):
     """Maximum pin force within 2 % (measured 0.2 %, docs/fem.md); the detailed mode's
     nodal forces balance the torque exactly with their own moment arms."""
     torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     det = cf.solve_detailed(model, phi, torque, elements_per_halfwidth=5)
-    cyc = cf.CycleSolver(model, np.array([phi])).solve(torque)
+    cyc = cf.CycleSolver(model, np.array([phi]), cache=fe_cache).solve(torque)
     fd, fc = det.load_sharing.force[0], cyc.force[0]
     assert abs(fd.max() / fc.max() - 1) < 0.02
     assert np.sum(fd > 0) == np.sum(fc > 0)
@@ -111,12 +111,14 @@ def test_cycle_and_detailed_modes_agree(model, case, phi):
     assert abs(np.max(det.pressure[k]) / det.load_sharing.ph[0, det.pins[k]] - 1) < 0.03
 
 
-def test_integral_housing_against_conventional(case):
+def test_integral_housing_against_conventional(case, fe_cache):
     """The integral structure (pins one piece with a housing clamped at r = 112 mm) shares
     the load like the conventional pins within a few per cent and balances the torque."""
-    integral = cf.CycleSolver(drive_for(case).fe_model(pin_structure="integral"), PHIS[:2]).solve(
+    integral = cf.CycleSolver(drive_for(case).fe_model(pin_structure="integral"), PHIS[:2],
+                              cache=fe_cache).solve(
         drive_for(case).member_torque(case.operating.output_torque_Nm))
-    conventional = cf.CycleSolver(drive_for(case).fe_model(pin_structure="conventional"), PHIS[:2]).solve(
+    conventional = cf.CycleSolver(drive_for(case).fe_model(pin_structure="conventional"), PHIS[:2],
+                                  cache=fe_cache).solve(
         drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(np.abs(integral.torque_residual()) < 1e-8)
     assert np.all(integral.contacts_per_position >= 19)
@@ -125,11 +127,11 @@ def test_integral_housing_against_conventional(case):
 
 
 @pytest.mark.slow
-def test_integral_cycle_and_detailed_agree(case):
+def test_integral_cycle_and_detailed_agree(case, fe_cache):
     model = drive_for(case).fe_model(pin_structure="integral")
     torque = drive_for(case).member_torque(case.operating.output_torque_Nm)
     det = cf.solve_detailed(model, 0.05, torque, elements_per_halfwidth=4)
-    cyc = cf.CycleSolver(model, np.array([0.05])).solve(torque)
+    cyc = cf.CycleSolver(model, np.array([0.05]), cache=fe_cache).solve(torque)
     assert abs(det.load_sharing.force.max() / cyc.force.max() - 1) < 0.02
     assert abs(det.load_sharing.torque_residual()[0]) < 1e-8
 

@@ -47,8 +47,8 @@ FAST_SPACING = 70e-6
 
 
 @pytest.fixture(scope="module")
-def solver(model):
-    return sf.CycleSolver(model, PHIS, spacing=FAST_SPACING)
+def solver(model, fe_cache):
+    return sf.CycleSolver(model, PHIS, spacing=FAST_SPACING, cache=fe_cache)
 
 
 @pytest.fixture(scope="module")
@@ -152,11 +152,12 @@ def test_regression_at_the_operating_point(cycle):
     assert te[2] == pytest.approx(25.53, rel=5e-3)
 
 
-def test_mesh_convergence_of_the_max_force(model, cycle, torque):
+def test_mesh_convergence_of_the_max_force(model, cycle, torque, fe_cache):
     """Halving the hat spacing and every mesh size with it (70 -> 35 um along the
     surfaces, 2.8 -> 1.4 mm inside) changes the maximum tooth force by 0.16 % at most
     (measured; 70 -> 17.7 um: 0.2 %); required 0.5 %."""
-    fine = sf.CycleSolver(model, PHIS[:2], spacing=FAST_SPACING / 2).solve(torque)
+    fine = sf.CycleSolver(model, PHIS[:2], spacing=FAST_SPACING / 2, cache=fe_cache).solve(
+        torque)
     ratio = fine.force.max(axis=1) / cycle.force[:2].max(axis=1)
     assert np.all(np.abs(ratio - 1) < 5e-3)
 
@@ -186,7 +187,7 @@ def test_bad_inputs_name_the_parameter(case, model, torque, cases_dir):
 
 @pytest.mark.slow
 @pytest.mark.parametrize("fraction", [0.0, 0.3, 0.62])
-def test_cycle_and_detailed_modes_agree(model, torque, fraction):
+def test_cycle_and_detailed_modes_agree(model, torque, fraction, fe_cache):
     """Two independent discretisations: hat grids with influence tables (cycle, default
     35 um) and conforming two-body P2 contact on meshes refined at the position's zones
     (detailed, 15 um). Measured: maximum force within 0.3 %, P_h within 0.7 %, TE within
@@ -194,7 +195,7 @@ def test_cycle_and_detailed_modes_agree(model, torque, fraction):
     the lightest contacts), TE 1 %, the same loaded teeth, exact equilibrium."""
     phi = fraction * PITCH
     det = sf.solve_detailed(model, phi, torque)
-    cyc = sf.CycleSolver(model, [phi]).solve(torque)
+    cyc = sf.CycleSolver(model, [phi], cache=fe_cache).solve(torque)
     fd, fc = det.load_sharing.force[0], cyc.force[0]
     assert abs(fd.max() / fc.max() - 1) < 0.02
     assert np.array_equal(fd > 0, fc > 0)

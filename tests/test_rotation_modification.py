@@ -174,7 +174,7 @@ def test_check_reports_the_clearance_before_load(cases_dir):
 # Cycle mode
 
 @pytest.fixture(scope="module")
-def unmodified_cycle(base, drive):
+def unmodified_cycle(base, drive, fe_cache):
     """The unmodified disc at two positions, per flank layout (both sides' tables, one set
     of both flanks): its tables and its solutions at +-T, the reference of every rotation
     below (built once for them all)."""
@@ -182,7 +182,7 @@ def unmodified_cycle(base, drive):
     torque = drive.member_torque(167.0)
     ref = {}
     for sides in ((1, -1), (0,)):
-        solver = cf.CycleSolver(base, phis, sides=sides)
+        solver = cf.CycleSolver(base, phis, sides=sides, cache=fe_cache)
         tables = solver.tables()
         ref[sides] = tables, {t: solver.solve(t) for t in (torque, -torque)}
     return phis, torque, ref
@@ -231,7 +231,7 @@ MODS_FE = [dict(), dict(rotation_rad=math.radians(0.1)), dict(equidistant_m=10e-
 
 @pytest.mark.slow
 @pytest.mark.parametrize("mods", MODS_FE, ids=_ids)
-def test_cycle_and_detailed_agree_on_every_modification(base, drive, mods):
+def test_cycle_and_detailed_agree_on_every_modification(base, drive, mods, fe_cache):
     """One position, both torque signs: the same pins carry load, the largest force within
     MODES_RTOL, the TE within TE_ATOL; with a rotation the TE is the unmodified one shifted
     by the rotation in both modes (the must-show of issue 28). At the seed's disc torque
@@ -243,7 +243,7 @@ def test_cycle_and_detailed_agree_on_every_modification(base, drive, mods):
     phi = drive.positions(36)[13]
     torque = 1.1 * 167.0 / 2
     model = _with(base, **mods)
-    solver = cf.CycleSolver(model, np.array([phi]), sides=(1, -1))
+    solver = cf.CycleSolver(model, np.array([phi]), sides=(1, -1), cache=fe_cache)
     for t in (torque, -torque):
         c = solver.solve(t)
         d = cf.solve_detailed(model, phi, t).load_sharing
@@ -271,7 +271,7 @@ def test_detailed_rotation_keeps_the_unmodified_load_sharing(base, drive):
 
 
 @pytest.mark.slow
-def test_both_flanks_with_idle_flank_interference(base, drive):
+def test_both_flanks_with_idle_flank_interference(base, drive, fe_cache):
     """A built stage whose idle flank interferes (two idle pins grown by 2 um, the rest
     moved in a 5 um zone): the cycle mode with every pin a candidate (sides=(0,)) and the
     detailed mode on both flanks load the same pins, idle ones included, and agree on the
@@ -283,7 +283,8 @@ def test_both_flanks_with_idle_flank_interference(base, drive):
     radius[[28, 31]] = 2e-6                       # idle flank at this position (arm > 0)
     dev = CycloidDeviation(pin_offset=rng.normal(0, 5e-6 / 6, (2, 40)), pin_radius=radius,
                            profile=np.zeros((39, 2)), member_offset=np.zeros(2))
-    c = cf.CycleSolver(base, np.array([phi]), sides=(0,)).solve(torque, deviation=dev)
+    c = cf.CycleSolver(base, np.array([phi]), sides=(0,), cache=fe_cache).solve(
+        torque, deviation=dev)
     d = cf.solve_detailed(base, phi, torque, deviation=dev, flanks="both",
                           force_margin=8).load_sharing
     arm = c.moment_arm[0]

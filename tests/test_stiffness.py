@@ -74,10 +74,10 @@ PHI0 = 0.3 * 2 * math.pi / 40      # a generic crank angle, and its mirror image
 
 
 @pytest.fixture(scope="module")
-def both_sides(drive):
+def both_sides(drive, fe_cache):
     """Conventional pins (the lighter model), both flanks, at PHI0, -PHI0 and 0."""
     return cf.CycleSolver(drive.fe_model(pin_structure="conventional"),
-                          np.array([PHI0, -PHI0, 0.0]), sides=(1, -1))
+                          np.array([PHI0, -PHI0, 0.0]), sides=(1, -1), cache=fe_cache)
 
 
 def test_two_flanks_mirror_each_other(both_sides):
@@ -95,17 +95,17 @@ def test_two_flanks_mirror_each_other(both_sides):
 
 
 @pytest.mark.slow
-def test_both_flank_mesh_agrees_with_one_flank_mesh(drive, supports, both_sides):
+def test_both_flank_mesh_agrees_with_one_flank_mesh(drive, supports, both_sides, fe_cache):
     """The one-flank solver (the cycle mode of `toothfem contact`, its mesh refined on one
     flank only) gives the same TE within the two meshes' difference (tolerance 1 %)."""
     tm = drive.member_torque(167.0, peak=False)
-    one = cf.CycleSolver(both_sides.model, both_sides.positions_rad)
+    one = cf.CycleSolver(both_sides.model, both_sides.positions_rad, cache=fe_cache)
     assert np.allclose(both_sides.solve(tm).transmission_error,
                        one.solve(tm).transmission_error, rtol=1e-2)
 
 
 @pytest.mark.slow
-def test_rigidity_converges_with_the_mesh(drive):
+def test_rigidity_converges_with_the_mesh(drive, fe_cache):
     """The mesh's rigidity (50-100 % slope of beta) on three meshes of 3, 5 and 8 elements
     per reference strip: the change from the middle to the finest below 2 %."""
     phis = drive.positions(2)
@@ -113,7 +113,7 @@ def test_rigidity_converges_with_the_mesh(drive):
     slopes = []
     for n in (3, 5, 8):
         s = cf.CycleSolver(drive.fe_model(pin_structure="conventional"), phis,
-                           elements_per_bref=n)
+                           elements_per_bref=n, cache=fe_cache)
         d_beta = s.solve(tm).transmission_error - s.solve(0.5 * tm).transmission_error
         slopes.append(0.5 * tm / np.mean(d_beta))
     assert abs(slopes[2] / slopes[1] - 1) < 0.02

@@ -366,10 +366,10 @@ def test_a_killed_sweep_keeps_its_points_and_a_rerun_finishes_only_the_rest(case
 
 @pytest.mark.slow
 def test_local_cluster_two_workers_conventional_pins(cycloid, tmp_path):
-    """The default path: a LocalCluster of two worker processes, the case's own pins."""
+    """The default path: a LocalCluster of two worker processes, the case's own pins, the
+    default disk cache ($TOOTHFEM_CACHE: the suite's, tests/conftest.py)."""
     res = sweep(cycloid, {ECC: [1.0, 0.95, 0.9]}, torques_Nm=[100, 167], positions=4,
-                pins="conventional", n_workers=2, out=tmp_path / "sw",
-                cache_dir=tmp_path / "cache", progress=False)
+                pins="conventional", n_workers=2, out=tmp_path / "sw", progress=False)
     rows = _read(res.table)
     assert len(rows) == 6 and res.failed == 0
     summary = json.loads((res.out / "sweep.json").read_text())

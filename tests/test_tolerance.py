@@ -150,7 +150,7 @@ def test_profile_deviation_closes_its_own_flank(pinhousing):
 # -- the sampled contact against FE meshes with the pins moved ----------------------------
 
 @pytest.mark.slow
-def test_gap_shifts_against_remeshed_pins(pinhousing):
+def test_gap_shifts_against_remeshed_pins(pinhousing, fe_cache):
     """Three rings with pins moved (normal, 5 um zone) and resized (0 to -2 um), solved by
     the cycle mode with the nominal influence tables and gap shifts, and by the detailed
     mode with the pins moved and resized in its meshes: the same pins carry load, and the
@@ -160,7 +160,7 @@ def test_gap_shifts_against_remeshed_pins(pinhousing):
     drive = drive_for(pinhousing)
     model = drive.fe_model(pin_structure="conventional")
     phis = drive.positions(36)[[0, 13]]
-    solver = CycleSolver(model, phis)
+    solver = CycleSolver(model, phis, cache=fe_cache)
     torque = drive.member_torque(pinhousing.to_si().declared_output_torque_Nm())
     zb, za = drive.geometry.pin_count, drive.stage.lobe_count
     for seed in (1, 2, 3):

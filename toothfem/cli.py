@@ -20,10 +20,11 @@ import threading
 import warnings
 
 from . import __version__
+# each command module is light (NAME, HELP, add_parser, run); what a command needs is
+# imported by its own add_parser and run, so `toothfem --help` imports neither numpy nor
+# the FE (benchmarks/cli_startup.py times it)
 from .commands import (check, contact, design, efficiency, geometry, loop, run, stiffness,
                        sweep, te_loop, tolerance, new)
-from . import signals
-from .errors import IncompleteRun, Terminated, ToothfemError
 
 COMMANDS = (check, geometry, contact, stiffness, tolerance, design, efficiency, run, loop,
             te_loop, sweep, new)
@@ -33,13 +34,20 @@ DEBUG_ENV = "TOOTHFEM_DEBUG"
 EXIT_REFUSED, EXIT_INTERNAL, EXIT_INCOMPLETE = 2, 3, 4
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     """The argument parser with every subcommand of COMMANDS.
+
+    Parameters
+    ----------
+    only : str, optional
+        Build the arguments of this subcommand alone; every other one is listed by its
+        name and help line only (what ``toothfem --help`` shows), so that its add_parser,
+        which may import the package's heavy parts, does not run. None: all of them.
 
     Returns
     -------
     argparse.ArgumentParser
-        Each subcommand sets ``func`` (its ``run``).
+        Each fully built subcommand sets ``func`` (its ``run``).
     """
     parser = argparse.ArgumentParser(
         prog="toothfem",
@@ -52,8 +60,17 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"toothfem {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for cmd in COMMANDS:
-        cmd.add_parser(sub)
+        if only is None or only == cmd.NAME:
+            cmd.add_parser(sub)
+        else:
+            sub.add_parser(cmd.NAME, help=cmd.HELP)
     return parser
+
+
+def _command_named(argv) -> str:
+    """The subcommand that ``argv`` names: its first word that is not an option (the
+    top-level options, --help and --version, take no value); "" for none."""
+    return next((a for a in argv if not a.startswith("-")), "")
 
 
 def console() -> None:
@@ -83,7 +100,10 @@ def main(argv=None, *, late_signals_ignored: bool = False) -> int:
         the signal's number.
     """
     _never_unencodable()
-    args = build_parser().parse_args(argv)
+    argv = sys.argv[1:] if argv is None else list(argv)
+    args = build_parser(only=_command_named(argv)).parse_args(argv)
+    from .errors import IncompleteRun, Terminated, ToothfemError   # after --help: numpy
+
     name = f"toothfem {args.command}"
     try:
         with _signals_raise(late_signals_ignored), _one_line_warnings(name):
@@ -159,6 +179,7 @@ def _signals_raise(then_ignored: bool = False):
     if threading.current_thread() is not threading.main_thread():
         yield
         return
+    from . import signals
 
     def handler(signum, frame):
         signals.note(signum)

@@ -2,8 +2,12 @@
 from __future__ import annotations
 
 import json
-from ..case import load_case
-from ..derived import derived
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "check"
+HELP = "validate a case file and print derived quantities"
 
 
 def add_parser(sub):
@@ -14,7 +18,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("check", help="validate a case file and print derived quantities")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--json", action="store_true", help="machine-readable output")
     p.set_defaults(func=run)
@@ -38,6 +42,8 @@ def run(args) -> int:
     CaseError
         A case that cannot be read or holds an invalid value (the CLI prints the message).
     """
+    from ..case import load_case
+    from ..derived import derived
 
     case = load_case(args.case)
     d = derived(case)

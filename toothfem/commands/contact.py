@@ -4,12 +4,13 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
-from ..case import load_case
-from ..case_checks import TORQUE_NM
-from ..errors import CaseError, check_range
-from ..output import atomic_dir
-from ..pipeline import contact_analysis
-from ..report import html as report_html, summary as report_summary
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "contact"
+HELP = ("FE load sharing, Hertz or FE pressure and transmission error over one meshing period "
+        "(cycloid discs, sine pair)")
 
 
 def add_parser(sub):
@@ -20,8 +21,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("contact", help="FE load sharing, Hertz or FE pressure and transmission "
-                       "error over one meshing period (cycloid discs, sine pair)")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--positions", type=int, default=36,
                    help="meshing positions over one pin pitch (default 36)")
@@ -66,7 +66,13 @@ def run(args) -> int:
     CaseError
         If ``--positions`` or ``--torque-Nm`` is outside its range, or the case is invalid.
     """
+    from ..case import load_case
+    from ..case_checks import TORQUE_NM
+    from ..errors import CaseError, check_range
+    from ..output import atomic_dir
+    from ..pipeline import contact_analysis
     from ..bars import bar
+    from ..report import html as report_html, summary as report_summary
 
 
     check_range("--positions", args.positions, 1, 3600, error=CaseError)

@@ -5,12 +5,12 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..case import load_case
-from ..design import design_analysis
-from ..errors import decode_text
-from ..output import atomic_dir
-from ..report import html as report_html
-from ..report import summary as report_summary
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "design"
+HELP = ("search the disc's equidistant, move-distance and rotation modifications for the "
+        "[design] targets (backlash, contacts, Hertz pressure, optionally at a tolerance "
+        "percentile)")
 
 
 def add_parser(sub):
@@ -21,9 +21,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("design", help="search the disc's equidistant, move-distance and "
-                       "rotation modifications for the [design] targets (backlash, "
-                       "contacts, Hertz pressure, optionally at a tolerance percentile)")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML) with a [design] section")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--positions", type=int, default=18,
@@ -53,6 +51,12 @@ def run(args) -> int:
         For an invalid case, one without [design] or [cycloid], or targets no candidate
         meets.
     """
+    from ..case import load_case
+    from ..design import design_analysis
+    from ..errors import decode_text
+    from ..output import atomic_dir
+    from ..report import html as report_html
+    from ..report import summary as report_summary
     case = load_case(args.case)
     source = decode_text(Path(args.case).read_bytes(), args.case)
     with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once

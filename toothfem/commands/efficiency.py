@@ -3,15 +3,12 @@
 from __future__ import annotations
 
 import json
-from ..case import load_case
-from ..case_checks import SPEED_RPM, TORQUE_NM
-from ..durability import thermal_summary
-from ..efficiency import operating_point
-from ..efficiency.evaluation import METHODS
-from ..efficiency.mesh_table import LOADS, fe_progress
-from ..errors import CaseError, check_range
-from ..pipeline import efficiency_summary
-from ..report import summary as report_summary
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "efficiency"
+HELP = "reducer efficiency and the loss of every component at one operating point"
 
 
 def add_parser(sub):
@@ -22,9 +19,10 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
+    from ..efficiency.evaluation import METHODS
+    from ..efficiency.mesh_table import LOADS
 
-    p = sub.add_parser("efficiency", help="reducer efficiency and the loss of every component "
-                       "at one operating point")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--loads", choices=LOADS, default="analytic",
                    help="load sharing: analytic (the seeds' split, default) or fem (cycle-mode "
@@ -70,6 +68,7 @@ def run(args) -> int:
     CaseError
         If a value is outside its range or the options exclude each other.
     """
+    from ..efficiency.mesh_table import fe_progress
     from ..bars import bar
 
     with fe_progress(bar):          # the FE load table's solves on a bar (stderr)
@@ -77,6 +76,14 @@ def run(args) -> int:
 
 
 def _run(args) -> int:
+
+    from ..case import load_case
+    from ..case_checks import SPEED_RPM, TORQUE_NM
+    from ..durability import thermal_summary
+    from ..efficiency import operating_point
+    from ..errors import CaseError, check_range
+    from ..pipeline import efficiency_summary
+    from ..report import summary as report_summary
 
     for flag, value, (lo, hi) in (("--speed-rpm", args.speed, SPEED_RPM),
                                   ("--torque-Nm", args.torque, TORQUE_NM)):

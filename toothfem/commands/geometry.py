@@ -3,11 +3,14 @@ as DXF and SVG (mm; STEP with the extra [cad]), a drawing (PNG) and a check summ
 from __future__ import annotations
 
 from pathlib import Path
-from ..case import load_case
-from ..errors import CaseError, check_range
-from ..output import atomic_dir
-from ..report.files import write_geometry
-from ..report import html as report_html
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "geometry"
+HELP = ("write the tooth profiles (CSV, DXF, SVG in mm), the parts' drawing (drawing.dxf, "
+        "drawing.svg in mm: the disc or planet with its holes, the pins, the housing or ring; "
+        "STEP of each part with the extra [cad]), a drawing (PNG) and a check summary (JSON)")
 
 
 def add_parser(sub):
@@ -18,10 +21,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("geometry", help="write the tooth profiles (CSV, DXF, SVG in mm), the "
-                       "parts' drawing (drawing.dxf, drawing.svg in mm: the disc or planet "
-                       "with its holes, the pins, the housing or ring; STEP of each part with "
-                       "the extra [cad]), a drawing (PNG) and a check summary (JSON)")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--points-per-tooth", type=int, default=96,
@@ -47,6 +47,11 @@ def run(args) -> int:
     CaseError
         If ``--points-per-tooth`` is outside [8, 10000] or the case is invalid.
     """
+    from ..case import load_case
+    from ..errors import CaseError, check_range
+    from ..output import atomic_dir
+    from ..report.files import write_geometry
+    from ..report import html as report_html
 
     check_range("--points-per-tooth", args.points_per_tooth, 8, 10000, error=CaseError)
     case = load_case(args.case)

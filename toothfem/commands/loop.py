@@ -6,13 +6,13 @@ from __future__ import annotations
 import json
 import sys
 from pathlib import Path
-from ..case import load_case
-from ..efficiency import loop as lp
-from ..efficiency.loop import effects as fx, measured as ms
-from ..errors import ToothfemError
-from ..output import atomic_dir
-from . import json_default
-from ..report import html as report_html, loop as rl, save
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "loop"
+HELP = ("fit physical effects to measured efficiency and report the error before and after "
+        "(report.md, report.json, PNGs)")
 
 
 def add_parser(sub):
@@ -23,8 +23,8 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("loop", help="fit physical effects to measured efficiency and report "
-                       "the error before and after (report.md, report.json, PNGs)")
+    from ..efficiency.loop import effects as fx
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("measured", nargs="?", default=None,
                    help="measured data CSV (units in the column names; provenance in "
@@ -65,6 +65,13 @@ def run(args) -> int:
     ToothfemError
         If ``--folds`` is below 2, an effect is unknown, or the case or data are refused.
     """
+    from ..case import load_case
+    from ..efficiency import loop as lp
+    from ..efficiency.loop import effects as fx, measured as ms
+    from ..errors import ToothfemError
+    from ..output import atomic_dir
+    from . import json_default
+    from ..report import html as report_html, loop as rl, save
 
     case = load_case(args.case)
     if args.measured:

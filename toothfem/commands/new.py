@@ -5,10 +5,17 @@ from __future__ import annotations
 import argparse
 import json
 import textwrap
+from typing import TYPE_CHECKING
 
-from ..case_new import FLOAT_KEY_NUMBERS, OPTIONS, NewCaseTemplate, new_case, templates
-from ..layouts import layout_named
-from ..output import check_new_file, write_new_file
+if TYPE_CHECKING:
+    from ..case_new import NewCaseTemplate
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "new"
+HELP = ("write a case file from a drive type and its key numbers (every other value derived or "
+        "marked ASSUMPTION); it passes `check` and runs `run` as written")
 
 
 def add_parser(sub):
@@ -19,11 +26,12 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
+    from ..case_new import FLOAT_KEY_NUMBERS, OPTIONS, templates
+    from ..layouts import layout_named
     drives = templates()
     listed = "; ".join(f"{d}: {layout_named(d).label} ({_needs(t)})" for d, t in drives.items())
     p = sub.add_parser(
-        "new", help="write a case file from a drive type and its key numbers (every other "
-        "value derived or marked ASSUMPTION); it passes `check` and runs `run` as written",
+        NAME, help=HELP,
         description=textwrap.fill(f"Drives and their required key numbers: {listed}.", 79,
                                   break_on_hyphens=False),
         formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -43,6 +51,7 @@ def add_parser(sub):
 
 def _needs(template: NewCaseTemplate) -> str:
     """A layout's required key numbers, and its size options where it has them."""
+    from ..case_new import OPTIONS
     size = ["one of " + " / ".join(OPTIONS[k] for k in template.sizes)] if template.sizes \
         else []
     return ", ".join([OPTIONS[k] for k in template.required] + size)
@@ -81,6 +90,9 @@ def run(args) -> int:
         and the valid range), or an ``--out`` that exists (without ``--force``) or is a
         folder; nothing is written then.
     """
+    from ..case_new import OPTIONS, new_case
+    from ..layouts import layout_named
+    from ..output import check_new_file, write_new_file
     check_new_file(args.out, force=args.force)      # refused before any work
     new = new_case(args.drive, name=args.name, **{k: getattr(args, k) for k in OPTIONS})
     path = write_new_file(new.text, args.out, force=args.force).resolve()

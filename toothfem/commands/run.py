@@ -2,9 +2,11 @@
 Markdown report with its pictures, CSV tables and VTU fields."""
 from __future__ import annotations
 
-from ..efficiency.mesh_table import fe_progress
-from ..pipeline import run_case
-from ..report import summary as report_summary
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "run"
+HELP = ("geometry, FE contact and efficiency of a case, with a report (report.md, PNGs, CSV, "
+        "VTU)")
 
 
 def add_parser(sub):
@@ -15,8 +17,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("run", help="geometry, FE contact and efficiency of a case, with a "
-                       "report (report.md, PNGs, CSV, VTU)")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--positions", type=int, default=36,
@@ -48,6 +49,9 @@ def run(args) -> int:
     import json
 
     from ..bars import bar
+    from ..efficiency.mesh_table import fe_progress
+    from ..pipeline import run_case
+    from ..report import summary as report_summary
 
 
     progress = lambda it: bar(it, desc="cycle mode", unit="position")  # noqa: E731

@@ -7,10 +7,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..case import load_case
-from ..output import atomic_dir
-from ..datasheet import stiffness_analysis
-from ..report import html as report_html, summary as report_summary
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "stiffness"
+HELP = ("torsional stiffness, hysteresis, lost motion, backlash, loaded transmission error and "
+        "disc split from the FE contact and the supports in series")
 
 
 def add_parser(sub):
@@ -21,9 +22,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("stiffness", help="torsional stiffness, hysteresis, lost motion, "
-                       "backlash, loaded transmission error and disc split from the FE "
-                       "contact and the supports in series")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--out", required=True, help="output folder (written atomically)")
     p.add_argument("--torque-max-Nm", type=float, default=None, dest="torque_max",
@@ -62,7 +61,10 @@ def run(args) -> int:
     int
         0 once the data sheet is written.
     """
-
+    from ..case import load_case
+    from ..output import atomic_dir
+    from ..datasheet import stiffness_analysis
+    from ..report import html as report_html, summary as report_summary
     case = load_case(args.case)
     with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
         result = stiffness_analysis(case, torque_max_Nm=args.torque_max, steps=args.steps,

@@ -4,9 +4,13 @@
 from __future__ import annotations
 
 import json
-from ..errors import CaseError, IncompleteRun
-from ..report import summary as report_summary
-from ..sweep import sweep
+
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "sweep"
+HELP = ("designs x load cases x meshing positions through Dask; one CSV row per design and "
+        "load case")
 
 
 def add_parser(sub):
@@ -17,8 +21,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("sweep", help="designs x load cases x meshing positions through Dask; "
-                       "one CSV row per design and load case")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--vary", action="append", default=[], metavar="KEY=V1,V2,...",
                    help="a dotted case key and its values, e.g. cycloid.eccentricity_mm=0.9,1.0;"
@@ -73,6 +76,9 @@ def run(args) -> int:
         When a point failed (after the tables are written), or the cluster was lost
         (:class:`toothfem.cluster.ClusterError`; the finished points are kept).
     """
+    from ..errors import CaseError, IncompleteRun
+    from ..report import summary as report_summary
+    from ..sweep import sweep
 
     vary = {}
     for item in args.vary:
@@ -124,6 +130,7 @@ def parse_vary(item: str):
     CaseError
         If there is no ``=``, no key, or an empty value.
     """
+    from ..errors import CaseError
 
     key, sep, values = item.partition("=")
     if not sep or not key.strip():
@@ -151,6 +158,7 @@ def parse_values(name: str, text: str) -> list:
     CaseError
         If a value is empty.
     """
+    from ..errors import CaseError
 
     out = []
     for token in text.split(","):

@@ -7,12 +7,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..case import load_case
-from ..efficiency.loop.settings import Settings
-from ..errors import ToothfemError
-from ..output import atomic_dir
-from . import json_default
-from ..report import html as report_html, save, te as report_te
+
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "te-loop"
+HELP = ("fit physical effects (crank-bearing play, eccentric errors, stiffness, friction, "
+        "profile clearance) to transmission-error and hysteresis recordings; the error before "
+        "and after")
 
 
 def add_parser(sub):
@@ -23,9 +24,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("te-loop", help="fit physical effects (crank-bearing play, eccentric "
-                       "errors, stiffness, friction, profile clearance) to transmission-error "
-                       "and hysteresis recordings; the error before and after")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML)")
     p.add_argument("--te", nargs="*", default=None, metavar="PATH",
                    help="TE recordings: CSV files or folders (output_angle_<unit> with "
@@ -68,6 +67,12 @@ def run(args) -> int:
     ToothfemError
         Without any recording, for an unknown effect or ``--folds`` below 2.
     """
+    from ..case import load_case
+    from ..efficiency.loop.settings import Settings
+    from ..errors import ToothfemError
+    from ..output import atomic_dir
+    from . import json_default
+    from ..report import html as report_html, save, te as report_te
     from ..efficiency.loop.te.effects import catalog
     from ..efficiency.loop.te.loop import run_te_loop
     from ..efficiency.loop.te.model import RecordingModel

@@ -5,12 +5,11 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..case import load_case
-from ..fem.cache import content_key
-from ..output import atomic_dir, resumable_dir
-from ..report import html as report_html, summary as report_summary
-from ..report import tolerance as report_tolerance
-from ..tolerance import tolerance_analysis
+#: The subcommand, and its line in ``toothfem --help`` (the CLI lists every command
+#: by these two without importing what the others need).
+NAME = "tolerance"
+HELP = ("distributions of pin force, Hertz pressure, contacts, lost motion, TE and efficiency "
+        "over reducers built within the case's [tolerances], and where their scatter comes from")
 
 
 def add_parser(sub):
@@ -21,9 +20,7 @@ def add_parser(sub):
     sub : argparse._SubParsersAction
         The CLI's subcommands.
     """
-    p = sub.add_parser("tolerance", help="distributions of pin force, Hertz pressure, "
-                       "contacts, lost motion, TE and efficiency over reducers built within "
-                       "the case's [tolerances], and where their scatter comes from")
+    p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML) with a [tolerances] section")
     p.add_argument("--out", required=True,
                    help="output folder: finished_points.jsonl as rings finish, the tables "
@@ -66,6 +63,12 @@ def run(args) -> int:
     CaseError
         For an invalid case, no nonzero tolerance, or a count out of range.
     """
+    from ..case import load_case
+    from ..fem.cache import content_key
+    from ..output import atomic_dir, resumable_dir
+    from ..report import html as report_html, summary as report_summary
+    from ..report import tolerance as report_tolerance
+    from ..tolerance import tolerance_analysis
     case = load_case(args.case)
     key = content_key("tolerance", case, args.samples, args.seed, args.positions,
                       args.share_samples)
