@@ -20,10 +20,10 @@ demo: $(VENV)/.installed
 	$(BIN)/toothfem check $(CASE)
 	$(BIN)/toothfem run $(CASE) --out $(OUT)
 
-# ruff (rules in pyproject.toml [tool.ruff]) on the package's four folders and the scripts; mypy on the
-# package as it installs (tools/typecheck.py reads pyproject's package-dir mapping)
+# ruff (rules in pyproject.toml [tool.ruff]) on the package's four folders, the scripts and
+# the tests; mypy on the package as it installs (tools/typecheck.py reads pyproject's package-dir mapping)
 lint: $(VENV)/.installed
-	$(BIN)/ruff check toothfem geometry fem efficiency benchmarks data tools
+	$(BIN)/ruff check toothfem geometry fem efficiency benchmarks data tools tests
 	$(BIN)/python tools/typecheck.py
 
 test: lint

@@ -58,7 +58,8 @@ def test_disc_with_holes_is_valid_and_holes_are_checked():
     assert poly.is_valid and len(poly.interiors) == 5
     hole_area = math.pi * (0.010**2 + 2 * 0.011**2 + 2 * 0.009**2)
     assert math.isclose(disc_polygon(PIN_HOUSING).area - poly.area, hole_area, rel_tol=1e-3)
-    with pytest.raises(GeometryError, match=r"crank_0 hole reaches radius 100 mm, outside the valid range \(0, 96.5\) mm"):
+    with pytest.raises(GeometryError, match=r"crank_0 hole reaches radius 100 mm, "
+                       r"outside the valid range \(0, 96.5\) mm"):
         disc_polygon(PIN_HOUSING, DiscHolesSI(0, 2, 0.090, 0.010))
     with pytest.raises(GeometryError, match="closer than the minimum ligament"):
         disc_polygon(PIN_HOUSING, DiscHolesSI(0.020, 2, 0.027, 0.008))

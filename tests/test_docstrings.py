@@ -22,7 +22,6 @@ import pkgutil
 import re
 import textwrap
 
-import pytest
 
 ROOTS = ("toothfem", "toothfem.geometry", "toothfem.fem", "toothfem.efficiency")
 

@@ -1,6 +1,7 @@
 """Every input handled (issue 14): wrong types and encodings, implausible values, faults and
 interrupts, odd measured data and a closed stdout each end in one line naming the cause,
 or in a result; never in a traceback, a runaway, a lost result or a half-written folder."""
+import contextlib
 import copy
 import json
 import math
@@ -324,10 +325,8 @@ def test_signals_to_a_running_contact_command(cases_dir, tmp_path, signum):
         time.sleep(0.05)
     while p.poll() is None:
         p.send_signal(signum)
-        try:
+        with contextlib.suppress(subprocess.TimeoutExpired):
             p.wait(timeout=60)
-        except subprocess.TimeoutExpired:
-            pass
     err = p.stderr.read().decode()
     assert p.returncode == 128 + signum, err[-500:]
     assert err.strip().splitlines()[-1].endswith("; no output written")
@@ -360,10 +359,9 @@ def test_atomic_dir_keeps_the_old_result_on_failure(tmp_path):
     out = tmp_path / "res"
     with atomic_dir(out) as tmp:
         (tmp / "v").write_text("1")
-    with pytest.raises(KeyboardInterrupt):
-        with atomic_dir(out) as tmp:
-            (tmp / "v").write_text("2")
-            raise KeyboardInterrupt
+    with pytest.raises(KeyboardInterrupt), atomic_dir(out) as tmp:
+        (tmp / "v").write_text("2")
+        raise KeyboardInterrupt
     assert (out / "v").read_text() == "1"
     assert [p.name for p in tmp_path.iterdir()] == ["res"]
 
@@ -525,7 +523,7 @@ def test_gmsh_meshing_keeps_pythons_signal_handlers(tmp_path, signame):
         "stop = threading.Event()\n"
         "def ctrl_c():  # again until heard: one landing in a GC finalizer is lost\n"
         "    while not stop.wait(0.3):\n"
-        "        os.kill(os.getpid(), signal.{})\n"
+        f"        os.kill(os.getpid(), signal.{signame})\n"
         "threading.Thread(target=ctrl_c, daemon=True).start()\n"
         "end = time.monotonic() + 120\n"
         "try:\n"
@@ -537,7 +535,7 @@ def test_gmsh_meshing_keeps_pythons_signal_handlers(tmp_path, signame):
         "        time.sleep(1)  # a last one already on its way\n"
         "    except KeyboardInterrupt:\n"
         "        pass\n"
-        "    print('interrupted')\n").format(signame)
+        "    print('interrupted')\n")
     p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                        timeout=300)
     assert p.returncode == 0 and p.stdout.strip() == "interrupted", p.stderr[-500:]
@@ -745,10 +743,9 @@ def test_a_signal_during_a_deferred_block_is_raised_after_it():
     old = signal.signal(signal.SIGTERM, raising)
     done = []
     try:
-        with pytest.raises(Terminated):
-            with signals.deferred():
-                signal.raise_signal(signal.SIGTERM)
-                done.append("the block ran to its end")
+        with pytest.raises(Terminated), signals.deferred():
+            signal.raise_signal(signal.SIGTERM)
+            done.append("the block ran to its end")
         assert done and signal.getsignal(signal.SIGTERM) is raising
     finally:
         signals.note(None)

@@ -79,7 +79,7 @@ def mutated_case(draw):
             node = node[k]
         old = node[path[-1]]
         new = draw(st.one_of(
-            st.floats(0.2, 5.0).map(lambda f: old * f if isinstance(old, float)
+            st.floats(0.2, 5.0).map(lambda f, old=old: old * f if isinstance(old, float)
                                     else max(1, round(old * f))),
             st.floats(allow_nan=True, allow_infinity=True),
             st.integers(-10, 10**7),

@@ -127,8 +127,8 @@ def test_each_drive_keeps_the_fe_contracts():
     for cls in (CycloidDetailed, SineDetailed):
         names = {f.name for f in dataclasses.fields(cls)}
         assert {"load_sharing", "dofs"} <= names
-        assert isinstance(getattr(cls, "member_body"), property)
-        assert isinstance(getattr(cls, "member_displacement"), property)
+        assert isinstance(cls.member_body, property)
+        assert isinstance(cls.member_displacement, property)
 
 
 #: The 2K-V/K-H-V flag the output path replaced (fem/system/paths.py): none of it in the

@@ -55,7 +55,7 @@ def test_rating_life_and_duty_cycle_mean():
         1000 * 4 ** (-8 / 9))
     assert br.first_failure([1000.0, math.inf], 9 / 8) == pytest.approx(1000.0)
     assert br.first_failure([math.inf], 9 / 8) == math.inf
-    assert 4 ** (-8 / 9) == pytest.approx(0.2916, abs=1e-4)
+    assert pytest.approx(0.2916, abs=1e-4) == 4 ** (-8 / 9)
 
 
 def test_maker_rated_life_scaling():

@@ -64,7 +64,7 @@ def folders(cases_dir, tmp_path_factory):
                          "--out", str(out["geometry"])]}
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(cad, "step_available", lambda: False)
-        for command, args in argv.items():
+        for args in argv.values():
             mp.setattr(sys, "argv", ["/usr/bin/toothfem", *args])
             assert cli.main(args) == 0
     return out
@@ -164,7 +164,7 @@ def test_markdown_is_escaped_and_a_missing_picture_is_said(tmp_path):
     (tmp_path / "report.md").write_text("# t\n\n## Part\n\n<script>alert(1)</script> and "
                                         "![gone](gone.png) [away](https://example.org/x)\n")
     with pytest.warns(RuntimeWarning), report_html.warnings_kept():
-        warnings.warn("a cache that cannot be written", RuntimeWarning)
+        warnings.warn("a cache that cannot be written", RuntimeWarning, stacklevel=1)
         path = report_html.write_report(tmp_path, command="test")
     text = path.read_text(encoding="utf-8")
     assert "<script>" not in text and "&lt;script&gt;" in text

@@ -313,7 +313,7 @@ def test_a_silent_scheduler_address_is_refused_in_bounded_time(cycloid, tmp_path
     with socket.socket() as silent:
         silent.bind(("127.0.0.1", 0))
         silent.listen(4)
-        address = "tcp://127.0.0.1:%d" % silent.getsockname()[1]
+        address = f"tcp://127.0.0.1:{silent.getsockname()[1]}"
         t0 = time.monotonic()
         with pytest.raises(ToothfemError, match=f"scheduler = '{address}': no Dask scheduler "
                                                 r"there \(no answer within 2 s\)"):

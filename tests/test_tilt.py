@@ -79,12 +79,12 @@ def test_raceway_contact_exact_against_hamrock_brewe(pair):
     exact solution: at most 1.1 % in the pressure, 2.5 % in the approach near alpha_r = 5)."""
     hb = B.BallPair(**RV40E_LIKE, hertz_method="hamrock_brewe")
     ex, ap = B.raceway_contact(pair), B.raceway_contact(hb)
-    assert ap.K == pytest.approx(ex.K, rel=0.015)
+    assert pytest.approx(ex.K, rel=0.015) == ap.K
     assert ap.pressure_coeff_inner == pytest.approx(ex.pressure_coeff_inner, rel=0.015)
     assert ap.pressure_coeff_outer == pytest.approx(ex.pressure_coeff_outer, rel=0.015)
     # in series: delta = delta_i + delta_e (exact by construction; rounding only)
-    assert ex.K ** (-2 / 3) == pytest.approx(ex.K_inner ** (-2 / 3) + ex.K_outer ** (-2 / 3),
-                                             rel=1e-12)
+    assert pytest.approx(ex.K_inner ** (-2 / 3) + ex.K_outer ** (-2 / 3),
+                                             rel=1e-12) == ex.K ** (-2 / 3)
     # the radii of Harris & Kotzalas Ch. 2: R_x = D(1 -+ gamma)/2, R_y = f D/(2 f - 1)
     g = 9e-3 * math.cos(math.radians(40)) / 150e-3
     assert ex.radii_inner_m == pytest.approx((4.5e-3 * (1 - g), 0.52 * 9e-3 / 0.04), rel=1e-12)

@@ -6,7 +6,8 @@ as members + meshes: each mesh loses ``(1 - eta)`` times the virtual power its d
 member gives it in the frame of the mesh's carrier; the torques come from static
 equilibrium *with* the losses. :func:`rv_power_flow` and :func:`khv_power_flow` apply it
 to the 2K-V (RV) and K-H-V (cycloid, sine) trains; :func:`khv_efficiency` is the K-H-V
-closed form it is tested on. The production model (``toothfem.efficiency`` (evaluation, drive_losses, contact_friction)) writes
+closed form it is tested on. The production model (``toothfem.efficiency``: evaluation,
+drive_losses, contact_friction) writes
 the 2K-V closed form inline; the RV paper's split-power method it is compared with is
 ``toothfem.efficiency.rv_paper``. Derivations and the numbers on RV-40E:
 ``docs/derivations.md``, section 5; tests: ``tests/test_power_flow.py``.
@@ -33,7 +34,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from types import MappingProxyType
-from typing import Callable, Mapping, Union
+from collections.abc import Callable, Mapping
 
 import numpy as np
 
@@ -85,10 +86,10 @@ class MeshState:
     torque_a_Nm: float
     torque_b_Nm: float
     virtual_power_W: float
-    driver: Union[str, None]
+    driver: str | None
 
 
-EfficiencyLike = Union[float, Callable[[MeshState], float]]
+EfficiencyLike = float | Callable[[MeshState], float]
 
 
 @dataclass(frozen=True)
@@ -168,7 +169,7 @@ class MeshFlow:
 
     name: str
     carrier: str
-    driver: Union[str, None]    #: member giving virtual power to the mesh (None: no motion)
+    driver: str | None    #: member giving virtual power to the mesh (None: no motion)
     virtual_power_W: float      #: |P_v| given by the driver, with losses (>= 0)
     efficiency: float           #: mesh efficiency used
     loss_W: float               #: (1 - efficiency) * virtual_power_W

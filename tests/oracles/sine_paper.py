@@ -4,7 +4,8 @@ integrated position by position.
 Source: Y. Lu, L. Xu, "Transmission efficiency of one tooth difference sine tooth profile
 planetary reducer", Heliyon 10 (2024) e26300, Eqs. 3-5, 8-25, Tables 1-3, Sec. 6.2.
 Derivations, numbers and the verdict are in ``docs/sine_mesh_efficiency.md``. The
-production path is ``toothfem.efficiency`` (evaluation, drive_losses, contact_friction) (``mesh_table``, ``contact_mu``,
+production path is ``toothfem.efficiency`` (evaluation, drive_losses, contact_friction)
+(``mesh_table``, ``contact_mu``,
 ``evaluate``); this module reproduces the paper to check it against (tests/test_sine_mesh.py)
 and feeds ``benchmarks/sine_mesh_reading.py``.
 
