@@ -239,7 +239,7 @@ def bearing_friction() -> Effect:
 
     Sine reducer: M = mu_b F r_p on the eccentric bearing, F from the planet's equilibrium
     (sine paper Eq. 32). Cycloid and RV reducers: the load term of every bearing's Palmgren
-    moment, M1 = mu_b P d_m/2 (efficiency/bearing_set.py), beside its viscous M0. P = M
+    moment, M1 = mu_b P d_m/2 (efficiency/bearing_friction.py), beside its viscous M0. P = M
     omega_rel. The fitted mu_b replaces the library's default; a case that declares its own
     bearing coefficient is not refitted.
 

@@ -12,7 +12,7 @@ viscosity grade, a drag growing with the square of the speed, the main bearings'
   short of oil (their friction rising with speed).
 * ``bearing_preload``: the axial preload of each main bearing row
   (``bearings.main_preload_N``; by default 2 % of the row's C0, an ASSUMPTION of
-  :mod:`toothfem.efficiency.bearing_set`), its Palmgren load term mu F d_m / 2 at the
+  :mod:`toothfem.efficiency.main_bearing`), its Palmgren load term mu F d_m / 2 at the
   output's speed. Up to 10 % of C0.
 """
 from __future__ import annotations

@@ -31,12 +31,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ....errors import MeasuredDataError
-from .columns import ANGLE_UNITS, Condition
+from ....units import ARCSEC
+from .columns import Condition
 from .recordings import TeRecordings
 from .spectrum import (MAX_MULTIPLE, NAMING_TOLERANCE_ORDERS, Spectrum, combine_spectra,
                        named_peaks)
 
-ARCSEC = ANGLE_UNITS["arcsec"]
 
 
 

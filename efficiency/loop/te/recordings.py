@@ -61,12 +61,13 @@ import numpy as np
 
 from ....bars import bar
 from ....errors import MeasuredDataError, decode_text
+from ....units import ARCSEC
 from ..measured import delimiter_of
 from ..measured_columns import comment_lines, header_names, next_row
 from .columns import (CONDITIONS, DIRECTION_WORDS, Condition, close, column,
                       condition_values, field_of, number, values_from_name)
 from .columns import name_pattern as compile_pattern
-from .spectrum import ARCSEC, DEFAULT_MAX_ORDER, WINDOWS, Spectrum, te_spectrum
+from .spectrum import DEFAULT_MAX_ORDER, WINDOWS, Spectrum, te_spectrum
 
 #: Bins of the revolution-averaged TE (0.1 deg of output angle). A bin's mean attenuates a
 #: ripple of order q by sin(x)/x, x = pi q / ANGLE_BINS: 0.2 % at order 121, 28 % at 1560

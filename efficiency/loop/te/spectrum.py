@@ -46,7 +46,7 @@ import numpy as np
 from scipy.interpolate import CubicSpline
 
 from ....errors import MeasuredDataError
-from .columns import ANGLE_UNITS
+from ....units import ARCSEC
 
 #: window -> (equivalent noise bandwidth [bins], half-width of the lobe a tone's power is
 #: summed over [bins]): periodic Hann (ENBW 1.5; 99.9 % of a tone's power within +-2 bins
@@ -80,8 +80,6 @@ NAMING_TOLERANCE_RESOLUTION = 0.5
 MAX_MULTIPLE = 4
 #: A sweep must cover this many whole output revolutions for a spectrum.
 MIN_REVOLUTIONS = 1
-
-ARCSEC = ANGLE_UNITS["arcsec"]
 
 
 @dataclass(frozen=True, kw_only=True)
