@@ -10,8 +10,8 @@ an installed wheel shows the same as the checkout) and the tables of docs/case_s
 (:func:`render`, run as ``python -m toothfem.case_schema docs/case_schema.md`` or ``make
 schema``; a test checks that the committed file is what this writes).
 
-Units come from the key's suffix (:data:`UNIT_SUFFIXES`: the case keys carry their units in
-their names) unless the field states one.
+Units come from the key's suffix (:func:`toothfem.units.symbol_of`: the case keys carry
+their units in their names) unless the field states one.
 """
 from __future__ import annotations
 
@@ -24,15 +24,8 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-#: Unit of a case key by its name's suffix (longest first; the case names carry units).
-UNIT_SUFFIXES = (
-    ("_Nm_per_arcmin", "N m/arcmin"), ("_1_per_GPa", "1/GPa"), ("_W_m2K", "W/(m² K)"),
-    ("_W_mK", "W/(m K)"), ("_mm2_s", "mm²/s"), ("_kg_m3", "kg/m³"), ("_Pa_s", "Pa s"),
-    ("_J_K", "J/K"), ("_K_W", "K/W"), ("_Nmm", "N mm"), ("_Nm", "N m"), ("_kN", "kN"),
-    ("_GPa", "GPa"), ("_MPa", "MPa"), ("_HV", "HV"), ("_rpm", "rpm"), ("_kW", "kW"),
-    ("_arcmin", "arcmin"), ("_mm", "mm"), ("_um", "µm"), ("_m2", "m²"), ("_deg", "deg"),
-    ("_C", "°C"), ("_h", "h"), ("_N", "N"), ("_W", "W"),
-)
+from .units import symbol_of
+
 #: The ``[case]`` table's keys (fields of the Case itself, not a section).
 HEAD = ("name", "drive", "source", "stated_ratio")
 #: The arrays of tables (``[[measured]]``, ``[[duty_cycle]]``): a row per entry.
@@ -41,25 +34,6 @@ ARRAYS = ("measured", "duty_cycle")
 #: up to ``<!-- /schema -->``.
 BLOCK = re.compile(r"(<!-- schema: (?P<section>[a-z_.]+) -->\n)(?P<body>.*?)(<!-- /schema -->)",
                    re.S)
-
-
-def unit_of(key: str) -> str:
-    """The unit of a case key from its name's suffix ('' where the name has none).
-
-    Parameters
-    ----------
-    key : str
-        A case key, e.g. ``pin_circle_radius_mm``.
-
-    Returns
-    -------
-    str
-        E.g. "mm"; "" for a count, a ratio or a name.
-    """
-    for suffix, unit in UNIT_SUFFIXES:
-        if key.endswith(suffix):
-            return unit
-    return ""
 
 
 @dataclass(frozen=True)
@@ -141,7 +115,7 @@ def _rows_of(section: str, cls, names=None) -> list:
         required = (f.default is dataclasses.MISSING
                     and f.default_factory is dataclasses.MISSING)
         rows.append(KeyRow(section=section, key=f.name,
-                           unit=md["unit"] if md.get("unit") is not None else unit_of(f.name),
+                           unit=md["unit"] if md.get("unit") is not None else symbol_of(f.name),
                            valid=range_text(md), required=required,
                            default=None if required else f.default,
                            unset=md.get("unset", ""), doc=md.get("doc", ""),

@@ -32,7 +32,7 @@ def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MI
     """A dataclass field with its schema in metadata: the valid range [lo, hi] (open ends,
     choices, integer), ``doc`` (what the key is; refusals quote it), ``source`` (one line:
     where the default comes from), ``unset`` (what a default of None stands for) and
-    ``unit`` (None: from the key's suffix, :func:`toothfem.case_schema.unit_of`)."""
+    ``unit`` (None: from the key's suffix, :func:`toothfem.units.symbol_of`)."""
     md = dict(lo=lo, hi=hi, lo_open=lo_open, hi_open=hi_open, doc=doc, choices=choices,
               integer=integer, source=source, unset=unset, unit=unit)
     return field(default=default, metadata=md)

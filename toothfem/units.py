@@ -157,6 +157,50 @@ def unit_of(name: str) -> Unit | None:
     return best
 
 
+def symbol_of(name: str) -> str:
+    """What a page shows for the unit a key or column name ends with ("" for none):
+    ``face_width_mm`` -> "mm", ``vogel_B_C`` -> "°C".
+
+    Parameters
+    ----------
+    name : str
+
+    Returns
+    -------
+    str
+    """
+    u = unit_of(name)
+    return "" if u is None else u.symbol
+
+
+def conversion(suffix: str, to: str) -> tuple[float, float]:
+    """(factor, offset) from a value in unit ``suffix`` to one in unit ``to`` of the same
+    SI quantity: ``value_to = factor * value + offset``; "" is a plain number (1).
+
+    Parameters
+    ----------
+    suffix, to : str
+        Suffixes of :data:`UNITS`, or "" for a dimensionless value.
+
+    Returns
+    -------
+    tuple of float
+
+    Raises
+    ------
+    KeyError
+        For a suffix no unit has.
+    ValueError
+        For two units of different quantities.
+    """
+    a, b = (Unit("", "", "-", 1.0) if x == "" else unit(x) for x in (suffix, to))
+    if a.si != b.si:
+        raise ValueError(f"unit {suffix!r} ({a.si}) does not convert to {to!r} ({b.si})")
+    if a.suffix == b.suffix:
+        return 1.0, 0.0
+    return a.factor / b.factor, (a.offset - b.offset) / b.factor
+
+
 def rpm_to_rad_s(speed_rpm):
     """A speed in rpm as rad/s.
 

@@ -15,21 +15,23 @@ import re
 import numpy as np
 
 from ...errors import MeasuredDataError
-from ...units import M_PER_MM, N_PER_KN, RPM_PER_RAD_S, S_PER_H
+from ...units import conversion
 
 
-#: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
-#: value_canonical = factor * value + offset.
-QUANTITIES = {
-    "input_speed": {"rpm": (1.0, 0.0), "rad_s": (RPM_PER_RAD_S, 0.0),
-                    "rps": (60.0, 0.0)},
-    "output_torque": {"Nm": (1.0, 0.0), "Nmm": (M_PER_MM, 0.0), "kNm": (N_PER_KN, 0.0)},
-    "input_torque": {"Nm": (1.0, 0.0), "Nmm": (M_PER_MM, 0.0), "kNm": (N_PER_KN, 0.0)},
-    "oil_temp": {"C": (1.0, 0.0), "K": (1.0, -273.15), "F": (5.0 / 9.0, -160.0 / 9.0)},
-    "time": {"h": (1.0, 0.0), "min": (1.0 / 60.0, 0.0), "s": (1.0 / S_PER_H, 0.0)},
-    "efficiency_sigma": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
-    "efficiency": {"": (1.0, 0.0), "pct": (0.01, 0.0)},
+#: Each quantity's canonical unit (its first) and the other units a column may carry it
+#: in, by their suffixes of :data:`toothfem.units.UNITS` ("" a plain number).
+_UNITS_OF = {
+    "input_speed": ("rpm", "rad_s", "rps"),
+    "output_torque": ("Nm", "Nmm", "kNm"),
+    "input_torque": ("Nm", "Nmm", "kNm"),
+    "oil_temp": ("C", "K", "F"),
+    "time": ("h", "min", "s"),
+    "efficiency_sigma": ("", "pct"),
+    "efficiency": ("", "pct"),
 }
+#: quantity -> {unit suffix: (factor, offset)} to the canonical unit (the first listed):
+#: value_canonical = factor * value + offset (:func:`toothfem.units.conversion`).
+QUANTITIES = {q: {u: conversion(u, units[0]) for u in units} for q, units in _UNITS_OF.items()}
 #: Canonical column names of the record.
 CANONICAL = {"input_speed": "input_speed_rpm", "output_torque": "output_torque_Nm",
              "input_torque": "input_torque_Nm", "oil_temp": "oil_temp_C", "time": "time_h",

@@ -46,7 +46,7 @@ from pathlib import Path
 from urllib.parse import quote
 
 from .. import __version__
-from ..case_schema import unit_of
+from ..units import symbol_of as unit_of
 from ..errors import ToothfemError
 from . import summary as report_summary
 from .case_text import ASSUMPTION, CaseText, read_case_text, reason

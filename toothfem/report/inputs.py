@@ -12,7 +12,8 @@ import dataclasses
 import re
 from dataclasses import dataclass
 
-from ..case_schema import HEAD, schema as case_schema, unit_of
+from ..case_schema import HEAD, schema as case_schema
+from ..units import symbol_of
 from .case_text import ASSUMPTION, CaseText, reason
 
 #: An array of tables' index in a key (``measured[0].efficiency``).
@@ -100,7 +101,7 @@ def _row(key: str, value, case_text, schema) -> InputRow:
     """One input row: declared (with its comment, or its section's ASSUMPTION) or a default
     (with the schema's meaning and source)."""
     spec = schema.get(_INDEX.sub("", key))
-    unit = spec.unit if spec is not None else unit_of(key.rsplit(".", 1)[1])
+    unit = spec.unit if spec is not None else symbol_of(key.rsplit(".", 1)[1])
     if case_text is None:
         return InputRow(key, value, unit, None, "", None)
     if key in case_text.declared:

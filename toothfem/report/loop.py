@@ -13,6 +13,7 @@ import numpy as np
 from ..efficiency.loop import LoopReport
 from ..efficiency.loop import effects as fx
 from ..errors import ToothfemError
+from ..units import unit_of
 from . import pyplot
 
 #: Size [in] of one covariate's panel of the residual figure (legible at dpi 110).
@@ -22,11 +23,6 @@ MAX_COLUMNS = 3
 #: Fewest points for the signature table: a correlation over fewer is +-1 or undefined.
 MIN_POINTS_CORRELATION = 3
 
-
-
-#: Unit suffixes of covariate names -> the unit an axis shows (names carry their units).
-UNIT_SUFFIXES = (("_mm2_s", "mm²/s"), ("_rpm", "rpm"), ("_Nm", "N m"), ("_C", "deg C"),
-                 ("_kW", "kW"), ("_W", "W"), ("_mm", "mm"), ("_um", "um"), ("_h", "h"))
 
 
 def axis_label(name: str) -> str:
@@ -42,10 +38,10 @@ def axis_label(name: str) -> str:
     str
         The label.
     """
-    for suffix, unit in UNIT_SUFFIXES:
-        if name.endswith(suffix):
-            return f"{name[:-len(suffix)].replace('_', ' ')} [{unit}]"
-    return name.replace("_", " ")
+    u = unit_of(name)
+    if u is None:
+        return name.replace("_", " ")
+    return f"{name[:-len(u.suffix) - 1].replace('_', ' ')} [{u.symbol}]"
 
 
 def _trend_title(t) -> str:

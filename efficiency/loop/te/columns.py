@@ -14,11 +14,11 @@ import string
 from dataclasses import dataclass
 
 from ....errors import MeasuredDataError
-from ....units import ARCMIN, ARCSEC, DEG, RAD_S_PER_RPM, RPM_PER_RAD_S
+from ....units import RAD_S_PER_RPM, RPM_PER_RAD_S, unit
 from ..measured_columns import QUANTITIES, parse_number
 
-#: Angle units (the column-name suffix) -> radians per unit.
-ANGLE_UNITS = {"rad": 1.0, "deg": DEG, "arcmin": ARCMIN, "arcsec": ARCSEC}
+#: Angle units (the column-name suffix) -> radians per unit (:data:`toothfem.units.UNITS`).
+ANGLE_UNITS = {s: unit(s).factor for s in ("rad", "deg", "arcmin", "arcsec")}
 #: Angle quantities of the recordings, longest first (``te_forward`` before ``te``).
 ANGLE_QUANTITIES = ("te_forward", "te_backward", "te", "output_angle", "twist")
 #: Condition quantities: quantity -> (units as :data:`QUANTITIES` knows them, factor from
