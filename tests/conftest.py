@@ -127,3 +127,47 @@ def pytest_collection_modifyitems(config, items):
     while the short ones are left to balance the workers, instead of one beginning near
     the end and running alone."""
     items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
+def _command_output(argv, argv0="toothfem"):
+    """``toothfem ARGV`` in this process (toothfem.cli.main), with ``sys.argv`` as the
+    console script has it (report.html shows the command line); what it printed."""
+    import contextlib
+    import io
+    import sys
+
+    from toothfem import cli
+
+    printed = io.StringIO()
+    with pytest.MonkeyPatch.context() as mp, contextlib.redirect_stdout(printed):
+        mp.setattr(sys, "argv", [argv0, *map(str, argv)])
+        code = cli.main([str(a) for a in argv])
+    assert code == 0, (argv, printed.getvalue()[-2000:])
+    return printed.getvalue()
+
+
+@pytest.fixture(scope="session")
+def geometry_of(tmp_path_factory):
+    """``toothfem geometry CASE --out DIR`` of a shipped case by name, run once per session
+    (per xdist worker) for the tests that only read what it wrote: name -> (DIR, what it
+    printed). Those tests read the folder and never change it."""
+    runs = {}
+
+    def run(name):
+        if name not in runs:
+            out = tmp_path_factory.mktemp(f"geometry_{name}") / "geo"
+            runs[name] = out, _command_output(["geometry", CASES / f"{name}.toml",
+                                               "--out", out])
+        return runs[name]
+    return run
+
+
+@pytest.fixture(scope="session")
+def sine_run(tmp_path_factory):
+    """``toothfem run cases/sine_prototype.toml --no-fem --out DIR``, once per session for
+    the tests that read its folder (tests/test_cli.py, tests/test_report_html.py): (DIR,
+    what it printed), the command line as the installed console script has it."""
+    out = tmp_path_factory.mktemp("sine_run") / "run"
+    printed = _command_output(["run", CASES / "sine_prototype.toml", "--no-fem", "--out", out],
+                              argv0="/usr/bin/toothfem")
+    return out, printed
