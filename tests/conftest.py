@@ -69,7 +69,29 @@ def suite_cache_dir() -> str:
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
     folder = base / "toothfem-tests" / fe_source_hash()
     folder.mkdir(parents=True, exist_ok=True)
+    os.utime(folder)                    # in use: not pruned by another checkout's session
+    _prune(folder.parent, keep=folder)
     return str(folder)
+
+
+#: A cache folder of other sources (another checkout or an older commit) that no session
+#: has used for this long is removed at the start of a session [days].
+PRUNE_AFTER_DAYS = 14
+
+
+def _prune(parent: Path, keep: Path):
+    """Remove the folders of ``parent`` named like a source hash (16 hex digits), other
+    than ``keep``, whose last use is more than PRUNE_AFTER_DAYS ago (each holds ~10-20 MB
+    of tables that only those sources read)."""
+    import re
+    import shutil
+    import time
+
+    limit = time.time() - PRUNE_AFTER_DAYS * 86400
+    for entry in parent.iterdir():
+        if (entry != keep and re.fullmatch(r"[0-9a-f]{16}", entry.name) and entry.is_dir()
+                and entry.stat().st_mtime < limit):
+            shutil.rmtree(entry, ignore_errors=True)
 
 
 os.environ["TOOTHFEM_CACHE"] = suite_cache_dir()
