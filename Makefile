@@ -26,11 +26,14 @@ lint: $(VENV)/.installed
 	$(BIN)/ruff check toothfem geometry fem efficiency benchmarks data tools tests
 	$(BIN)/python tools/typecheck.py
 
+# the suite over every core (pytest-xdist; worksteal: an idle worker takes half of the
+# other's queue, the slow tests first in the collection: tests/conftest.py), on the FE
+# tables kept between sessions (tests/conftest.py: TOOTHFEM_TEST_CACHE=fresh for cold)
 test: lint
 	$(BIN)/python -m pytest -q -rs -n auto --dist worksteal tests
 
 test-fast: $(VENV)/.installed
-	$(BIN)/python -m pytest -q -m "not slow" tests
+	$(BIN)/python -m pytest -q -n auto --dist worksteal -m "not slow" tests
 
 probe: $(VENV)/.installed
 	$(BIN)/python benchmarks/adversarial_faults.py --quick

@@ -69,7 +69,29 @@ def suite_cache_dir() -> str:
     base = Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache")
     folder = base / "toothfem-tests" / fe_source_hash()
     folder.mkdir(parents=True, exist_ok=True)
+    os.utime(folder)                    # in use: not pruned by another checkout's session
+    _prune(folder.parent, keep=folder)
     return str(folder)
+
+
+#: A cache folder of other sources (another checkout or an older commit) that no session
+#: has used for this long is removed at the start of a session [days].
+PRUNE_AFTER_DAYS = 14
+
+
+def _prune(parent: Path, keep: Path):
+    """Remove the folders of ``parent`` named like a source hash (16 hex digits), other
+    than ``keep``, whose last use is more than PRUNE_AFTER_DAYS ago (each holds ~10-20 MB
+    of tables that only those sources read)."""
+    import re
+    import shutil
+    import time
+
+    limit = time.time() - PRUNE_AFTER_DAYS * 86400
+    for entry in parent.iterdir():
+        if (entry != keep and re.fullmatch(r"[0-9a-f]{16}", entry.name) and entry.is_dir()
+                and entry.stat().st_mtime < limit):
+            shutil.rmtree(entry, ignore_errors=True)
 
 
 os.environ["TOOTHFEM_CACHE"] = suite_cache_dir()
@@ -127,3 +149,47 @@ def pytest_collection_modifyitems(config, items):
     while the short ones are left to balance the workers, instead of one beginning near
     the end and running alone."""
     items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
+def _command_output(argv, argv0="toothfem"):
+    """``toothfem ARGV`` in this process (toothfem.cli.main), with ``sys.argv`` as the
+    console script has it (report.html shows the command line); what it printed."""
+    import contextlib
+    import io
+    import sys
+
+    from toothfem import cli
+
+    printed = io.StringIO()
+    with pytest.MonkeyPatch.context() as mp, contextlib.redirect_stdout(printed):
+        mp.setattr(sys, "argv", [argv0, *map(str, argv)])
+        code = cli.main([str(a) for a in argv])
+    assert code == 0, (argv, printed.getvalue()[-2000:])
+    return printed.getvalue()
+
+
+@pytest.fixture(scope="session")
+def geometry_of(tmp_path_factory):
+    """``toothfem geometry CASE --out DIR`` of a shipped case by name, run once per session
+    (per xdist worker) for the tests that only read what it wrote: name -> (DIR, what it
+    printed). Those tests read the folder and never change it."""
+    runs = {}
+
+    def run(name):
+        if name not in runs:
+            out = tmp_path_factory.mktemp(f"geometry_{name}") / "geo"
+            runs[name] = out, _command_output(["geometry", CASES / f"{name}.toml",
+                                               "--out", out])
+        return runs[name]
+    return run
+
+
+@pytest.fixture(scope="session")
+def sine_run(tmp_path_factory):
+    """``toothfem run cases/sine_prototype.toml --no-fem --out DIR``, once per session for
+    the tests that read its folder (tests/test_cli.py, tests/test_report_html.py): (DIR,
+    what it printed), the command line as the installed console script has it."""
+    out = tmp_path_factory.mktemp("sine_run") / "run"
+    printed = _command_output(["run", CASES / "sine_prototype.toml", "--no-fem", "--out", out],
+                              argv0="/usr/bin/toothfem")
+    return out, printed

@@ -22,10 +22,8 @@ def test_check_json(cases_dir, capsys):
     assert d["crank_to_output_ratio"] == pytest.approx(-39, rel=1e-12)
 
 
-def test_cycloid_geometry_files(cases_dir, tmp_path, capsys):
-    out = tmp_path / "geo"
-    assert cli.main(["geometry", str(cases_dir / "cycloid_pinhousing.toml"), "--out",
-                     str(out)]) == 0
+def test_cycloid_geometry_files(geometry_of):
+    out, _ = geometry_of("cycloid_pinhousing")       # `toothfem geometry`, shared (conftest)
     head = (out / "profile.csv").read_text().splitlines()[0]
     assert head == "x_mm,y_mm"
     xy = np.loadtxt(out / "profile.csv", delimiter=",", skiprows=1)
@@ -51,11 +49,11 @@ def test_error_is_one_line_nonzero_exit(tmp_path, capsys, cases_dir):
     assert "no such case file" in capsys.readouterr().err
 
 
-def test_rv_case_profiles_come_from_its_disc(cases_dir, tmp_path, capsys):
+def test_rv_case_profiles_come_from_its_disc(geometry_of):
     """An RV case with its [cycloid] disc has a profile to write (issue 15 item 3; it was
-    refused before the drive abstraction)."""
-    assert cli.main(["geometry", str(cases_dir / "rv40e.toml"), "--out", str(tmp_path / "o")]) == 0
-    assert (tmp_path / "o" / "profile.csv").exists()
+    refused before the drive abstraction): `toothfem geometry`, shared (conftest)."""
+    out, _ = geometry_of("rv40e")
+    assert (out / "profile.csv").exists()
 
 
 def test_failed_run_leaves_no_half_written_folder(cases_dir, tmp_path, monkeypatch):
@@ -191,10 +189,8 @@ def test_efficiency_command_bad_input(cases_dir, capsys):
     assert "oil_temp_C = -150.0 is outside the valid range" in err and "\n" not in err
 
 
-def test_run_command_writes_report(cases_dir, tmp_path, capsys):
-    out = tmp_path / "run"
-    assert cli.main(["run", str(cases_dir / "sine_prototype.toml"), "--out", str(out),
-                     "--no-fem"]) == 0
+def test_run_command_writes_report(sine_run):
+    out, printed = sine_run        # `toothfem run` of the sine prototype, shared (conftest)
     report = (out / "report.md").read_text()
     for png in ("geometry/drawing.png", "efficiency_vs_torque.png", "efficiency_map.png",
                 "efficiency_temperature.png", "loss_shares.png"):
@@ -203,7 +199,7 @@ def test_run_command_writes_report(cases_dir, tmp_path, capsys):
     assert 0.5 < d["analytic"]["efficiency"] < 1
     rows = (out / "efficiency_vs_torque.csv").read_text().splitlines()
     assert rows[0] == "output_torque_Nm,efficiency_analytic" and len(rows) == 1 + len(TORQUE_GRID)
-    printed = capsys.readouterr().out          # a table on screen, the folder by its name
+    # a table on screen, the folder by its name
     assert re.search(r"^efficiency +% +[\d.]+ +83\.72$", printed, re.M)  # the paper beside
     assert f"wrote the report to {(out / 'report.md').resolve()}" in printed
     assert ".run." not in printed              # not the temporary folder's name

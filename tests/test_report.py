@@ -29,15 +29,15 @@ def _svg_points(path) -> np.ndarray:
 @pytest.mark.parametrize("name, profiles", [("cycloid_pinhousing", ("profile",)),
                                             ("rv40e", ("profile",)),
                                             ("sine_prototype", ("planet", "ring"))])
-def test_cad_profiles_read_back(cases_dir, tmp_path, capsys, name, profiles):
+def test_cad_profiles_read_back(geometry_of, name, profiles):
     """Every case with a disc or a sine pair writes DXF and SVG beside the CSV: in mm, one
     closed polyline each, the CSV's points. Tolerances: the DXF stores doubles (area to
-    1e-9); the SVG writes 6 decimals of a mm (area to 1e-6)."""
+    1e-9); the SVG writes 6 decimals of a mm (area to 1e-6). (`toothfem geometry` of the
+    case, shared: conftest.)"""
     import ezdxf
 
-    out = tmp_path / "geo"
-    assert cli.main(["geometry", str(cases_dir / f"{name}.toml"), "--out", str(out)]) == 0
-    assert f"to {out.resolve()}" in capsys.readouterr().out
+    out, printed = geometry_of(name)
+    assert f"to {out.resolve()}" in printed
     for p in profiles:
         csv = np.loadtxt(out / f"{p}.csv", delimiter=",", skiprows=1)
         doc = ezdxf.readfile(out / f"{p}.dxf")

@@ -52,21 +52,20 @@ addEventListener('load', () => {
 
 
 @pytest.fixture(scope="module")
-def folders(cases_dir, tmp_path_factory):
-    """``run --no-fem`` and ``geometry`` of the sine prototype (the fastest shipped case; the
-    profiles coarse and STEP left out: neither is on the page, and they take seconds), each
-    under its own command line as the console script has it."""
+def folders(cases_dir, tmp_path_factory, sine_run):
+    """``run --no-fem`` and ``geometry`` of the sine prototype (the fastest shipped case),
+    each under its own command line as the console script has it: the run is the session's
+    (conftest's sine_run, which tests/test_cli.py reads too); the geometry's profiles
+    coarse and STEP left out (neither is on the page, and they take seconds)."""
     base = tmp_path_factory.mktemp("html")
-    out = {"run": base / "run", "geometry": base / "geometry"}
+    out = {"run": sine_run[0], "geometry": base / "geometry"}
     case = str(cases_dir / "sine_prototype.toml")
-    argv = {"run": ["run", case, "--no-fem", "--out", str(out["run"])],
-            "geometry": ["geometry", case, "--points-per-tooth", str(COARSE_POINTS),
-                         "--out", str(out["geometry"])]}
+    args = ["geometry", case, "--points-per-tooth", str(COARSE_POINTS),
+            "--out", str(out["geometry"])]
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(cad, "step_available", lambda: False)
-        for args in argv.values():
-            mp.setattr(sys, "argv", ["/usr/bin/toothfem", *args])
-            assert cli.main(args) == 0
+        mp.setattr(sys, "argv", ["/usr/bin/toothfem", *args])
+        assert cli.main(args) == 0
     return out
 
 
