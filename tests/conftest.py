@@ -156,7 +156,6 @@ def _command_output(argv, argv0="toothfem"):
     console script has it (report.html shows the command line); what it printed."""
     import contextlib
     import io
-    import sys
 
     from toothfem import cli
 

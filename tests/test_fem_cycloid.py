@@ -31,7 +31,8 @@ PHIS = np.array([0.013, 0.061, 0.117])      # generic crank angles within one pi
 
 @pytest.fixture(scope="module")
 def cycle(model, case, fe_cache):
-    return cf.CycleSolver(model, PHIS, cache=fe_cache).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
+    return cf.CycleSolver(model, PHIS, cache=fe_cache).solve(
+        drive_for(case).member_torque(case.operating.output_torque_Nm))
 
 
 def test_torque_equilibrium_every_position(cycle, case):
@@ -74,12 +75,14 @@ def test_clearance_modification_loads_fewer_pins_harder(case, cycle, fe_cache):
 
     g = replace(case.cycloid.geometry(), equidistant_m=10e-6, move_distance_m=-10e-6)
     model = replace(drive_for(case).fe_model(pin_structure="conventional"), geometry=g)
-    mod = cf.CycleSolver(model, PHIS, cache=fe_cache).solve(drive_for(case).member_torque(case.operating.output_torque_Nm))
+    mod = cf.CycleSolver(model, PHIS, cache=fe_cache).solve(
+        drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(mod.contacts_per_position < cycle.contacts_per_position)
     assert np.all(mod.force.max(axis=1) > 1.2 * cycle.force.max(axis=1))
     assert np.all(np.abs(mod.torque_residual()) < 1e-8)
     # more torque closes more clearance: the count rises with the load
-    more = cf.CycleSolver(model, PHIS[:1], cache=fe_cache).solve(3 * drive_for(case).member_torque(case.operating.output_torque_Nm))
+    more = cf.CycleSolver(model, PHIS[:1], cache=fe_cache).solve(
+        3 * drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert more.contacts_per_position[0] > mod.contacts_per_position[0]
 
 
@@ -117,8 +120,8 @@ def test_integral_housing_against_conventional(case, fe_cache):
     integral = cf.CycleSolver(drive_for(case).fe_model(pin_structure="integral"), PHIS[:2],
                               cache=fe_cache).solve(
         drive_for(case).member_torque(case.operating.output_torque_Nm))
-    conventional = cf.CycleSolver(drive_for(case).fe_model(pin_structure="conventional"), PHIS[:2],
-                                  cache=fe_cache).solve(
+    conventional = cf.CycleSolver(drive_for(case).fe_model(pin_structure="conventional"),
+                                  PHIS[:2], cache=fe_cache).solve(
         drive_for(case).member_torque(case.operating.output_torque_Nm))
     assert np.all(np.abs(integral.torque_residual()) < 1e-8)
     assert np.all(integral.contacts_per_position >= 19)
