@@ -57,4 +57,5 @@ test-wheel:
 	$(WHEEL_VENV)/bin/python -m pip install --quiet --upgrade pip
 	$(WHEEL_VENV)/bin/python -m pip install --quiet '.[test,cad]'
 	cd /tmp && TOOTHFEM_TEST_WHEEL=1 $(CURDIR)/$(WHEEL_VENV)/bin/pytest -q -p no:cacheprovider \
+	    -n auto --dist worksteal \
 	    --import-mode=importlib --rootdir $(CURDIR) $(CURDIR)/tests

@@ -101,8 +101,10 @@ if os.environ.get("TOOTHFEM_TEST_WHEEL"):
     import toothfem
     import toothfem.fem
 
-    for mod in (toothfem, toothfem.fem):
-        if Path(mod.__file__).resolve().is_relative_to(ROOT):
+    # the checkout's own folders (the wheel's environment, .venv-wheel, may sit inside
+    # the clone: a path under ROOT alone does not tell them apart)
+    for mod, folder in ((toothfem, ROOT / "toothfem"), (toothfem.fem, ROOT / "fem")):
+        if Path(mod.__file__).resolve().is_relative_to(folder):
             raise RuntimeError(f"TOOTHFEM_TEST_WHEEL is set but {mod.__name__} is the "
                                f"checkout's ({mod.__file__}), not the installed wheel's")
 
@@ -156,7 +158,6 @@ def _command_output(argv, argv0="toothfem"):
     console script has it (report.html shows the command line); what it printed."""
     import contextlib
     import io
-    import sys
 
     from toothfem import cli
 

@@ -30,8 +30,8 @@ ARCSEC = ANGLE_UNITS["arcsec"]
 
 
 @pytest.fixture(scope="module")
-def rv_orders():
-    return drive_for(load_case("cases/rv40e.toml")).te_orders()
+def rv_orders(cases_dir):
+    return drive_for(load_case(cases_dir / "rv40e.toml")).te_orders()
 
 
 def _loop_samples(seed=1):
@@ -346,17 +346,17 @@ def test_condition_sources_units_and_pattern(tmp_path):
         name_pattern("te_{output_torque_lbft}.csv")
 
 
-def test_drive_te_orders():
+def test_drive_te_orders(cases_dir):
     """The orders of the three drives from their trains."""
-    khv = drive_for(load_case("cases/cycloid_khv.toml")).te_orders()
+    khv = drive_for(load_case(cases_dir / "cycloid_khv.toml")).te_orders()
     assert khv == {"output revolution": 1.0,
                    "input revolution = crank revolution = lobe passing (Zc)": 29.0,
                    "pin passing (Zp) = eccentric against the disc": 30.0,
                    "pin mesh": 870.0}
-    rv = drive_for(load_case("cases/rv40e.toml")).te_orders()
+    rv = drive_for(load_case(cases_dir / "rv40e.toml")).te_orders()
     assert rv["input revolution"] == 121.0 and rv["pin mesh"] == 40 * 39
     assert rv["first-stage mesh"] == 12 * (121 - 1)
-    sine = drive_for(load_case("cases/sine_prototype.toml")).te_orders()
+    sine = drive_for(load_case(cases_dir / "sine_prototype.toml")).te_orders()
     assert sine["ring-tooth passing (Z2)"] == 80.0 and sine["tooth mesh"] == 80 * 79
     assert sine["input revolution = crank revolution = planet-tooth passing (Z1)"] == 79.0
 
