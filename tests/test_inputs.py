@@ -520,25 +520,32 @@ def test_gmsh_meshing_keeps_pythons_signal_handlers(tmp_path, signame):
         "t = np.linspace(0, 2 * np.pi, 400, endpoint=False)\n"
         "ring = np.stack([np.cos(t), np.sin(t)])\n"
         "mesh_rings([ring], 0.01)\n"
-        "stop = threading.Event()\n"
+        "stop, sent, meshes = threading.Event(), [0], [0]\n"
         "def ctrl_c():  # again until heard: one landing in a GC finalizer is lost\n"
         "    while not stop.wait(0.3):\n"
         f"        os.kill(os.getpid(), signal.{signame})\n"
+        "        sent[0] += 1\n"
         "threading.Thread(target=ctrl_c, daemon=True).start()\n"
-        "end = time.monotonic() + 120\n"
+        "end = time.monotonic() + 60\n"
         "try:\n"
         "    while time.monotonic() < end:\n"
         "        mesh_rings([ring], 0.01)\n"
+        "        meshes[0] += 1\n"
         "except KeyboardInterrupt:\n"
         "    stop.set()\n"
         "    try:\n"
         "        time.sleep(1)  # a last one already on its way\n"
         "    except KeyboardInterrupt:\n"
         "        pass\n"
-        "    print('interrupted')\n")
+        "    print('interrupted')\n"
+        "else:  # what a failure needs to be understood (seen once in a loaded suite run)\n"
+        "    print('not interrupted:', sent[0], 'signals sent,', meshes[0], 'meshes, handler',\n"
+        f"          signal.getsignal(signal.{signame}), 'mask',\n"
+        "          signal.pthread_sigmask(signal.SIG_BLOCK, []))\n")
     p = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                        timeout=300)
-    assert p.returncode == 0 and p.stdout.strip() == "interrupted", p.stderr[-500:]
+    assert p.returncode == 0 and p.stdout.strip() == "interrupted", (p.stdout[-500:],
+                                                                     p.stderr[-500:])
 
 
 # ---------------------------------------------------------------------------------------
