@@ -108,8 +108,13 @@ def run(args) -> int:
             save(report_te.hysteresis(result), tmp / "hysteresis.png", dpi=110)
             files.append("hysteresis.png")
         if result.te_figures is not None:
-            save(report_te.spectrum(result), tmp / "spectrum.png", dpi=110)
-            files.append("spectrum.png")
+            if any(r.kind == "amplitude" for r in result.layout.rows):
+                save(report_te.spectrum(result), tmp / "spectrum.png", dpi=110)
+                files.append("spectrum.png")
+            fig = report_te.widths(result)
+            if fig is not None:
+                save(fig, tmp / "widths.png", dpi=110)
+                files.append("widths.png")
         (tmp / "report.json").write_text(json.dumps(summary, indent=2, default=json_default) + "\n")
         (tmp / "report.md").write_text(report_te.markdown(result, files=files))
         report_html.write_report(tmp, case, command="te-loop", case_file=args.case)
@@ -126,6 +131,8 @@ def run(args) -> int:
             print(f"  {name} is aliased with {', '.join(group)}: the report names the "
                   "measurement that tells each apart")
     print(f"  {loop.stop_reason}")
+    for line in running_lines(result):
+        print(f"  {line}")
     if loop.failures:
         print(f"  {loop.failure_note()}")
     costly = [n for n, why in result.not_considered.items() if why]
@@ -137,3 +144,33 @@ def run(args) -> int:
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
     return 0
 
+
+def running_lines(result) -> list:
+    """The running widths' datasheet, measured beside the model's before and after the loop
+    (or why there is none), one line each.
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+
+    Returns
+    -------
+    list of str
+    """
+    if result.running is None:
+        return [f"no rigidity from the running widths: {result.running_note}"] \
+            if result.te_figures is not None else []
+    from ..report.te import width_errors_arcsec
+
+    out = [f"measured {line}" for line in result.running.lines()]
+    for which in ("before", "after"):
+        m = result.model_running(which)
+        if m is not None:
+            out.append(f"model {which} the loop: rigidity {m.rigidity_Nm_per_arcmin:.4g} "
+                       f"N m/arcmin, lost-motion intercept "
+                       f"{m.lost_motion_intercept_arcmin:.4g} arcmin")
+    err = width_errors_arcsec(result)
+    if err is not None:
+        out.append(f"widths' RMS error {err[0]:.3g} arcsec before the loop, {err[1]:.3g} "
+                   "arcsec after")
+    return out

@@ -150,6 +150,99 @@ def spectrum(result):
     return fig
 
 
+def widths(result):
+    """The hysteresis widths of the running TE against the output torque: measured (with
+    each width's sigma), the model before and after the loop, and the line w = 2 T / k + LM
+    of the measured widths' reading (:mod:`~toothfem.efficiency.loop.te.running`).
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+
+    Returns
+    -------
+    matplotlib.figure.Figure or None
+        None where the recordings hold no width.
+    """
+    rows = [(r.torque_Nm, i) for i, r in enumerate(result.layout.rows) if r.kind == "width"]
+    if not rows:
+        return None
+    plt = pyplot()
+    obs = result.loop.observations
+    t = np.array([r[0] for r in rows])
+    idx = [r[1] for r in rows]
+    fig, ax = plt.subplots(figsize=(9, 5.5), layout="constrained")
+    ax.errorbar(t, obs.values[idx] / 60, yerr=np.asarray(obs.sigma)[idx] / 60, fmt="o",
+                color="tab:blue", capsize=3, label="measured (forward less backward mean "
+                "TE), +-1 sigma")
+    for pred, marker, label in ((result.loop.baseline.prediction, "x", "model as declared"),
+                                (result.loop.final.prediction, "s", "model after the loop")):
+        ax.plot(t, np.asarray(pred)[idx] / 60, marker, color="k",
+                mfc="none" if marker == "s" else None, ls="none", label=label)
+    ds = result.running
+    if ds is not None:
+        tt = np.linspace(0, t.max(), 50)
+        ax.plot(tt, ds.width_arcmin(tt), "--", color="tab:red",
+                label=f"measured: 2 T / k + LM, k = {ds.rigidity_Nm_per_arcmin:.4g} N m/arcmin, "
+                      f"LM = {ds.lost_motion_intercept_arcmin:.3g} arcmin (from "
+                      f"{ds.linear_from_Nm:.4g} N m)")
+    ax.set_xlabel("output torque (brake opposing the motion) [N m]")
+    ax.set_ylabel("hysteresis width [arcmin]")
+    ax.set_title(wrap(f"{result.case_name}: the running TE's hysteresis width against the "
+                      "torque", 90), fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8, loc="upper left")
+    return fig
+
+
+def width_errors_arcsec(result) -> tuple | None:
+    """RMS of measured less model over the width rows [arcsec], before and after the
+    loop; None without width rows.
+
+    Parameters
+    ----------
+    result : toothfem.efficiency.loop.te.loop.TeLoopResult
+
+    Returns
+    -------
+    (float, float) or None
+    """
+    idx = [i for i, r in enumerate(result.layout.rows) if r.kind == "width"]
+    if not idx:
+        return None
+    y = result.loop.observations.values[idx]
+    return tuple(float(np.sqrt(np.mean((y - np.asarray(p)[idx]) ** 2)))
+                 for p in (result.loop.baseline.prediction, result.loop.final.prediction))
+
+
+def _running_md(result) -> list:
+    """report.md's section on the running widths."""
+    if result.te_figures is None:
+        return []
+    out = ["## The running widths (model-free reading)", ""]
+    ds = result.running
+    if ds is None:
+        return out + [f"No rigidity from the widths: {result.running_note}.", ""]
+    out += ["| | rigidity [N m/arcmin] | lost-motion intercept [arcmin] |", "|---|---|---|",
+            f"| measured (w = 2 T / k + LM from {ds.linear_from_Nm:.4g} N m) | "
+            f"{ds.rigidity_Nm_per_arcmin:.4g} +- {ds.rigidity_sigma_Nm_per_arcmin:.2g} | "
+            f"{ds.lost_motion_intercept_arcmin:.4g} +- "
+            f"{ds.lost_motion_intercept_sigma_arcmin:.2g} |"]
+    for which in ("before", "after"):
+        m = result.model_running(which)
+        if m is not None:
+            out.append(f"| model {which} the loop | {m.rigidity_Nm_per_arcmin:.4g} | "
+                       f"{m.lost_motion_intercept_arcmin:.4g} |")
+    err = width_errors_arcsec(result)
+    out += ["", f"Measured width at {ds.torques_Nm[0]:.4g} N m: {ds.lowest_width_arcmin:.4g} "
+            f"arcmin, {ds.softening_arcmin:.3g} arcmin below the line (softer near zero). "
+            "The model's TE is frictionless: its width at zero torque is play only."]
+    if err is not None:
+        out.append(f"Widths' RMS error {err[0]:.3g} arcsec before the loop, {err[1]:.3g} "
+                   "arcsec after.")
+    return out + [""]
+
+
 def _amplitude_rows(result) -> list:
     """(torque, order, direction, row index, noise) of the amplitude rows (the loop's
     layout of its observations)."""
@@ -186,7 +279,9 @@ def markdown(result, *, files=()) -> str:
              f"Held-out error cut {b.cv_wrmse / max(f.cv_wrmse, 1e-300):.3g}x (k-fold over "
              "the torque levels: a fold holds out whole torques). sigma: each row's own "
              "uncertainty from the recordings (the spectrum's noise floor, the binned loop's "
-             "scatter).", "", "## Effects added", ""]
+             "scatter).", ""]
+    lines += _running_md(result)
+    lines += ["## Effects added", ""]
     if loop.added:
         lines += ["| effect | value | standard error | meaning | source |",
                   "|---|---|---|---|---|"]

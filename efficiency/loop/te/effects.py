@@ -231,10 +231,16 @@ def _clearance_effects(g, keys) -> list:
     """The disc's move-distance and equidistant modifications off the drawing's, for those
     of ``keys`` (the layout's design keys) the geometry ``g`` (SI) has."""
     out = []
+    both = "equidistant_modification_mm" in keys
+    m0 = float(g.move_distance_m) / M_PER_UM if "move_distance_modification_mm" in keys \
+        else 0.0
+    e0 = float(g.equidistant_m) / M_PER_UM if both else np.inf
+    # one box in which every combination is a disc geometry/cycloid.py accepts (move <=
+    # equidistant): the equidistant from e_low up, the move-distance up to e_low, where
+    # e_low = max(e0 - span, m0) (the case's own m0 <= e0, so both boxes hold the case)
+    e_low = max(e0 - CLEARANCE_SPAN_UM, m0)
     if "move_distance_modification_mm" in keys:
-        m0 = float(g.move_distance_m) / M_PER_UM
-        top = min(m0 + CLEARANCE_SPAN_UM, float(g.equidistant_m) / M_PER_UM
-                  if "equidistant_modification_mm" in keys else np.inf)
+        top = min(m0 + CLEARANCE_SPAN_UM, e_low)
         out.append(TeEffect(
             name="move_distance_clearance",
             # at most the equidistant modification: beyond it the disc's tips and roots
@@ -248,12 +254,11 @@ def _clearance_effects(g, keys) -> list:
             citation="the profile modification on the nominal FE tables (docs/te_model.md)",
             direct_test="the disc's profile on a gear measuring machine (the lobes' normal "
                         "deviation at tip and root)"))
-    if "equidistant_modification_mm" in keys:
-        e0 = float(g.equidistant_m) / M_PER_UM
+    if both:
         out.append(TeEffect(
             name="profile_clearance",
             parameters=(parameter("equidistant_modification_um", "um",
-                                  e0 - CLEARANCE_SPAN_UM, e0 + CLEARANCE_SPAN_UM,
+                                  e_low, e0 + CLEARANCE_SPAN_UM,
                                   max(abs(e0), 5.0), starts=(e0, e0 + 5.0)),),
             options=lambda v: {("equidistant",): v[0] * M_PER_UM},
             summary="the disc's equidistant modification off the drawing's: the backlash "

@@ -51,9 +51,14 @@ class DirectionFigures:
     runs: int
     files: int
     samples: int
-    revolutions: float              # output revolutions swept, all runs
+    revolutions: float              # output revolutions holding data, all runs
     spectrum: Spectrum | None       # power average of the runs' spectra
     peaks: tuple = ()               # spectrum.Peak, by order, named where they match
+    windows: int = 1                # windows of data, all runs (:mod:`.windows`)
+    level_sigma_arcsec: float = math.nan   # standard error of mean_arcsec (sigma_source)
+    sigma_source: str = ""          # "between windows" | "within a window"
+    ripple_source: str = "revolution-averaged curve"   # or "within windows (median)"
+    wins: tuple = ()                # (windows.Windows, file offset [rad]) per run
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -64,6 +69,9 @@ class ConditionFigures:
     backward: DirectionFigures | None
     width_arcsec: float             # forward less backward mean TE; NaN: not measurable
     files: tuple                    # the sources of its runs
+    width_sigma_arcsec: float = math.nan   # from the two levels' standard errors
+    once_per_turn_arcsec: float = math.nan  # first harmonic of the window means (fitted
+                                            # out of the width); NaN: not fitted
     notes: tuple = ()
 
 
@@ -96,6 +104,11 @@ class TeFigures:
                 row[f"{key}_ripple_pp_arcsec"] = math.nan if d is None else d.ripple_pp_arcsec
                 row[f"{key}_runs"] = 0 if d is None else d.runs
             row["width_arcsec"] = c.width_arcsec
+            row["width_sigma_arcsec"] = c.width_sigma_arcsec
+            for key, d in (("forward", c.forward), ("backward", c.backward)):
+                row[f"{key}_windows"] = 0 if d is None else d.windows
+                row[f"{key}_coverage_revolutions"] = math.nan if d is None else d.revolutions
+            row["once_per_turn_arcsec"] = c.once_per_turn_arcsec
             out.append(row)
         return out
 
@@ -233,14 +246,100 @@ def _direction(runs, members, offsets, level, named, tolerance, max_multiple):
     peaks = () if spec is None else named_peaks(spec, named, tolerance_orders=tolerance,
                                                  max_multiple=max_multiple)
     finite = curve[np.isfinite(curve)]
+    wins = [(runs[i].windows, offsets[runs[i].source]) for i in members
+            if runs[i].windows is not None]
+    gapped = any(w.count > 1 for w, _ in wins)
+    if gapped:
+        ripple = float(np.median([w.ripple_pp_rad for w, _ in wins])) / ARCSEC
+    else:
+        ripple = float(finite.max() - finite.min()) if finite.size else math.nan
+    sigma, source = level_sigma(wins)
     return DirectionFigures(
         direction=runs[members[0]].direction, mean_arcsec=level / ARCSEC,
-        ripple_pp_arcsec=float(finite.max() - finite.min()) if finite.size else math.nan,
-        curve_arcsec=curve, runs=len(members),
+        ripple_pp_arcsec=ripple, curve_arcsec=curve, runs=len(members),
         files=len({runs[i].source for i in members}),
         samples=int(sum(runs[i].samples for i in members)),
         revolutions=float(sum(runs[i].revolutions for i in members)),
-        spectrum=spec, peaks=peaks)
+        spectrum=spec, peaks=peaks, windows=int(sum(w.count for w, _ in wins)) or 1,
+        level_sigma_arcsec=sigma / ARCSEC, sigma_source=source,
+        ripple_source="within windows (median)" if gapped else "revolution-averaged curve",
+        wins=tuple(wins))
+
+
+#: The once-per-turn component is fitted to the window means where at least this many
+#: windows spread over at least this part of a turn (fewer, or closer, do not tell a first
+#: harmonic from a level).
+ONCE_PER_TURN_WINDOWS = 4
+ONCE_PER_TURN_SPREAD_RAD = math.pi / 2
+
+
+def level_sigma(wins) -> tuple:
+    """The standard error of a direction's level from the data's own scatter [rad], and
+    which scatter: between windows (each window's mean less its file's offset; the standard
+    deviation over sqrt(count)) where there are two or more, else within the one window
+    (the samples' noise, :attr:`.windows.Windows.noise_rad`, over sqrt(samples)).
+
+    Parameters
+    ----------
+    wins : sequence of (windows.Windows, float)
+        Each run's windows and its file's offset [rad].
+
+    Returns
+    -------
+    sigma : float
+        [rad]; NaN where neither can be taken.
+    source : str
+    """
+    means = np.concatenate([w.means_rad - off for w, off in wins]) if wins else np.zeros(0)
+    if means.size >= 2:
+        return float(np.std(means, ddof=1) / math.sqrt(means.size)), \
+            f"between windows ({means.size})"
+    if wins and math.isfinite(wins[0][0].noise_rad):
+        w = wins[0][0]
+        return float(w.noise_rad / math.sqrt(max(int(w.samples.sum()), 1))), \
+            "within a window (sample noise)"
+    return math.nan, "none"
+
+
+def once_per_turn_width(forward, backward) -> tuple | None:
+    """The width with the once-per-turn component fitted out of the window means: one
+    least-squares fit of both directions' window means (each less its file's offset),
+    m = L_direction + A cos(angle) + B sin(angle), the first harmonic shared (the rig's or
+    the output's eccentricity is a function of the angle, whichever way it turns); width
+    L_forward - L_backward, its sigma from the fit's residual scatter. None where the
+    windows are too few or too close together to tell the harmonic from the levels
+    (:data:`ONCE_PER_TURN_WINDOWS` a direction, spread over :data:`ONCE_PER_TURN_SPREAD_RAD`).
+
+    Parameters
+    ----------
+    forward, backward : DirectionFigures
+
+    Returns
+    -------
+    (width, sigma, amplitude) [rad], or None
+    """
+    cols, ms, cs = [], [], []
+    for k, d in enumerate((forward, backward)):
+        c = np.concatenate([w.centres_rad for w, _ in d.wins]) if d.wins else np.zeros(0)
+        if c.size < ONCE_PER_TURN_WINDOWS:
+            return None
+        cs.append(c)
+        ms.append(np.concatenate([w.means_rad - off for w, off in d.wins]))
+        cols.append(np.full(c.size, k))
+    c, m, which = np.concatenate(cs), np.concatenate(ms), np.concatenate(cols)
+    ring = np.sort(c)
+    if 2 * math.pi - np.diff(np.concatenate([ring, ring[:1] + 2 * math.pi])).max() \
+            < ONCE_PER_TURN_SPREAD_RAD:
+        return None
+    a = np.column_stack([which == 0, which == 1, np.cos(c), np.sin(c)]).astype(float)
+    sol, *_ = np.linalg.lstsq(a, m, rcond=None)
+    dof = m.size - 4
+    if dof < 1:
+        return None
+    var = float(np.sum((m - a @ sol) ** 2) / dof)
+    cov = np.linalg.inv(a.T @ a) * var
+    sigma = math.sqrt(cov[0, 0] + cov[1, 1] - 2 * cov[0, 1])
+    return float(sol[0] - sol[1]), sigma, float(math.hypot(sol[2], sol[3]))
 
 
 def te_figures(recordings: TeRecordings, *, named_orders: dict | None = None,
@@ -300,9 +399,21 @@ def te_figures(recordings: TeRecordings, *, named_orders: dict | None = None,
                          "the width")
         else:
             width = (levels[(g, 1)] - levels[(g, -1)]) / ARCSEC
+        fwd, bwd = per[1], per[-1]
+        sig = (math.hypot(fwd.level_sigma_arcsec, bwd.level_sigma_arcsec)
+               if fwd is not None and bwd is not None else math.nan)
+        turn = math.nan
+        fitted = (once_per_turn_width(fwd, bwd) if fwd is not None and bwd is not None
+                  and math.isfinite(width) and (fwd.windows > 1 or bwd.windows > 1)
+                  else None)
+        if fitted is not None:
+            width, sig, turn = (v / ARCSEC for v in fitted)
+            notes.append(f"{cond.label()}: width from the window means with the "
+                         f"once-per-turn component fitted out ({turn:.3g} arcsec)")
         conditions.append(ConditionFigures(
             condition=cond, forward=per[1], backward=per[-1], width_arcsec=width,
-            files=tuple(sorted({runs[i].source for i in members})), notes=tuple(notes)))
+            files=tuple(sorted({runs[i].source for i in members})), notes=tuple(notes),
+            width_sigma_arcsec=sig, once_per_turn_arcsec=turn))
     return TeFigures(conditions=tuple(conditions),
                      offsets_arcsec={s: v / ARCSEC for s, v in offsets.items()},
                      level_scatter_arcsec=scatter / ARCSEC,

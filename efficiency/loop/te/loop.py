@@ -24,6 +24,8 @@ from .problem import TeLoop, TeProblem
 from .model import ModelRecordings, RecordingModel
 from .observations import Layout, observations, model_rows
 from .recordings import read_te_recordings, recording_paths
+from .running import RunningDatasheet, from_figures, running_datasheet
+from ....errors import MeasuredDataError
 
 #: Named orders fitted: up to this multiple of the lowest named order above the output's
 #: own (the crank's or the pins' passing): the model's TE resolves its period's first three
@@ -52,6 +54,33 @@ class TeLoopResult:
     orders: dict                       # the named orders fitted
     refused: tuple                     # recordings.Refusal
     elapsed_s: float
+    running: RunningDatasheet | None = None   # the widths' model-free reading
+    running_note: str = ""             # why there is none
+
+    def model_running(self, which: str = "before") -> RunningDatasheet | None:
+        """The same reading of the model's widths at the measured torques (each weighed
+        by the measured width's sigma), "before" or "after" the loop; None where the
+        measured one could not be taken.
+
+        Parameters
+        ----------
+        which : {"before", "after"}
+
+        Returns
+        -------
+        RunningDatasheet or None
+        """
+        if self.running is None:
+            return None
+        model = self.before if which == "before" else self.after
+        by_torque = {round(float(t.output_torque_Nm), 9): t.width_arcsec for t in model.te}
+        sig = dict(zip(self.running.torques_Nm, self.running.sigmas_arcmin))
+        torques = [t for t in self.running.torques_Nm if round(t, 9) in by_torque]
+        try:
+            return running_datasheet(torques, [by_torque[round(t, 9)] for t in torques],
+                                     [60.0 * sig[t] for t in torques])
+        except MeasuredDataError:
+            return None
 
     @property
     def evaluations(self) -> int:
@@ -82,8 +111,14 @@ class TeLoopResult:
         figs = {}
         if self.hysteresis is not None:
             figs = self.hysteresis.summary()
+        running = {"measured": None if self.running is None else self.running.summary(),
+                   "note": self.running_note}
+        for which in ("before", "after"):
+            m = self.model_running(which)
+            running[f"model_{which}"] = None if m is None else m.summary()
         return {"case": self.case_name, "rated_torque_Nm": self.rated_torque_Nm,
                 "named_orders": self.orders, "measured_figures": figs,
+                "running_datasheet": running,
                 "model_figures_before": (None if self.before.loop is None
                                          else self.before.loop.figures()),
                 "model_figures_after": (None if self.after.loop is None
@@ -175,7 +210,8 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     rated = model.rated_torque_Nm
     orders = fitted_orders(model.te_orders())
     refused = []
-    te_figs = loop_figs = None
+    te_figs = loop_figs = running = None
+    running_note = "no TE recordings"
     if te is not None:
         paths = recording_paths(te)
         if hysteresis is not None:      # a folder holding both: the staircase is not TE
@@ -184,6 +220,10 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
                                  window=SPECTRUM_WINDOW)
         refused += list(rec.refused)
         te_figs = te_figures(rec, named_orders=orders)
+        try:
+            running, running_note = from_figures(te_figs), ""
+        except MeasuredDataError as exc:
+            running, running_note = None, str(exc)
     if hysteresis is not None:
         loop_figs = hysteresis_figures(read_hysteresis(hysteresis), rated)
     obs, layout = observations(rated, loop=loop_figs, te=te_figs, orders=orders)
@@ -212,5 +252,6 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
                         hysteresis=loop_figs, before=recordings({}),
                         after=recordings(final_options), rated_torque_Nm=rated,
                         orders=orders, refused=tuple(refused),
-                        elapsed_s=time.perf_counter() - t0)
+                        elapsed_s=time.perf_counter() - t0, running=running,
+                        running_note=running_note)
 

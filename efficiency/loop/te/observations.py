@@ -15,7 +15,8 @@ Rows, each with its own uncertainty from the recordings themselves:
   noise's s (the spectrum's median amplitude away from the named orders / sqrt(2 ln 2),
   Rayleigh);
 - **the hysteresis width** of the rotating TE at each torque level (forward less backward
-  mean): sigma the runs' level scatter about the offsets' fit.
+  mean): sigma from the recordings' scatter (:func:`width_sigma`: between windows, within
+  one, or the runs' level scatter about the offsets' fit), never an assumed floor.
 
 The fold groups of the held-out error are the torque levels (hysteresis rows by |T|), so a
 fold holds out whole torques.
@@ -42,8 +43,6 @@ ORDER_MULTIPLES = (1, 2)
 #: Half-width of the search for a named order's bin [orders]: the spectrum's resolution is
 #: 1/revolutions; a named order falls within half a bin of its own.
 ORDER_SEARCH = 0.5
-#: Floor of a width row's sigma [arcsec].
-WIDTH_SIGMA_FLOOR_ARCSEC = 0.1
 #: Rayleigh: the median of the amplitude of pure noise is s sqrt(2 ln 2), its mean
 #: s sqrt(pi / 2) (s the standard deviation of each quadrature).
 RAYLEIGH_MEDIAN = math.sqrt(2 * math.log(2))
@@ -68,6 +67,27 @@ class Layout:
     rated_torque_Nm: float
     loop_rows: np.ndarray     # indices of the twist rows (centred together)
     loop_mean_arcmin: float = 0.0   # the measured twist rows' mean, taken off them
+
+
+def width_sigma(condition, te) -> float:
+    """A width row's sigma [arcsec], from the recordings' own scatter: the larger of the
+    condition's width sigma (its two levels' standard errors, between windows or within
+    one: :func:`.figures.level_sigma`) and the runs' level scatter about the offsets' fit
+    (which several runs of one condition show); NaN where neither is a positive number (the
+    row is then left out, never weighed by an assumed floor).
+
+    Parameters
+    ----------
+    condition : toothfem.efficiency.loop.te.figures.ConditionFigures
+    te : toothfem.efficiency.loop.te.figures.TeFigures
+
+    Returns
+    -------
+    float
+    """
+    found = [v for v in (condition.width_sigma_arcsec, te.level_scatter_arcsec)
+             if math.isfinite(v) and v > 1e-9]
+    return max(found) if found else math.nan
 
 
 def expected_amplitude(a, s):
@@ -210,11 +230,10 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
                                       f"{abs(t):.4g} N m")
                         rows.append(Row(kind="amplitude", torque_Nm=abs(float(t)),
                                         order=m * o, direction=d.direction, noise_arcsec=s))
-            if math.isfinite(c.width_arcsec):
+            s = width_sigma(c, te)
+            if math.isfinite(c.width_arcsec) and math.isfinite(s):
                 values.append(c.width_arcsec)
-                sigma.append(max(te.level_scatter_arcsec, WIDTH_SIGMA_FLOOR_ARCSEC)
-                             if math.isfinite(te.level_scatter_arcsec)
-                             else WIDTH_SIGMA_FLOOR_ARCSEC)
+                sigma.append(s)
                 group.append(f"te {abs(t):.6g}")
                 labels.append(f"TE hysteresis width [arcsec], {abs(t):.4g} N m")
                 rows.append(Row(kind="width", torque_Nm=abs(float(t))))

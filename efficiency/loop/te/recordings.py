@@ -68,6 +68,7 @@ from .columns import (CONDITIONS, DIRECTION_WORDS, Condition, close, column,
                       condition_values, field_of, number, values_from_name)
 from .columns import name_pattern as compile_pattern
 from .spectrum import DEFAULT_MAX_ORDER, WINDOWS, Spectrum, te_spectrum
+from .windows import Windows, windows_of
 
 #: Bins of the revolution-averaged TE (0.1 deg of output angle). A bin's mean attenuates a
 #: ripple of order q by sin(x)/x, x = pi q / ANGLE_BINS: 0.2 % at order 121, 28 % at 1560
@@ -98,13 +99,15 @@ class Run:
     direction: int                  # +1 forward, -1 backward
     condition: Condition            # the mean of its rows' values
     samples: int
-    revolutions: float              # output revolutions swept
+    revolutions: float              # output revolutions that hold data (the windows'
+                                    # spans summed: coverage, not the span)
     mean_te_rad: float              # mean over the whole revolutions of the spectrum's
                                     # uniform grid; below one revolution the mean of the
                                     # angle bins (each angle weighs the same)
     binned_te_rad: np.ndarray       # (ANGLE_BINS,) float32 mean TE per bin of the output
                                     # angle modulo a turn; NaN where no sample fell
     spectrum: Spectrum | None       # None below one whole revolution (``note`` says)
+    windows: Windows | None = None  # where it holds data (:mod:`.windows`)
     note: str = ""
 
 
@@ -285,20 +288,28 @@ def _reduce(b: _RunBuilder, direction, fields, source, angle_bins, max_order, wi
     curve = np.full(angle_bins, np.nan)
     hit = counts > 0
     curve[hit] = sums[hit] / counts[hit]
-    unwrapped = np.unwrap(angle)
-    turns = float((unwrapped.max() - unwrapped.min()) / two_pi)
+    win = windows_of(angle, te)
+    turns = win.coverage_revolutions
     note = ""
-    try:
-        spec = te_spectrum(angle, te, max_order=max_order, window=window)
-    except MeasuredDataError as exc:
-        spec, note = None, f"{source}: line {b.line}: no spectrum: {exc}"
+    if win.count > 1:   # a spectrum over the turn would interpolate across the gaps
+        spec, note = None, (f"{source}: line {b.line}: {win.count} windows holding "
+                            f"{win.coverage_revolutions:.3g} of the "
+                            f"{win.span_rad / two_pi:.3g} revolutions they span: no "
+                            "spectrum over the turn (a window resolves orders from "
+                            f"{win.smallest_order:.0f} per revolution up)")
+    else:
+        try:
+            spec = te_spectrum(angle, te, max_order=max_order, window=window)
+        except MeasuredDataError as exc:
+            spec, note = None, f"{source}: line {b.line}: no spectrum: {exc}"
     cond = Condition(**{f: (None if b.first[k] is None else b.sums[k] / n)
                         for k, f in enumerate(fields)})
     return Run(source=source, first_line=b.line, direction=direction, condition=cond,
                samples=n, revolutions=turns,
                mean_te_rad=float(np.mean(curve[hit])) if spec is None else spec.mean_arcsec
                * ARCSEC,
-               binned_te_rad=curve.astype(np.float32), spectrum=spec, note=note), note
+               binned_te_rad=curve.astype(np.float32), spectrum=spec, windows=win,
+               note=note), note
 
 
 def _cell(cells, j, name, factor, offset, source, line):

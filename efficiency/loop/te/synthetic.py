@@ -380,3 +380,85 @@ def write_hysteresis(path, samples: dict, *, twist_unit: str = "arcmin",
     if with_branch:
         cols["branch"] = np.array([str(int(b)) for b in samples["branch"]])
     return write_csv(path, cols, comments=comments, delimiter=delimiter, digits=8)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunningRig:
+    """A running TE rig's recordings as production rigs write them: one file per output
+    torque (the brake opposing the motion both ways), each re-zeroed, each holding short
+    windows scattered over part of a turn, forward and backward at other angles."""
+    loop: Loop                                # the elastic curve, play and friction width
+    ripple: Ripple                            # the mesh orders (its width and level unused)
+    once_per_turn_arcsec: float = 20.0        # the rig's / output's eccentricity
+    once_per_turn_phase_rad: float = 0.7
+    windows_per_direction: int = 8
+    window_deg: float = 1.0
+    samples_per_window: int = 100
+    spread_revolutions: float = 0.75          # the windows' angles within this part of a turn
+    noise_arcsec: float = 1.0
+    offset_sigma_arcsec: float = 30.0         # each file's zero
+
+    def width_arcsec(self, torque_Nm: float) -> float:
+        """The true width at the torque: 2 x the elastic curve + the friction width."""
+        t = abs(float(torque_Nm))
+        side = self.loop.elastic_arcmin(t, 1) - self.loop.elastic_arcmin(-t, -1)
+        return 60.0 * (side + self.loop.friction_width_arcmin)
+
+    def truth(self) -> dict:
+        """The figures a reading of the widths must find above the knee: the rigidity 1/c2
+        and the intercept b + w + 2 knee (c1 - c2) [arcmin]."""
+        lp = self.loop
+        c1, c2 = 1 / lp.low_rigidity_Nm_per_arcmin, 1 / lp.rigidity_Nm_per_arcmin
+        knee = lp.knee_fraction * lp.rated_torque_Nm
+        return {"rigidity_Nm_per_arcmin": lp.rigidity_Nm_per_arcmin,
+                "lost_motion_intercept_arcmin": lp.backlash_arcmin
+                + lp.friction_width_arcmin + 2 * knee * (c1 - c2),
+                "knee_Nm": knee}
+
+    def write(self, folder, torques_Nm, *, rng=None, comments: dict | None = None) -> list:
+        """One file ``te_<T>Nm.csv`` per torque (shape B: output_angle_deg, direction,
+        te_arcsec; the torque in a ``# output_torque_Nm:`` line).
+
+        Parameters
+        ----------
+        folder : str or pathlib.Path
+            An existing folder.
+        torques_Nm : sequence of float
+            Output torques >= 0.
+        rng : numpy.random.Generator, optional
+            Default seed 0.
+        comments : dict, optional
+            More ``# key: value`` lines (the provenance).
+
+        Returns
+        -------
+        list of pathlib.Path
+        """
+        rng = np.random.default_rng(0) if rng is None else rng
+        span = math.radians(self.window_deg)
+        out = []
+        for t in torques_Nm:
+            angles, dirs, te = [], [], []
+            offset = rng.normal(0.0, self.offset_sigma_arcsec)
+            for d in (1, -1):
+                starts = rng.uniform(0, 2 * math.pi * self.spread_revolutions,
+                                     self.windows_per_direction)
+                for a0 in np.sort(starts)[::d]:
+                    a = a0 + d * np.linspace(0, span, self.samples_per_window)
+                    level = 0.5 * d * self.width_arcsec(t)
+                    y = (level + offset + self.ripple.te_arcsec(a, d) - self.ripple.level_arcsec
+                         - 0.5 * d * self.ripple.width_arcsec
+                         + self.once_per_turn_arcsec * np.sin(a + self.once_per_turn_phase_rad)
+                         + rng.normal(0.0, self.noise_arcsec, a.size))
+                    angles.append(np.degrees(a))
+                    dirs.append(np.full(a.size, "forward" if d > 0 else "backward"))
+                    te.append(y)
+            path = Path(folder) / f"te_{t:g}Nm.csv"
+            write_csv(path, {"output_angle_deg": np.concatenate(angles),
+                             "direction": np.concatenate(dirs),
+                             "te_arcsec": np.concatenate(te)},
+                      comments={**(comments or {}), "output_torque_Nm": f"{t:g}",
+                                "zero_offset_arcsec": f"{offset:.3f} (this file)"},
+                      digits=4)
+            out.append(path)
+        return out
