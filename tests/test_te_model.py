@@ -157,9 +157,11 @@ def test_te_orders_are_the_drives(rv):
 # -- the TE and the loop of the recording model --------------------------------------------
 
 def test_nominal_model_te_is_system_te(rv, rv_model):
-    """Effects() is the datasheet's TE (``system_te`` at the same sampled pitches) and its
-    loop the datasheet's, exactly."""
-    te, = rv_model.te(Effects(), (412.0,), samples=5)
+    """Without friction the model's TE is the datasheet's (``system_te`` at the same
+    sampled pitches), exactly; with the case's friction it is the datasheet's TE at the
+    output torque plus the running losses (the efficiency model's, as a torque on the
+    output); its loop is the datasheet's, exactly."""
+    te, = rv_model.te(Effects(friction_scale=0.0), (412.0,), samples=5)
     ref, _, _ = system_te(rv_model.drive, rv_model.supports, 412.0, samples=5, per_pitch=2,
                           cache=False, pin_spring_m_per_N=SPRING)
     back, _, _ = system_te(rv_model.drive, rv_model.supports, -412.0, samples=5, per_pitch=2,
@@ -167,6 +169,13 @@ def test_nominal_model_te_is_system_te(rv, rv_model):
     assert np.array_equal(te.te_forward_rad, ref.te_rad)
     assert np.array_equal(te.te_backward_rad, back.te_rad)
     assert np.array_equal(te.output_angle_rad, ref.output_angle_rad)
+    running, = rv_model.te(Effects(), (412.0,), samples=5)
+    loss = rv_model.running_loss_torque_Nm(412.0, Effects())
+    assert 0.05 * 412 < loss < 0.25 * 412          # an RV-40E's 80-95 % efficiency
+    ref_f, _, _ = system_te(rv_model.drive, rv_model.supports, 412.0 + loss, samples=5,
+                            per_pitch=2, cache=False, pin_spring_m_per_N=SPRING)
+    assert np.array_equal(running.te_forward_rad, ref_f.te_rad)
+    assert running.width_arcsec > te.width_arcsec
     loop = rv_model.hysteresis(Effects())
     sheet = datasheet(SystemTwist(rv_model.system(0), friction=rv_model.friction), 412.0,
                       steps=4)
@@ -179,6 +188,21 @@ def test_nominal_model_te_is_system_te(rv, rv_model):
         loop.falling_torque_Nm, loop.rising_torque_Nm, loop.rising_twist_arcmin) - 1e-12)
 
 
+def test_the_running_width_at_zero_torque_is_the_friction(rv_model):
+    """At zero output torque the running reducer's path still carries its no-load losses
+    (churning, seals, bearings' viscous moments): the model's width there is twice their
+    twist, not zero as the frictionless TE of a case without play gives (issue 39). The
+    friction factor scales it."""
+    bare, = rv_model.te(Effects(friction_scale=0.0), (0.0,), samples=5)
+    run, = rv_model.te(Effects(), (0.0,), samples=5)
+    twice, = rv_model.te(Effects(friction_scale=2.0), (0.0,), samples=5)
+    assert abs(bare.width_arcsec) < 0.01
+    drag = rv_model.running_loss_torque_Nm(0.0, Effects())
+    assert drag > 0
+    assert run.width_arcsec > 1.0
+    assert twice.width_arcsec > 1.5 * run.width_arcsec
+
+
 def test_one_eccentric_ripples_at_the_crank_order(rv_model):
     """rv40e, all 39 pitches: a 5 um error of one eccentric (crank 1 at disc 1) turns the
     output once per turn of the crank against the carrier: the TE's harmonic at order 40
@@ -186,10 +210,12 @@ def test_one_eccentric_ripples_at_the_crank_order(rv_model):
     too). The whole crank's error (both its eccentrics, 180 deg apart) pushes the two
     discs opposite ways: their turns cancel at order 40 (below 0.01 arcsec) and the
     split between the discs ripples there instead (+-5 % of the torque)."""
-    one = Effects(crank_eccentricity_m=((5e-6, 0.0), (0.0, 0.0)))
-    crank = Effects(crank_eccentricity_m=(5e-6, 0.0), crank_phase_rad=(0.3, 0.0))
+    # the elastic states at 412 N m (friction_scale 0: the running losses left out)
+    one = Effects(crank_eccentricity_m=((5e-6, 0.0), (0.0, 0.0)), friction_scale=0.0)
+    crank = Effects(crank_eccentricity_m=(5e-6, 0.0), crank_phase_rad=(0.3, 0.0),
+                    friction_scale=0.0)
     nominal, single, whole = (rv_model.te(e, (412.0,), samples=39)[0]
-                              for e in (Effects(), one, crank))
+                              for e in (Effects(friction_scale=0.0), one, crank))
     assert nominal.period_pitches == 39 and nominal.period_output_rad == pytest.approx(
         2 * math.pi / 40)
     assert nominal.amplitude_arcsec(40) < 0.01
@@ -460,14 +486,14 @@ def test_pin_ring_sampling_and_orientation(small_khv):
     docs/te_rig.md)."""
     m = RecordingModel(small_khv, positions=2, cache=False,
                        pin_spring_m_per_N=SPRING)
-    oval = Effects(pin_ring_m={"radial_2": 5e-6})
+    oval = Effects(pin_ring_m={"radial_2": 5e-6}, friction_scale=0.0)   # elastic states
     fill, = m.te(oval, (None,))
     whole, = m.te(oval, (None,), samples=132)
     assert len(fill.sampled_pitches) == 105 and len(whole.sampled_pitches) == 132
     c = pin_centres(m.drive.geometry)
     theta = np.arctan2(c[1], c[0])
     turned = 5e-6 * c / np.linalg.norm(c, axis=0) * np.cos(2 * (theta - 0.37))
-    turn, = m.te(Effects(pin_offset_m=turned), (None,))
+    turn, = m.te(Effects(pin_offset_m=turned, friction_scale=0.0), (None,))
     assert turn.period_pitches == 132
     assert whole.amplitude_arcsec(22) == pytest.approx(17.9, rel=0.01)
     for q in (22, 44):                   # 2 Za and 4 Za

@@ -5,6 +5,10 @@ its true value, the noise).
 
 - ``rv40e_crank_play/``: crank-bearing play 10 um; shape A (one file per torque, forward
   and backward columns) and the hysteresis staircase;
+- ``rv40e_running/``: crank-bearing play 10 um, as a production running rig writes it
+  (shape W: one file per torque at 11 torques from 0 to 110 % of the rating, each re-zeroed,
+  8 windows of 1 degree a direction scattered over three quarters of a turn, the rig's
+  once-per-turn of 20 arcsec); the model's running losses in the widths;
 - ``rv40e_eccentric/``: the eccentric under crank 1, disc 1, 5 um off its place: 4 um
   radially (its eccentricity) and 3 um across (its phase, 8 arcmin at e = 1.3 mm); shape B
   (one long table with a direction column, re-zeroed from its second torque on) and the
@@ -39,7 +43,11 @@ SETS = {
                          "crank_phase_rad": ((math.atan2(3.0, 4.0), 0.0), (0.0, 0.0))},
                         ("B", "hysteresis"),
                         {"seed": 2, "rezero_at": 1, "rezero_offset_arcsec": 120.0}),
+    "rv40e_running": ({"crank_bearing_play_m": 10e-6}, ("W",), {"seed": 3}),
 }
+#: The torque levels of a set other than TORQUE_FRACTIONS': the running rig's 11 torques
+#: from 0 to 110 % of the rated torque, the brake opposing the motion both ways.
+SET_TORQUE_FRACTIONS = {"rv40e_running": tuple(0.11 * k for k in range(11))}
 
 
 def write(folder: Path, name: str) -> Path:
@@ -63,7 +71,8 @@ def write(folder: Path, name: str) -> Path:
     effects, shapes, noise = SETS[name]
     case = load_case(CASES / "rv40e.toml")
     model = RecordingModel(case)
-    torques = [f * model.rated_torque_Nm for f in TORQUE_FRACTIONS]
+    torques = [round(f * model.rated_torque_Nm, 1)
+               for f in SET_TORQUE_FRACTIONS.get(name, TORQUE_FRACTIONS)]
     target = folder / name
     tmp = Path(tempfile.mkdtemp(prefix=f".{name}-", dir=folder))
     try:

@@ -38,9 +38,11 @@ effects a fit can vary (docs/te_model.md).
 - The TE over the full period (:meth:`RecordingModel.te` -> :class:`ModelTe`), the
   datasheet's TE (:func:`toothfem.fem.system.datasheet.period_te`, what ``system_te``
   runs): at each output torque T the forward run at +T (the output driven against a brake
-  of T) and the backward run at -T (the brake reversed with the motion), frictionless
-  elastic states (the rotating mesh's friction is not in the solve; the path friction
-  belongs to the staircase). The period is the effects' own
+  of T) and the backward run at -T (the brake reversed with the motion), elastic states
+  under T plus the running losses (:meth:`RecordingModel.running_loss_torque_Nm`: every
+  loss of the efficiency model at the case's input speed as a torque on the output, scaled
+  by ``friction_scale``), so that the width at zero torque holds the friction beside the
+  play (the path friction of the micro-slips belongs to the staircase). The period is the effects' own
   (:meth:`toothfem.fem.drives.base.Drive.deviation_period_pitches`: a 2K-V crank's errors
   repeat per turn of the crank against the carrier, the pins' per pin, the lobes' per
   lobe), sampled at ``samples`` pitches (each solved at every position of its pitch) and
@@ -89,6 +91,10 @@ DEFAULT_POSITIONS = 4
 #: period, so a 2K-V crank's error (one turn of the crank against the carrier per period)
 #: shows its first three harmonics.
 DEFAULT_TE_SAMPLES = 7
+#: The running losses at zero output torque are the efficiency model's at this fraction of
+#: the rated torque (it refuses a zero torque; at 0.1 % the load-dependent losses are 0.1 %
+#: of the rated point's, the no-load losses whole).
+NO_LOAD_FRACTION = 1e-3
 #: Torque steps from 0 to +T of the datasheet's loop (its figures: rigidity from 50 to
 #: 100 % needs 25 % steps at least).
 DEFAULT_STEPS = 4
@@ -133,6 +139,7 @@ class RecordingModel:
         self.cache = cache
         self.system_options = dict(system_options)
         self._systems: dict[int, ReducerModel] = {}
+        self._losses: dict[float, float] = {}
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
@@ -179,6 +186,37 @@ class RecordingModel:
         return dataclasses.replace(f, pin_disc=s * f.pin_disc, pin_groove=s * f.pin_groove,
                                    bearing=s * f.bearing, output_pin=s * f.output_pin,
                                    output_torque_Nm=s * f.output_torque_Nm)
+
+    def running_loss_torque_Nm(self, torque_Nm: float, effects: Effects) -> float:
+        """The running reducer's losses at the output torque as a torque on the output
+        [N m]: the efficiency model's losses (every mesh, bearing, seal and churning loss,
+        :func:`toothfem.efficiency.evaluation.evaluate`, analytic loads, the lubricant's
+        reference temperature) at the case's input speed, over the output speed, times
+        ``effects.friction_scale``. ASSUMPTION: the whole loss loads the elastic path (the
+        losses on the output side of the compliant parts load it less), so the width it
+        adds is an upper bound.
+
+        Parameters
+        ----------
+        torque_Nm : float
+            >= 0.
+        effects : Effects
+
+        Returns
+        -------
+        float
+        """
+        scale = float(effects.friction_scale)
+        if scale == 0:
+            return 0.0
+        t = max(float(torque_Nm), NO_LOAD_FRACTION * self.rated_torque_Nm)
+        if t not in self._losses:
+            from ...evaluation import evaluate
+
+            e = evaluate(self.case, self.case.operating.input_speed_rpm, t)
+            self._losses[t] = float(sum(np.sum(v) for v in e.losses_W.values())
+                                    * t / np.sum(e.output_power_W))
+        return scale * self._losses[t]
 
     def te_orders(self) -> dict:
         """The drive's named orders per output revolution (:meth:`Drive.te_orders`).
@@ -306,8 +344,9 @@ class RecordingModel:
                 raise CaseError(f"output torque {t!r} N m: >= 0 and finite (forward at +T, "
                                 "backward at -T)")
             runs = []
+            path = t + self.running_loss_torque_Nm(t, effects)
             for sign in (1, -1):
-                signed = sign * (t if t > 0 else ZERO_TORQUE_NM)
+                signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
                 runs.append(period_te(iter(systems), pitches, signed, full_period=period,
                                       deviation=deviation, geometry=geometry,
                                       solve_pitches=on))

@@ -262,6 +262,66 @@ def write_te_per_torque(folder, tes, *, noise: Noise, rng, header: dict,
     return tuple(paths), tuple(float(x) for x in offsets)
 
 
+#: The running-rig shape ("W"): windows a direction, each of this span of output
+#: [deg] read every 0.01 deg, their starts spread over this part of a turn, and the rig's
+#: once-per-turn (its encoder's eccentricity) [arcsec] and phase [rad].
+WINDOWS_PER_DIRECTION = 8
+WINDOW_DEG = 1.0
+WINDOW_STEP_DEG = 0.01
+WINDOW_SPREAD_REVOLUTIONS = 0.75
+ONCE_PER_TURN_ARCSEC = 20.0
+ONCE_PER_TURN_PHASE_RAD = 0.7
+
+
+def write_te_windows(folder, tes, *, noise: Noise, rng, header: dict,
+                     input_speed_rpm: float, oil_temp_C: float = OIL_TEMP_C) -> tuple:
+    """Shape (W), as production rigs write it: one file per torque (shape B's columns),
+    each re-zeroed, each holding short windows scattered over part of a turn, forward and
+    backward at other angles, with the rig's once-per-turn (:data:`WINDOWS_PER_DIRECTION`
+    and the other constants above).
+
+    Parameters
+    ----------
+    folder : pathlib.Path
+    tes : sequence of ModelTe
+    noise, rng, header, input_speed_rpm, oil_temp_C
+        As :func:`write_te_per_torque`.
+
+    Returns
+    -------
+    (tuple of pathlib.Path, tuple of float)
+        The files and each one's zero offset [arcsec].
+    """
+    offsets = _offsets(noise, len(tes), rng)
+    per_window = int(round(WINDOW_DEG / WINDOW_STEP_DEG)) + 1
+    paths = []
+    for i, te in enumerate(tes):
+        angles, dirs, values = [], [], []
+        for d in (1, -1):
+            full_a, full_te = sweep(te, d, 1.0, int(round(360 / WINDOW_STEP_DEG)))
+            starts = np.sort(rng.uniform(0.0, 360.0 * WINDOW_SPREAD_REVOLUTIONS,
+                                         WINDOWS_PER_DIRECTION))[::d]
+            for a0 in starts:
+                a = np.radians(a0 + d * WINDOW_STEP_DEG * np.arange(per_window))
+                y = np.interp(np.mod(a, 2 * math.pi), full_a, full_te, period=2 * math.pi)
+                y = (y / ARCSEC + offsets[i]
+                     + ONCE_PER_TURN_ARCSEC * np.sin(a + ONCE_PER_TURN_PHASE_RAD)
+                     + noise.te_noise_arcsec * rng.standard_normal(a.size))
+                angles.append(np.degrees(a))
+                dirs.append(np.full(a.size, d))
+                values.append(y)
+        comments = {**header, "zero_offset_arcsec": f"{offsets[i]:.4f} (this file)",
+                    "once_per_turn_arcsec": f"{ONCE_PER_TURN_ARCSEC:g} (the rig's)",
+                    "output_torque_Nm": f"{te.output_torque_Nm:g}",
+                    "input_speed_rpm": f"{input_speed_rpm:g}", "oil_temp_C": f"{oil_temp_C:g}"}
+        text = _csv(("output_angle_deg", "direction", "te_arcsec"),
+                    (np.concatenate(angles), np.concatenate(dirs), np.concatenate(values)),
+                    (DIGITS["angle"], 0, DIGITS["te"]), comments)
+        paths.append(write_atomic(Path(folder) / f"te_{_fmt_torque(te.output_torque_Nm)}Nm.csv",
+                                  text))
+    return tuple(paths), tuple(float(x) for x in offsets)
+
+
 def write_te_long(path, tes, *, noise: Noise, rng, header: dict,
                   revolutions: float = REVOLUTIONS, input_speed_rpm: float,
                   oil_temp_C: float = OIL_TEMP_C,
@@ -389,8 +449,8 @@ def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
         A model of the case already set up (its tables in memory).
     te_samples : int, optional
         Sampled pitches of the TE (:meth:`RecordingModel.te`).
-    shapes : sequence of {"A", "B", "hysteresis"}
-        The files to write.
+    shapes : sequence of {"A", "B", "W", "hysteresis"}
+        The files to write (A and W both write one file per torque: give one of them).
     **loop_options
         Go to :meth:`RecordingModel.hysteresis` (``torque_max_Nm``, ``fractions``, ...).
 
@@ -404,9 +464,9 @@ def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
         For an unknown shape, a re-zeroing index out of range, or what the model refuses.
     """
     noise = Noise() if noise is None else noise
-    unknown = set(shapes) - {"A", "B", "hysteresis"}
+    unknown = set(shapes) - {"A", "B", "W", "hysteresis"}
     if unknown:
-        raise CaseError(f"shapes {sorted(unknown)}: known are A, B, hysteresis")
+        raise CaseError(f"shapes {sorted(unknown)}: known are A, B, W, hysteresis")
     torques = [float(t) for t in torques_Nm]
     if noise.rezero_at is not None and not 0 <= int(noise.rezero_at) < len(torques):
         raise CaseError(f"rezero_at = {noise.rezero_at!r}: a torque level's index, 0 to "
@@ -423,7 +483,8 @@ def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
               "case": model.case.name,
               "effect": "; ".join(f"{k} = {v}" for k, v in truth.items()) or "none",
               "noise": noise.describe()}
-    tes = model.te(effects, torques, samples=te_samples) if {"A", "B"} & set(shapes) else ()
+    tes = model.te(effects, torques, samples=te_samples) if {"A", "B", "W"} & set(shapes) \
+        else ()
     opts: _SweepOptions = {"revolutions": revolutions, "input_speed_rpm": speed,
                            "oil_temp_C": oil_temp_C,
                            "samples_per_revolution": samples_per_revolution}
@@ -431,6 +492,9 @@ def write_synthetic_recordings(folder, case, effects: Effects, torques_Nm, *,
     if "A" in shapes:
         files, offsets = write_te_per_torque(folder, tes, noise=noise, rng=rng,
                                              header=header, **opts)
+    if "W" in shapes:
+        files, offsets = write_te_windows(folder, tes, noise=noise, rng=rng, header=header,
+                                          input_speed_rpm=speed, oil_temp_C=oil_temp_C)
     if "B" in shapes:
         long_file, long_offsets = write_te_long(folder / "te_long.csv", tes, noise=noise,
                                                 rng=rng, header=header, **opts)
