@@ -265,9 +265,9 @@ def write_te_per_torque(folder, tes, *, noise: Noise, rng, header: dict,
 #: The running-rig shape ("W"): windows a direction, each of this span of output
 #: [deg] read every 0.01 deg, their starts spread over this part of a turn, and the rig's
 #: once-per-turn (its encoder's eccentricity) [arcsec] and phase [rad].
-WINDOWS_PER_DIRECTION = 8
+WINDOWS_PER_DIRECTION = 24
 WINDOW_DEG = 1.0
-WINDOW_STEP_DEG = 0.01
+WINDOW_STEP_DEG = 0.02
 WINDOW_SPREAD_REVOLUTIONS = 0.75
 ONCE_PER_TURN_ARCSEC = 20.0
 ONCE_PER_TURN_PHASE_RAD = 0.7
