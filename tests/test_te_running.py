@@ -131,3 +131,17 @@ def test_the_shipped_running_demo_reads_the_generators_rigidity_and_lost_motion(
                - truth.lost_motion_intercept_arcmin) < 0.02
     declared = reading(Effects())
     assert truth.lost_motion_intercept_arcmin - declared.lost_motion_intercept_arcmin > 1.0
+
+
+def test_a_model_twice_too_soft_is_said_with_what_the_widths_need():
+    """A model whose widths are twice as soft as the measured ones: the miss names the
+    rigidity the widths need, the model's and the factor, never "nothing helps"."""
+    from toothfem.efficiency.loop.te.running import misses
+
+    t = np.array([100.0, 200.0, 300.0, 400.0])
+    measured = running_datasheet(t, 60 * (2 * t / 100 + 1.0), [1.0] * 4)
+    soft = running_datasheet(t, 60 * (2 * t / 50 + 1.0), [1.0] * 4)
+    lines = misses(measured, soft)
+    assert len(lines) == 1 and "rigidity of 100 N m/arcmin" in lines[0]
+    assert "gives 50" in lines[0] and "0.5x" in lines[0]
+    assert misses(measured, measured) == []

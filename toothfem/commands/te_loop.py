@@ -122,7 +122,8 @@ def run(args) -> int:
         print(json.dumps(summary, indent=2, default=json_default))
         return 0
     loop = result.loop
-    print(f"{result.case_name}: {len(loop.observations.values)} observed figures; held-out "
+    print(f"{result.case_name}: {result.elapsed_s:.0f} s, {result.evaluations} model "
+          f"evaluations; {len(loop.observations.values)} observed figures; held-out "
           f"error {loop.baseline.cv_wrmse:.3g} -> {loop.final.cv_wrmse:.3g} sigma; effects: "
           + (", ".join(f"{n} ({', '.join(f'{v:.3g}' for v in loop.final.values[n])})"
                        for n in loop.added) or "none"))
@@ -160,6 +161,7 @@ def running_lines(result) -> list:
     if result.running is None:
         return [f"no rigidity from the running widths: {result.running_note}"] \
             if result.te_figures is not None else []
+    from ..efficiency.loop.te.running import misses
     from ..report.te import width_errors_arcsec
 
     out = [f"measured {line}" for line in result.running.lines()]
@@ -169,6 +171,9 @@ def running_lines(result) -> list:
             out.append(f"model {which} the loop: rigidity {m.rigidity_Nm_per_arcmin:.4g} "
                        f"N m/arcmin, lost-motion intercept "
                        f"{m.lost_motion_intercept_arcmin:.4g} arcmin")
+    after = result.model_running("after")
+    if after is not None:
+        out += misses(result.running, after)
     err = width_errors_arcsec(result)
     if err is not None:
         out.append(f"widths' RMS error {err[0]:.3g} arcsec before the loop, {err[1]:.3g} "

@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from ..efficiency.loop.te.observations import model_rows
+from ..efficiency.loop.te.running import misses
 from . import pyplot, wrap
 
 #: The figures compared, summary key -> (label, unit).
@@ -233,7 +234,10 @@ def _running_md(result) -> list:
         if m is not None:
             out.append(f"| model {which} the loop | {m.rigidity_Nm_per_arcmin:.4g} | "
                        f"{m.lost_motion_intercept_arcmin:.4g} |")
+    after = result.model_running("after")
+    gaps = [] if after is None else misses(ds, after)
     err = width_errors_arcsec(result)
+    out += [""] + [f"**The model cannot reach the widths:** {g}." for g in gaps]
     out += ["", f"Measured width at {ds.torques_Nm[0]:.4g} N m: {ds.lowest_width_arcmin:.4g} "
             f"arcmin, {ds.softening_arcmin:.3g} arcmin below the line (softer near zero). "
             "The model's TE is frictionless: its width at zero torque is play only."]

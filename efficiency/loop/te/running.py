@@ -96,7 +96,7 @@ class RunningDatasheet:
                 f"lost-motion intercept (width at zero torque, play and friction): "
                 f"{self.lost_motion_intercept_arcmin:.4g} +- "
                 f"{self.lost_motion_intercept_sigma_arcmin:.2g} arcmin",
-                f"measured width at {self.torques_Nm[0]:.4g} N m: "
+                f"width at {self.torques_Nm[0]:.4g} N m: "
                 f"{self.lowest_width_arcmin:.4g} arcmin, {self.softening_arcmin:.3g} arcmin "
                 "below the line (softer near zero); low-torque secant "
                 f"{self.low_torque_secant_Nm_per_arcmin:.4g} N m/arcmin"]
@@ -181,3 +181,35 @@ def from_figures(figures) -> RunningDatasheet:
     if not rows:
         raise MeasuredDataError("no TE condition has an output torque: no rigidity")
     return running_datasheet(*zip(*rows))
+
+
+#: A model's reading misses the measured one when they differ by more than this many of
+#: the measured reading's standard errors (3: a 0.3 % chance for a model that is right).
+MISS_SIGMAS = 3.0
+
+
+def misses(measured: RunningDatasheet, model: RunningDatasheet) -> list:
+    """What the model's widths cannot reach, one line each (none when both readings agree
+    within :data:`MISS_SIGMAS` standard errors): the rigidity and the lost-motion intercept
+    the measured widths need against the model's, and by what factor or how much.
+
+    Parameters
+    ----------
+    measured, model : RunningDatasheet
+
+    Returns
+    -------
+    list of str
+    """
+    out = []
+    k_m, k = measured.rigidity_Nm_per_arcmin, model.rigidity_Nm_per_arcmin
+    if abs(k - k_m) > MISS_SIGMAS * measured.rigidity_sigma_Nm_per_arcmin:
+        out.append(f"the widths need a rigidity of {k_m:.4g} N m/arcmin; the model after the "
+                   f"loop gives {k:.4g}: its compliance would have to change by "
+                   f"{k / k_m:.3g}x, which no fitted effect reaches")
+    lm_m, lm = measured.lost_motion_intercept_arcmin, model.lost_motion_intercept_arcmin
+    if abs(lm - lm_m) > MISS_SIGMAS * measured.lost_motion_intercept_sigma_arcmin:
+        out.append(f"the widths need a lost-motion intercept of {lm_m:.4g} arcmin; the model "
+                   f"after the loop gives {lm:.4g} ({lm_m - lm:+.3g} arcmin of play or "
+                   "friction missing)")
+    return out
