@@ -3,15 +3,17 @@ every number each output prints (``--json``) or writes (the JSON files of its ou
 folder) under its quantity label, list each label with every value it has across the
 outputs, and fail (exit 1) where one label carries two different values for one case.
 
-A number's label is its key (toothfem/quantities.py names each quantity once, its unit in
-the key's suffix). Where a key sits in a section of an output, the section is part of the
-label only where the section says which variant the number is (``VARIANT_SECTIONS``:
-``thermal`` is the efficiency at the heat balance's oil, ``nominal`` the tolerance
-ensemble's unbuilt reducer at its positions over the pairing period); any other nesting
-(``losses``, ``loss_shares``...) keeps the key with its section's name, as the table
-shows it. Lists (values per position, per pin, per scenario) are not one number and are
-left out; so are counts of the run's own settings (``SETTINGS``: positions, samples,
-seed), which the command line chose.
+A number's label is its key path in the output (toothfem/quantities.py names each
+quantity once, its unit in the key's suffix), less the sections that only say which
+command's part of a larger output it is (``WRAPPERS``: run's ``contact`` and
+``stiffness``), with the variant its output declares beside it in brackets
+(``VARIANT_FIELDS``: the efficiency's loads and method, the contact's mode and pin
+structure, a stated oil temperature; run's efficiency sections ``analytic``/``fem``
+declare the same by name, ``SECTION_VARIANTS``). Any other section stays in the label
+(``thermal.efficiency``: at the heat balance's oil; ``nominal.max_force_N``: the tolerance
+ensemble's unbuilt reducer). Lists (values per position, per pin, per scenario) are not
+one number and are left out; so are the run's own settings (``SETTINGS``: positions,
+samples, seed) and the inputs echoed back (``ECHOED``).
 
 Two values under one label agree within ``RTOL`` (below): every command reads the same
 case and the same FE tables (the disk cache), so a quantity computed twice the same way
@@ -43,8 +45,20 @@ RTOL = 1e-6
 #: 5.9e-6 arcmin from the system model's solve: its Newton tolerance, 1e-5 arcmin).
 ATOL = 1e-5
 
-#: Sections whose name says which variant a number is: kept in the label.
-VARIANT_SECTIONS = ("thermal", "nominal", "warm_up", "at_bound", "percentiles")
+#: Sections that only say which command's part of a larger output a number is (``run``
+#: holds ``contact`` and ``stiffness``): left out of the label, so that the number meets
+#: the same quantity of the command itself.
+WRAPPERS = frozenset({"summary", "contact", "stiffness", "geometry", "check"})
+
+#: Fields by which an output declares the variant of its numbers (the efficiency's loads
+#: and method, the contact's mode and pin structure; the oil temperature where stated):
+#: part of the label, in brackets.
+VARIANT_FIELDS = ("loads", "method", "mode", "pin_structure")
+
+#: Sections of run's efficiency.json named by their variant: the same declaration.
+SECTION_VARIANTS = {"analytic": {"loads": "analytic", "method": "power_flow"},
+                    "fem": {"loads": "fem", "method": "power_flow"},
+                    "rv_split_power": {"method": "rv_split_power"}}
 
 #: The run's own settings (the command line chose them), not results.
 SETTINGS = frozenset({"positions", "samples", "seed", "share_samples", "workers",
@@ -92,7 +106,7 @@ def _run(argv: list[str]) -> tuple[int, str, str]:
     return code, out.getvalue(), err.getvalue()
 
 
-def numbers(obj, path: tuple = ()) -> dict[str, float]:
+def numbers(obj, path: tuple = (), variant: tuple = ()) -> dict[str, tuple[str, float]]:
     """Every number of a JSON value under its label (module docstring).
 
     Parameters
@@ -100,31 +114,43 @@ def numbers(obj, path: tuple = ()) -> dict[str, float]:
     obj : dict, list or scalar
     path : tuple of str
         The sections above ``obj``.
+    variant : tuple of str
+        The variant its sections and fields declared (``loads=fem``...).
 
     Returns
     -------
     dict
-        label -> value.
+        label -> (its path in the output, value).
     """
-    found: dict[str, float] = {}
+    found: dict[str, tuple[str, float]] = {}
     if isinstance(obj, dict):
+        here = dict(v.split("=", 1) for v in variant)
+        if path and path[-1] in SECTION_VARIANTS:
+            here.update(SECTION_VARIANTS[path[-1]])
+        for f in VARIANT_FIELDS:
+            if isinstance(obj.get(f), str):
+                here[f] = obj[f]
+        if "oil_temp_C" in obj and not isinstance(obj["oil_temp_C"], dict):
+            oil = obj["oil_temp_C"]           # null: the lubricant's reference
+            here["oil_temp_C"] = "reference" if oil is None else f"{oil:.4g}"
+        var = tuple(f"{k}={v}" for k, v in sorted(here.items()))
         for k, v in obj.items():
-            found.update(numbers(v, path + (str(k),)))
+            for label, got in numbers(v, path + (str(k),), var).items():
+                found.setdefault(label, got)
+                if found[label][1] != got[1]:       # twice in one output: both kept
+                    found[f"{label} @{got[0]}"] = got
         return found
     if isinstance(obj, list) or isinstance(obj, bool) or not isinstance(obj, (int, float)):
         return found
     if not path or path[-1] in SETTINGS or path[-1] in ECHOED:
         return found
-    keep = [p for p in path[:-1] if p in VARIANT_SECTIONS]
-    # a key inside a plain section (losses, loss_shares, compliance_shares, ...) keeps the
-    # section's name: "losses.seals" is one quantity, "seals" alone is not
-    plain = [p for p in path[:-1] if p not in VARIANT_SECTIONS and p != "summary"]
-    label = ".".join(keep + plain[-1:] + [path[-1]])
-    found[label] = float(obj)
+    names = [p for p in path if p not in WRAPPERS and p not in SECTION_VARIANTS]
+    label = ".".join(names) + (f"  [{', '.join(variant)}]" if variant else "")
+    found[label] = (".".join(path), float(obj))
     return found
 
 
-def _outputs(name: str, stdout: str, folder: str | None) -> dict[str, dict[str, float]]:
+def _outputs(name: str, stdout: str, folder: str | None) -> dict:
     """Each output of one command (its printed JSON, its folder's JSON files) -> numbers."""
     outs: dict[str, dict[str, float]] = {}
     try:
@@ -142,8 +168,19 @@ def _outputs(name: str, stdout: str, folder: str | None) -> dict[str, dict[str, 
     return outs
 
 
+def _split(label: str) -> tuple[str, dict]:
+    """A label's name and its declared variant (``name  [k=v, ...]``)."""
+    name, _, rest = label.partition("  [")
+    rest, _, again = rest.partition("]")
+    var = dict(x.split("=", 1) for x in rest.split(", ") if "=" in x)
+    return name + again, var
+
+
 def disagreements(values: dict[str, dict[str, float]]) -> dict[str, dict[str, float]]:
-    """The labels with two values that differ beyond RTOL/ATOL.
+    """The quantities with two values that differ beyond RTOL/ATOL: under one label, or
+    under one name where the variants declared do not tell them apart (an output that
+    declares none, like ``check``'s, meets every variant of its name: ``check``'s disc
+    torque is ``contact``'s, whatever mode the contact ran in).
 
     Parameters
     ----------
@@ -153,16 +190,26 @@ def disagreements(values: dict[str, dict[str, float]]) -> dict[str, dict[str, fl
     Returns
     -------
     dict
-        The subset of ``values`` that disagrees.
+        name (with the variant that conflicts) -> {output: value}, the values compared.
     """
-    bad = {}
+    by_name: dict[str, list] = {}
     for label, by in values.items():
-        vs = [v for v in by.values() if math.isfinite(v)]
-        if len(vs) < 2:
-            continue
-        lo, hi = min(vs), max(vs)
-        if hi - lo > max(ATOL, RTOL * max(abs(lo), abs(hi))):
-            bad[label] = by
+        name, var = _split(label)
+        by_name.setdefault(name, []).append((label, var, by))
+    bad = {}
+    for name, group in by_name.items():
+        for label, var, by in group:
+            merged = dict(by)
+            for other, ovar, oby in group:
+                if other != label and all(var.get(k, v) == v for k, v in ovar.items()) \
+                        and all(ovar.get(k, v) == v for k, v in var.items()):
+                    merged.update(oby)
+            vs = [v for v in merged.values() if math.isfinite(v)]
+            if len(vs) < 2:
+                continue
+            lo, hi = min(vs), max(vs)
+            if hi - lo > max(ATOL, RTOL * max(abs(lo), abs(hi))):
+                bad[label] = merged
     return bad
 
 
@@ -172,6 +219,8 @@ def main(argv=None) -> int:
     ap.add_argument("--cases", nargs="*", default=sorted(glob.glob("cases/*.toml")))
     ap.add_argument("--samples", type=int, default=8,
                     help="tolerance ensemble size (small: only its nominal is compared)")
+    ap.add_argument("--commands", nargs="*", help="only these (names as printed, e.g. "
+                    "check contact); default every command")
     ap.add_argument("--json", help="write every label's values per case here")
     args = ap.parse_args(argv)
     report: dict = {}
@@ -180,6 +229,8 @@ def main(argv=None) -> int:
         values: dict[str, dict[str, float]] = {}
         with tempfile.TemporaryDirectory(prefix="toothfem_q_") as tmp:
             for name, cmd, folder in _commands(case, tmp, args.samples):
+                if args.commands and name not in args.commands:
+                    continue
                 t0 = time.perf_counter()
                 code, out, err = _run(cmd)
                 dt = time.perf_counter() - t0
@@ -189,14 +240,14 @@ def main(argv=None) -> int:
                 if code:
                     continue
                 for output, nums in _outputs(name, out, folder).items():
-                    for label, v in nums.items():
-                        values.setdefault(label, {})[output] = v
+                    for label, (where, v) in nums.items():
+                        values.setdefault(label, {})[f"{output}: {where}"] = v
         bad = disagreements(values)
         failed |= bool(bad)
         report[case] = {"values": values, "disagreements": sorted(bad)}
         print(f"\n== {case}: {len(values)} quantities, {len(bad)} with two values")
         for label in sorted(values):
-            by = values[label]
+            by = bad.get(label, values[label])
             mark = "DIFFER" if label in bad else "  ok  "
             if label in bad or len(by) > 1:
                 print(f"{mark} {label}")

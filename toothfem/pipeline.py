@@ -202,7 +202,8 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
     si = case.to_si()
-    system = drive.system_model(drive.supports(si.supports), phis.size)   # the reducer
+    # the reducer, on the same pin structure as the held member (--pins)
+    system = drive.system_model(drive.supports(si.supports), phis.size, **overrides)
     summary.update(reducer_te(system, output))
     if summary.get("interference_before_load_um", 0) > 0:
         summary.update(assembly_preload(system, si.material))
