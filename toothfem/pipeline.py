@@ -387,11 +387,14 @@ class RunResult:
     output_torque_Nm: float
     case: Case | None = None       # the case the run analysed
     durability: dict | None = None  # {"life", "strength", "heat"}: toothfem.durability
+    warning_lines: tuple | None = None  # RunAnalysis.warnings, what report.md lists
 
     @property
     def warnings(self) -> list:
         """Every limit the run's results pass, one line each (contact, efficiency, heat,
-        strength), each said once."""
+        strength, the measured points' gaps), each said once: report.md's list."""
+        if self.warning_lines is not None:
+            return list(self.warning_lines)
         return limits.run_warnings(self.contact.summary if self.contact else None,
                                    self.efficiency, self.durability or {})
 
@@ -432,7 +435,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
                      efficiency=run.efficiency, speed_rpm=run.speed_rpm,
                      output_torque_Nm=run.output_torque_Nm, case=case,
-                     durability=run.durability)
+                     durability=run.durability, warning_lines=tuple(run.warnings))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -468,9 +471,12 @@ class RunAnalysis:
 
     @property
     def warnings(self) -> list:
-        """Every limit the run's results pass, one line each (:func:`limits.run_warnings`)."""
+        """Every limit the run's results pass, one line each (:func:`limits.run_warnings`),
+        with each measured efficiency of the case that misses the model."""
         return limits.run_warnings(None if self.contact is None else self.contact.summary,
-                                   self.efficiency, self.durability)
+                                   self.efficiency, self.durability,
+                                   limits.measured_efficiency(self.case.measured,
+                                                              self.maps.measured_model))
 
     def table(self) -> list:
         """The run's efficiency rows (a column per load source and method), then the

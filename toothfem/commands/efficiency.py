@@ -111,6 +111,10 @@ def _run(args) -> int:
     out = efficiency_summary(case, speed, torque, oil_temp, args.loads, args.method)
     if heat is not None:
         out["thermal"] = heat
+        # the command's one list: every warning once, the heat balance's with the rest
+        said = {w["message"] for w in out["warnings"]}
+        out["warnings"] = out["warnings"] + [w for w in heat.get("warnings", [])
+                                             if w["message"] not in said]
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
@@ -132,9 +136,6 @@ def _run(args) -> int:
         print(f"source: {name}: {source}")
     for note in out["notes"]:
         print(f"note: {note}")
-    said = set()
-    for w in out["warnings"] + (heat or {}).get("warnings", []):
-        if w["message"] not in said:
-            print(f"warning: {w['message']}")
-            said.add(w["message"])
+    for w in out["warnings"]:
+        print(f"warning: {w['message']}")
     return 0
