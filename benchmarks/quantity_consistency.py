@@ -8,19 +8,20 @@ quantity once, its unit in the key's suffix), less the sections that only say wh
 command's part of a larger output it is (``WRAPPERS``: run's ``contact`` and
 ``stiffness``), with the variant its output declares beside it in brackets
 (``VARIANT_FIELDS``: the efficiency's loads and method, the contact's mode and pin
-structure, a stated oil temperature; run's efficiency sections ``analytic``/``fem``
+structure, the model whose efficiency fixed the output torque of a case that declares
+its input, a stated oil temperature; run's efficiency sections ``analytic``/``fem``
 declare the same by name, ``SECTION_VARIANTS``). Any other section stays in the label
 (``thermal.efficiency``: at the heat balance's oil; ``nominal.max_force_N``: the tolerance
 ensemble's unbuilt reducer). Lists (values per position, per pin, per scenario) are not
 one number and are left out; so are the run's own settings (``SETTINGS``: positions,
 samples, seed) and the inputs echoed back (``ECHOED``).
 
-Two values under one label agree within ``RTOL`` (and ``ATOL`` for clearances; below): every command reads the same
-case and the same FE tables (the disk cache), so a quantity computed twice the same way
-agrees to the printing's 10 significant figures (``check`` rounds to 10); 1e-6 leaves
-room for that rounding and for a sum taken in another order, and is far below any
-difference between two variants of a quantity (the smallest the issue lists: 88.62 against
-88.51 %, 1.2e-3).
+Two values under one label agree within ``RTOL`` (and ``ATOL`` for clearances; below):
+every command reads the same case and the same FE tables (the disk cache), so a quantity
+computed twice the same way agrees to the printing's 10 significant figures (``check``
+rounds to 10); 1e-6 leaves room for that rounding and for a sum taken in another order,
+and is far below any difference between two variants of a quantity (the smallest the
+issue lists: 88.62 against 88.51 %, 1.2e-3).
 
 Run:  .venv/bin/python benchmarks/quantity_consistency.py [--cases cases/rv40e.toml ...]
       [--samples 8] [--json out.json]
@@ -58,7 +59,7 @@ WRAPPERS = frozenset({"summary", "contact", "stiffness", "geometry", "check"})
 #: Fields by which an output declares the variant of its numbers (the efficiency's loads
 #: and method, the contact's mode and pin structure; the oil temperature where stated):
 #: part of the label, in brackets.
-VARIANT_FIELDS = ("loads", "method", "mode", "pin_structure")
+VARIANT_FIELDS = ("loads", "method", "mode", "pin_structure", "operating_point_from")
 
 #: Sections of run's efficiency.json named by their variant: the same declaration.
 SECTION_VARIANTS = {"analytic": {"loads": "analytic", "method": "power_flow"},
@@ -145,7 +146,7 @@ def numbers(obj, path: tuple = (), variant: tuple = ()) -> dict[str, tuple[str, 
                 if found[label][1] != got[1]:       # twice in one output: both kept
                     found[f"{label} @{got[0]}"] = got
         return found
-    if isinstance(obj, list) or isinstance(obj, bool) or not isinstance(obj, (int, float)):
+    if isinstance(obj, (list, bool)) or not isinstance(obj, (int, float)):
         return found
     if not path or path[-1] in SETTINGS or path[-1] in ECHOED:
         return found

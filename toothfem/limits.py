@@ -8,6 +8,7 @@ value, the limit and where the limit comes from.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -281,7 +282,7 @@ def contact_pressure_lines(material) -> list:
 
 
 def run_warnings(contact: dict | None, efficiency: dict, durability: dict,
-                 measured: list = ()) -> list:
+                 measured: Sequence = ()) -> list:
     """The one list of a run's warnings from its parts' summaries.
 
     Parameters

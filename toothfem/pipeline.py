@@ -201,6 +201,8 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
+    if torque_Nm is None and not case.operating.output_torque_Nm:
+        summary["operating_point_from"] = "analytic loads, power_flow"   # as run's
     si = case.to_si()
     # the reducer, on the same pin structure as the held member (--pins)
     system = drive.system_model(drive.supports(si.supports), phis.size, **overrides)
@@ -531,6 +533,9 @@ def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
     if case.rv is not None:       # the RV paper method beside ours
         results["rv_split_power"] = efficiency_summary(case, speed, torque,
                                                       method="rv_split_power")
+    if not case.operating.output_torque_Nm:     # said beside each (toothfem efficiency)
+        for r in results.values():
+            r["operating_point_from"] = "analytic loads, power_flow"
     # life, strength and heat beside the efficiency, from the FE loads where the FE has
     # run (the strength from its contact result)
     loads = "fem" if fem else "analytic"
