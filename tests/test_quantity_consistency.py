@@ -147,3 +147,25 @@ def test_measured_miss_is_a_warning():
     assert "-14.2 points" in str(hit) and "Lv 2016" in str(hit)
     assert not measured_efficiency(case.measured, [m.efficiency + 0.0007])
     assert measured_efficiency(case.measured, [m.efficiency - 0.03])      # 3 points high
+
+
+def test_stiffness_table_puts_each_unit_in_its_column():
+    """`toothfem stiffness`'s table: the unit column holds each row's unit (it was empty,
+    the units in brackets in the quantity), a share's % with it."""
+    from toothfem.commands.stiffness import _with_unit
+    from toothfem.report.stiffness import datasheet_rows
+
+    summary = {"rated_torque_Nm": 412.0, "rated_torque_assumed": False,
+               "torsional_rigidity_Nm_per_arcmin": 69.26, "lost_motion_arcmin": 0.409,
+               "backlash_arcmin": 0.0, "hysteresis_loss_arcmin": 0.048,
+               "te_torque_Nm": 412.0, "te_mean_arcsec": 367.4,
+               "te_peak_to_peak_arcsec": 4.94, "te_full_period_pitches": 39,
+               "te_positions_per_pitch": 12, "compliance_shares": {"mesh": 0.036}}
+    rows = [_with_unit(w, v) for w, v in datasheet_rows(summary)]
+    units = {w: u for w, u, _ in rows}
+    assert units["rated torque"] == "N m"
+    assert units["torsional rigidity 50-100 %"] == "N m/arcmin"
+    assert units["transmission error of the reducer at 412 N m, mean"] == "arcsec"
+    assert units["compliance share: mesh"] == "%"
+    assert all(u for u in units.values())
+    assert not any("[" in w for w in units)
