@@ -22,6 +22,7 @@ from toothfem.fem import cycloid_fe as cf
 from toothfem.fem.deviations import CycloidDeviation
 from toothfem.fem.drives import drive_for
 from toothfem.geometry import cycloid as cy, cycloid_backlash as cyb, cycloid_mesh as cym
+from toothfem.geometry import cycloid_distance as cyd
 from toothfem.derived import derived
 
 ARCSEC = math.pi / (180 * 3600)
@@ -322,3 +323,46 @@ def test_contact_names_the_preload_and_refuses_what_cannot_be_assembled(cases_di
     with pytest.raises(CaseError, match=r"static limit 4000 MPa \(ISO 76:2006, "
                                         r"material.static_contact_stress_MPa\)"):
         contact_analysis(rotated(-0.05), positions=12, field="none")
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("sign", [1, -1])
+def test_detailed_large_rotation_leaves_the_tip_corner_pins_unloaded(base, drive, fe_cache,
+                                                                     sign):
+    """Issue 41: at a 1 deg rotation modification the detailed mode loaded pins 17-19
+    (62/43/19 N at crank angle 0) that face the tip corner where the two turned flanks
+    meet, 36-319 um clear of the exact intersection; their contact points were projected
+    on the whole turned profile. Now only the part that bounds the disc is searched
+    (flanks.bounds_disc): the same pins carry load as in the cycle mode (exact gaps),
+    the largest force within MODES_RTOL, the TE within TE_ATOL."""
+    phi = drive.positions(36)[0]
+    torque = sign * drive.member_torque(167.0)
+    model = _with(base, rotation_rad=math.radians(1.0))
+    c = cf.CycleSolver(model, np.array([phi]), sides=(1, -1), cache=fe_cache).solve(torque)
+    d = cf.solve_detailed(model, phi, torque).load_sharing
+    assert np.array_equal(c.force[0] > 0, d.force[0] > 0)
+    assert d.force.max() == pytest.approx(c.force.max(), rel=MODES_RTOL)
+    assert abs(d.transmission_error[0] - c.transmission_error[0]) < TE_ATOL
+
+
+def test_bounds_disc_marks_the_corner_side_of_each_turned_flank():
+    """flanks.bounds_disc: on a disc turned by +-1 deg (intersection), a foot point just
+    past a half-lobe's symmetry line on the profile that does not bound that half-lobe is
+    off the disc; at the middle of the half-lobe, on the profile that bounds it, on it.
+    Without a rotation every foot point bounds the disc."""
+    from toothfem.fem.cycloid_fe import flanks as fl
+
+    g = _geometry(rotation_rad=math.radians(1.0))
+    alpha, own = fl.half_lobe_turns(g)
+    assert set(np.round(own / g.rotation_rad).astype(int)) == {-1, 1}
+    step = alpha[1]
+    for k in (0, 1):
+        a = float(own[k])
+        mid = cyd.polar_parameter(g.generating(), np.array([alpha[k] + 0.5 * step - a]))
+        wrong = cyd.polar_parameter(g.generating(), np.array([alpha[k] + 0.5 * step + a]))
+        for side in (1, -1):
+            pose = fl.frame_turn(g, side)
+            assert fl.bounds_disc(g, side, mid, [a + pose])[0]
+            assert not fl.bounds_disc(g, side, wrong, [-a + pose])[0]
+    plain = _geometry()
+    assert fl.bounds_disc(plain, 1, np.linspace(0, 6, 7), np.zeros(7)).all()

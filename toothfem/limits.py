@@ -8,6 +8,7 @@ value, the limit and where the limit comes from.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass
 
 import numpy as np
@@ -222,6 +223,45 @@ def case_temperature(si, drive, temperature_C) -> list:
     return [hit] if hit else []
 
 
+#: A measured efficiency farther than this from the model's at its point is warned
+#: [percentage points]: twice the largest gap documented between a checked model and its
+#: measurement (the RV paper's own model, 1.25 points from its rig; toothfem on the sine
+#: prototype 0.07 points: docs/efficiency.md). Beyond it the model lacks an effect the rig
+#: has (`toothfem loop` says what each would need to close it).
+MEASURED_GAP_POINTS = 2.5
+
+
+def measured_efficiency(measured, model) -> list:
+    """Each measured efficiency of the case against the model's at its point.
+
+    Parameters
+    ----------
+    measured : sequence of toothfem.case_running.MeasuredPoint
+        The case's ``[[measured]]`` points.
+    model : sequence of float
+        The model's efficiency at each (analytic loads) [-].
+
+    Returns
+    -------
+    list of Exceeded
+        One per point whose gap passes :data:`MEASURED_GAP_POINTS`, the gap's sign and
+        the point's source in its quantity.
+    """
+    found = []
+    for m, eta in zip(measured, model):
+        gap = 100 * (m.efficiency - float(eta))
+        where = f"; {m.source}" if m.source else ""
+        hit = above(f"gap of the measured efficiency {100 * m.efficiency:.2f} % "
+                    f"({m.input_speed_rpm:g} rpm, {m.output_torque_Nm:g} N m{where}) to the "
+                    f"model's {100 * float(eta):.2f} % (analytic loads): {gap:+.1f} points, "
+                    "its size", abs(gap), MEASURED_GAP_POINTS, "points",
+                    "twice the largest gap of a checked model to its measurement, "
+                    "docs/efficiency.md; toothfem loop says what each effect would need")
+        if hit:
+            found.append(hit)
+    return found
+
+
 def contact_pressure_lines(material) -> list:
     """The contact-pressure limits a picture draws: the allowable (contact fatigue) and the
     static capacity, each with its value [MPa] and its source.
@@ -241,7 +281,8 @@ def contact_pressure_lines(material) -> list:
              "unit": "MPa", "source": "material.static_contact_stress_MPa"}]
 
 
-def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> list:
+def run_warnings(contact: dict | None, efficiency: dict, durability: dict,
+                 measured: Sequence = ()) -> list:
     """The one list of a run's warnings from its parts' summaries.
 
     Parameters
@@ -252,19 +293,27 @@ def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> li
         {source: efficiency summary}.
     durability : dict
         {"heat", "life", "strength"} summaries.
+    measured : list of Exceeded
+        The measured points' gaps to the model (:func:`measured_efficiency`).
 
     Returns
     -------
     list of str
-        Each message once, in the order the parts ran; where the parts' models differ
-        (the efficiency's load sources, the heat balance's temperature) each line says
-        whose it is.
+        Each message once, in the order the parts ran; a message one part alone found
+        (the efficiency's load sources, the heat balance's temperature, which differ)
+        says whose it is; one that several parts found alike is said once, bare.
     """
-    lines = [w["message"] for w in (contact or {}).get("warnings", ())]
+    parts: dict[str, list] = {}          # message -> the parts that found it, in order
+    found = [("", w["message"]) for w in (contact or {}).get("warnings", ())]
     for src, r in efficiency.items():
-        lines += [f"efficiency ({src}): {w['message']}" for w in r.get("warnings", ())]
-    lines += [f"heat balance: {w['message']}"
+        found += [(f"efficiency ({src})", w["message"]) for w in r.get("warnings", ())]
+    found += [("heat balance", w["message"])
               for w in durability.get("heat", {}).get("warnings", ())]
-    lines += [w["message"] for w in durability.get("life", {}).get("warnings", ())]
-    lines += list(durability.get("strength", {}).get("warnings", ()))
-    return list(dict.fromkeys(lines))
+    found += [("", w["message"]) for w in durability.get("life", {}).get("warnings", ())]
+    found += [("", w) for w in durability.get("strength", {}).get("warnings", ())]
+    found += [("", str(w)) for w in measured]
+    for part, message in found:
+        parts.setdefault(message, []).append(part)
+    # a message one part alone found says whose it is; one several parts found with the
+    # same value (the operating point's torque above its rating) is the case's: once, bare
+    return [f"{ps[0]}: {m}" if len(ps) == 1 and ps[0] else m for m, ps in parts.items()]

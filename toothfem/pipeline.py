@@ -201,8 +201,11 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
     }
+    if torque_Nm is None and not case.operating.output_torque_Nm:
+        summary["operating_point_from"] = "analytic loads, power_flow"   # as run's
     si = case.to_si()
-    system = drive.system_model(drive.supports(si.supports), phis.size)   # the reducer
+    # the reducer, on the same pin structure as the held member (--pins)
+    system = drive.system_model(drive.supports(si.supports), phis.size, **overrides)
     summary.update(reducer_te(system, output))
     if summary.get("interference_before_load_um", 0) > 0:
         summary.update(assembly_preload(system, si.material))
@@ -386,11 +389,14 @@ class RunResult:
     output_torque_Nm: float
     case: Case | None = None       # the case the run analysed
     durability: dict | None = None  # {"life", "strength", "heat"}: toothfem.durability
+    warning_lines: tuple | None = None  # RunAnalysis.warnings, what report.md lists
 
     @property
     def warnings(self) -> list:
         """Every limit the run's results pass, one line each (contact, efficiency, heat,
-        strength), each said once."""
+        strength, the measured points' gaps), each said once: report.md's list."""
+        if self.warning_lines is not None:
+            return list(self.warning_lines)
         return limits.run_warnings(self.contact.summary if self.contact else None,
                                    self.efficiency, self.durability or {})
 
@@ -431,7 +437,7 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
                      efficiency=run.efficiency, speed_rpm=run.speed_rpm,
                      output_torque_Nm=run.output_torque_Nm, case=case,
-                     durability=run.durability)
+                     durability=run.durability, warning_lines=tuple(run.warnings))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -467,9 +473,12 @@ class RunAnalysis:
 
     @property
     def warnings(self) -> list:
-        """Every limit the run's results pass, one line each (:func:`limits.run_warnings`)."""
+        """Every limit the run's results pass, one line each (:func:`limits.run_warnings`),
+        with each measured efficiency of the case that misses the model."""
         return limits.run_warnings(None if self.contact is None else self.contact.summary,
-                                   self.efficiency, self.durability)
+                                   self.efficiency, self.durability,
+                                   limits.measured_efficiency(self.case.measured,
+                                                              self.maps.measured_model))
 
     def table(self) -> list:
         """The run's efficiency rows (a column per load source and method), then the
@@ -524,6 +533,9 @@ def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
     if case.rv is not None:       # the RV paper method beside ours
         results["rv_split_power"] = efficiency_summary(case, speed, torque,
                                                       method="rv_split_power")
+    if not case.operating.output_torque_Nm:     # said beside each (toothfem efficiency)
+        for r in results.values():
+            r["operating_point_from"] = "analytic loads, power_flow"
     # life, strength and heat beside the efficiency, from the FE loads where the FE has
     # run (the strength from its contact result)
     loads = "fem" if fem else "analytic"

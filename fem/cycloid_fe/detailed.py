@@ -123,7 +123,25 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     side = 1 if torque > 0 else -1
     (q,), state = _positions(model, [crank_angle_rad], side=0 if flanks == "both" else side)
     turns = fl.flank_turn(g, side, q.arm)
-    q = _on_flanks(gen, q, turns)
+    nominal, q = q, _on_flanks(gen, q, turns)
+    # a rotation modification: each pin meets the part of a turned flank that bounds the
+    # disc. One whose foot point falls past the corner where the two turned flanks meet
+    # faces the other flank there: projected on it (the exact intersection's gap, as the
+    # cycle mode has it: at 1 deg on the pin-housing drive the pins facing the tip corner
+    # stand 36-319 um clear). One off both faces the corner itself: it keeps its flank's
+    # contact zone, its gap raised to the exact intersection's (``corner_gap``), the
+    # cycle mode's gap for every pin
+    corner_gap = np.full(q.pins.size, np.nan)
+    keep = fl.bounds_disc(g, side, q.psi, turns)
+    if not keep.all():
+        first = turns
+        turns = np.where(keep, turns, np.where(turns == 0, 2 * side * g.rotation_rad, 0.0))
+        q = _on_flanks(gen, nominal, turns)
+        off = ~fl.bounds_disc(g, side, q.psi, turns)
+        if off.any():
+            turns = np.where(off, first, turns)
+            q = _on_flanks(gen, nominal, turns)
+            corner_gap[off] = nominal.gap[off]
     centres, radii = q.pin_centre, np.full(q.pins.size, g.pin_radius_m)
     if deviation is not None:
         if model.pin_structure != "conventional" or np.any(deviation.profile != 0):
@@ -225,6 +243,13 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     load_d = disc.point_load_matrix(on_mesh, nrm)
     hmat = block_diag(*h_blocks) + disc.flexibility(load_d)
     g0 = np.sum((pts - proj) * nrm, axis=0)
+    start = 0
+    for k, sl in enumerate(slaves):     # a pin facing the corner: the exact gap
+        n_k = sl.points.shape[1]
+        if np.isfinite(corner_gap[k]):
+            lift = corner_gap[k] - np.min(g0[start:start + n_k])
+            g0[start:start + n_k] += max(lift, 0.0)
+        start += n_k
     c_rot = -(proj[0] * nrm[1] - proj[1] * nrm[0])          # -n . (k x x) = -(x x n)
     sol = contact.solve_contact(hmat, g0, c_rot, q_load)
     u_disc = disc.solve(-(load_d @ sol.force))
@@ -257,7 +282,6 @@ def solve_detailed(model: CycloidFEModel, crank_angle_rad: float, torque: float,
     for k, pr in enumerate(pressures):
         if invalid[0, q.pins[k]]:
             ph[0, q.pins[k]] = float(np.max(pr))
-    import dataclasses
 
     rec = dataclasses.replace(rec, ph=ph, pressure_from_fe=invalid, moment_arm=arm_fe)
     return DetailedResult(load_sharing=rec, slave_points=[s.points for s in slaves],

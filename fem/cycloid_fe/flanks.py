@@ -91,6 +91,67 @@ def project(gen, points, turn: float, psi0):
     return psi, point, normal
 
 
+def half_lobe_turns(geometry) -> tuple:
+    """Which turned profile bounds the disc over each half-lobe (between two symmetry
+    lines, a tip and a root) of a disc with a rotation modification.
+
+    Parameters
+    ----------
+    geometry : toothfem.geometry.cycloid.CycloidGeometry
+        With ``rotation_rad`` nonzero.
+
+    Returns
+    -------
+    alpha : numpy.ndarray, shape (2 Za + 1,)
+        The symmetry lines' polar angles in the disc's nominal frame [rad], from 0.
+    turn : numpy.ndarray, shape (2 Za,)
+        The turn of the profile that bounds each half-lobe there, +Delta delta or -Delta
+        delta: a point of the +delta profile inside the -delta disc (intersection,
+        Delta delta > 0) or outside it (union) says +delta.
+    """
+    delta = geometry.rotation_rad
+    gen = geometry.generating()
+    step = math.pi / geometry.lobe_count
+    alpha = step * np.arange(2 * geometry.lobe_count + 1)
+    mid = rotate(working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
+    d_other = foot_point(gen, rotate(mid, delta), alpha[:-1] + 0.5 * step)[1]
+    plus = (d_other <= 0) if delta > 0 else (d_other > 0)
+    return alpha, np.where(plus, delta, -delta)
+
+
+def bounds_disc(geometry, side: int, psi, turn) -> np.ndarray:
+    """Whether each foot point lies on the part of its turned profile that bounds the
+    disc: a pin whose foot point falls beyond the corner where the two turned flanks meet
+    (the tip corner at a large rotation modification) faces the other flank there, not
+    this one, and stands clear of the disc by more than the projection says.
+
+    Parameters
+    ----------
+    geometry : toothfem.geometry.cycloid.CycloidGeometry
+    side : {1, -1}
+        The torque's sign (the detailed mode's pose, :func:`frame_turn`).
+    psi : array_like, shape (C,)
+        Foot points' parameters on the unturned profile [rad] (:func:`project`).
+    turn : array_like, shape (C,)
+        The turn of the profile each was projected on, in the detailed mode's frame
+        (:func:`flank_turn`).
+
+    Returns
+    -------
+    numpy.ndarray of bool, shape (C,)
+        All True without a rotation modification.
+    """
+    psi = np.asarray(psi, float)
+    if not geometry.rotation_rad:
+        return np.ones(psi.shape, bool)
+    alpha, own = half_lobe_turns(geometry)
+    a = np.asarray(turn, float) - frame_turn(geometry, side)   # the turn from the nominal
+    x = working_profile(geometry.generating(), psi)
+    polar = np.mod(np.arctan2(x[1], x[0]) + a, 2 * math.pi)
+    k = np.minimum((polar // (alpha[1] - alpha[0])).astype(int), own.size - 1)
+    return np.isclose(own[k], a, rtol=0, atol=1e-12)
+
+
 def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
     """The disc's outline and holes in the detailed mode's frame (turned by side Delta
     delta), with each contact zone's parameters kept as vertices.
@@ -124,14 +185,7 @@ def disc_rings(model, side: int, inserts=(), base_per_lobe: int = 48):
     gen = g.generating()
     za = g.lobe_count
     pose = frame_turn(g, side)
-    step = math.pi / za
-    alpha = step * np.arange(2 * za + 1)            # symmetry lines, own frame
-    # which turned profile bounds each half-lobe: a point of the +delta profile inside the
-    # -delta disc (intersection) or outside it (union) says +delta
-    mid = rotate(working_profile(gen, alpha[:-1] + 0.5 * step - delta), delta)
-    d_other = foot_point(gen, rotate(mid, delta), alpha[:-1] + 0.5 * step)[1]
-    plus = (d_other <= 0) if delta > 0 else (d_other > 0)
-    a_own = np.where(plus, delta, -delta)
+    alpha, a_own = half_lobe_turns(g)               # symmetry lines, own frame
     base_step = 2 * math.pi / (za * base_per_lobe)
     margin = 0.5 * base_step
     pieces = []

@@ -122,6 +122,9 @@ class CycloidSystem:
         Part (any of SCALABLE) -> factor on its stiffness (its compliance divided by it):
         a part stiffer or softer than its model, e.g. fitted to a rig. A part made
         ``rigid`` stays rigid.
+    pin_structure : str, optional
+        The pins' FE structure of every member's tables (a cycloid drive's
+        ``fe_options["pin_structure"]``, e.g. ``contact --pins``); None: the case's.
 
     Notes
     -----
@@ -134,7 +137,7 @@ class CycloidSystem:
                  pin_spring_m_per_N: float | None = None, rigid: tuple = (),
                  crank_bearing_play_m: float = 0.0,
                  crank_bearing_stiffness_N_per_m: float | None = None,
-                 stiffness_scale: dict | None = None):
+                 stiffness_scale: dict | None = None, pin_structure: str | None = None):
         self.path = drive.path
         self.mesh = drive.system_mesh(pin_spring_m_per_N)
         self.drive, self.supports = drive, supports
@@ -150,10 +153,11 @@ class CycloidSystem:
         step = drive.period_rad / self.n_positions
         axial = drive.member_axial_positions_m(supports)
         slots = []
+        fe = {} if pin_structure is None else {"pin_structure": pin_structure}
         for j in range(self.discs):
             solver = drive.cycle_solver(self.n_positions, cache=cache,
                                         offset=offsets[j] + int(pitch) * self.n_positions,
-                                        solver_options=self.mesh.solver_options)
+                                        solver_options=self.mesh.solver_options, **fe)
             phase = phases[j]
             beta = math.remainder(phase - offsets[j] * step, 2 * math.pi)   # pitch: none
             if abs(beta * self.zb / (2 * math.pi) - round(beta * self.zb / (2 * math.pi))) \

@@ -109,8 +109,17 @@ def _run(args) -> int:
                                duration_h=args.duration)
         oil_temp = heat["equilibrium_oil_temp_C"]
     out = efficiency_summary(case, speed, torque, oil_temp, args.loads, args.method)
+    if args.torque is None and not case.operating.output_torque_Nm:
+        # a case that declares its input torque or power: the output torque comes through
+        # this model's own efficiency (operating_point), not through the analytic power
+        # flow's that run, contact and check take: said beside the numbers
+        out["operating_point_from"] = f"{args.loads} loads, {args.method}"
     if heat is not None:
         out["thermal"] = heat
+        # the command's one list: every warning once, the heat balance's with the rest
+        said = {w["message"] for w in out["warnings"]}
+        out["warnings"] = out["warnings"] + [w for w in heat.get("warnings", [])
+                                             if w["message"] not in said]
     if args.json:
         print(json.dumps(out, indent=2))
         return 0
@@ -118,9 +127,11 @@ def _run(args) -> int:
                                           case.published)
     oil = ("the lubricant's reference" if out["oil_temp_C"] is None
            else f"{out['oil_temp_C']:g} deg C")
+    source = (f" (the case's input through the {out['operating_point_from']} efficiency)"
+              if "operating_point_from" in out else "")
     print(report_summary.text(rows, title=f"{case.name}: {out['input_speed_rpm']:g} rpm input, "
-                                          f"{out['output_torque_Nm']:.4g} N m output, oil at "
-                                          f"{oil}"))
+                                          f"{out['output_torque_Nm']:.4g} N m output{source}, "
+                                          f"oil at {oil}"))
     if heat is not None:
         print(f"  heat balance: oil {heat['equilibrium_oil_temp_C']:.1f} C at ambient "
               f"{heat['ambient_C']:g} C (h = {heat['heat_transfer_W_m2K']:.1f} W/m2K, "
@@ -132,9 +143,6 @@ def _run(args) -> int:
         print(f"source: {name}: {source}")
     for note in out["notes"]:
         print(f"note: {note}")
-    said = set()
-    for w in out["warnings"] + (heat or {}).get("warnings", []):
-        if w["message"] not in said:
-            print(f"warning: {w['message']}")
-            said.add(w["message"])
+    for w in out["warnings"]:
+        print(f"warning: {w['message']}")
     return 0

@@ -82,8 +82,18 @@ def run(args) -> int:
     if args.json:
         print(json.dumps({k: summary[k] for k in keep if k in summary}, indent=2))
         return 0
-    print(report_summary.text([(what, "", {"value": value})
-                               for what, value in result.table()],
+    print(report_summary.text([_with_unit(what, value) for what, value in result.table()],
                               f"{case.name}: datasheet"))
     print(f"wrote {Path(args.out).resolve()} (summary.json, report.html, pictures)")
     return 0
+
+
+def _with_unit(what: str, value: str) -> tuple:
+    """A datasheet row (quantity with its unit in brackets, value) as the terminal table's
+    (quantity, unit, {"value": value}): the unit in its column, a share's % with it."""
+    if what.endswith("]") and " [" in what:
+        what, unit = what[:-1].rsplit(" [", 1)
+        return what, unit, {"value": value}
+    if value.endswith(" %"):
+        return what, "%", {"value": value[:-2]}
+    return what, "", {"value": value}

@@ -99,7 +99,10 @@ def cycloid_rows(case: Case) -> dict:
         d["first_stage_centre_distance_mm"] = rounded(fs.module_mm * (fs.sun_teeth + fs.planet_teeth)
                                                       / 2)
     if case.operating.output_torque_Nm is not None:
-        m_a = st.disc_load_factor * case.operating.output_torque_Nm / st.disc_count
+        # the drive's one torque rule (Drive.member_torque), as contact and run take it:
+        # a 2K-V drive's discs carry T (1 - 1/i) Za/Zb, a K-H-V drive's T
+        m_a = case.layout.make_drive(case.to_si()).member_torque(
+            case.operating.output_torque_Nm)
         d["disc_torque_Nm"] = rounded(m_a)
         # seed Eq. 13: P_max = 4 M_a / (r_a Zb) (rigid pins, all pins on one side loaded)
         d["seed_max_pin_force_N"] = rounded(4 * m_a / (g.disc_pitch_radius_m * st.pin_count))
