@@ -240,7 +240,8 @@ def _running_md(result) -> list:
     out += [""] + [f"**The model cannot reach the widths:** {g}." for g in gaps]
     out += ["", f"Measured width at {ds.torques_Nm[0]:.4g} N m: {ds.lowest_width_arcmin:.4g} "
             f"arcmin, {ds.softening_arcmin:.3g} arcmin below the line (softer near zero). "
-            "The model's TE is frictionless: its width at zero torque is play only."]
+            "The model's running TE carries its running losses (docs/te_model.md): its "
+            "width at zero torque is friction and play."]
     if err is not None:
         out.append(f"Widths' RMS error {err[0]:.3g} arcsec before the loop, {err[1]:.3g} "
                    "arcsec after.")
@@ -283,7 +284,7 @@ def markdown(result, *, files=()) -> str:
              f"Held-out error cut {b.cv_wrmse / max(f.cv_wrmse, 1e-300):.3g}x (k-fold over "
              "the torque levels: a fold holds out whole torques). sigma: each row's own "
              "uncertainty from the recordings (the spectrum's noise floor, the binned loop's "
-             "scatter).", ""]
+             "scatter, the widths' scatter between or within windows).", ""]
     lines += _running_md(result)
     lines += ["## Effects added", ""]
     if loop.added:
