@@ -56,7 +56,7 @@ from .fem.cache import DiskCache, content_key
 from .fem.drives import Drive, drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
-from .output import atomic_dir, resumable_dir, target
+from .output import atomic_dir, reserved, resumable_dir, target
 from .report import html as report_html
 from .units import UM_PER_M
 
@@ -174,50 +174,51 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     key = content_key("sweep", case, plan.values,
                       None if torques_Nm is None else [float(t) for t in np.ravel(torques_Nm)],
                       plan.positions, pins, plan.loads)
-    t0 = time.perf_counter()
-    with resumable_dir(out, key) as points:
-        rows = [r for r in points.done.values() if r["status"] == "ok"]
-        finished = {_point(r["design"], r["load_case"]) for r in rows}
-        with dask_client(scheduler, n_workers) as client, \
-                progress_bar(total=len(plan.designs) * len(plan.load_cases),
-                             initial=len(rows), desc="sweep", unit="point",
-                             enabled=progress) as bar:
-            def emit(row):
-                points.record(_point(row["design"], row["load_case"]), row)
-                rows.append(row)
-                bar.update()
-                if on_row is not None:
-                    on_row(row)
+    with reserved(out):      # the name held for the run: a second run is refused
+        t0 = time.perf_counter()
+        with resumable_dir(out, key) as points:
+            rows = [r for r in points.done.values() if r["status"] == "ok"]
+            finished = {_point(r["design"], r["load_case"]) for r in rows}
+            with dask_client(scheduler, n_workers) as client, \
+                    progress_bar(total=len(plan.designs) * len(plan.load_cases),
+                                 initial=len(rows), desc="sweep", unit="point",
+                                 enabled=progress) as bar:
+                def emit(row):
+                    points.record(_point(row["design"], row["load_case"]), row)
+                    rows.append(row)
+                    bar.update()
+                    if on_row is not None:
+                        on_row(row)
 
-            _run(client, plan, cache, emit, finished)
-            workers = len(client.nthreads())
-            address = "local" if scheduler is None else client.scheduler.address
-    # the final table is in design, load-case order, so that two runs give the same file
-    # apart from the timing columns (issue 14)
-    rows.sort(key=lambda r: (r["design"], r["load_case"]))
-    failed = sum(r["status"] != "ok" for r in rows)
-    summary = {
-        "case": case.name, "drive": case.drive,
-        "loads": plan.loads, "vary": plan.values,
-        "torques_Nm": None if torques_Nm is None else [float(t) for t in
-                                                       np.ravel(torques_Nm)],
-        "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
-        "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
-        "resumed": len(finished), "wall_s": time.perf_counter() - t0,
-        # a local cluster's address changes from run to run (a free port)
-        "scheduler": address, "workers": workers,
-        "cache_dir": None if cache is None else str(cache.directory),
-        "files": ["sweep.csv", "sweep.json"]}
-    if plan.loads == "analytic":
-        summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * UM_PER_M
-    with atomic_dir(out) as tmp:
-        with open(tmp / "sweep.csv", "w", newline="") as fh:
-            writer = csv.DictWriter(fh, columns)
-            writer.writeheader()
-            writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
-        (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
-        report_html.write_report(tmp, case, command="sweep", case_file=case_file, tables=[
-            report_html.Table.of_csv("one row per design and load case", tmp / "sweep.csv")])
+                _run(client, plan, cache, emit, finished)
+                workers = len(client.nthreads())
+                address = "local" if scheduler is None else client.scheduler.address
+        # the final table is in design, load-case order, so that two runs give the same file
+        # apart from the timing columns (issue 14)
+        rows.sort(key=lambda r: (r["design"], r["load_case"]))
+        failed = sum(r["status"] != "ok" for r in rows)
+        summary = {
+            "case": case.name, "drive": case.drive,
+            "loads": plan.loads, "vary": plan.values,
+            "torques_Nm": None if torques_Nm is None else [float(t) for t in
+                                                           np.ravel(torques_Nm)],
+            "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
+            "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
+            "resumed": len(finished), "wall_s": time.perf_counter() - t0,
+            # a local cluster's address changes from run to run (a free port)
+            "scheduler": address, "workers": workers,
+            "cache_dir": None if cache is None else str(cache.directory),
+            "files": ["sweep.csv", "sweep.json"]}
+        if plan.loads == "analytic":
+            summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * UM_PER_M
+        with atomic_dir(out) as tmp:
+            with open(tmp / "sweep.csv", "w", newline="") as fh:
+                writer = csv.DictWriter(fh, columns)
+                writer.writeheader()
+                writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
+            (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
+            report_html.write_report(tmp, case, command="sweep", case_file=case_file, tables=[
+                report_html.Table.of_csv("one row per design and load case", tmp / "sweep.csv")])
     out = Path(out)
     return SweepResult(out, out / "sweep.csv", tuple(rows), failed, len(finished),
                        summary["wall_s"])
