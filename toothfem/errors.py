@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import decimal
 import math
+import os
 
 import numpy as np
 
@@ -250,3 +251,11 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
         check_range(label, float(a[idx]), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why,
                     error=error)
     return a
+
+
+def shown(path) -> str:
+    """A path as a message line may print it: bytes of another locale (surrogate
+    escapes) as ``\\xNN``, never an error on a terminal of another encoding."""
+    text = os.fspath(path)
+    text = text if isinstance(text, str) else os.fsdecode(text)
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")

@@ -23,7 +23,7 @@ import sys
 import threading
 from pathlib import Path
 
-from .errors import ToothfemError
+from .errors import ToothfemError, shown
 
 try:
     import fcntl
@@ -33,14 +33,6 @@ except ImportError:          # pragma: no cover -- Windows: no advisory lock
 #: Lock files this process holds: path -> [file descriptor, depth].
 _HELD: dict[str, list[int]] = {}
 _GUARD = threading.Lock()
-
-
-def shown(path) -> str:
-    """A path as a message line may print it: bytes of another locale (surrogate
-    escapes) as ``\\xNN``, never an error on a terminal of another encoding."""
-    text = os.fspath(path)
-    text = text if isinstance(text, str) else os.fsdecode(text)
-    return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
 
 
 @contextlib.contextmanager

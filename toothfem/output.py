@@ -27,6 +27,7 @@ line that wrote the folder.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
@@ -39,8 +40,8 @@ from pathlib import Path
 from typing import TextIO
 
 from . import __version__, signals
-from .errors import ToothfemError, short_repr
-from .folder_lock import exchange, held, shown
+from .errors import ToothfemError, short_repr, shown
+from .folder_lock import exchange, held
 from .leftovers import left_by_dead_runs, owner
 
 #: The file that marks a folder as a toothfem result (what a later run may replace).
@@ -175,10 +176,11 @@ def command_line() -> str:
     Returns
     -------
     str
-        E.g. ``toothfem run cases/rv40e.toml --out out/rv``.
+        E.g. ``toothfem run cases/rv40e.toml --out out/rv``; bytes of another locale in
+        a path as ``\\xNN``.
     """
     argv = sys.argv or ["python"]
-    return " ".join(" ".join([Path(argv[0]).name, *argv[1:]]).split())
+    return shown(" ".join(" ".join([Path(argv[0]).name, *argv[1:]]).split()))
 
 
 def _marker_head(unfinished: str | None = None) -> str:
@@ -237,13 +239,36 @@ def reserved(out):
     with held(_lock_file(out), out):
         clean_stale(out)
         check_replaceable(out)
-        yield out
+        try:
+            yield out
+        except BaseException as exc:
+            kept = _kept_beside(out)
+            if kept and not getattr(exc, KEPT_ATTRIBUTE, None):
+                setattr(exc, KEPT_ATTRIBUTE, f"{kept} finished points kept beside "
+                                             f"{shown(out)} (the same command resumes)")
+            raise
+
+
+def _kept_beside(out: Path) -> int:
+    """How many finished points the journals of unfinished runs into ``out`` hold."""
+    count = 0
+    for folder in _journal_folders(out):
+        with contextlib.suppress(OSError, UnicodeDecodeError):
+            count += sum(line.endswith("}") for line in     # not a line cut short
+                         (folder / JOURNAL).read_text(encoding="utf-8").splitlines())
+    return count
+
+
+#: Failures of a write itself (a file-size limit, a full disk, a quota): an OSError of
+#: these while the result is written is the output's, whatever file it names.
+_WRITE_FAILURES = (errno.EFBIG, errno.ENOSPC, errno.EDQUOT)
 
 
 def _named_for_user(exc: OSError, tmp: Path, out: Path) -> ToothfemError | None:
-    """A failure to write inside the hidden folder ``tmp`` as one line naming ``out``."""
+    """A failure to write the result into the hidden folder ``tmp`` as one line naming
+    ``out`` (the path the user gave), or None for another error."""
     names = [os.fsdecode(f) for f in (exc.filename, exc.filename2) if f is not None]
-    if any(n.startswith(os.fspath(tmp)) for n in names):
+    if exc.errno in _WRITE_FAILURES or any(n.startswith(os.fspath(tmp)) for n in names):
         return ToothfemError(f"--out {shown(out)} cannot be written "
                              f"({exc.strerror or exc}); nothing was written under it")
     return None

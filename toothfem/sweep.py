@@ -42,6 +42,7 @@ import math
 import threading
 import time
 import uuid
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -410,6 +411,7 @@ def _run(client, plan: _Plan, cache, emit, finished=frozenset()) -> None:
                             [member for _, member in jobs], plan.loads,
                             key=f"{prefix}-{key}", pure=False)
         pending[fut] = [base for base, _ in jobs]
+    said = set()
     for fut in as_finished(client, list(pending)):
         bases = pending.pop(fut)
         try:
@@ -417,6 +419,10 @@ def _run(client, plan: _Plan, cache, emit, finished=frozenset()) -> None:
         except Exception as exc:             # noqa: BLE001 -- recorded, the sweep goes on
             results = [{"status": "failed", "error": _message(exc)}] * len(bases)
         for base, result in zip(bases, results):
+            for message, category in result.pop(_WARNINGS, ()):
+                if message not in said:      # each once, on the driver (one line each)
+                    said.add(message)
+                    warnings.warn(message, category, stacklevel=1)
             emit({**base, **result})
         fut.release()
 
@@ -463,6 +469,8 @@ def _output_torque(case: Case, torque, varied) -> float:
 
 
 _SETUP_LOCK = threading.Lock()
+#: The key under which a task's result carries the warnings its setup gave (not a column).
+_WARNINGS = "_warnings"
 
 
 def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
@@ -476,12 +484,16 @@ def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
     concerns, other exceptions propagate (Dask logs them, the driver records them)."""
     t0 = time.perf_counter()
     try:
-        with _SETUP_LOCK:        # gmsh keeps one model per process: one setup at a time
+        # gmsh keeps one model per process: one setup at a time; its warnings (a cache
+        # that cannot be written) go back to the driver, which says each in one line
+        with _SETUP_LOCK, warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
             solve = _prepare(case, pins, positions, cache_dir, loads)
     except ToothfemError as exc:
         failed = {"setup_s": time.perf_counter() - t0, "status": "failed",
                   "error": _message(exc)}
         return [failed] * len(member_torques)
+    told = [(str(w.message), w.category) for w in said]
     setup_s = time.perf_counter() - t0
     out = []
     for torque in member_torques:
@@ -490,7 +502,8 @@ def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
             res = {**solve(torque), "status": "ok", "error": ""}
         except ToothfemError as exc:
             res = {"status": "failed", "error": _message(exc)}
-        out.append({**res, "setup_s": setup_s, "time_s": time.perf_counter() - t1})
+        out.append({**res, "setup_s": setup_s, "time_s": time.perf_counter() - t1,
+                    _WARNINGS: told})
     return out
 
 
