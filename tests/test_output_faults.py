@@ -269,3 +269,30 @@ def test_the_journal_is_kept_under_a_name_of_its_own(tmp_path):
     assert journal_folder(out, "ab12").parent == tmp_path
     assert journal_folder(out, "ab12").name.startswith(".res~")
     assert journal_folder(out, "ab12").name.endswith(".journal-ab12")
+
+
+@pytest.mark.parametrize("where, says", [
+    ("loop", "is a symbolic link that cannot be followed"),
+    ("a_file/res", "a part of its folder is a file"),
+    ("/proc/res", "its folder cannot be written")])
+def test_an_output_that_cannot_be_written_is_refused_before_computing(
+        cases_dir, tmp_path, monkeypatch, capsys, where, says):
+    """A symbolic link that loops, a folder under a file, /proc: `run` is refused before
+    it computes anything, in one line naming the path as given (not a hidden temporary
+    folder)."""
+    from toothfem import cli, pipeline
+
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the output was checked")
+
+    monkeypatch.setattr(pipeline, "analyse_run", never)
+    monkeypatch.chdir(tmp_path)
+    Path("loop").symlink_to("loop2")
+    Path("loop2").symlink_to("loop")
+    Path("a_file").write_text("x")
+    assert cli.main(["run", str(cases_dir / "cycloid_pinhousing.toml"), "--no-fem",
+                     "--out", where]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and says in err and "~" not in err, err
+    assert err.startswith(f"toothfem run: error: --out {where}")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file", "loop", "loop2"]

@@ -84,13 +84,22 @@ def target(out) -> Path:
     Raises
     ------
     ToothfemError
-        For an ``out`` that is not a path (None, a number), or an empty one.
+        For an ``out`` that is not a path (None, a number), an empty one, or a link that
+        loops.
     """
     if not isinstance(out, (str, os.PathLike)) or not str(out):
         raise ToothfemError(f"out = {short_repr(out)} is not a folder path; valid: a path "
                             "such as 'out/run'")
     out = Path(out)
-    return Path(os.path.realpath(out)) if out.is_symlink() else out
+    if not out.is_symlink():
+        return out
+    try:
+        return Path(os.path.realpath(out, strict=True))
+    except FileNotFoundError:           # dangling: its target
+        return Path(os.path.realpath(out))
+    except OSError as exc:              # a loop of links
+        raise ToothfemError(f"--out {shown(out)} is a symbolic link that cannot be followed "
+                            f"({exc.strerror or exc}); valid: a folder path") from None
 
 
 def clean_stale(out) -> list[Path]:
@@ -233,6 +242,9 @@ def reserved(out):
     out = target(out)
     try:
         out.parent.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        raise ToothfemError(f"--out {shown(out)}: a part of its folder is a file; valid: "
+                            "a path of folders") from None
     except OSError as exc:
         raise ToothfemError(f"--out {shown(out)}: its folder cannot be made "
                             f"({exc.strerror or exc})") from None
@@ -318,7 +330,12 @@ def atomic_dir(out, *, unfinished: str | None = None):
             if said is not None:
                 raise said from None
             raise
-        _swap_in(tmp, out)
+        try:
+            _swap_in(tmp, out)
+        except OSError as exc:
+            raise ToothfemError(f"--out {shown(out)} cannot be written "
+                                f"({exc.strerror or exc}); nothing was written under it") \
+                from None
         for journal in _journal_folders(out):   # unfinished runs into out: superseded
             shutil.rmtree(journal, ignore_errors=True)
 
