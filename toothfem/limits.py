@@ -268,3 +268,9 @@ def run_warnings(contact: dict | None, efficiency: dict, durability: dict) -> li
     lines += [w["message"] for w in durability.get("life", {}).get("warnings", ())]
     lines += list(durability.get("strength", {}).get("warnings", ()))
     return list(dict.fromkeys(lines))
+
+
+#: The warm-up's duration [h] (efficiency --thermal --duration-h): reducer housings warm up
+#: with time constants of about an hour, so 100 h is steady state many times over; the
+#: integration's steps grow with the duration (1000 h took 121 s, issue 45).
+WARM_UP_H = (0.0, 100.0)
