@@ -17,8 +17,9 @@ costs no new factorisation. Independent tasks keep both workers busy without rou
 (Dask queues them and a worker starts its next design at once); a design's rows arrive
 together when it finishes.
 
-Every row is kept on disk as its task finishes: appended and synced to
-``out/finished_points.jsonl`` (:func:`toothfem.output.resumable_dir`), so a sweep stopped in
+Every row is kept on disk as its task finishes: appended and synced to the journal in a
+folder of its own beside ``out`` (:func:`toothfem.output.resumable_dir`; an earlier result
+in ``out`` stays whole until the sweep completes), so a sweep stopped in
 any way (Ctrl-C, SIGTERM, SIGKILL, a lost cluster: :mod:`toothfem.cluster`) keeps every
 finished point, and the same command resumes it, computing only the rest. The tables
 ``sweep.csv`` and ``sweep.json`` are written when every point has run
@@ -132,8 +133,10 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     n_workers : int, optional
         Processes of the local cluster (default: one per CPU).
     out : str or pathlib.Path
-        The output folder: the finished points as they arrive, the tables at the end; an
-        unfinished sweep of the same case and settings there is resumed.
+        The output folder: the tables at the end (the finished points as they arrive in
+        a journal folder beside it, :func:`toothfem.output.journal_folder`); an unfinished
+        sweep of the same case and settings into it is resumed. Held against other runs
+        for the sweep's life: a second run into it is refused at once.
     cache_dir : str or pathlib.Path or None or False
         The disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
         ``~/.cache/toothfem``; False: none.

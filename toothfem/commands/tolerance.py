@@ -23,9 +23,9 @@ def add_parser(sub):
     p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML) with a [tolerances] section")
     p.add_argument("--out", required=True,
-                   help="output folder: finished_points.jsonl as rings finish, the tables "
-                        "and pictures at the end; the same command resumes an unfinished "
-                        "ensemble there")
+                   help="output folder: the tables and pictures at the end (the rings as "
+                        "they finish in a hidden journal folder beside it); the same "
+                        "command resumes an unfinished ensemble")
     p.add_argument("--samples", type=int, default=200,
                    help="built reducers to draw (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
