@@ -82,3 +82,30 @@ def test_warm_up_duration_bounded(cases_dir, capsys, monkeypatch, hours):
                      "--duration-h", hours]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "--duration-h = " in err and "(0, 100]" in err, err
+
+
+def test_meshing_names_its_argument_for_a_grid_of_angles_or_a_case(cases_dir):
+    """The API (issue 45): a 2-D array of angles and a Case where a geometry belongs are
+    refused in one line naming the argument and what is valid."""
+    import numpy as np
+
+    import toothfem
+    from toothfem.errors import GeometryError
+    from toothfem.geometry import cycloid_mesh
+    from toothfem.geometry.sine import meshing as sine_meshing
+
+    cyc = toothfem.load_case(cases_dir / "cycloid_pinhousing.toml")
+    sine = toothfem.load_case(cases_dir / "sine_prototype.toml")
+    for call, text in [
+            (lambda: cycloid_mesh.meshing(cyc.cycloid.geometry(), np.zeros((3, 4))),
+             "crank_angle_rad has shape (3, 4); valid: a scalar or a 1-D array"),
+            (lambda: cycloid_mesh.meshing(cyc, [0.1]),
+             "geom = Case is not a CycloidGeometry; valid: case.cycloid.geometry()"),
+            (lambda: sine_meshing(sine.sine.geometry(), np.zeros((2, 2))),
+             "crank_angle_rad has shape (2, 2)"),
+            (lambda: sine_meshing(sine, [0.1]),
+             "pair = Case is not a SineGearPair; valid: case.sine.geometry()")]:
+        with pytest.raises(GeometryError) as exc:
+            call()
+        assert text in str(exc.value), str(exc.value)
+    assert cycloid_mesh.meshing(cyc.cycloid.geometry(), 0.1).gap.shape == (1, 40)

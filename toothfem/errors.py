@@ -259,3 +259,37 @@ def shown(path) -> str:
     text = os.fspath(path)
     text = text if isinstance(text, str) else os.fsdecode(text)
     return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+
+
+def angles_1d(name: str, value, error=ToothfemError) -> np.ndarray:
+    """``value`` as a 1-D array of finite angles (a scalar as one), else ``error`` naming
+    ``name``, the shape given and the shapes taken.
+
+    Parameters
+    ----------
+    name : str
+        The argument, as the message names it.
+    value : array_like
+        A scalar or a 1-D sequence of numbers.
+    error : type
+        The exception type raised.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (P,).
+    """
+    a = np.atleast_1d(checked_array(name, value, error=error))
+    if a.ndim != 1:
+        raise error(f"{name} has shape {a.shape}; valid: a scalar or a 1-D array of angles "
+                    "(np.ravel a grid of them)")
+    return a
+
+
+def of_type(name: str, value, kind: type, hint: str, error=ToothfemError):
+    """``value`` if it is a ``kind``, else ``error`` naming ``name``, what it is and
+    ``hint`` (where such a value comes from, e.g. ``case.cycloid.geometry()``)."""
+    if not isinstance(value, kind):
+        raise error(f"{name} = {type(value).__name__} is not a {kind.__name__}; valid: "
+                    f"{hint}")
+    return value
