@@ -898,7 +898,7 @@ def _not_utf8(box):
 
 def _value(subs, cmd=("check",), extra=(), names=()):
     def fn(box):
-        path = _variant(box, *subs) if subs else CASE
+        path = _variant(box, *subs)          # a copy in the box, never the case itself
         if extra:
             path.write_text(path.read_text() + extra[0])
         argv = [TF, *cmd[:1], path, *cmd[1:]]

@@ -545,9 +545,15 @@ def resumable_dir(out, key: str):
             # what the journal on disk holds: a signal between a point's sync and its
             # entry in ``done`` left the line saying "no output written" with a point kept
             kept = _journal(folder, key) or points.done
+            said = exc
+            if isinstance(exc, OSError) and exc.errno in _WRITE_FAILURES:
+                said = ToothfemError(f"--out {shown(out)}: its finished points cannot be "
+                                     f"kept beside it ({exc.strerror or exc})")
             if kept:
-                setattr(exc, KEPT_ATTRIBUTE, f"{len(kept)} finished points kept beside "
-                                             f"{shown(out)} (the same command resumes)")
+                setattr(said, KEPT_ATTRIBUTE, f"{len(kept)} finished points kept beside "
+                                              f"{shown(out)} (the same command resumes)")
+            if said is not exc:
+                raise said from None
             raise
         finally:
             points.close()
