@@ -296,3 +296,22 @@ def test_an_output_that_cannot_be_written_is_refused_before_computing(
     assert len(err.splitlines()) == 1 and says in err and "~" not in err, err
     assert err.startswith(f"toothfem run: error: --out {where}")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["a_file", "loop", "loop2"]
+
+
+@pytest.mark.slow
+def test_a_journal_that_cannot_be_written_is_one_line(cases_dir, tmp_path):
+    """RLIMIT_FSIZE of 1 KiB: the sweep's journal fills it after two points; one error
+    line naming ``--out`` and the points kept (not the journal's second failure on
+    closing), nothing under the final name."""
+    out = tmp_path / "sw"
+    done = subprocess.run(CLI + ["sweep", str(cases_dir / "cycloid_pinhousing.toml"),
+                                 "--vary", f"{ECC}=1.0,0.98,0.96,0.94,0.92,0.9",
+                                 "--torque-Nm", "100", "--positions", "2", "--pins", "rigid",
+                                 "--workers", "1", "--no-cache", "--out", str(out)],
+                          capture_output=True, timeout=600, preexec_fn=_limited(1))
+    err = [line for line in done.stderr.decode().splitlines()
+           if not line.startswith("progress:")]
+    assert done.returncode == 2 and len(err) == 1, err
+    assert err[0].startswith(f"toothfem sweep: error: --out {out}: its finished points "
+                             "cannot be kept beside it (File too large);"), err
+    assert "finished points kept beside" in err[0] and not out.exists()

@@ -463,7 +463,10 @@ class Points:
 
     def close(self):
         if self._fh is not None:
-            self._fh.close()
+            # a write that failed (a file-size limit, a full disk) fails its flush again
+            # here: the exception already raised says so, this one would hide it
+            with contextlib.suppress(OSError):
+                self._fh.close()
 
 
 def _line(point: str, record: dict) -> str:
