@@ -255,7 +255,18 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
 
 def shown(path) -> str:
     """A path as a message line may print it: bytes of another locale (surrogate
-    escapes) as ``\\xNN``, never an error on a terminal of another encoding."""
+    escapes) as ``\\xNN``, never an error on a terminal of another encoding.
+
+    Parameters
+    ----------
+    path : str or bytes or os.PathLike
+        The path as given.
+
+    Returns
+    -------
+    str
+        Its text, every character encodable as UTF-8.
+    """
     text = os.fspath(path)
     text = text if isinstance(text, str) else os.fsdecode(text)
     return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
@@ -288,7 +299,26 @@ def angles_1d(name: str, value, error=ToothfemError) -> np.ndarray:
 
 def of_type(name: str, value, kind: type, hint: str, error=ToothfemError):
     """``value`` if it is a ``kind``, else ``error`` naming ``name``, what it is and
-    ``hint`` (where such a value comes from, e.g. ``case.cycloid.geometry()``)."""
+    ``hint`` (where such a value comes from, e.g. ``case.cycloid.geometry()``).
+
+    Parameters
+    ----------
+    name : str
+        The argument, as the message names it.
+    value : object
+        What was given.
+    kind : type
+        What belongs there.
+    hint : str
+        Where such a value comes from.
+    error : type
+        The exception type raised.
+
+    Returns
+    -------
+    object
+        ``value`` itself.
+    """
     if not isinstance(value, kind):
         raise error(f"{name} = {type(value).__name__} is not a {kind.__name__}; valid: "
                     f"{hint}")

@@ -46,6 +46,11 @@ def held(lock: Path, out: Path):
     out : pathlib.Path
         The output name, for the message.
 
+    Yields
+    ------
+    None
+        While the name is held.
+
     Raises
     ------
     ToothfemError
