@@ -28,6 +28,12 @@ api         README's Python API: a path for a Case (works, or a ToothfemError na
             ``case``); strings, bools, NaN, inf for speed, torque, temperature, angles and
             ``run_case(case, None)`` (a ToothfemError naming the argument, never NaN); an
             absurd torque (a ToothfemError naming the load, or a warning).
+races       (issue 45) two runs into one ``--out`` (the second refused in one line, the
+            first whole); a sweep killed -9 into a finished sweep's folder (the finished
+            result byte for byte as it was); a sweep under ``ulimit -f 4`` (nothing under
+            DIR, one line naming ``--out``); an ``--out`` that is not UTF-8 (written);
+            values out of their key's range ([published], [[duty_cycle]], ``--duration-h``:
+            refused in one line naming the key).
 misc        measured CSVs with ';', tabs, decimal commas (refused saying delimiter or
             decimal, or read whole saying so); a misspelled [published] key (named); 400
             pins (exit 0 or 2); 1e6 N m (a warning or a refusal); PYTHONIOENCODING=ascii,
@@ -63,7 +69,7 @@ BIN = Path(sys.executable).parent     # the environment running the probe (make 
 PY, TF, DASK = str(BIN / "python"), str(BIN / "toothfem"), str(BIN / "dask")
 CASE, SINE = ROOT / "cases" / "cycloid_pinhousing.toml", ROOT / "cases" / "sine_prototype.toml"
 TIMEOUT = 120                     # s, any subprocess; killed (and judged bad) beyond it
-CLASSES = ("filesystem", "signals", "cache", "sweeps", "dask", "api", "misc")
+CLASSES = ("filesystem", "signals", "cache", "sweeps", "dask", "api", "misc", "races")
 OK_ROW = re.compile(r"\bok\b")    # a finished sweep row, in CSV or JSON
 KEEP = False                      # --keep: leave the temporary folders
 #: How toothfem's progress line of a finished stage begins off a terminal (toothfem/bars.py;
@@ -200,7 +206,7 @@ def problems(o, rc=None, rows=0, out=None):
     ok = o.rc == rc if rc is not None else (o.rc or 0) > 0 and o.rc != 3
     why = [] if ok else [f"exit {o.rc}" + (f", expected {rc}" if rc else "")]
     why += [w for w in [one_line(o)] if w]
-    if rows and (kept := ok_rows(out) if out.exists() else 0) < rows:
+    if rows and (kept := kept_rows(out)) < rows:
         why.append(f"{kept} of the {rows} finished rows kept under DIR")
     why += [f"{o.stray} processes left running"] if o.stray else []
     return f"{'; '.join(why)} ({o.describe()})" if why else None
@@ -223,6 +229,13 @@ def ok_rows(where):
                     lines = path.read_text(errors="replace").splitlines()
                     best = max(best, sum(bool(OK_ROW.search(x)) for x in lines))
     return best
+
+
+def kept_rows(out):
+    """Finished rows of a long run into ``out``: in DIR, or in its journal folder beside
+    it (``.DIR~<digest>.journal-<key>``, where an unfinished run keeps them)."""
+    return max([ok_rows(out) if out.exists() else 0]
+               + [ok_rows(j) for j in out.parent.glob(f".{out.name}~*.journal-*")])
 
 
 def wait_rows(p, box, k, limit=90):
@@ -487,14 +500,14 @@ def _sweep_kill_resume(box):
     if (late := _halfway(p, box, 3))[1]:
         return late[1]
     stop(p)
-    n, kept, had = late[0], *((ok_rows(out), "DIR exists") if out.exists() else (0, "no DIR"))
+    n, kept, had = late[0], kept_rows(out), "DIR exists" if out.exists() else "no DIR"
     o = run(argv, box, tag="rerun")
     rows = ok_rows(out) if out.exists() else 0
     text = o.out + o.err + ((out / "sweep.json").read_text()
                             if (out / "sweep.json").is_file() else "")
     said = re.search(r"(resum|skip|reus|already|earlier)\w*\W{0,4}(\d*)", text, re.I)
-    why = [] if kept >= n else [f"after SIGKILL {kept} of the {n} finished rows are under "
-                                f"DIR ({had})"]
+    why = [] if kept >= n else [f"after SIGKILL {kept} of the {n} finished rows are kept "
+                                f"({had})"]
     if o.rc != 0 or rows < 6:
         why.append(f"rerun: {o.describe()}, {rows} ok rows")
     elif not said:
@@ -824,6 +837,97 @@ def misc(args):
         ("geometry, HOME unset", _env("geometry", HOME=None)),
         ("contact, all three", _env("contact", PYTHONIOENCODING="ascii", MPLBACKEND="bogus",
                                     HOME=None))])
+
+
+# --- 8. races, limits and values (issue 45) ---------------------------------------------
+def _two_runs(box):
+    """`contact` running into DIR, `geometry` started into DIR meanwhile."""
+    first = launch([TF, "contact", CASE, "--positions", "36", "--field", "none", "--out",
+                    out := box / "res"], box, tag="first")
+    end = time.monotonic() + 60
+    while first.poll() is None and time.monotonic() < end and \
+            not list(box.glob(".res~*.lock")):
+        time.sleep(0.02)
+    second = run([TF, "geometry", CASE, "--out", out], box, tag="second")
+    o = finish(first)
+    why = [] if second.rc == 2 and not one_line(second, "--out") else \
+        [f"the second run was not refused in one line ({second.describe()})"]
+    if o.rc != 0 or not (out / "summary.json").is_file() or (out / "profile.csv").exists():
+        why.append(f"the first run's result is not whole ({o.describe()})")
+    return "; ".join(why) or None
+
+
+def _sweep_killed_into_a_result(box):
+    """A finished sweep in DIR; another sweep into DIR killed -9 half-way."""
+    o = run(sweep_argv(out := box / "res", "--workers", "1", "--torque-Nm", "100"), box,
+            tag="first")
+    if o.rc != 0:
+        return f"probe: the first sweep failed ({o.describe()})"
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    p = launch(sweep_argv(out, "--workers", "1", "--torque-Nm", "100,200"), box)
+    if (late := _halfway(p, box, 8))[1]:
+        return late[1]
+    stop(p)
+    after = {q.name: q.read_bytes() for q in out.iterdir()} if out.is_dir() else {}
+    return None if after == before else \
+        f"the finished result was replaced by the killed run's ({sorted(after)[:4]})"
+
+
+def _file_size_limit(box):
+    """`sweep` under `ulimit -f 4` (KiB): nothing under DIR, one line naming it."""
+    argv = ["sh", "-c", 'ulimit -f 4; exec "$@"', "sh",
+            *sweep_argv(out := box / "res", "--workers", "1", "--torque-Nm", "100")]
+    o = run(argv, box)
+    lines = [x for x in o.lines if "warning: the FE cache" not in x]
+    if out.exists():
+        return f"a folder under the final name after the failed write ({o.describe()})"
+    if o.rc != 2 or len(lines) != 1 or "--out" not in lines[0] or ".tmp-" in lines[0]:
+        return f"not one line naming --out: {o.describe()}"
+    return None
+
+
+def _not_utf8(box):
+    out = os.fsencode(box) + b"/res\xff"
+    with open(box / "logs" / "err", "wb") as fe:
+        rc = subprocess.run([os.fsencode(TF), b"geometry", os.fsencode(CASE), b"--out", out],
+                            cwd=box, env=env_for(box), stdout=subprocess.DEVNULL, stderr=fe,
+                            timeout=TIMEOUT).returncode
+    return None if rc == 0 and os.path.isfile(out + b"/profile.csv") else \
+        f"exit {rc}: {(box / 'logs' / 'err').read_text(errors='replace')[-200:]}"
+
+
+def _value(subs, cmd=("check",), extra=(), names=()):
+    def fn(box):
+        path = _variant(box, *subs)          # a copy in the box, never the case itself
+        if extra:
+            path.write_text(path.read_text() + extra[0])
+        argv = [TF, *cmd[:1], path, *cmd[1:]]
+        if cmd[0] in ("run",):
+            argv += ["--out", box / "res"]
+        return refused(run(argv, box), *names)
+    return fn
+
+
+def races(args):
+    table = [] if args.quick else [
+        ("two runs into one --out: the second refused", _two_runs),
+        ("a sweep killed -9 into a finished result", _sweep_killed_into_a_result)]
+    table += [("sweep under ulimit -f 4: nothing under DIR", _file_size_limit),
+             ("--out not UTF-8", _not_utf8),
+             ("[published] pins_in_contact = -20",
+              _value([(r"^pins_in_contact = 20", "pins_in_contact = -20")],
+                     names=["published.pins_in_contact"])),
+             ("[published] max_contact_stress_MPa = 1e300",
+              _value([(r"^max_contact_stress_MPa = 45.96", "max_contact_stress_MPa = 1e300")],
+                     cmd=("run", "--no-fem"), names=["published.max_contact_stress_MPa"])),
+             ("[duty_cycle] input_speed_rpm = 1e300",
+              _value([], extra=["\n[[duty_cycle]]\noutput_torque_Nm = 100.0\n"
+                                "input_speed_rpm = 1e300\ntime_share = 1.0\n"],
+                     names=["duty_cycle[0].input_speed_rpm"])),
+             ("efficiency --thermal --duration-h 1e9",
+              _value([], cmd=("efficiency", "--thermal", "--duration-h", "1e9"),
+                     names=["--duration-h"]))]
+    return cases_in_boxes(table)
 
 
 # --- main ------------------------------------------------------------------------------

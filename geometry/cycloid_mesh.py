@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from ..errors import GeometryError, check_range, checked_array
+from ..errors import GeometryError, angles_1d, check_range, of_type
 from .cycloid import CycloidGeometry, _rho_of_theta
 from .cycloid_distance import modified_distance
 from .kinematics import MeshingState, equivalent_radius, slide_to_roll
@@ -139,12 +139,15 @@ def meshing(geom: CycloidGeometry, crank_angle_rad, crank_speed_rad_s: float = 1
     Raises
     ------
     GeometryError
-        If ``pin_motion`` is not one of the two, or ``crank_speed_rad_s`` is not finite.
+        If ``geom`` is not a CycloidGeometry, ``pin_motion`` is not one of the two,
+        ``crank_speed_rad_s`` is not finite, or the angles are not a scalar or 1-D.
     """
+    of_type("geom", geom, CycloidGeometry, "case.cycloid.geometry() (a Case holds one)",
+            error=GeometryError)
     if pin_motion not in ("fixed", "rolling"):
         raise GeometryError(f"pin_motion = {pin_motion!r} is not one of ['fixed', 'rolling']")
     check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
-    phi = np.atleast_1d(checked_array("crank_angle_rad", crank_angle_rad))
+    phi = angles_1d("crank_angle_rad", crank_angle_rad, error=GeometryError)
     zb, za = geom.pin_count, geom.lobe_count
     omega = float(crank_speed_rad_s)
     omega_d = -omega / za                                    # disc angular velocity

@@ -305,6 +305,25 @@ def test_thermal_rise_on_a_linear_loss():
     assert dt == pytest.approx([20.0 / 0.9, 10.0 / 0.95])
 
 
+def test_thermal_rise_is_the_first_crossing_of_each_row():
+    """rise, one array operation for all rows (issue 45: a row-by-row loop on 4992 binned
+    points in every least-squares call), gives each row's first crossing of R phi P - dT
+    exactly as a row-by-row search does: none (the grid's end), at 0, or interpolated."""
+    rng = np.random.default_rng(3)
+    grid = np.concatenate([[0.0], np.geomspace(0.5, 60.0, 7)])
+    total = rng.uniform(0.0, 200.0, (500, grid.size))
+    factor = rng.uniform(0.0, 1.0, 500)
+    for r in (0.0, 0.05, 0.5, 50.0):
+        gap = r * factor[:, None] * total - grid
+        want = []
+        for row in gap:
+            k = next((i for i, g in enumerate(row) if g <= 0), None)
+            want.append(grid[-1] if k is None else 0.0 if k == 0 else
+                        grid[k - 1] + (grid[k] - grid[k - 1]) * row[k - 1] / (row[k - 1] - row[k]))
+        got = te.rise(total, grid, r, factor)
+        np.testing.assert_array_equal(got, want)     # the same arithmetic: bit for bit
+
+
 # ---------------------------------------------------------------------------------------
 # CLI
 

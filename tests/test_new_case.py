@@ -15,7 +15,7 @@ from toothfem.case import load_case
 from toothfem.case_new import new_case
 from toothfem.derived import derived
 from toothfem.errors import ToothfemError
-from toothfem.output import write_new_file
+from toothfem.output_file import write_new_file
 
 #: The three drives of issue 25's "must show", by their key numbers (the shipped cases'
 #: sizes: the K-H-V robot joint, RV-40E, the sine paper's prototype).

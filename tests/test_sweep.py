@@ -2,7 +2,7 @@
 influence tables (toothfem.fem.cache, CycleSolver.cache).
 
 Facts checked: a sweep row is the cycle solver's own result for that design and load case;
-load cases of a design share one setup; rows reach the journal under the output folder one
+load cases of a design share one setup; rows reach the journal beside the output folder one
 by one and the tables appear only when the sweep ends; a sweep stopped by a crash of the
 driver keeps its finished points and the same call resumes it; a failed point is a row, not
 the end of the sweep (the command's exit says how many); a new torque on a known design costs no
@@ -67,8 +67,14 @@ def _temp_tables(out):
     return list(out.parent.glob(f".{out.name}~*/sweep.csv"))
 
 
+def _journal_files(out):
+    """The journals of unfinished runs into ``out``: in folders of their own beside it."""
+    return list(out.parent.glob(f".{out.name}~*.journal-*/{JOURNAL}"))
+
+
 def _journal(out):
-    return [json.loads(line) for line in (out / JOURNAL).read_text().splitlines()]
+    (journal,) = _journal_files(out)
+    return [json.loads(line) for line in journal.read_text().splitlines()]
 
 
 def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, cache_dir,
@@ -84,7 +90,7 @@ def test_sweep_rows_are_the_solvers_and_arrive_one_by_one(cycloid, scheduler, ca
                 out=out, cache_dir=cache_dir, on_row=on_row, **FAST)
     assert seen == [1, 2, 3, 4]
     assert res.failed == 0 and res.table == out / "sweep.csv" and not _temp_tables(out)
-    assert not (out / JOURNAL).exists()              # the finished sweep keeps its tables
+    assert not _journal_files(out) and not (out / JOURNAL).exists()   # only its tables
     rows = _read(res.table)
     assert list(rows[0]) == ["design", "load_case", ECC] + result_columns(drive_for(cycloid))
     assert "pins_in_contact_max" in rows[0]                # a cycloid sweep counts pins
@@ -157,7 +163,7 @@ def test_keys_and_values_checked_before_any_work(cycloid, tmp_path):
 
 def test_a_stopped_sweep_keeps_its_points_and_the_same_call_resumes(cycloid, scheduler,
                                                                      cache_dir, tmp_path):
-    """The driver dies after the first row: that row is on disk under the output folder
+    """The driver dies after the first row: that row is on disk beside the output folder
     (the exception says so); the same call computes only the other row; another call (other
     torques) into the folder starts afresh."""
     out = tmp_path / "sw"
@@ -168,7 +174,7 @@ def test_a_stopped_sweep_keeps_its_points_and_the_same_call_resumes(cycloid, sch
     with pytest.raises(RuntimeError, match="driver died") as stopped:
         sweep(cycloid, {}, torques_Nm=[100, 200], scheduler=scheduler, out=out,
               cache_dir=cache_dir, on_row=crash, **FAST)
-    assert stopped.value.toothfem_kept.startswith(f"1 finished points kept in {out}")
+    assert stopped.value.toothfem_kept.startswith(f"1 finished points kept beside {out}")
     (kept,) = _journal(out)
     assert kept["record"]["status"] == "ok" and not (out / "sweep.csv").exists()
     computed = []
@@ -339,7 +345,7 @@ def test_a_killed_sweep_keeps_its_points_and_a_rerun_finishes_only_the_rest(case
         p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE,
                              start_new_session=True)
         try:
-            while p.poll() is None and not ((out / JOURNAL).exists() and
+            while p.poll() is None and not (_journal_files(out) and
                                             len(_journal(out)) >= points):
                 time.sleep(0.02)
             os.killpg(p.pid, signum)
@@ -354,7 +360,7 @@ def test_a_killed_sweep_keeps_its_points_and_a_rerun_finishes_only_the_rest(case
     assert code == 130 and 1 <= kept < 6, err[-800:]
     assert "Traceback" not in err, err[-800:]
     assert err.strip().splitlines()[-1].startswith(
-        f"toothfem sweep: interrupted; {kept} finished points kept in"), err[-800:]
+        f"toothfem sweep: interrupted; {kept} finished points kept beside"), err[-800:]
     code, err = stop_after(kept + 1, signal.SIGKILL)
     killed = len(_journal(out))
     assert code == -signal.SIGKILL and kept < killed < 6, err[-800:]

@@ -14,6 +14,8 @@ inside their writers (seconds to import; only these writers need them).
 from __future__ import annotations
 
 import importlib.util
+import shutil
+import tempfile
 from dataclasses import dataclass, field
 from pathlib import Path
 from xml.sax.saxutils import escape
@@ -21,7 +23,7 @@ from xml.sax.saxutils import escape
 import numpy as np
 
 from . import signals
-from .errors import MissingExtra, ToothfemError
+from .errors import MissingExtra, ToothfemError, shown
 from .units import MM_PER_M   # profiles are SI (m) inside, CAD files in mm
 
 #: SVG stroke width [mm] (thin enough for a 0.1 mm feature at 1:1).
@@ -414,6 +416,15 @@ def write_step(path, region: Region) -> Path:
     static.SetCVal_s("write.step.product.name", region.name)
     writer.Transfer(solid, step.STEPControl_AsIs)
     path = Path(path)
-    if writer.Write(str(path)) != ocp["ifselect"].IFSelect_RetDone:
-        raise ToothfemError(f"{path}: OCP could not write the STEP file")
+    try:
+        str(path).encode("utf-8")
+        direct = True
+    except UnicodeEncodeError:   # bytes of another locale: OCP takes only UTF-8 names
+        direct = False
+    with tempfile.TemporaryDirectory(prefix="toothfem-step-") as scratch:
+        into = path if direct else Path(scratch) / "part.step"
+        if writer.Write(str(into)) != ocp["ifselect"].IFSelect_RetDone:
+            raise ToothfemError(f"{shown(path)}: OCP could not write the STEP file")
+        if not direct:
+            shutil.move(into, path)
     return path

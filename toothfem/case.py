@@ -277,10 +277,14 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
         if isinstance(value, str):
             continue
         # a figure, or a range of figures (e.g. the maker's efficiency band [lo, hi])
+        lo, hi, lo_open, why = published_range(key)
         for i, v in enumerate(value if isinstance(value, list) else [value]):
             name = f"published.{key}" + (f"[{i}]" if isinstance(value, list) else "")
             check_type(name, v, "number")
-            check_range(name, v, error=CaseError)
+            check_range(name, v, lo, hi, lo_open=lo_open, error=CaseError, why=why)
+        if isinstance(value, list) and len(value) == 2 and value[0] > value[1]:
+            raise CaseError(f"published.{key} = {value!r} is a range with its least above "
+                            "its greatest; valid: [least, greatest]")
     kwargs["published"] = dict(published)
     return Case(**kwargs)
 
@@ -297,6 +301,42 @@ PUBLISHED_READ = ("pins_in_contact", "teeth_in_contact", "max_contact_stress_MPa
 #: How alike a key must be to a read name to count as its misspelling (difflib's ratio:
 #: "max_forse_N" to "max_force_N" is 0.91; "efficiency_range" to "efficiency" 0.77).
 PUBLISHED_TYPO_RATIO = 0.85
+
+
+#: The range of a ``[published]`` figure by its name: (name test, lo, hi, lo open, why).
+#: The first that matches applies; a name none matches is a note (any finite number).
+PUBLISHED_RANGES = (
+    (lambda k: "efficiency" in k or k.startswith("loss_share_"), 0.0, 1.0, False,
+     "a fraction (0.88 for 88 %)"),
+    (lambda k: k in ("pins_in_contact", "teeth_in_contact"), 0.0, 1e4, False,
+     "a count of pins or teeth"),
+    (lambda k: k.endswith("_Nm"), 0.0, 1e7, True, "a torque [N m] of a reducer"),
+    (lambda k: k.endswith("_rpm"), 0.0, 1e6, True, "a speed [rpm]"),
+    (lambda k: k.endswith("_h"), 0.0, 1e7, True, "a life [h] (1e7 h: 1100 years)"),
+    (lambda k: k.endswith("_MPa"), 0.0, 1e5, True, "a stress [MPa]"),
+    (lambda k: k.endswith("_N"), 0.0, 1e9, True, "a force [N]"),
+    (lambda k: k.endswith("_W"), 0.0, 1e9, False, "a power [W]"),
+)
+
+
+def published_range(key: str) -> tuple:
+    """The valid range of the ``[published]`` figure ``key``.
+
+    Parameters
+    ----------
+    key : str
+        Its name (the unit suffix tells its kind).
+
+    Returns
+    -------
+    tuple
+        ``(lo, hi, lo_open, why)``; ``(None, None, False, "")`` for a note (any finite
+        number).
+    """
+    for test, lo, hi, lo_open, why in PUBLISHED_RANGES:
+        if test(key):
+            return lo, hi, lo_open, why
+    return None, None, False, ""
 
 
 def _check_published_key(key: str) -> None:

@@ -38,6 +38,12 @@ SPEED_RPM = (0.01, 20000.0)
 #: Torques [N m] on the output of a reducer (the largest cycloid drives: ~1e5 N m) and
 #: the smallest one meaningful for an efficiency (below 1 mN m the drag dominates).
 TORQUE_NM = (1e-3, 1e6)
+#: Sizes of the supports' parts [mm] (rollers, crankshafts, their span): more than the
+#: largest housing (RADIUS_MM) is not a part of a reducer.
+SUPPORT_MM = (0.0, 2000.0)
+#: Torsional stiffness of an output carrier [N m/arcmin] (catalogue reducers: 10 to 1e4;
+#: above 1e9 it is rigid to every digit the twist shows).
+CARRIER_NM_PER_ARCMIN = (0.0, 1e9)
 #: Input torque [N m]: the output range over ratios down to 1.
 INPUT_TORQUE_NM = (1e-6, 1e6)
 #: Input power [kW].

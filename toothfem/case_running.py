@@ -339,8 +339,10 @@ class Thermal(_Section):
 class DutyPoint(_Section):
     """One row of a duty cycle: output torque, input speed and the share of time."""
     _section = "duty_cycle"
-    output_torque_Nm: float = _f(0.0, None, lo_open=True, doc="load torque of the row")
-    input_speed_rpm: float = _f(0.0, None, lo_open=True, doc="input speed of the row")
+    output_torque_Nm: float = _f(*TORQUE_NM, doc="load torque of the row (the range of "
+                                 "[operating] output_torque_Nm)")
+    input_speed_rpm: float = _f(*SPEED_RPM, doc="input speed of the row (the range of "
+                                "[operating] input_speed_rpm)")
     time_share: float = _f(0.0, 1.0, lo_open=True,
                            doc="share of the operating time; the rows' shares add up to 1")
 

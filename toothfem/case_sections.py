@@ -15,9 +15,9 @@ import math
 from dataclasses import dataclass, field
 
 from .units import M_PER_MM, MM_PER_M
-from .case_checks import (DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM, HOUSING_WALL_MAX,
-                          MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
-                          RADIUS_MM, check_type, expected_type)
+from .case_checks import (CARRIER_NM_PER_ARCMIN, DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM,
+                          HOUSING_WALL_MAX, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
+                          RADIUS_MM, SUPPORT_MM, check_type, expected_type)
 from .errors import CaseError, GeometryError, check_range
 from .geometry.cycloid import CycloidGeometry
 from .geometry.disc import DiscHolesSI, disc_polygon
@@ -448,22 +448,22 @@ class Supports(_Section):
         source="ASSUMPTION: rollers 1.2 diameters apart on their pitch circle, cage webs "
                "between them (fem/datasheet/supports.py)")
     bearing_roller_length_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None, unset="the member's face width",
+        *SUPPORT_MM, lo_open=True, default=None, unset="the member's face width",
         source="ASSUMPTION: rollers as long as the disc (planet) is wide")
     bearing_roller_diameter_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None, unset="a quarter of the raceway's radius",
+        *SUPPORT_MM, lo_open=True, default=None, unset="a quarter of the raceway's radius",
         source="ASSUMPTION: needle and cylindrical roller bearings of reducers, 0.2-0.3 of "
                "the raceway's radius (fem/datasheet/supports.py)")
     crankshaft_diameter_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None, unset="the journal less twice the eccentricity",
+        *SUPPORT_MM, lo_open=True, default=None, unset="the journal less twice the eccentricity",
         source="ASSUMPTION: the shaft passes through its eccentric journal (sine: "
                "2 (r_p - a0))")
     crankshaft_span_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None, unset="(discs + 2) face widths",
+        *SUPPORT_MM, lo_open=True, default=None, unset="(discs + 2) face widths",
         source="ASSUMPTION: the discs side by side and one face width for each support "
                "bearing")
     carrier_stiffness_Nm_per_arcmin: float | None = _f(
-        0.0, None, lo_open=True, default=None, unset="a rigid carrier",
+        *CARRIER_NM_PER_ARCMIN, lo_open=True, default=None, unset="a rigid carrier",
         source="none: no carrier compliance in series")
 
 

@@ -155,13 +155,20 @@ def _say(line: str):
 
 @contextlib.contextmanager
 def _one_line_warnings(name: str):
-    """Warnings (a cache that cannot be written, say) as one line each on stderr, each
-    also kept for the command's report.html (:func:`toothfem.report.html.warnings_kept`)."""
+    """Warnings (a cache that cannot be written, say) as one line each on stderr, the
+    same message once, each also kept for the command's report.html
+    (:func:`toothfem.report.html.warnings_kept`)."""
     from .report.html import warnings_kept
 
+    said = set()
+
+    def say_once(message, category, *rest, **kw):
+        if str(message) not in said:      # a cache failing for every ring: one line
+            said.add(str(message))
+            _say(f"{name}: warning: {message}")
+
     with warnings.catch_warnings():
-        warnings.showwarning = lambda message, category, *rest, **kw: _say(
-            f"{name}: warning: {message}")
+        warnings.showwarning = say_once
         with warnings_kept():       # and kept for the report.html of the command's folder
             yield
 

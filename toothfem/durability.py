@@ -8,6 +8,7 @@ import math
 import numpy as np
 
 from . import limits
+from .errors import CaseError, check_range
 from .efficiency import bearings as br
 from .efficiency import strength as st
 from .efficiency import thermal as th
@@ -45,6 +46,11 @@ def thermal_summary(case, speed_rpm, torque_Nm, *, loads="analytic", duration_h=
     dict
         Equilibrium oil temperature, heat transfer, housing, efficiency there; the warm-up.
     """
+    if duration_h is not None:     # before any work
+        check_range("--duration-h", duration_h, *limits.WARM_UP_H, lo_open=True,
+                    error=CaseError, why="a warm-up: a reducer's oil settles within a few "
+                    "time constants (hours); the time the solver takes grows with it")
+
     memo = LoadsMemo() if memo is None else memo
     hb = th.heat_balance(case, speed_rpm, torque_Nm, loads=loads, memo=memo)
     h = hb.housing

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import decimal
 import math
+import os
 
 import numpy as np
 
@@ -250,3 +251,75 @@ def checked_array(name, value, lo=None, *, lo_open=False, hi=None, hi_open=False
         check_range(label, float(a[idx]), lo, hi, lo_open=lo_open, hi_open=hi_open, why=why,
                     error=error)
     return a
+
+
+def shown(path) -> str:
+    """A path as a message line may print it: bytes of another locale (surrogate
+    escapes) as ``\\xNN``, never an error on a terminal of another encoding.
+
+    Parameters
+    ----------
+    path : str or bytes or os.PathLike
+        The path as given.
+
+    Returns
+    -------
+    str
+        Its text, every character encodable as UTF-8.
+    """
+    text = os.fspath(path)
+    text = text if isinstance(text, str) else os.fsdecode(text)
+    return text.encode("utf-8", "surrogateescape").decode("utf-8", "backslashreplace")
+
+
+def angles_1d(name: str, value, error=ToothfemError) -> np.ndarray:
+    """``value`` as a 1-D array of finite angles (a scalar as one), else ``error`` naming
+    ``name``, the shape given and the shapes taken.
+
+    Parameters
+    ----------
+    name : str
+        The argument, as the message names it.
+    value : array_like
+        A scalar or a 1-D sequence of numbers.
+    error : type
+        The exception type raised.
+
+    Returns
+    -------
+    numpy.ndarray
+        Shape (P,).
+    """
+    a = np.atleast_1d(checked_array(name, value, error=error))
+    if a.ndim != 1:
+        raise error(f"{name} has shape {a.shape}; valid: a scalar or a 1-D array of angles "
+                    "(np.ravel a grid of them)")
+    return a
+
+
+def of_type(name: str, value, kind: type, hint: str, error=ToothfemError):
+    """``value`` if it is a ``kind``, else ``error`` naming ``name``, what it is and
+    ``hint`` (where such a value comes from, e.g. ``case.cycloid.geometry()``).
+
+    Parameters
+    ----------
+    name : str
+        The argument, as the message names it.
+    value : object
+        What was given.
+    kind : type
+        What belongs there.
+    hint : str
+        Where such a value comes from.
+    error : type
+        The exception type raised.
+
+    Returns
+    -------
+    object
+        ``value`` itself.
+    """
+    if not isinstance(value, kind):
+        raise error(f"{name} = {type(value).__name__} is not a {kind.__name__}; valid: "
+                    f"{hint}")
+    return value

@@ -317,3 +317,9 @@ def run_warnings(contact: dict | None, efficiency: dict, durability: dict,
     # a message one part alone found says whose it is; one several parts found with the
     # same value (the operating point's torque above its rating) is the case's: once, bare
     return [f"{ps[0]}: {m}" if len(ps) == 1 and ps[0] else m for m, ps in parts.items()]
+
+
+#: The warm-up's duration [h] (efficiency --thermal --duration-h): reducer housings warm up
+#: with time constants of about an hour, so 100 h is steady state many times over; the
+#: integration's steps grow with the duration (1000 h took 121 s, issue 45).
+WARM_UP_H = (0.0, 100.0)

@@ -1,15 +1,21 @@
-"""Atomic output folders: write into a temporary sibling, then rename into place.
+"""Atomic output folders: write into a temporary sibling, then swap it into place.
 
 A run that fails, is interrupted (SIGINT, or SIGTERM, which the CLI turns into an
 exception) or is killed never leaves a half-written result under the output name: the work
 happens in a hidden sibling ``.<name>~<digest>.tmp-<host>-<pid>-<random>`` (the name cut to
 64 characters and told apart by a digest, so that a legal 255-character name stays legal),
-renamed to ``<name>`` only when complete. A sibling left by a run that was killed outright
+put under ``<name>`` only when complete. A sibling left by a run that was killed outright
 (SIGKILL, power loss) names its process; the next run into the same folder removes it once
-that process is gone. The previous result is moved aside (``.old-``) only for the instant of
-the swap; a run killed inside that instant leaves it there, and the next run puts it back
-under its name (and says so) before anything else. A symbolic link ``out`` is followed: the
-result is written where it points.
+that process is gone. An earlier result is exchanged for the new one in one step where the
+platform has one (``renameat2`` with ``RENAME_EXCHANGE`` on Linux), so the name never
+points at nothing; elsewhere it is moved aside (``.old-``) for the instant of two renames,
+and a run killed inside that instant leaves it there, put back under its name by the next
+run (which says so). A symbolic link ``out`` is followed: the result is written where it
+points. The name is held by one run at a time (a lock file beside it,
+:mod:`toothfem.folder_lock`): a second run into the same folder is refused at once.
+
+A long run keeps its finished points in a journal folder of its own beside the output
+(:func:`resumable_dir`), so an unfinished run never takes the place of a finished result.
 
 Only a folder toothfem wrote is ever replaced: every result folder holds the marker file
 MARKER, which lists what the run wrote, and an ``out`` that is a file, a folder that is
@@ -21,11 +27,11 @@ line that wrote the folder.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import json
 import os
 import re
-import secrets
 import shutil
 import sys
 import tempfile
@@ -34,7 +40,8 @@ from pathlib import Path
 from typing import TextIO
 
 from . import __version__, signals
-from .errors import ToothfemError, short_repr
+from .errors import ToothfemError, short_repr, shown
+from .folder_lock import exchange, held
 from .leftovers import left_by_dead_runs, owner
 
 #: The file that marks a folder as a toothfem result (what a later run may replace).
@@ -77,13 +84,22 @@ def target(out) -> Path:
     Raises
     ------
     ToothfemError
-        For an ``out`` that is not a path (None, a number), or an empty one.
+        For an ``out`` that is not a path (None, a number), an empty one, or a link that
+        loops.
     """
     if not isinstance(out, (str, os.PathLike)) or not str(out):
         raise ToothfemError(f"out = {short_repr(out)} is not a folder path; valid: a path "
                             "such as 'out/run'")
     out = Path(out)
-    return Path(os.path.realpath(out)) if out.is_symlink() else out
+    if not out.is_symlink():
+        return out
+    try:
+        return Path(os.path.realpath(out, strict=True))
+    except FileNotFoundError:           # dangling: its target
+        return Path(os.path.realpath(out))
+    except OSError as exc:              # a loop of links
+        raise ToothfemError(f"--out {shown(out)} is a symbolic link that cannot be followed "
+                            f"({exc.strerror or exc}); valid: a folder path") from None
 
 
 def clean_stale(out) -> list[Path]:
@@ -169,10 +185,11 @@ def command_line() -> str:
     Returns
     -------
     str
-        E.g. ``toothfem run cases/rv40e.toml --out out/rv``.
+        E.g. ``toothfem run cases/rv40e.toml --out out/rv``; bytes of another locale in
+        a path as ``\\xNN``.
     """
     argv = sys.argv or ["python"]
-    return " ".join(" ".join([Path(argv[0]).name, *argv[1:]]).split())
+    return shown(" ".join(" ".join([Path(argv[0]).name, *argv[1:]]).split()))
 
 
 def _marker_head(unfinished: str | None = None) -> str:
@@ -195,6 +212,80 @@ def _listed(marker: Path):
     return set(lines[1:])
 
 
+def _lock_file(out: Path) -> Path:
+    return out.parent / f"{_stem(out)}.lock"
+
+
+@contextlib.contextmanager
+def reserved(out):
+    """Hold the output name ``out`` for the block: checked, and locked against every other
+    run (:func:`toothfem.folder_lock.held`), so that a second run into the same folder is
+    refused at once in one line instead of both computing and one result silently
+    replacing the other. Re-entrant within a process; a dead process's lock never blocks.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder (its parent is created).
+
+    Yields
+    ------
+    pathlib.Path
+        The folder the result goes to (:func:`target`).
+
+    Raises
+    ------
+    ToothfemError
+        Before any work: another run holds the name, its folder cannot be written, or it
+        holds what toothfem did not write (:func:`check_replaceable`).
+    """
+    out = target(out)
+    try:
+        out.parent.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        raise ToothfemError(f"--out {shown(out)}: a part of its folder is a file; valid: "
+                            "a path of folders") from None
+    except OSError as exc:
+        raise ToothfemError(f"--out {shown(out)}: its folder cannot be made "
+                            f"({exc.strerror or exc})") from None
+    with held(_lock_file(out), out):
+        clean_stale(out)
+        check_replaceable(out)
+        try:
+            yield out
+        except BaseException as exc:
+            kept = _kept_beside(out)
+            if kept and not getattr(exc, KEPT_ATTRIBUTE, None):
+                setattr(exc, KEPT_ATTRIBUTE, f"{kept} finished points kept beside "
+                                             f"{shown(out)} (the same command resumes)")
+            raise
+
+
+def _kept_beside(out: Path) -> int:
+    """How many finished points the journals of unfinished runs into ``out`` hold."""
+    count = 0
+    for folder in _journal_folders(out):
+        with contextlib.suppress(OSError, UnicodeDecodeError):
+            count += sum(line.endswith("}") for line in     # not a line cut short
+                         (folder / JOURNAL).read_text(encoding="utf-8").splitlines())
+    return count
+
+
+#: Failures of a write itself (a file-size limit, a full disk, a quota): an OSError of
+#: these while the result is written is the output's, whatever file it names.
+_WRITE_FAILURES = (errno.EFBIG, errno.ENOSPC, errno.EDQUOT)
+
+
+def _named_for_user(exc: OSError, tmp: Path, out: Path) -> ToothfemError | None:
+    """A failure to write the result into the hidden folder ``tmp`` as one line naming
+    ``out`` (the path the user gave), or None for another error."""
+    names = [os.fsdecode(f) for f in (exc.filename, exc.filename2) if f is not None]
+    if exc.errno in _WRITE_FAILURES or any(n.startswith(os.fspath(tmp)) for n in names):
+        return ToothfemError(f"--out {shown(out)} cannot be written "
+                             f"({exc.strerror or exc}); nothing was written under it")
+    return None
+
+
 @contextlib.contextmanager
 def atomic_dir(out, *, unfinished: str | None = None):
     """Yield a temporary folder that becomes ``out`` only if the block succeeds.
@@ -202,7 +293,9 @@ def atomic_dir(out, *, unfinished: str | None = None):
     On an exception (KeyboardInterrupt and the CLI's SIGTERM included) the temporary folder
     is removed and ``out`` is left as it was, so a failed run never leaves a half-written
     result folder. Stale temporary folders of killed runs are removed first
-    (:func:`clean_stale`).
+    (:func:`clean_stale`); the name is held against other runs (:func:`reserved`). An
+    earlier result is swapped for the new one in one step where the platform can
+    (:func:`toothfem.folder_lock.exchange`), so the name never points at nothing.
 
     Parameters
     ----------
@@ -217,60 +310,109 @@ def atomic_dir(out, *, unfinished: str | None = None):
     pathlib.Path
         The temporary folder to write into.
     """
-    out = target(out)
-    clean_stale(out)
-    check_replaceable(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(prefix=_tag(out, "tmp"), dir=out.parent))
-    try:
-        tmp.chmod(0o777 & ~_UMASK)          # as a folder made by mkdir (mkdtemp: 0700)
-        (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
-        yield tmp
-        signals.stop_if_noted()
-        (tmp / MARKER).write_text("\n".join([_marker_head(unfinished) + ":"] + sorted(
-            p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
-    except BaseException:
-        with signals.held():          # a second Ctrl-C does not cut the clean-up short
-            shutil.rmtree(tmp, ignore_errors=True)
-        raise
+    with reserved(out) as out:
+        try:
+            tmp = Path(tempfile.mkdtemp(prefix=_tag(out, "tmp"), dir=out.parent))
+        except OSError as exc:
+            raise ToothfemError(f"--out {shown(out)}: its folder cannot be written "
+                                f"({exc.strerror or exc})") from None
+        try:
+            tmp.chmod(0o777 & ~_UMASK)          # as a folder made by mkdir (mkdtemp: 0700)
+            (tmp / MARKER).write_text(_marker_head() + "\n", encoding="utf-8")
+            yield tmp
+            signals.stop_if_noted()
+            (tmp / MARKER).write_text("\n".join([_marker_head(unfinished) + ":"] + sorted(
+                p.name for p in tmp.iterdir() if p.name != MARKER)) + "\n", encoding="utf-8")
+        except BaseException as exc:
+            with signals.held():          # a second Ctrl-C does not cut the clean-up short
+                shutil.rmtree(tmp, ignore_errors=True)
+            said = _named_for_user(exc, tmp, out) if isinstance(exc, OSError) else None
+            if said is not None:
+                raise said from None
+            raise
+        try:
+            _swap_in(tmp, out)
+        except OSError as exc:
+            raise ToothfemError(f"--out {shown(out)} cannot be written "
+                                f"({exc.strerror or exc}); nothing was written under it") \
+                from None
+        for journal in _journal_folders(out):   # unfinished runs into out: superseded
+            shutil.rmtree(journal, ignore_errors=True)
+
+
+def _swap_in(tmp: Path, out: Path) -> None:
+    """Put the finished folder ``tmp`` under the name ``out``: the earlier result there is
+    exchanged for it in one step (and then removed from ``tmp``'s name, where a kill leaves
+    it as a dead run's leftover), or, where the platform has no exchange, moved aside for
+    the instant of two renames."""
     old = None
     try:
         with signals.held():
-            if out.exists():
+            if out.exists() and exchange(tmp, out):
+                pass                           # tmp now holds the earlier result
+            elif out.exists():
                 old = Path(tempfile.mkdtemp(prefix=_tag(out, "old"), dir=out.parent))
                 out.replace(old / out.name)
-            try:
+                try:
+                    tmp.replace(out)
+                except BaseException:
+                    (old / out.name).replace(out)   # put the previous result back
+                    raise
+            else:
                 tmp.replace(out)
-            except BaseException:
-                if old is not None:            # put the previous result back
-                    (old / out.name).replace(out)
-                raise
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
     finally:
+        shutil.rmtree(tmp, ignore_errors=True)
         if old is not None and out.exists():   # else it holds the only copy: keep it
             shutil.rmtree(old, ignore_errors=True)
 
 
-#: A long run's finished points, one JSON object per line, kept under its output folder
-#: while the run is unfinished (resumable_dir).
+#: A long run's finished points, one JSON object per line, kept while the run is
+#: unfinished in a hidden folder of its own beside the output folder (resumable_dir).
 JOURNAL = "finished_points.jsonl"
 #: The attribute resumable_dir sets on an exception leaving its block: what is kept
 #: (toothfem.cli reads it).
 KEPT_ATTRIBUTE = "toothfem_kept"
 
 
+def journal_folder(out, key: str) -> Path:
+    """Where an unfinished long run of ``key`` into ``out`` keeps its finished points:
+    the hidden sibling ``.<name cut to 64>~<digest>.journal-<key>``, never ``out`` itself,
+    so that an unfinished run never takes the place of a finished result.
+
+    Parameters
+    ----------
+    out : str or pathlib.Path
+        The output folder.
+    key : str
+        The run's key.
+
+    Returns
+    -------
+    pathlib.Path
+        The folder (it holds MARKER and JOURNAL once the first point is kept).
+    """
+    out = target(out)
+    return out.parent / f"{_stem(out)}.journal-{key}"
+
+
+def _journal_folders(out: Path) -> list[Path]:
+    """The journal folders of unfinished runs into ``out``, of any key."""
+    start = f"{_stem(out)}.journal-"
+    with contextlib.suppress(OSError):
+        return [p for p in out.parent.iterdir() if p.name.startswith(start)]
+    return []
+
+
 class Points:
     """The finished points of a long run: ``done`` {point: record}, those read back from
     the journal of an earlier, unfinished run of the same key and those recorded since.
-    The folder is made (replacing an earlier result) when the first point is recorded, so
-    a run that finishes none leaves everything as it was.
+    The journal folder (:func:`journal_folder`) is made when the first point is recorded;
+    the output folder is left as it was until the finished result replaces it.
 
     Parameters
     ----------
     folder : pathlib.Path
-        The output folder.
+        The journal folder.
     key : str
         The run's key (its marker says it).
     done : dict
@@ -303,11 +445,13 @@ class Points:
         self.done[point] = record
 
     def _open(self) -> TextIO:
-        """The journal, opened to append (kept as ``_fh`` and returned): a new unfinished
-        folder, or the resumed one's journal rewritten without a line cut short by a kill."""
-        if not self.done:
+        """The journal, opened to append (kept as ``_fh`` and returned): a new journal
+        folder holding the points read back, or the resumed one's journal rewritten
+        without a line cut short by a kill."""
+        if _journal(self.folder, self.key) is None:
             with atomic_dir(self.folder, unfinished=self.key) as tmp:
-                (tmp / JOURNAL).touch()
+                (tmp / JOURNAL).write_text("".join(_line(p, r) for p, r in self.done.items()),
+                                           encoding="utf-8")
         else:
             with tempfile.NamedTemporaryFile("w", encoding="utf-8", dir=self.folder,
                                              delete=False,
@@ -319,7 +463,10 @@ class Points:
 
     def close(self):
         if self._fh is not None:
-            self._fh.close()
+            # a write that failed (a file-size limit, a full disk) fails its flush again
+            # here: the exception already raised says so, this one would hide it
+            with contextlib.suppress(OSError):
+                self._fh.close()
 
 
 def _line(point: str, record: dict) -> str:
@@ -358,24 +505,25 @@ def _journal(out: Path, key: str):
 
 @contextlib.contextmanager
 def resumable_dir(out, key: str):
-    """The output folder of a long run of many points, kept on disk as they finish.
+    """The finished points of a long run of many points, kept on disk as they finish.
 
-    From the first finished point on, ``out`` holds the run's marker (unfinished, with
-    ``key``) and the journal JOURNAL: each finished point is appended and synced as it
-    arrives (:meth:`Points.record`), so a run stopped in any way (an interrupt, SIGKILL, a
-    lost cluster, power loss) keeps every finished point, and the same command (the same
-    ``key``) resumes: the points read back are in ``done``. The finished result is written
-    afterwards with :func:`atomic_dir`, which replaces the unfinished folder. ``out`` is
-    refused at once as by :func:`atomic_dir` (a folder of the user's is never written
-    into); an earlier result there stays until the first point is recorded.
+    From the first finished point on, the run's journal folder (:func:`journal_folder`,
+    beside ``out``) holds its marker (unfinished, with ``key``) and the journal JOURNAL:
+    each finished point is appended and synced as it arrives (:meth:`Points.record`), so a
+    run stopped in any way (an interrupt, SIGKILL, a lost cluster, power loss) keeps every
+    finished point, and the same command (the same ``key``) resumes: the points read back
+    are in ``done``. ``out`` itself is not touched: an earlier result there stays whole
+    until the finished result is written with :func:`atomic_dir`, which then removes the
+    journal. ``out`` is refused at once as by :func:`atomic_dir` (a folder of the user's
+    is never written into) and held against other runs for the block (:func:`reserved`).
+    An unfinished folder of an earlier version (the journal inside ``out``) is resumed.
 
     Parameters
     ----------
     out : str or pathlib.Path
         The output folder.
     key : str
-        What identifies the run (hex digits: a hash of the case and the settings); an
-        unfinished folder of another key is an earlier result, replaced.
+        What identifies the run (hex digits: a hash of the case and the settings).
 
     Yields
     ------
@@ -383,125 +531,32 @@ def resumable_dir(out, key: str):
         ``done`` and ``record``. An exception leaving the block carries
         ``toothfem_kept``: a line saying how many points are kept and where.
     """
-    out = target(out)
-    clean_stale(out)
-    for _, left in left_by_dead_runs(out, f".{JOURNAL}."):    # a rewrite cut short
-        with contextlib.suppress(OSError):
-            left.unlink()
-    done = _journal(out, key)
-    if done is None:
-        check_replaceable(out)
-    points = Points(out, key, done or {})
-    try:
-        yield points
-    except BaseException as exc:
-        # what the journal on disk holds: a signal between a point's sync and its entry
-        # in ``done`` left the line saying "no output written" with a point kept
-        kept = _journal(out, key) or points.done
-        if kept:
-            setattr(exc, KEPT_ATTRIBUTE, f"{len(kept)} finished points kept in {out} "
-                                         "(the same command resumes)")
-        raise
-    finally:
-        points.close()
-
-
-def write_new_file(text: str, out, *, force: bool = False) -> Path:
-    """Write a text to a file atomically: a temporary sibling named by its writer
-    (:mod:`toothfem.leftovers`), renamed into place whole. Never over an existing file
-    unless ``force`` (the check and the placing are one step: a hard link, which fails
-    when the name exists).
-
-    Parameters
-    ----------
-    text : str
-        The file's text (UTF-8).
-    out : str or os.PathLike
-        The file; a symbolic link is followed. Its folder is created.
-    force : bool
-        Replace an existing file.
-
-    Returns
-    -------
-    pathlib.Path
-        The file written.
-
-    Raises
-    ------
-    ToothfemError
-        For a path that is a folder, or an existing file without ``force`` (one line
-        naming ``--out``).
-    """
-    out = check_new_file(out, force=force)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    for _, stale in left_by_dead_runs(out.parent, f".{out.name}.", ("tmp",)):
-        with contextlib.suppress(OSError):
-            stale.unlink()
-    tmp = out.parent / f".{out.name}.tmp-{owner()}{secrets.token_hex(4)}"
-    try:
-        with open(tmp, "x", encoding="utf-8", newline="\n") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        signals.stop_if_noted()
-        with signals.held():
-            if force:
-                os.replace(tmp, out)
-            else:
-                _place_new(tmp, out)
-    finally:
-        with contextlib.suppress(OSError):
-            tmp.unlink()
-    return out
-
-
-def _place_new(tmp: Path, out: Path) -> None:
-    """``tmp`` under the name ``out`` only if that name is free, in one step."""
-    try:
-        os.link(tmp, out)
-    except FileExistsError:
-        raise ToothfemError(_exists(out)) from None
-    except OSError:                  # a file system without hard links: check, then rename
-        if out.exists():
-            raise ToothfemError(_exists(out)) from None
-        os.replace(tmp, out)
-
-
-def _exists(out: Path) -> str:
-    return (f"--out {out} exists: toothfem does not overwrite a file (choose a new name, "
-            "or --force to replace it)")
-
-
-def check_new_file(out, *, force: bool = False) -> Path:
-    """Refuse a ``--out`` that cannot take a new file, before any work.
-
-    Parameters
-    ----------
-    out : str or os.PathLike
-        The file asked for.
-    force : bool
-        An existing file may be replaced.
-
-    Returns
-    -------
-    pathlib.Path
-        The file (a symbolic link followed to its target).
-
-    Raises
-    ------
-    ToothfemError
-        For a path that is not a file name, a folder, or an existing file without
-        ``force``.
-    """
-    if not isinstance(out, (str, os.PathLike)) or not str(out):
-        raise ToothfemError(f"--out = {out!r} is not a file path; valid: a name such as "
-                            "my_reducer.toml")
-    out = Path(out)
-    if out.is_symlink():
-        out = Path(os.path.realpath(out))
-    if out.is_dir():
-        raise ToothfemError(f"--out {out} is a folder: give a file name such as "
-                            f"{out / 'my_reducer.toml'}")
-    if out.exists() and not force:
-        raise ToothfemError(_exists(out))
-    return out
+    with reserved(out) as out:
+        folder = journal_folder(out, key)
+        for place in (folder, out):
+            for _, left in left_by_dead_runs(place, f".{JOURNAL}."):  # a rewrite cut short
+                with contextlib.suppress(OSError):
+                    left.unlink()
+        clean_stale(folder)
+        done = _journal(folder, key)
+        if done is None:
+            done = _journal(out, key)
+        points = Points(folder, key, done or {})
+        try:
+            yield points
+        except BaseException as exc:
+            # what the journal on disk holds: a signal between a point's sync and its
+            # entry in ``done`` left the line saying "no output written" with a point kept
+            kept = _journal(folder, key) or points.done
+            said = exc
+            if isinstance(exc, OSError) and exc.errno in _WRITE_FAILURES:
+                said = ToothfemError(f"--out {shown(out)}: its finished points cannot be "
+                                     f"kept beside it ({exc.strerror or exc})")
+            if kept:
+                setattr(said, KEPT_ATTRIBUTE, f"{len(kept)} finished points kept beside "
+                                              f"{shown(out)} (the same command resumes)")
+            if said is not exc:
+                raise said from None
+            raise
+        finally:
+            points.close()

@@ -27,7 +27,7 @@ from .fem.elastic import Body
 from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
 from .maps import EfficiencyMaps, efficiency_maps
-from .output import atomic_dir, target
+from .output import atomic_dir, reserved, target
 from .report.files import write_run
 from .units import ARCSEC, MPA_PER_PA, PA_PER_MPA
 
@@ -431,9 +431,10 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     case_file = None if isinstance(case, Case) else case
     case = as_case(case)
     out = target(out)
-    run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress)
-    with atomic_dir(out) as tmp:
-        run.write(tmp, case_file)
+    with reserved(out):        # checked and held before computing: a second run is refused
+        run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress)
+        with atomic_dir(out) as tmp:
+            run.write(tmp, case_file)
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
                      efficiency=run.efficiency, speed_rpm=run.speed_rpm,
                      output_torque_Nm=run.output_torque_Nm, case=case,

@@ -17,8 +17,9 @@ costs no new factorisation. Independent tasks keep both workers busy without rou
 (Dask queues them and a worker starts its next design at once); a design's rows arrive
 together when it finishes.
 
-Every row is kept on disk as its task finishes: appended and synced to
-``out/finished_points.jsonl`` (:func:`toothfem.output.resumable_dir`), so a sweep stopped in
+Every row is kept on disk as its task finishes: appended and synced to the journal in a
+folder of its own beside ``out`` (:func:`toothfem.output.resumable_dir`; an earlier result
+in ``out`` stays whole until the sweep completes), so a sweep stopped in
 any way (Ctrl-C, SIGTERM, SIGKILL, a lost cluster: :mod:`toothfem.cluster`) keeps every
 finished point, and the same command resumes it, computing only the rest. The tables
 ``sweep.csv`` and ``sweep.json`` are written when every point has run
@@ -42,6 +43,7 @@ import math
 import threading
 import time
 import uuid
+import warnings
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -56,7 +58,7 @@ from .fem.cache import DiskCache, content_key
 from .fem.drives import Drive, drive_for
 from .fem.drives.sine import SINE_IN_MESH_GAP_M
 from .errors import CaseError, ToothfemError, check_range
-from .output import atomic_dir, resumable_dir, target
+from .output import atomic_dir, reserved, resumable_dir, target
 from .report import html as report_html
 from .units import UM_PER_M
 
@@ -131,8 +133,10 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     n_workers : int, optional
         Processes of the local cluster (default: one per CPU).
     out : str or pathlib.Path
-        The output folder: the finished points as they arrive, the tables at the end; an
-        unfinished sweep of the same case and settings there is resumed.
+        The output folder: the tables at the end (the finished points as they arrive in
+        a journal folder beside it, :func:`toothfem.output.journal_folder`); an unfinished
+        sweep of the same case and settings into it is resumed. Held against other runs
+        for the sweep's life: a second run into it is refused at once.
     cache_dir : str or pathlib.Path or None or False
         The disk cache of influence tables; None: ``$TOOTHFEM_CACHE`` or
         ``~/.cache/toothfem``; False: none.
@@ -174,50 +178,51 @@ def sweep(case, vary: Mapping[str, Sequence], *, torques_Nm: Sequence[float] | N
     key = content_key("sweep", case, plan.values,
                       None if torques_Nm is None else [float(t) for t in np.ravel(torques_Nm)],
                       plan.positions, pins, plan.loads)
-    t0 = time.perf_counter()
-    with resumable_dir(out, key) as points:
-        rows = [r for r in points.done.values() if r["status"] == "ok"]
-        finished = {_point(r["design"], r["load_case"]) for r in rows}
-        with dask_client(scheduler, n_workers) as client, \
-                progress_bar(total=len(plan.designs) * len(plan.load_cases),
-                             initial=len(rows), desc="sweep", unit="point",
-                             enabled=progress) as bar:
-            def emit(row):
-                points.record(_point(row["design"], row["load_case"]), row)
-                rows.append(row)
-                bar.update()
-                if on_row is not None:
-                    on_row(row)
+    with reserved(out):      # the name held for the run: a second run is refused
+        t0 = time.perf_counter()
+        with resumable_dir(out, key) as points:
+            rows = [r for r in points.done.values() if r["status"] == "ok"]
+            finished = {_point(r["design"], r["load_case"]) for r in rows}
+            with dask_client(scheduler, n_workers) as client, \
+                    progress_bar(total=len(plan.designs) * len(plan.load_cases),
+                                 initial=len(rows), desc="sweep", unit="point",
+                                 enabled=progress) as bar:
+                def emit(row):
+                    points.record(_point(row["design"], row["load_case"]), row)
+                    rows.append(row)
+                    bar.update()
+                    if on_row is not None:
+                        on_row(row)
 
-            _run(client, plan, cache, emit, finished)
-            workers = len(client.nthreads())
-            address = "local" if scheduler is None else client.scheduler.address
-    # the final table is in design, load-case order, so that two runs give the same file
-    # apart from the timing columns (issue 14)
-    rows.sort(key=lambda r: (r["design"], r["load_case"]))
-    failed = sum(r["status"] != "ok" for r in rows)
-    summary = {
-        "case": case.name, "drive": case.drive,
-        "loads": plan.loads, "vary": plan.values,
-        "torques_Nm": None if torques_Nm is None else [float(t) for t in
-                                                       np.ravel(torques_Nm)],
-        "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
-        "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
-        "resumed": len(finished), "wall_s": time.perf_counter() - t0,
-        # a local cluster's address changes from run to run (a free port)
-        "scheduler": address, "workers": workers,
-        "cache_dir": None if cache is None else str(cache.directory),
-        "files": ["sweep.csv", "sweep.json"]}
-    if plan.loads == "analytic":
-        summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * UM_PER_M
-    with atomic_dir(out) as tmp:
-        with open(tmp / "sweep.csv", "w", newline="") as fh:
-            writer = csv.DictWriter(fh, columns)
-            writer.writeheader()
-            writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
-        (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
-        report_html.write_report(tmp, case, command="sweep", case_file=case_file, tables=[
-            report_html.Table.of_csv("one row per design and load case", tmp / "sweep.csv")])
+                _run(client, plan, cache, emit, finished)
+                workers = len(client.nthreads())
+                address = "local" if scheduler is None else client.scheduler.address
+        # the final table is in design, load-case order, so that two runs give the same file
+        # apart from the timing columns (issue 14)
+        rows.sort(key=lambda r: (r["design"], r["load_case"]))
+        failed = sum(r["status"] != "ok" for r in rows)
+        summary = {
+            "case": case.name, "drive": case.drive,
+            "loads": plan.loads, "vary": plan.values,
+            "torques_Nm": None if torques_Nm is None else [float(t) for t in
+                                                           np.ravel(torques_Nm)],
+            "positions": plan.positions, "pins": pins, "designs": len(plan.designs),
+            "load_cases": len(plan.load_cases), "rows": len(rows), "failed": failed,
+            "resumed": len(finished), "wall_s": time.perf_counter() - t0,
+            # a local cluster's address changes from run to run (a free port)
+            "scheduler": address, "workers": workers,
+            "cache_dir": None if cache is None else str(cache.directory),
+            "files": ["sweep.csv", "sweep.json"]}
+        if plan.loads == "analytic":
+            summary["sine_in_mesh_gap_um"] = SINE_IN_MESH_GAP_M * UM_PER_M
+        with atomic_dir(out) as tmp:
+            with open(tmp / "sweep.csv", "w", newline="") as fh:
+                writer = csv.DictWriter(fh, columns)
+                writer.writeheader()
+                writer.writerows({k: _cell(v) for k, v in row.items()} for row in rows)
+            (tmp / "sweep.json").write_text(json.dumps(summary, indent=2))
+            report_html.write_report(tmp, case, command="sweep", case_file=case_file, tables=[
+                report_html.Table.of_csv("one row per design and load case", tmp / "sweep.csv")])
     out = Path(out)
     return SweepResult(out, out / "sweep.csv", tuple(rows), failed, len(finished),
                        summary["wall_s"])
@@ -409,6 +414,7 @@ def _run(client, plan: _Plan, cache, emit, finished=frozenset()) -> None:
                             [member for _, member in jobs], plan.loads,
                             key=f"{prefix}-{key}", pure=False)
         pending[fut] = [base for base, _ in jobs]
+    said = set()
     for fut in as_finished(client, list(pending)):
         bases = pending.pop(fut)
         try:
@@ -416,6 +422,10 @@ def _run(client, plan: _Plan, cache, emit, finished=frozenset()) -> None:
         except Exception as exc:             # noqa: BLE001 -- recorded, the sweep goes on
             results = [{"status": "failed", "error": _message(exc)}] * len(bases)
         for base, result in zip(bases, results):
+            for message, category in result.pop(_WARNINGS, ()):
+                if message not in said:      # each once, on the driver (one line each)
+                    said.add(message)
+                    warnings.warn(message, category, stacklevel=1)
             emit({**base, **result})
         fut.release()
 
@@ -462,6 +472,8 @@ def _output_torque(case: Case, torque, varied) -> float:
 
 
 _SETUP_LOCK = threading.Lock()
+#: The key under which a task's result carries the warnings its setup gave (not a column).
+_WARNINGS = "_warnings"
 
 
 def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
@@ -475,12 +487,16 @@ def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
     concerns, other exceptions propagate (Dask logs them, the driver records them)."""
     t0 = time.perf_counter()
     try:
-        with _SETUP_LOCK:        # gmsh keeps one model per process: one setup at a time
+        # gmsh keeps one model per process: one setup at a time; its warnings (a cache
+        # that cannot be written) go back to the driver, which says each in one line
+        with _SETUP_LOCK, warnings.catch_warnings(record=True) as said:
+            warnings.simplefilter("always")
             solve = _prepare(case, pins, positions, cache_dir, loads)
     except ToothfemError as exc:
         failed = {"setup_s": time.perf_counter() - t0, "status": "failed",
                   "error": _message(exc)}
         return [failed] * len(member_torques)
+    told = [(str(w.message), w.category) for w in said]
     setup_s = time.perf_counter() - t0
     out = []
     for torque in member_torques:
@@ -489,7 +505,8 @@ def _design_task(case: Case, pins, positions: int, cache_dir, member_torques,
             res = {**solve(torque), "status": "ok", "error": ""}
         except ToothfemError as exc:
             res = {"status": "failed", "error": _message(exc)}
-        out.append({**res, "setup_s": setup_s, "time_s": time.perf_counter() - t1})
+        out.append({**res, "setup_s": setup_s, "time_s": time.perf_counter() - t1,
+                    _WARNINGS: told})
     return out
 
 

@@ -24,6 +24,7 @@ import contextlib
 import dataclasses
 import hashlib
 import math
+import os
 import pickle
 from pathlib import Path
 from dataclasses import dataclass
@@ -76,7 +77,8 @@ class _Setup:
     pitch_samples: int = 0          # the system's sampled pitches (PITCH_SAMPLES when made)
 
 
-def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positions: int = 36,
+def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = 200, seed: int = 0,
+                       positions: int = 36,
                        workers: int = 1, scheduler=None, share_samples: int | None = None,
                        overrides: dict | None = None, progress: bool = True,
                        cache=True, points=None) -> ToleranceResult:
@@ -84,8 +86,10 @@ def tolerance_analysis(case: Case, *, samples: int = 200, seed: int = 0, positio
 
     Parameters
     ----------
-    case : toothfem.case.Case
-        With a ``[tolerances]`` section (at least one nonzero zone).
+    case : toothfem.case.Case or str or os.PathLike
+        With a ``[tolerances]`` section (at least one nonzero zone); a path is the case
+        file, loaded and validated (as every analysis of the API takes it:
+        :func:`toothfem.case.as_case`).
     samples : int
         Built reducers drawn (1 to MAX_SAMPLES).
     seed : int

@@ -145,16 +145,14 @@ def rise(total, grid, resistance, factor):
         dT [K].
     """
     gap = resistance * factor[:, None] * total - grid[None, :]
+    below = gap <= 0
+    k = np.argmax(below, axis=1)               # the first crossing of each row
     out = np.full(total.shape[0], grid[-1])
-    for i in range(total.shape[0]):
-        cross = np.nonzero(gap[i] <= 0)[0]
-        if cross.size:
-            k = int(cross[0])
-            if k == 0:
-                out[i] = 0.0
-            else:
-                g0, g1 = gap[i, k - 1], gap[i, k]
-                out[i] = grid[k - 1] + (grid[k] - grid[k - 1]) * g0 / (g0 - g1)
+    out[below.any(axis=1) & (k == 0)] = 0.0
+    rows = np.nonzero(below.any(axis=1) & (k > 0))[0]       # one array operation a row set
+    k = k[rows]
+    g0, g1 = gap[rows, k - 1], gap[rows, k]
+    out[rows] = grid[k - 1] + (grid[k] - grid[k - 1]) * g0 / (g0 - g1)
     return out
 
 

@@ -20,7 +20,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ...errors import GeometryError, check_range, checked_array
+from ...errors import GeometryError, angles_1d, check_range, of_type
 from ..kinematics import MeshingState, slide_to_roll
 from ..vectors import cross, dot, perp, rotate, unit
 from .conjugate import (_NEWTON_MAXITER, _NEWTON_TOL, _approx_gap, _conjugate, _foot,
@@ -356,13 +356,17 @@ def meshing(pair: SineGearPair, crank_angle_rad, crank_speed_rad_s: float = 1.0,
     Raises
     ------
     GeometryError
-        If the crank speed is not finite or ``candidates`` is outside [1, (z1 - 1)//2].
+        If ``pair`` is not a SineGearPair, the crank speed is not finite, ``candidates``
+        is outside [1, (z1 - 1)//2], or the angles are not a scalar or 1-D.
     """
+    from .pair import SineGearPair          # at call time, as the type hints take it
+    of_type("pair", pair, SineGearPair, "case.sine.geometry() (a Case holds one)",
+            error=GeometryError)
     check_range("crank_speed_rad_s", crank_speed_rad_s, error=GeometryError)
     k = int(check_range("candidates", candidates, 1, (pair.planet_teeth - 1) // 2,
                         error=GeometryError))
     g = profile_params(pair)
-    chi = np.atleast_1d(checked_array("crank_angle_rad", crank_angle_rad))
+    chi = angles_1d("crank_angle_rad", crank_angle_rad, error=GeometryError)
     om = float(crank_speed_rad_s)
     teeth, flank, chi2, f1, f2, own, conj = _candidate_points(g, chi, k)
 

@@ -92,7 +92,7 @@ def run(args) -> int:
     """
     from ..case_new import OPTIONS, new_case
     from ..layouts import layout_named
-    from ..output import check_new_file, write_new_file
+    from ..output_file import check_new_file, write_new_file
     check_new_file(args.out, force=args.force)      # refused before any work
     new = new_case(args.drive, name=args.name, **{k: getattr(args, k) for k in OPTIONS})
     path = write_new_file(new.text, args.out, force=args.force).resolve()

@@ -45,9 +45,9 @@ def add_parser(sub):
                             "~/.cache/toothfem)")
     cache.add_argument("--no-cache", action="store_true", help="no disk cache")
     p.add_argument("--out", required=True,
-                   help="output folder: finished_points.jsonl as points finish, sweep.csv "
-                        "and sweep.json at the end; the same command resumes an unfinished "
-                        "sweep there")
+                   help="output folder: sweep.csv and sweep.json at the end (the points "
+                        "as they finish in a hidden journal folder beside it); the same "
+                        "command resumes an unfinished sweep")
     p.add_argument("--json", action="store_true",
                    help="print the key figures as JSON instead of a table")
     p.set_defaults(func=run)

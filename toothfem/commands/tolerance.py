@@ -23,9 +23,9 @@ def add_parser(sub):
     p = sub.add_parser(NAME, help=HELP)
     p.add_argument("case", help="case file (TOML) with a [tolerances] section")
     p.add_argument("--out", required=True,
-                   help="output folder: finished_points.jsonl as rings finish, the tables "
-                        "and pictures at the end; the same command resumes an unfinished "
-                        "ensemble there")
+                   help="output folder: the tables and pictures at the end (the rings as "
+                        "they finish in a hidden journal folder beside it); the same "
+                        "command resumes an unfinished ensemble")
     p.add_argument("--samples", type=int, default=200,
                    help="built reducers to draw (default 200)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -65,21 +65,22 @@ def run(args) -> int:
     """
     from ..case import load_case
     from ..fem.cache import content_key
-    from ..output import atomic_dir, resumable_dir
+    from ..output import atomic_dir, reserved, resumable_dir
     from ..report import html as report_html, summary as report_summary
     from ..report import tolerance as report_tolerance
     from ..tolerance import tolerance_analysis
     case = load_case(args.case)
     key = content_key("tolerance", case, args.samples, args.seed, args.positions,
                       args.share_samples)
-    with resumable_dir(args.out, key) as points:
-        result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
-                                    positions=args.positions, workers=args.workers,
-                                    scheduler=args.scheduler,
-                                    share_samples=args.share_samples, points=points)
-    with atomic_dir(args.out) as tmp:
-        summary = result.write(tmp)
-        report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
+    with reserved(args.out):      # the name held for the run: a second run is refused
+        with resumable_dir(args.out, key) as points:
+            result = tolerance_analysis(case, samples=args.samples, seed=args.seed,
+                                        positions=args.positions, workers=args.workers,
+                                        scheduler=args.scheduler,
+                                        share_samples=args.share_samples, points=points)
+        with atomic_dir(args.out) as tmp:
+            summary = result.write(tmp)
+            report_html.write_report(tmp, case, command="tolerance", case_file=args.case)
     if args.json:
         print(json.dumps({"case": summary["case"], "samples": summary["samples"],
                           "outputs": summary["outputs"], "nominal": summary["nominal"],
