@@ -145,3 +145,33 @@ def test_a_model_twice_too_soft_is_said_with_what_the_widths_need():
     assert len(lines) == 1 and "rigidity of 100 N m/arcmin" in lines[0]
     assert "gives 50" in lines[0] and "0.5x" in lines[0]
     assert misses(measured, measured) == []
+
+
+@pytest.mark.parametrize("column, factor, likely", [
+    ("te_arcsec", 3600.0, "deg labelled arcsec"),
+    ("te_arcsec", 1 / 206264.8, "arcsec labelled rad"),
+    ("output_torque_Nm", 1000.0, "N mm as N m"),
+])
+def test_recordings_in_the_wrong_unit_are_refused_before_the_fit(cases_dir, tmp_path, column,
+                                                                 factor, likely):
+    """The running demo with its TE in degrees (or radians) under an arcsec label, or its
+    torque in N mm under an N m label: refused in one line naming the column and the likely
+    slip, before any fit (issue 45; it fitted to 1e3-1e8 sigma before)."""
+    from toothfem import load_case
+    from toothfem.efficiency.loop.te.loop import run_te_loop
+
+    src = cases_dir.parent / "data" / "demo" / "te" / "rv40e_running"
+    for f in sorted(src.glob("*.csv")):
+        out = []
+        for line in f.read_text(encoding="utf-8").splitlines():
+            if column == "output_torque_Nm" and line.startswith("# output_torque_Nm:"):
+                line = f"# output_torque_Nm: {float(line.split(':')[1]) * factor:g}"
+            elif column == "te_arcsec" and line[:1] not in ("#", "o"):
+                a, d, te = line.split(",")
+                line = f"{a},{d},{float(te) * factor:.9g}"
+            out.append(line)
+        (tmp_path / f.name).write_text("\n".join(out) + "\n", encoding="utf-8")
+    with pytest.raises(MeasuredDataError, match=likely) as info:
+        run_te_loop(load_case(cases_dir / "rv40e.toml"), te=tmp_path, candidates=["friction"])
+    assert len(str(info.value).splitlines()) == 1
+    assert (column.split("_")[0] if column == "te_arcsec" else column) in str(info.value)

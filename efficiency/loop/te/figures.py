@@ -130,6 +130,8 @@ class TeFigures:
                      "names": list(p.names)} for p in d.peaks]
                 row[f"{key}_resolution_orders"] = (None if d is None or d.spectrum is None
                                                    else d.spectrum.resolution_orders)
+                row[f"{key}_sigma_source"] = None if d is None else d.sigma_source
+                row[f"{key}_ripple_source"] = None if d is None else d.ripple_source
             conds.append(row)
         return {"conditions": conds, "offsets_arcsec": dict(self.offsets_arcsec),
                 "level_scatter_arcsec": self.level_scatter_arcsec,

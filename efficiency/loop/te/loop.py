@@ -24,6 +24,7 @@ from .problem import TeLoop, TeProblem
 from .model import ModelRecordings, RecordingModel
 from .observations import Layout, observations, model_rows
 from .recordings import read_te_recordings, recording_paths
+from .plausibility import check_scale, check_torques
 from .running import RunningDatasheet, from_figures, running_datasheet
 from ....errors import MeasuredDataError
 
@@ -240,6 +241,9 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         te_runs = model.te(eff, layout.te_torques_Nm) if layout.te_torques_Nm else ()
         return ModelRecordings(loop=loop, te=te_runs)
 
+    check_torques(rated, _torques(te_figs, loop_figs))     # before the model meets them
+    before = recordings({})
+    _plausible(obs, layout, before)
     effects = catalog(model)
     problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
                         effects, settings)
@@ -249,9 +253,36 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))
     return TeLoopResult(case_name=model.case.name, loop=fitted, layout=layout,
                         te_figures=te_figs,
-                        hysteresis=loop_figs, before=recordings({}),
+                        hysteresis=loop_figs, before=before,
                         after=recordings(final_options), rated_torque_Nm=rated,
                         orders=orders, refused=tuple(refused),
                         elapsed_s=time.perf_counter() - t0, running=running,
                         running_note=running_note)
 
+
+def _torques(te_figs, loop_figs) -> list:
+    """Every recorded output torque with where it comes from."""
+    torques = []
+    if te_figs is not None:
+        torques += [(c.condition.output_torque_Nm, ", ".join(c.files))
+                    for c in te_figs.conditions]
+    if loop_figs is not None:
+        torques += [(float(np.max(np.abs(c.torque_Nm))), "the hysteresis recording")
+                    for c in loop_figs.curves]
+    return torques
+
+
+def _plausible(obs, layout, before) -> None:
+    """Refuse recordings in the wrong unit before the fit (:mod:`.plausibility`): the width
+    at the largest torque and the staircase's twist range against the case's model on the
+    same rows."""
+    model = model_rows(layout, before, centred=False)
+    widths = [i for i, r in enumerate(layout.rows) if r.kind == "width"]
+    if widths:
+        top = max(widths, key=lambda i: layout.rows[i].torque_Nm)
+        check_scale(abs(obs.values[top]), abs(model[top]),
+                    "hysteresis width at the largest torque", "te (its unit suffix)")
+    rows = layout.loop_rows
+    if rows.size:
+        check_scale(float(np.ptp(obs.values[rows])), float(np.ptp(model[rows])),
+                    "twist range of the staircase", "twist (its unit suffix)")
