@@ -175,3 +175,17 @@ def test_recordings_in_the_wrong_unit_are_refused_before_the_fit(cases_dir, tmp_
         run_te_loop(load_case(cases_dir / "rv40e.toml"), te=tmp_path, candidates=["friction"])
     assert len(str(info.value).splitlines()) == 1
     assert (column.split("_")[0] if column == "te_arcsec" else column) in str(info.value)
+
+
+def test_a_recording_given_twice_is_read_once(tmp_path):
+    """The same file twice (or a copy under another name) is read once and the second
+    refused naming the first: it would otherwise weigh double and sit on both sides of the
+    held-out split (issue 45)."""
+    RIG.write(tmp_path, [100.0, 200.0, 300.0], rng=np.random.default_rng(1))
+    first = tmp_path / "te_100Nm.csv"
+    copy = tmp_path / "copy_of_100.csv"
+    copy.write_bytes(first.read_bytes())
+    rec = read_te_recordings([first, *sorted(tmp_path.glob("te_*.csv")), copy])
+    assert len(rec.files) == 3
+    assert [r.source for r in rec.refused] == [str(first), str(copy)]
+    assert all("the same bytes as" in r.reason for r in rec.refused)

@@ -51,6 +51,7 @@ refusals.
 from __future__ import annotations
 
 import csv
+import hashlib
 import itertools
 import math
 from array import array
@@ -512,16 +513,37 @@ def each_file(paths, read, *, desc: str, progress: bool = True) -> tuple:
     results : list
         (path, result) of each file read.
     refused : list of Refusal
-        One line each, naming the file.
+        One line each, naming the file; a file with the same bytes as one already read is
+        refused too (given twice, or copied: it would weigh double and sit on both sides of
+        the held-out split).
     """
     results, refused = [], []
     files = recording_paths(paths)
+    seen: dict[str, Path] = {}
     for path in bar(files, enabled=progress, desc=desc, unit="file"):
+        try:
+            digest = _digest(path)
+        except OSError:
+            digest = ""                     # read() says why, naming the file
+        if digest and digest in seen:       # the same recording twice would weigh double
+            refused.append(Refusal(str(path), f"{path}: the same bytes as {seen[digest]}: "
+                                              "read once"))
+            continue
+        seen.setdefault(digest, path)
         try:
             results.append((path, read(path)))
         except MeasuredDataError as exc:
             refused.append(Refusal(str(path), _one_line(exc, path)))
     return results, refused
+
+
+def _digest(path) -> str:
+    """The file's SHA-256, read in 1 MiB pieces (a recording is never held whole)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        for piece in iter(lambda: f.read(1 << 20), b""):
+            h.update(piece)
+    return h.hexdigest()
 
 
 def _one_line(exc, path) -> str:
