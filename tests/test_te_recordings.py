@@ -274,8 +274,10 @@ def test_bad_files_refused_in_one_line_good_files_read(tmp_path):
     rip = sy.Ripple(amplitudes_arcsec={39: 5.0}, width_arcsec=10.0)
 
     def good(name):
+        # each file its own provenance line: two files of the same bytes are one recording
+        # read twice (refused as such, test_te_running.py)
         return sy.write_te_sides(tmp_path / name, rip, revolutions=2,
-                                 samples_per_revolution=256)
+                                 samples_per_revolution=256, comments={"file": name})
 
     good("good1.csv")
     good("good2.csv")
