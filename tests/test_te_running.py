@@ -189,3 +189,37 @@ def test_a_recording_given_twice_is_read_once(tmp_path):
     assert len(rec.files) == 3
     assert [r.source for r in rec.refused] == [str(first), str(copy)]
     assert all("the same bytes as" in r.reason for r in rec.refused)
+
+
+def test_each_selection_step_is_handed_on_as_it_finishes(cases_dir, tmp_path):
+    """te-loop keeps every finished step beside --out (toothfem.output.resumable_dir): the
+    loop hands each step's record on as the step ends, in order, with what it added and its
+    candidates; a finished run leaves its report and no journal."""
+    from toothfem import cli
+
+    folder = cases_dir.parent / "data" / "demo" / "te" / "rv40e_running"
+    out = tmp_path / "loop"
+    seen = []
+    from toothfem.efficiency.loop.te import problem
+
+    real = problem.TeProblem.run
+
+    def spy(self, candidates=None, progress=False, on_step=None):
+        def hand_on(i, record):
+            on_step(i, record)                  # the command's: kept on disk
+            seen.append((i, record, sorted(p.name for p in tmp_path.iterdir())))
+        return real(self, candidates, progress, hand_on)
+
+    problem.TeProblem.run = spy
+    try:
+        assert cli.main(["te-loop", str(cases_dir / "rv40e.toml"), "--te", str(folder),
+                         "--effects", "crank_bearing_play", "--out", str(out)]) == 0
+    finally:
+        problem.TeProblem.run = real
+    assert [i for i, _, _ in seen] == [1]       # the second step has no candidate left
+    assert seen[0][1]["added"] == "crank_bearing_play"
+    assert seen[0][1]["candidates"][0]["name"] == "crank_bearing_play"
+    journal = [n for n in seen[0][2] if ".journal-" in n]
+    assert journal                              # step 1 on disk as it finished
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["loop"]
+    assert (out / "report.md").exists() and (out / "widths.png").exists()

@@ -70,9 +70,9 @@ def run(args) -> int:
     from ..case import load_case
     from ..efficiency.loop.settings import Settings
     from ..errors import ToothfemError
-    from ..output import atomic_dir
+    from ..output import reserved, resumable_dir
+    from ..fem.cache import content_key
     from . import json_default
-    from ..report import html as report_html, save, te as report_te
     from ..efficiency.loop.te.effects import catalog
     from ..efficiency.loop.te.loop import run_te_loop
     from ..efficiency.loop.te.model import RecordingModel
@@ -92,16 +92,43 @@ def run(args) -> int:
         if unknown:
             raise ToothfemError(f"--effects = {unknown[0]!r} is not an effect of this drive; "
                                 f"valid: {', '.join(names)}; or 'all' alone")
-    with atomic_dir(args.out) as tmp:     # open from the start: a bad --out refused at once
-        try:
-            result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
-                                 name_pattern=args.name_pattern,
-                                 settings=Settings(folds=args.folds),
-                                 candidates="all" if chosen == ["all"] else chosen,
-                                 model=model, progress=not args.json)
-        except ValueError as exc:
-            raise ToothfemError(str(exc)) from exc
-        summary = result.summary()
+    inputs = [str(p) for p in (args.te or [])] + [str(args.hysteresis)]
+    key = content_key("te-loop", case, inputs, args.name_pattern, chosen, args.folds)
+    with reserved(args.out):           # the name held for the run; a bad --out refused now
+        with resumable_dir(args.out, key) as steps:
+            # each selection step kept beside --out as it finishes (a killed run keeps them)
+            try:
+                result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
+                                     name_pattern=args.name_pattern,
+                                     settings=Settings(folds=args.folds),
+                                     candidates="all" if chosen == ["all"] else chosen,
+                                     model=model, progress=not args.json,
+                                     on_step=lambda i, rec: steps.record(f"step {i}", rec))
+            except ValueError as exc:
+                raise ToothfemError(str(exc)) from exc
+        _write(args, case, result)
+    if args.json:
+        print(json.dumps(_summary(args, result), indent=2, default=json_default))
+        return 0
+    _print(result, args)
+    return 0
+
+
+def _summary(args, result) -> dict:
+    """report.json."""
+    summary = result.summary()
+    summary["case_file"] = str(args.case)
+    return summary
+
+
+def _write(args, case, result) -> None:
+    """The report folder, written whole (the finished result replaces the steps' journal)."""
+    from ..output import atomic_dir
+    from . import json_default
+    from ..report import html as report_html, save, te as report_te
+
+    with atomic_dir(args.out) as tmp:
+        summary = _summary(args, result)
         summary["case_file"] = str(args.case)
         files = []
         if result.hysteresis is not None:
@@ -118,9 +145,10 @@ def run(args) -> int:
         (tmp / "report.json").write_text(json.dumps(summary, indent=2, default=json_default) + "\n")
         (tmp / "report.md").write_text(report_te.markdown(result, files=files))
         report_html.write_report(tmp, case, command="te-loop", case_file=args.case)
-    if args.json:
-        print(json.dumps(summary, indent=2, default=json_default))
-        return 0
+
+
+def _print(result, args) -> None:
+    """What the screen shows."""
     loop = result.loop
     print(f"{result.case_name}: {result.elapsed_s:.0f} s, {result.evaluations} model "
           f"evaluations; {len(loop.observations.values)} observed figures; held-out "
@@ -143,7 +171,6 @@ def run(args) -> int:
     for r in result.refused:
         print(f"  refused: {r}")
     print(f"wrote {(Path(args.out) / 'report.md').resolve()}")
-    return 0
 
 
 def running_lines(result) -> list:

@@ -172,7 +172,8 @@ def candidate_names(effects, candidates=None) -> list:
 
 
 def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=DEFAULT_SETTINGS,
-                candidates=None, model: RecordingModel | None = None, progress=False):
+                candidates=None, model: RecordingModel | None = None, progress=False,
+                on_step=None):
     """Fit the effects a case's model lacks to its TE and hysteresis recordings.
 
     Parameters
@@ -194,6 +195,9 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         The case's model already set up.
     progress : bool
         Progress over the TE files and over each selection step's candidates.
+    on_step : callable, optional
+        ``on_step(index, record)`` as each selection step finishes
+        (:meth:`TeProblem.run`).
 
     Returns
     -------
@@ -247,7 +251,8 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     effects = catalog(model)
     problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
                         effects, settings)
-    fitted = problem.run(candidate_names(effects, candidates), progress=progress)
+    fitted = problem.run(candidate_names(effects, candidates), progress=progress,
+                         on_step=on_step)
     final_options: dict = {}
     for name in fitted.final.effects:
         final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))

@@ -328,8 +328,23 @@ class TeLoop:
 class _Bar(en.Listener):
     """A bar over each step's candidates, the model evaluations so far beside it."""
 
-    def __init__(self, model: TeModel, enabled: bool):
-        self.model, self.enabled = model, enabled
+    def __init__(self, model: TeModel, enabled: bool, on_step=None):
+        self.model, self.enabled, self.on_step = model, enabled, on_step
+
+    def stepped(self, step: en.Step) -> None:
+        """Hand each finished step to ``on_step`` (its record: what was added, every
+        candidate's fit), as it finishes."""
+        if self.on_step is None:
+            return
+        self.on_step(step.index, {
+            "added": step.added, "removed": list(step.removed),
+            "model_evaluations": self.model.evaluations,
+            "effects": list(step.after.effects),
+            "values": {k: [float(x) for x in v] for k, v in step.after.values.items()},
+            "held_out_weighted_rmse_sigma": step.after.cv_wrmse,
+            "candidates": [{"name": sc.name, "delta_bic": sc.delta_bic,
+                            "cv_gain": sc.cv_gain, "failure": sc.failure}
+                           for sc in step.scores]})
 
     @contextlib.contextmanager
     def scoring(self, step, names):
@@ -399,7 +414,7 @@ class TeProblem:
         """
         return self.engine.separation(a, b)
 
-    def run(self, candidates=None, progress: bool = False) -> TeLoop:
+    def run(self, candidates=None, progress: bool = False, on_step=None) -> TeLoop:
         """Forward selection by the TE loop's rules (:func:`..engine.select`).
 
         Parameters
@@ -408,13 +423,15 @@ class TeProblem:
             Names from the catalog (default all).
         progress : bool
             A bar over each step's candidates, the model evaluations so far beside it.
+        on_step : callable, optional
+            ``on_step(index, record)`` as each step finishes (a long run keeps it on disk).
 
         Returns
         -------
         TeLoop
         """
         s = self.settings
-        listener = _Bar(self.model, progress)
+        listener = _Bar(self.model, progress, on_step)
         sel = en.select(self.engine, list(candidates or self.catalog), listener=listener)
         steps = tuple(self._step(st) for st in sel.steps)
         if sel.stop == en.NOTHING_PASSES:
