@@ -60,7 +60,17 @@ class RunningDatasheet:
     chi2_reduced: float
 
     def width_arcmin(self, torque_Nm) -> np.ndarray:
-        """The line 2 T / k + LM [arcmin]."""
+        """The line 2 T / k + LM [arcmin].
+
+        Parameters
+        ----------
+        torque_Nm : array_like
+            Output torque [N m].
+
+        Returns
+        -------
+        numpy.ndarray
+        """
         return 2 * np.asarray(torque_Nm, float) / self.rigidity_Nm_per_arcmin \
             + self.lost_motion_intercept_arcmin
 

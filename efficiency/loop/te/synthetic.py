@@ -399,14 +399,31 @@ class RunningRig:
     offset_sigma_arcsec: float = 30.0         # each file's zero
 
     def width_arcsec(self, torque_Nm: float) -> float:
-        """The true width at the torque: 2 x the elastic curve + the friction width."""
+        """The true width at the torque: 2 x the elastic curve + the friction width.
+
+        Parameters
+        ----------
+        torque_Nm : float
+            Its size counts (the brake opposes the motion both ways).
+
+        Returns
+        -------
+        float
+            [arcsec]
+        """
         t = abs(float(torque_Nm))
         side = self.loop.elastic_arcmin(t, 1) - self.loop.elastic_arcmin(-t, -1)
         return 60.0 * (side + self.loop.friction_width_arcmin)
 
     def truth(self) -> dict:
-        """The figures a reading of the widths must find above the knee: the rigidity 1/c2
-        and the intercept b + w + 2 knee (c1 - c2) [arcmin]."""
+        """The figures a reading of the widths must find above the knee.
+
+        Returns
+        -------
+        dict
+            ``rigidity_Nm_per_arcmin`` 1/c2, ``lost_motion_intercept_arcmin`` b + w + 2 knee
+            (c1 - c2), ``knee_Nm``.
+        """
         lp = self.loop
         c1, c2 = 1 / lp.low_rigidity_Nm_per_arcmin, 1 / lp.rigidity_Nm_per_arcmin
         knee = lp.knee_fraction * lp.rated_torque_Nm
