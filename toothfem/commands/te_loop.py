@@ -1,7 +1,9 @@
 """`toothfem te-loop CASE --te FILES... [--hysteresis FILE] --out DIR`: compare the model's
 transmission error and hysteresis with rig recordings, add the physical effects the
 recordings ask for, and report the error before and after (DIR/report.md, report.json,
-hysteresis.png, spectrum.png, report.html)."""
+hysteresis.png, spectrum.png where a recording holds a whole turn, widths.png where widths
+were measured, report.html); the running widths' rigidity and lost-motion intercept beside
+the model's; each selection step kept beside DIR as it finishes."""
 from __future__ import annotations
 
 import json
@@ -29,8 +31,9 @@ def add_parser(sub):
     p.add_argument("--te", nargs="*", default=None, metavar="PATH",
                    help="TE recordings: CSV files or folders (output_angle_<unit> with "
                         "te_forward_/te_backward_<unit>, or te_<unit> with a direction "
-                        "column; the torque from a column, a '# output_torque_Nm:' line or "
-                        "--name-pattern)")
+                        "column; whole sweeps or short windows with gaps, one file per "
+                        "torque or one long table; the torque from a column, a "
+                        "'# output_torque_Nm:' line or --name-pattern)")
     p.add_argument("--hysteresis", default=None, metavar="CSV",
                    help="a hysteresis staircase: output_torque_<unit>, twist_<unit> and "
                         "optionally direction")
@@ -42,7 +45,8 @@ def add_parser(sub):
                         "effect of the drive but the costly ones, the pin ring's, which the "
                         "report lists; the names are in report.json)")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
-    p.add_argument("--out", required=True, help="output folder (written atomically)")
+    p.add_argument("--out", required=True, help="output folder (written atomically; each "
+                   "selection step is kept in a journal beside it as it finishes)")
     p.add_argument("--json", action="store_true", help="print report.json instead of the "
                    "summary lines")
     p.set_defaults(func=run)
