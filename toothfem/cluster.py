@@ -112,11 +112,17 @@ def _dask_logs_quiet():
             logger.setLevel(level)
 
 
+#: The loggers held quiet: Dask's own, and tornado's, whose event loop logs the errors of
+#: distributed's callbacks (on a Ctrl-C, distributed 2026.11's ``sync.cancel`` logged a
+#: NameError traceback through ``tornado.application`` after the run's one line).
+QUIET_LOGGERS = ("distributed", "tornado")
+
+
 def _set_dask_levels(level) -> list:
-    """Set every ``distributed`` logger (Dask's configuration gives some their own level)
-    to ``level``; returns [(logger, its level before)]."""
+    """Set every logger of QUIET_LOGGERS and below (Dask's configuration gives some their
+    own level) to ``level``; returns [(logger, its level before)]."""
     loggers = [logging.getLogger(n) for n in list(logging.root.manager.loggerDict)
-               if n == "distributed" or n.startswith("distributed.")]
+               if n in QUIET_LOGGERS or n.startswith(tuple(q + "." for q in QUIET_LOGGERS))]
     before = [(lg, lg.level) for lg in loggers]
     for lg in loggers:
         lg.setLevel(level)
