@@ -110,29 +110,24 @@ def run(args) -> int:
                                      on_step=lambda i, rec: steps.record(f"step {i}", rec))
             except ValueError as exc:
                 raise ToothfemError(str(exc)) from exc
-        _write(args, case, result)
+        summary = result.summary()
+        summary["case_file"] = str(args.case)
+        _write(args, case, result, summary)
     if args.json:
-        print(json.dumps(_summary(args, result), indent=2, default=json_default))
+        print(json.dumps(summary, indent=2, default=json_default))
         return 0
     _print(result, args)
     return 0
 
 
-def _summary(args, result) -> dict:
-    """report.json."""
-    summary = result.summary()
-    summary["case_file"] = str(args.case)
-    return summary
-
-
-def _write(args, case, result) -> None:
-    """The report folder, written whole (the finished result replaces the steps' journal)."""
+def _write(args, case, result, summary: dict) -> None:
+    """The report folder, written whole (the finished result replaces the steps' journal);
+    ``summary`` is report.json."""
     from ..output import atomic_dir
     from . import json_default
     from ..report import html as report_html, save, te as report_te
 
     with atomic_dir(args.out) as tmp:
-        summary = _summary(args, result)
         summary["case_file"] = str(args.case)
         files = []
         if result.hysteresis is not None:
