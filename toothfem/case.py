@@ -39,7 +39,7 @@ from .case_running import (Bearings, DutyPoint, Friction, Lubricant, MeasuredPoi
                            Seals, Thermal, check_ambient, check_duty_cycle)
 from .case_sections import (CycloidStage, DiscHoles, Material, OutputMechanism, RVTrain,
                             SineStage, SpurStage, Supports, _f)
-from .case_design import Design, Tolerances, check_tolerances
+from .case_design import Design, Envelope, Tolerances, check_tolerances
 
 
 @dataclass(frozen=True)
@@ -74,6 +74,7 @@ class Case:
     duty_cycle: tuple[DutyPoint, ...] = ()
     tolerances: Tolerances = field(default_factory=Tolerances)
     design: Design | None = None
+    envelope: Envelope | None = None
 
     def __post_init__(self):
         layout = self.layout            # refuses a drive no layout names
@@ -174,7 +175,7 @@ _SECTIONS = {
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
     "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
     "seals": Seals, "bearings": Bearings, "thermal": Thermal, "tolerances": Tolerances,
-    "design": Design,
+    "design": Design, "envelope": Envelope,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 
@@ -297,7 +298,10 @@ def parse_case(mapping: Mapping[str, Any]) -> Case:
 PUBLISHED_READ = ("pins_in_contact", "teeth_in_contact", "max_contact_stress_MPa",
                   "max_ph_MPa", "max_force_N", "efficiency", "efficiency_computed",
                   "loss_L1_W", "loss_L2_W", "rated_life_h", "rated_torque_Nm",
-                  "rated_output_speed_rpm", "rig_input_speed_rpm", "rig_output_torque_max_Nm")
+                  "rated_output_speed_rpm", "rig_input_speed_rpm", "rig_output_torque_max_Nm",
+                  "torsional_rigidity_Nm_per_arcmin", "lost_motion_arcmin",
+                  "lost_motion_torque_Nm", "backlash_arcmin", "allowable_moment_Nm",
+                  "momentary_torque_Nm", "start_stop_torque_Nm", "mass_kg")
 #: How alike a key must be to a read name to count as its misspelling (difflib's ratio:
 #: "max_forse_N" to "max_force_N" is 0.91; "efficiency_range" to "efficiency" 0.77).
 PUBLISHED_TYPO_RATIO = 0.85
@@ -310,6 +314,10 @@ PUBLISHED_RANGES = (
      "a fraction (0.88 for 88 %)"),
     (lambda k: k in ("pins_in_contact", "teeth_in_contact"), 0.0, 1e4, False,
      "a count of pins or teeth"),
+    (lambda k: k.endswith("_Nm_per_arcmin"), 0.0, 1e7, True,
+     "a torsional rigidity [N m/arcmin] of a reducer"),
+    (lambda k: k.endswith("_arcmin"), 0.0, 600.0, False, "an angle [arcmin] (600: 10 deg)"),
+    (lambda k: k.endswith("_kg"), 0.0, 1e6, True, "a mass [kg]"),
     (lambda k: k.endswith("_Nm"), 0.0, 1e7, True, "a torque [N m] of a reducer"),
     (lambda k: k.endswith("_rpm"), 0.0, 1e6, True, "a speed [rpm]"),
     (lambda k: k.endswith("_h"), 0.0, 1e7, True, "a life [h] (1e7 h: 1100 years)"),
@@ -461,7 +469,8 @@ def case_to_dict(case: Case) -> dict:
     return out
 
 
-def with_keys(text: str, section: str, values: dict) -> str:
+def with_keys(text: str, section: str, values: dict, *, notes: dict | None = None,
+              note: str = "toothfem design", create: bool = False) -> str:
     """Set keys in one table of a TOML text, comments and the rest left as they are.
 
     Parameters
@@ -472,6 +481,12 @@ def with_keys(text: str, section: str, values: dict) -> str:
         The table's name (``[section]``).
     values : dict of str to float
         Each key's line replaced, or added under the header.
+    notes : dict of str to str, optional
+        Each key's comment (default ``note``).
+    note : str
+        The comment of a key without its own.
+    create : bool
+        Add the table at the end where ``text`` has none (else refused).
 
     Returns
     -------
@@ -480,22 +495,27 @@ def with_keys(text: str, section: str, values: dict) -> str:
     Raises
     ------
     CaseError
-        If ``text`` has no such table.
+        If ``text`` has no such table and ``create`` is False.
     """
     lines = text.splitlines()
     head = next((i for i, ln in enumerate(lines)
                  if re.match(rf"\s*\[{re.escape(section)}\]\s*(#.*)?$", ln)), None)
     if head is None:
-        raise CaseError(f"the case file has no [{section}] table")
+        if not create:
+            raise CaseError(f"the case file has no [{section}] table")
+        lines += ["", f"[{section}]"]
+        head = len(lines) - 1
     end = next((i for i in range(head + 1, len(lines))
                 if re.match(r"\s*\[", lines[i])), len(lines))
+    notes = notes or {}
     for key, value in values.items():
-        line = f"{key} = {value:.6g}"
+        shown = str(value) if isinstance(value, (int, str)) else f"{value:.6g}"
+        line = f"{key} = {shown}   # {notes.get(key, note)}"
         hit = next((i for i in range(head + 1, end)
                     if re.match(rf"\s*{re.escape(key)}\s*=", lines[i])), None)
         if hit is None:
-            lines.insert(head + 1, line + "   # toothfem design")
+            lines.insert(head + 1, line)
             end += 1
         else:
-            lines[hit] = line + "   # toothfem design"
+            lines[hit] = line
     return "\n".join(lines) + "\n"

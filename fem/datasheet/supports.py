@@ -119,6 +119,68 @@ def torsion_compliance(length_m, diameter_m, youngs_modulus_Pa, poisson_ratio) -
     return length_m / (shear_modulus * math.pi * diameter_m ** 4 / 32)
 
 
+#: ASSUMPTION: running clearance between a carrier pillar and the disc's pillar hole
+#: beyond the disc's orbit (the hole's radius is the pillar's + the eccentricity + this).
+PILLAR_GAP_M = 0.5e-3
+
+
+def guided_beam_compliance(length_m, diameter_m, youngs_modulus_Pa, poisson_ratio) -> float:
+    """Lateral compliance [m/N] of a solid round beam fixed in two plates that move apart
+    sideways without turning (fixed-guided): Euler-Bernoulli bending L^3 / (12 E I) (W. C.
+    Young, R. G. Budynas, Roark's Formulas for Stress and Strain, 7th ed., Table 8.1 case
+    1e) plus Timoshenko's shear L / (kappa G A).
+
+    Parameters
+    ----------
+    length_m, diameter_m : float
+        Free length between the plates and diameter [m].
+    youngs_modulus_Pa, poisson_ratio : float
+
+    Returns
+    -------
+    float
+        delta / F [m/N].
+    """
+    inertia = math.pi * diameter_m ** 4 / 64
+    area = math.pi * diameter_m ** 2 / 4
+    shear_modulus = youngs_modulus_Pa / (2 * (1 + poisson_ratio))
+    return (length_m ** 3 / (12 * youngs_modulus_Pa * inertia)
+            + length_m / (SHEAR_COEFFICIENT_CIRCLE * shear_modulus * area))
+
+
+def pillar_carrier_stiffness(count: int, circle_radius_m: float, pillar_diameter_m: float,
+                             length_m: float, youngs_modulus_Pa: float, poisson_ratio: float,
+                             plate_share: float = 0.5) -> float:
+    """Torsional stiffness [N m/rad] the output sees in series from a 2K-V carrier whose
+    end plate is joined to the output flange by ``count`` pillars through the discs.
+
+    Each crank rests on a support bearing in the flange and one in the end plate; the
+    plate's bearings take ``plate_share`` s of the cranks' tangential force (1/2 for discs
+    set symmetrically between them), so s T crosses the pillars, each a fixed-guided beam
+    (:func:`guided_beam_compliance`) at the radius R_p: the plate turns by
+    s T / k_p against the flange, k_p = n R_p^2 / c_beam. The discs' plane moves with
+    s of the plate's turn (the crank a lever between its supports), so the output twists
+    by s^2 T / k_p more: the series stiffness is k_p / s^2 (4 k_p for s = 1/2).
+
+    Parameters
+    ----------
+    count : int
+        Pillars.
+    circle_radius_m, pillar_diameter_m, length_m : float
+        Their circle's radius, their diameter and their free length between the plates [m].
+    youngs_modulus_Pa, poisson_ratio : float
+    plate_share : float
+        s, the end plate's share of the cranks' support force.
+
+    Returns
+    -------
+    float
+        [N m/rad].
+    """
+    c = guided_beam_compliance(length_m, pillar_diameter_m, youngs_modulus_Pa, poisson_ratio)
+    return count * circle_radius_m ** 2 / c / plate_share ** 2
+
+
 @dataclass(frozen=True, kw_only=True)
 class Supports:
     """The supports of one drive as analysed: every value SI, and the names of the values
@@ -170,7 +232,8 @@ ROLLER_DIAMETER_REL, ROLLER_PITCH_REL = 0.25, 1.2
 
 def resolved(declared, *, raceway_radius_m: float, roller_length_m: float,
              crankshaft_diameter_m: float | None = None,
-             crankshaft_span_m: float | None = None, outer_raceway: bool = True) -> Supports:
+             crankshaft_span_m: float | None = None, outer_raceway: bool = True,
+             carrier_stiffness_Nm_per_rad: float | None = None) -> Supports:
     """The case's supports (:class:`toothfem.si.SupportsSI`) with the drive's assumptions
     where it gives none.
 
@@ -187,6 +250,9 @@ def resolved(declared, *, raceway_radius_m: float, roller_length_m: float,
         Assumed crankshaft dimensions [m] (None: the drive has no crankshafts).
     outer_raceway : bool
         Whether the rollers run on an outer raceway of radius ``raceway_radius_m``.
+    carrier_stiffness_Nm_per_rad : float, optional
+        The drive's carrier where the case declares none (2K-V: its pillars,
+        :func:`pillar_carrier_stiffness`); None: a rigid carrier.
 
     Returns
     -------
@@ -211,9 +277,7 @@ def resolved(declared, *, raceway_radius_m: float, roller_length_m: float,
     if crankshaft_diameter_m is not None:
         shaft_d = pick("crankshaft_diameter_m", crankshaft_diameter_m)
         shaft_l = pick("crankshaft_span_m", crankshaft_span_m)
-    carrier = declared.carrier_stiffness_Nm_per_rad
-    if carrier is None:
-        assumed.append("carrier_stiffness_Nm_per_rad")
+    carrier = pick("carrier_stiffness_Nm_per_rad", carrier_stiffness_Nm_per_rad)
     return Supports(bearing_roller_count=int(count), bearing_roller_length_m=float(length),
                     bearing_roller_diameter_m=float(d), crankshaft_diameter_m=shaft_d,
                     crankshaft_span_m=shaft_l, carrier_stiffness_Nm_per_rad=carrier,

@@ -346,7 +346,36 @@ class CycloidDrive(Drive):
         journal = 2 * (race - d_roller)
         return sp.resolved(declared, raceway_radius_m=race, roller_length_m=w,
                            crankshaft_diameter_m=journal - 2 * g.eccentricity_m,
-                           crankshaft_span_m=(self.members + 2) * w)
+                           crankshaft_span_m=(self.members + 2) * w,
+                           carrier_stiffness_Nm_per_rad=self.pillar_carrier_Nm_per_rad())
+
+    def pillar_carrier_Nm_per_rad(self) -> float | None:
+        """A 2K-V carrier's pillars through the discs' pillar holes, each of the hole's
+        radius less the eccentricity and a running gap (:data:`~toothfem.fem.datasheet.
+        supports.PILLAR_GAP_M`), as long as the discs side by side, fixed in the output
+        flange and the end plate: the series stiffness of
+        :func:`~toothfem.fem.datasheet.supports.pillar_carrier_stiffness` (None without
+        crank or pillar holes: the K-H-V drive's output is its pins, a rigid carrier).
+
+        Returns
+        -------
+        float or None
+            [N m/rad].
+        """
+        h = self.stage.holes
+        if not (h.crank_hole_count and h.pillar_hole_count):
+            return None
+        d = 2 * (h.pillar_hole_radius_m - self.geometry.eccentricity_m - sp.PILLAR_GAP_M)
+        if d <= 0:
+            raise CaseError(
+                f"cycloid.disc_holes.pillar_hole_radius_mm = {h.pillar_hole_radius_m * 1e3:.4g}"
+                f" leaves no pillar: it must exceed the eccentricity "
+                f"{self.geometry.eccentricity_m * 1e3:.4g} mm and a running gap of "
+                f"{sp.PILLAR_GAP_M * 1e3:g} mm")
+        m = self.material_si
+        return sp.pillar_carrier_stiffness(h.pillar_hole_count, h.pillar_hole_circle_radius_m,
+                                           d, self.members * self.face_width_m,
+                                           m.youngs_modulus_Pa, m.poisson_ratio)
 
     def coupled_compliance(self, supports) -> dict:
         """The crankshafts: each a shaft on two simple supports (its carrier bearings)
