@@ -21,6 +21,9 @@ from .fem.system.datasheet import BearingLoads, SystemTwist, system_te
 #: error").
 TE_DEFINITION = ("the output's lag behind its kinematic position, input held at each crank "
                  "angle, under the output torque: the system model of the whole reducer")
+#: The maker's figures the datasheet shows beside ours (the case's ``[published]``, same
+#: names: the catalogue's lost motion is at +-3 % of the rated torque, as ours).
+MAKER_FIGURES = ("torsional_rigidity_Nm_per_arcmin", "lost_motion_arcmin", "backlash_arcmin")
 #: Full-period sampling of the loaded TE by default: cycle solvers over the period and
 #: positions per pitch of each (fem/datasheet/transmission.py; one factorisation each).
 TE_SAMPLES, TE_PER_PITCH = 6, 12
@@ -134,6 +137,10 @@ def stiffness_analysis(case: Case, *, torque_max_Nm: float | None = None, steps:
                **({} if split is None else split.summary()), **bearings.summary()}
     if split is not None:
         summary["member_load_factor_case"] = drive.load_factor
+    maker = {key: float(case.published[key]) for key in MAKER_FIGURES
+             if key in case.published}
+    if maker:
+        summary["maker"] = maker
     return StiffnessResult(case_name=case.name, sheet=sheet, te=te, split=split,
                            summary=summary, bearings=bearings)
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 
 from .case import Case
+from .case_consistency import consistency
 from .efficiency import evaluate, operating_point
 from .errors import ToothfemError
 from .units import rpm_to_rad_s
@@ -41,6 +42,7 @@ def derived(case: Case) -> dict:
                         f" um before load (pins {out['interference_pins']}, '+': the flank "
                         "of a positive disc torque) wherever it is turned: both flanks are "
                         "preloaded on assembly")
+    warnings += consistency(case, out)
     out["warnings"] = warnings
     return out
 

@@ -165,10 +165,12 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36,
     """
     si = case.to_si()
     drive = drive_for(si)
+    extra: dict = {}
     if contact is not None:
         ph = float(contact.load_sharing.ph.max())
-        source = f"FE contact ({contact.mode} mode)"
+        source = f"FE contact ({contact.mode} mode), one {drive.member_name} held"
         body, u = contact.body, contact.displacement
+        ph, source, extra = _larger_pressure(contact, ph, source, drive)
     else:
         torque = operating_point(case)[1]
         t_member = drive.member_torque(torque, peak=True)
@@ -184,7 +186,44 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36,
             "von_mises_holes_MPa": (None if s.von_mises_holes_Pa is None
                                     else s.von_mises_holes_Pa / PA_PER_MPA),
             "yield_safety": finite(s.yield_safety), "fatigue_safety": finite(s.fatigue_safety),
-            "warnings": list(s.warnings)}
+            **extra, "warnings": list(s.warnings)}
+
+
+def _larger_pressure(contact, ph_held_Pa: float, held_source: str, drive) -> tuple:
+    """The larger of the reducer's largest P_h (system model: every member free on its
+    supports, the split solved) and the held member's, which it is, and where each sits;
+    a note naming both contacts and their curvature where the force and the pressure move
+    apart between them (a larger pressure under a smaller force: a smaller radius)."""
+    from .pipeline import peak_contact
+    summ = contact.summary
+    held = peak_contact(contact.load_sharing)
+    reducer_MPa = summ.get("max_ph_reducer_MPa")
+    if reducer_MPa is None:
+        return ph_held_Pa, held_source, {"ph_held_MPa": ph_held_Pa / PA_PER_MPA,
+                                         "judged_on": "held"}
+    red = summ.get("max_ph_reducer_contact") or {}
+    on_reducer = reducer_MPa * PA_PER_MPA > ph_held_Pa
+    extra = {"ph_reducer_MPa": reducer_MPa, "ph_held_MPa": ph_held_Pa / PA_PER_MPA,
+             "judged_on": "reducer" if on_reducer else "held",
+             "reducer_contact": red, "held_contact": held}
+    f_red, f_held = summ.get("max_force_reducer_N"), float(contact.load_sharing.force.max())
+    if red and f_red is not None and (f_red - f_held) * (reducer_MPa * PA_PER_MPA
+                                                         - ph_held_Pa) < 0:
+        c = drive.contact_name
+        extra["note"] = (
+            f"the reducer's largest P_h {reducer_MPa:.4g} MPa and the held "
+            f"{drive.member_name}'s {ph_held_Pa / PA_PER_MPA:.4g} MPa move apart from their "
+            f"largest forces ({f_red:.4g} N and {f_held:.4g} N): the reducer's sits at {c} "
+            f"{red['contact']} at {red['position_deg']:.3g} deg ({red['force_N']:.4g} N on an "
+            f"equivalent radius of {red['equivalent_radius_mm']:.3g} mm), the held one's at "
+            f"{c} {held['contact']} at {held['position_deg']:.3g} deg ({held['force_N']:.4g} N "
+            f"on {held['equivalent_radius_mm']:.3g} mm)")
+    if on_reducer:
+        return (reducer_MPa * PA_PER_MPA,
+                "the reducer (system model: every member free on its supports), the larger "
+                f"of it and {held_source} ({ph_held_Pa / PA_PER_MPA:.4g} MPa)", extra)
+    return (ph_held_Pa, f"{held_source}, the larger of it and the reducer's "
+                        f"({reducer_MPa:.4g} MPa)", extra)
 
 
 def finite(x):
@@ -202,3 +241,63 @@ def finite(x):
         ``x``, or None.
     """
     return None if x is None or not math.isfinite(x) else x
+
+
+#: The as-built ensemble ``toothfem run`` solves by default: built reducers and positions
+#: over the pairing period each (a small one: the median and P95 without their 95 %
+#: intervals' precision; ``--as-built`` asks for more).
+AS_BUILT_RINGS, AS_BUILT_POSITIONS = 40, 6
+#: (output, what it is, unit) of the as-built rows.
+AS_BUILT_OUTPUTS = (("backlash_arcmin", "backlash (< 0: the flanks interfere)", "arcmin"),
+                    ("lost_motion_arcmin", "lost motion at +-3 % of rated (elastic)", "arcmin"),
+                    ("max_force_N", "largest pin force in the reducer", "N"),
+                    ("max_ph_MPa", "largest Hertz pressure in the reducer", "MPa"))
+#: The share of built reducers that may interfere (the sizing's rule).
+INTERFERING_MAX = 0.05
+
+
+def as_built_summary(case, *, rings: int = AS_BUILT_RINGS, progress: bool = False) -> dict:
+    """The reducer as built within its ``[tolerances]``: ``rings`` reducers through the
+    system model at the operating torque (:func:`toothfem.tolerance.tolerance_analysis`),
+    their median and P95 of backlash, lost motion, largest force and Hertz pressure beside
+    the nominal, and the share that interferes.
+
+    Parameters
+    ----------
+    case : toothfem.case.Case
+    rings : int
+    progress : bool
+        A bar on a terminal.
+
+    Returns
+    -------
+    dict
+        ``rings``, ``rows`` {output: {"nominal", "P50", "P95"}}, ``interfering_share``,
+        ``warnings`` (a share above :data:`INTERFERING_MAX`; a P95 pressure above the
+        allowable); {} without a tolerance zone.
+    """
+    from .tolerance import tolerance_analysis
+    if not case.to_si().tolerances.active():
+        return {}
+    res = tolerance_analysis(case, samples=rings, share_samples=0,
+                             positions=AS_BUILT_POSITIONS, progress=progress)
+    rows = {}
+    for key, _, _ in AS_BUILT_OUTPUTS:
+        v = np.asarray(res.samples[key], float)
+        rows[key] = {"nominal": float(res.nominal[key]), "P50": float(np.median(v)),
+                     "P95": float(np.percentile(v, 95))}
+    b = np.asarray(res.samples["backlash_arcmin"], float)
+    share = float(np.mean(b < 0))
+    where = f"of {int(b.size)} reducers built within [tolerances] (system model)"
+    found = [limits.above(f"share of reducers that interfere (backlash < 0), {where}",
+                          100 * share, 100 * INTERFERING_MAX, "%",
+                          "the sizing's rule: at most 5 % of units selected or reworked on "
+                          "assembly (docs/sizing.md); toothfem size chooses the modification")]
+    found += limits.contact_pressure(f"the pin contacts in the reducer, P95 {where}",
+                                     rows["max_ph_MPa"]["P95"], case.to_si().material)
+    for key in ("backlash_arcmin", "lost_motion_arcmin"):
+        if key in case.published:
+            rows[key]["maker"] = float(case.published[key])
+    return {"rings": int(b.size), "positions": AS_BUILT_POSITIONS, "rows": rows,
+            "interfering_share": share,
+            "warnings": [w.as_dict() for w in found if w is not None]}

@@ -311,6 +311,8 @@ def run_warnings(contact: dict | None, efficiency: dict, durability: dict,
               for w in durability.get("heat", {}).get("warnings", ())]
     found += [("", w["message"]) for w in durability.get("life", {}).get("warnings", ())]
     found += [("", w) for w in durability.get("strength", {}).get("warnings", ())]
+    found += [("as built", w["message"])
+              for w in (durability.get("as_built") or {}).get("warnings", ())]
     found += [("", str(w)) for w in measured]
     for part, message in found:
         parts.setdefault(message, []).append(part)

@@ -255,13 +255,37 @@ def reducer_te(system, output_torque_Nm: float) -> dict:
     states = twist.states(output_torque_Nm)
     records = [system.member_record(j, states) for j in range(system.discs)]
     arcsec = 1 / ARCSEC
+    worst = max(range(len(records)), key=lambda j: float(np.max(records[j].ph)))
     return {"max_force_reducer_N": float(max(np.max(r.force) for r in records)),
             "max_ph_reducer_MPa": float(max(np.max(r.ph) for r in records)) * MPA_PER_PA,
+            "max_ph_reducer_contact": {"member": worst + 1,
+                                       **peak_contact(records[worst])},
             "transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
             "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
                                                             * arcsec),
             "transmission_error_reducer_definition": TE_DEFINITION}
+
+
+def peak_contact(sharing) -> dict:
+    """Where a load sharing's largest Hertz pressure sits: the contact, the crank angle,
+    its force and the equivalent radius of curvature there.
+
+    Parameters
+    ----------
+    sharing : toothfem.fem.load_sharing.LoadSharing
+
+    Returns
+    -------
+    dict
+        ``contact`` (its index), ``position_deg``, ``force_N``, ``ph_MPa`` and
+        ``equivalent_radius_mm``.
+    """
+    p, c = np.unravel_index(int(np.argmax(sharing.ph)), sharing.ph.shape)
+    return {"contact": int(sharing.contact_id[p, c]),
+            "position_deg": float(np.degrees(sharing.position_rad[p])),
+            "force_N": float(sharing.force[p, c]), "ph_MPa": float(sharing.ph[p, c]) * MPA_PER_PA,
+            "equivalent_radius_mm": float(sharing.equivalent_radius[p, c]) * 1e3}
 
 
 def assembly_preload(system, material) -> dict:
@@ -402,7 +426,8 @@ class RunResult:
 
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
-             fem: bool = True, progress=None) -> RunResult:
+             fem: bool = True, progress=None,
+             as_built: int = durability.AS_BUILT_RINGS) -> RunResult:
     """The whole pipeline of a case with its report.
 
     Parameters
@@ -419,6 +444,9 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
         Run the FE contact, and the efficiency with FE loads beside the analytic one.
     progress : callable, optional
         Wraps the iterable of positions (a progress bar).
+    as_built : int
+        Reducers built within the case's ``[tolerances]`` solved beside the nominal
+        (:func:`toothfem.durability.as_built_summary`; 0: none).
 
     Returns
     -------
@@ -432,7 +460,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     case = as_case(case)
     out = target(out)
     with reserved(out):        # checked and held before computing: a second run is refused
-        run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress)
+        run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress,
+                          as_built=as_built)
         with atomic_dir(out) as tmp:
             run.write(tmp, case_file)
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
@@ -507,13 +536,14 @@ class RunAnalysis:
 
 
 def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
-                fem: bool = True, progress=None) -> RunAnalysis:
+                fem: bool = True, progress=None,
+                as_built: int = durability.AS_BUILT_RINGS) -> RunAnalysis:
     """Every analysis of ``toothfem run``, as records (nothing written).
 
     Parameters
     ----------
     case : toothfem.case.Case
-    positions, field, fem, progress
+    positions, field, fem, progress, as_built
         As :func:`run_case`.
 
     Returns
@@ -543,7 +573,9 @@ def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
     dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads, memo=memo),
            "life": durability.life_summary(
                case, known=None if datasheet is None else datasheet.bearings),
-           "strength": durability.strength_summary(case, contact=contact, memo=memo)}
+           "strength": durability.strength_summary(case, contact=contact, memo=memo),
+           "as_built": durability.as_built_summary(case, rings=as_built) if fem and as_built
+           else {}}
     maps = efficiency_maps(case, speed, torque, sources, memo)
     return RunAnalysis(case=case, contact=contact, datasheet=datasheet, efficiency=results,
                        durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque),

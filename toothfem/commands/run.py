@@ -25,6 +25,11 @@ def add_parser(sub):
     p.add_argument("--field", choices=("detailed", "structural", "none"), default="structural",
                    help="stress field at the worst position (see `toothfem contact --help`); "
                         "default structural (fast)")
+    p.add_argument("--as-built", type=int, default=40, metavar="N",
+                   help="reducers built within the case's [tolerances] solved beside the "
+                        "nominal: their median and P95 of backlash, lost motion, largest "
+                        "force and pressure (default 40; 200 for the full ensemble of "
+                        "toothfem tolerance; 0: none)")
     p.add_argument("--no-fem", action="store_true",
                    help="skip the FE contact; efficiency from the analytic split only")
     p.add_argument("--json", action="store_true",
@@ -52,16 +57,18 @@ def run(args) -> int:
     from ..efficiency.mesh_table import fe_progress
     from ..pipeline import run_case
     from ..report import summary as report_summary
+    from ..report.durability import as_built_rows
 
 
     progress = lambda it: bar(it, desc="cycle mode", unit="position")  # noqa: E731
     with fe_progress(bar):          # the efficiency's FE load table on a bar too
         res = run_case(args.case, args.out, positions=args.positions, field=args.field,
-                       fem=not args.no_fem, progress=progress)
+                       fem=not args.no_fem, progress=progress, as_built=args.as_built)
     report = res.report.resolve()
     if args.json:
         contact = None if res.contact is None else res.contact.summary
         print(json.dumps({"efficiency": res.efficiency, "contact": contact,
+                          "as_built": (res.durability or {}).get("as_built") or None,
                           "warnings": res.warnings, "report": str(report)}, indent=2))
         return 0
     case, dur = res.case, res.durability
@@ -76,11 +83,21 @@ def run(args) -> int:
         print(report_summary.text(
             res.contact.table(case.published),
             title=f"contact ({res.contact.mode} mode)"))
+    if dur.get("as_built"):
+        print()
+        print(report_summary.text(as_built_rows(dur["as_built"]),
+                                  title=f"as built: {dur['as_built']['rings']} reducers within "
+                                        "[tolerances] (system model)"))
     heat, life, strength = (dur[k] for k in ("heat", "life", "strength"))
     l10 = life["unit_l10_h"]
     print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; bearings L10 "
           + ("not rated" if l10 is None else f"{l10:.4g} h (limiting: {life['limiting']})")
-          + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f}")
+          + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f} "
+          f"(on {strength['ph_max_MPa']:.4g} MPa, "
+          + ("the reducer's" if strength.get("judged_on") == "reducer" else
+             "one member held") + ")")
+    if strength.get("note"):
+        print(f"note: {strength['note']}")
     for w in res.warnings:
         print(f"warning: {w}")
     print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")

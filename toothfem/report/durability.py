@@ -6,7 +6,29 @@ def _num(x, fmt=".4g", none="–"):
     return none if x is None else format(x, fmt)
 
 
-def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
+def as_built_rows(as_built: dict) -> list:
+    """The as-built ensemble's rows: each output's nominal, median and P95, and the share
+    that interferes (:func:`toothfem.durability.as_built_summary`).
+
+    Parameters
+    ----------
+    as_built : dict
+
+    Returns
+    -------
+    list of (str, str, dict)
+        Rows of :func:`toothfem.report.summary.text`.
+    """
+    from ..durability import AS_BUILT_OUTPUTS
+    out = [(what, unit, dict(as_built["rows"][key]))
+           for key, what, unit in AS_BUILT_OUTPUTS if key in as_built["rows"]]
+    out.append(("reducers that interfere (backlash < 0)", "%",
+                {"P50": 100 * as_built["interfering_share"]}))
+    return out
+
+
+def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None,
+             as_built: dict | None = None) -> list:
     """Lines of report.md: the heat balance, the bearing life (with the maker's rated life
     where the case gives one, beside the RV paper's tooth numbers) and the safety factors.
 
@@ -64,6 +86,8 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
         out += [f"{teeth}maker's rated life {m['rated_life_h']:g} h at {m['rated_torque_Nm']:g}"
                 f" N m and {m['rated_output_speed_rpm']:g} rpm output, "
                 f"{m['life_at_duty_h']:.4g} h at this duty cycle (reference).", ""]
+    if strength.get("note"):
+        out += [f"Where the pressures sit: {strength['note']}.", ""]
     out += [f"Strength ({strength['source']}):", "", "| check | value | safety factor |",
             "|---|---|---|",
             f"| contact fatigue, P_h,max | {strength['ph_max_MPa']:.0f} MPa | "
@@ -74,5 +98,10 @@ def markdown(life: dict, strength: dict, heat: dict, rv_teeth=None) -> list:
             f"{_num(strength['yield_safety'], '.2f')} |",
             f"| hole edges von Mises (fatigue) | {_num(strength['von_mises_holes_MPa'], '.0f')} "
             f"MPa | {_num(strength['fatigue_safety'], '.2f')} |", ""]
+    if as_built:
+        from .summary import markdown as md_table
+        out += [f"As built: {as_built['rings']} reducers within [tolerances] through the "
+                f"system model ({as_built['positions']} positions each); the share that "
+                f"interferes is its own row.", "", *md_table(as_built_rows(as_built)), ""]
     return out + ["Safety factors below 1 are in the report's warnings.", "",
                   "Tables: `durability.json`.", ""]

@@ -496,7 +496,8 @@ def write_run(run: RunAnalysis, folder: Path, case_file=None) -> None:
     (folder / "durability.json").write_text(json.dumps(dur, indent=2))
     rv_teeth = None if case.rv is None else (case.rv.sun_teeth, case.rv.planet_teeth,
                                              case.rv.disc_teeth, case.rv.pin_count)
-    report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"], rv_teeth)
+    report += report_durability.markdown(dur["life"], dur["strength"], dur["heat"], rv_teeth,
+                                         dur.get("as_built"))
     said = run.warnings
     report += ["## Warnings", "", *([f"- {w}" for w in said] or ["None."]), ""]
     (folder / "report.md").write_text("\n".join(report) + "\n")

@@ -303,7 +303,9 @@ def datasheet_rows(summary: dict) -> list:
     rows = [(named("rated_torque_Nm"), f"{summary['rated_torque_Nm']:.4g}"
              + (" (the operating output torque: no rating named)"
                 if summary["rated_torque_assumed"] else ""))]
-    rows += [(named(key), f"{summary[key]:.4g}") for key in (
+    maker = summary.get("maker") or {}
+    rows += [(named(key), f"{summary[key]:.4g}" + (
+        f" (maker: {maker[key]:g})" if key in maker else "")) for key in (
         "torsional_rigidity_Nm_per_arcmin", "lost_motion_arcmin", "backlash_arcmin",
         "hysteresis_loss_arcmin")]
     rows += [(named("te_mean_arcsec", torque=f"{summary['te_torque_Nm']:.4g}"),
