@@ -70,8 +70,8 @@ def _ratings(case: Case) -> list:
     seq = [("operating.rated_torque_Nm", rated),
            ("operating.start_stop_torque_Nm", op.start_stop_torque_Nm),
            ("operating.momentary_torque_Nm", op.momentary_torque_Nm)]
-    seq = [(k, v) for k, v in seq if v is not None]
-    for (k1, v1), (k2, v2) in zip(seq, seq[1:]):
+    given = [(k, float(v)) for k, v in seq if v is not None]
+    for (k1, v1), (k2, v2) in zip(given, given[1:]):
         if v1 > v2:
             out.append(f"{k1} = {v1:g} exceeds {k2} = {v2:g}: a maker's data rate the "
                        "rated torque below the start-stop torque and that below the "
@@ -88,7 +88,7 @@ def _envelope(case: Case) -> list:
     if env is None or cyc is None:
         return []
     out = []
-    d = 2 * cyc.housing_outer_radius_mm
+    d = 2 * float(cyc.housing_outer_radius_mm or 0.0)
     if d > env.outer_diameter_mm:
         out.append(f"the pin housing's outer diameter {d:.4g} mm (cycloid.housing_outer_radius_"
                    f"mm) exceeds envelope.outer_diameter_mm = {env.outer_diameter_mm:g}")
@@ -113,8 +113,9 @@ def interference_estimate(case: Case, rows: dict) -> dict | None:
     along the normal, zone d at 3 sigma: sigma d/6; its radius between the ISO 286
     deviations' halves; the flank's profile, a/3) and by those common to the ring (the pin
     circle's radius and the eccentricity, by their radial part at the tightest pin;
-    the crank hole's position closes one flank as it opens the other). The disc turns to share its play between the flanks, so it interferes
-    where (c - the tightest pin's closure) summed over both flanks is negative. The
+    the crank hole's position closes one flank as it opens the other). The disc turns to
+    share its play between the flanks, so it interferes where (c - the tightest pin's
+    closure) summed over both flanks is negative. The
     tightest pin is the largest of ``pins_with_load_carrying_normal`` per flank.
 
     Parameters

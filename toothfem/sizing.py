@@ -188,9 +188,17 @@ class _Design:
         return discs * self.width + 2 * SHOULDER_MM + b
 
 
+def _stage(case: Case):
+    """The case's [cycloid] section (size_reducer has checked it is there)."""
+    if case.cycloid is None or case.material is None:
+        raise CaseError("[cycloid] and [material] are required by toothfem size")
+    return case.cycloid, case.material
+
+
 def _edits(d: _Design, case: Case) -> dict:
     """{section: {key: value}} of a design."""
-    e = case.cycloid.eccentricity_mm
+    cyc, _ = _stage(case)
+    e = cyc.eccentricity_mm
     return {"first_stage": {"module_mm": d.module},
             "cycloid": {"face_width_mm": d.width,
                         "equidistant_modification_mm": round(d.equidistant, 6)},
@@ -199,7 +207,7 @@ def _edits(d: _Design, case: Case) -> dict:
                                    "pillar_hole_circle_radius_mm": d.circle,
                                    "pillar_hole_radius_mm": d.pillar_hole},
             "supports": {"crankshaft_diameter_mm": d.shaft(e),
-                         "crankshaft_span_mm": d.span(case.cycloid.disc_count, e)}}
+                         "crankshaft_span_mm": d.span(cyc.disc_count, e)}}
 
 
 def _text_of(source: str, d: _Design, case: Case, notes: dict | None = None) -> str:
@@ -278,11 +286,11 @@ def _predicted_life(source: str, d: _Design, case: Case, fig: dict) -> float:
 
 def _carrier_Nm_per_arcmin(d: _Design, case: Case, pillars: int) -> float:
     from .fem.datasheet.supports import PILLAR_GAP_M, pillar_carrier_stiffness
-    m = case.material
-    e = case.cycloid.eccentricity_mm
+    cyc, m = _stage(case)
+    e = cyc.eccentricity_mm
     dia = 2 * (d.pillar_hole * M_PER_MM - e * M_PER_MM - PILLAR_GAP_M)
     k = pillar_carrier_stiffness(pillars, d.circle * M_PER_MM, dia,
-                                 case.cycloid.disc_count * d.width * M_PER_MM,
+                                 cyc.disc_count * d.width * M_PER_MM,
                                  m.youngs_modulus_GPa * 1e9, m.poisson_ratio,
                                  plate_share=PLATE_SHARE)
     return k * ARCMIN
@@ -437,7 +445,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
                         best = (life, trial)
                         break
                     h += HOLE_STEP_MM
-                if best[0] >= targets.rated_life_h and \
+                if best is not None and best[0] >= targets.rated_life_h and \
                         fig["max_ph_MPa"] * math.sqrt(d.width / best[1].width) <= allowable:
                     break
                 w += WIDTH_STEP_MM
@@ -483,6 +491,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
             if built["interfering_share"] <= INTERFERING_MAX and built["median_arcmin"] >= 0:
                 break
             d.equidistant += MOD_STEP_MM
+        assert built is not None        # the loop ran
         say(f"size: modification {d.equidistant * 1000:.4g} um: as built, backlash median "
             f"{built['median_arcmin']:.3g} arcmin, {100 * built['interfering_share']:.3g} % "
             f"of {built['rings']} rings interfere")
