@@ -63,24 +63,14 @@ def _crank_circle(case: Case) -> list:
 
 
 def _ratings(case: Case) -> list:
-    """A maker's torques in order (rated <= start-stop <= momentary) and the rated torque
-    the same in [operating] and [published]."""
-    op, pub, out = case.operating, case.published, []
-    rated = op.rated_torque_Nm
-    seq = [("operating.rated_torque_Nm", rated),
-           ("operating.start_stop_torque_Nm", op.start_stop_torque_Nm),
-           ("operating.momentary_torque_Nm", op.momentary_torque_Nm)]
-    given = [(k, float(v)) for k, v in seq if v is not None]
-    for (k1, v1), (k2, v2) in zip(given, given[1:]):
-        if v1 > v2:
-            out.append(f"{k1} = {v1:g} exceeds {k2} = {v2:g}: a maker's data rate the "
-                       "rated torque below the start-stop torque and that below the "
-                       "momentary one")
+    """The rated torque the same in [operating] and the maker's [published] (the order of
+    the maker's torques, rated <= start-stop <= momentary, the loader refuses)."""
+    rated, pub = case.operating.rated_torque_Nm, case.published
     if rated is not None and "rated_torque_Nm" in pub and \
             not math.isclose(rated, float(pub["rated_torque_Nm"]), rel_tol=1e-9):
-        out.append(f"operating.rated_torque_Nm = {rated:g} differs from the maker's "
-                   f"published.rated_torque_Nm = {pub['rated_torque_Nm']:g}")
-    return out
+        return [f"operating.rated_torque_Nm = {rated:g} differs from the maker's "
+                f"published.rated_torque_Nm = {pub['rated_torque_Nm']:g}"]
+    return []
 
 
 def _envelope(case: Case) -> list:

@@ -1,17 +1,17 @@
 """Sizing a 2K-V (RV) reducer to its maker's datasheet inside the catalogue envelope
 (``toothfem size``; docs/sizing.md).
 
-The tooth geometry (pins, lobes, pin circle, eccentricity, pin radius) and the first
-stage's teeth are the case's; the sizing chooses what sets the datasheet: the first
-stage's module and so the crank circle, the crank holes and their needle sets, the disc
-width, the crankshafts and their span, the carrier's pillars, and the profile modification
-that keeps the reducers built within ``[tolerances]`` from interfering. Each choice has a
-rule (:class:`Choice`); the search is verified on the system model: every round builds the
-candidate, solves it (rigidity, every bearing's life at the rated point, the largest Hertz
-pressure of the reducer) and, where a target is missed, grows the part that closes it by
-the closed forms of that verification (ISO 281 life with the loads held, the carrier's
-compliance in series), then solves again. Where the envelope cannot hold a target, the
-result says which figure binds and by how much (``binding``).
+The tooth geometry (pins, lobes, pin circle, eccentricity, pin radius) and the first stage's
+teeth are the case's; the sizing chooses what sets the datasheet: the first stage's module
+and so the crank circle, the crank holes and their needle sets, the disc width, the
+crankshafts and their span, the carrier's pillars, and the profile modification that keeps
+the reducers built within ``[tolerances]`` from interfering. Each choice has a rule
+(:class:`toothfem.sizing_rules.Choice`); the search is verified on the system model: every
+round builds the candidate, solves it (rigidity, every bearing's life at the rated point,
+the largest Hertz pressure of the reducer) and, where a target is missed, grows the part
+that closes it by the closed forms of that verification (ISO 281 life with the loads held,
+the carrier's compliance in series), then solves again. Where the envelope cannot hold a
+target, the result says which figure binds and by how much (``binding``).
 """
 from __future__ import annotations
 
@@ -22,21 +22,13 @@ import numpy as np
 
 from .case import Case, as_case, parse_case_text, with_keys
 from .errors import CaseError
-from .sizing_rules import (HOLE_STEP_MM, INTERFERING_MAX, MAX_ROUNDS, MOD_STEP_MM,
-                           PLATE_SHARE, RING_POSITIONS, RINGS, SHOULDER_MM, WEB_PER_ROOM,
-                           WIDTH_STEP_MM, axial_stack_mm, crank_room_mm, iso54_module,
-                           largest_crank_hole_mm, pillar_diameter_mm, round_to_step,
-                           support_bearing_mm)
+from .sizing_rules import sizing_choices
+from .sizing_rules import (CRANK_COUNTS, HOLE_STEP_MM, INTERFERING_MAX, MAX_ROUNDS,
+                           MOD_STEP_MM, PLATE_SHARE, RING_POSITIONS, RINGS, SHOULDER_MM,
+                           WEB_PER_ROOM, WIDTH_MAX_PER_RADIUS, WIDTH_STEP_MM,
+                           axial_stack_mm, crank_room_mm, iso54_module, largest_crank_hole_mm,
+                           pillar_diameter_mm, round_to_step, support_bearing_mm)
 from .units import ARCMIN, M_PER_MM
-
-@dataclass(frozen=True)
-class Choice:
-    """One sized case key: its ``value``, the ``rule`` that chose it and its ``source``."""
-    key: str
-    value: float
-    rule: str
-    source: str
-
 
 @dataclass(frozen=True, kw_only=True)
 class Targets:
@@ -171,6 +163,7 @@ class _Design:
     crank_hole: float
     width: float
     pillar_hole: float
+    cranks: int = 2
     equidistant: float = 0.0
 
     def shaft(self, eccentricity_mm: float) -> float:
@@ -199,10 +192,12 @@ def _edits(d: _Design, case: Case) -> dict:
     """{section: {key: value}} of a design."""
     cyc, _ = _stage(case)
     e = cyc.eccentricity_mm
-    return {"first_stage": {"module_mm": d.module},
+    return {"first_stage": {"module_mm": d.module, "planet_count": d.cranks},
             "cycloid": {"face_width_mm": d.width,
                         "equidistant_modification_mm": round(d.equidistant, 6)},
-            "cycloid.disc_holes": {"crank_hole_circle_radius_mm": d.circle,
+            "cycloid.disc_holes": {"crank_hole_count": d.cranks,
+                                   "pillar_hole_count": d.cranks,
+                                   "crank_hole_circle_radius_mm": d.circle,
                                    "crank_hole_radius_mm": d.crank_hole,
                                    "pillar_hole_circle_radius_mm": d.circle,
                                    "pillar_hole_radius_mm": d.pillar_hole},
@@ -368,8 +363,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
     if holes.crank_hole_count < 1:
         raise CaseError("cycloid.disc_holes.crank_hole_count = 0: toothfem size needs the "
                         "crank count (one planet per crank)")
-    k, discs = holes.crank_hole_count, cyc.disc_count
-    pillars = holes.pillar_hole_count or k
+    discs = cyc.disc_count
     R, e, rp = cyc.pin_circle_radius_mm, cyc.eccentricity_mm, cyc.pin_radius_mm
     root = R - rp - e
     bore = max(holes.centre_bore_radius_mm, env.centre_bore_diameter_mm / 2)
@@ -392,88 +386,121 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
                        f"housing needs {2 * housing:.4g} mm ({2 * housing - env.outer_diameter_mm:.3g}"
                        " mm more; cycloid.housing_outer_radius_mm)")
 
-    def pillar_min(width):
+    def pillar_for(width, pillars):
         dia = pillar_diameter_mm(targets.momentary_torque_Nm, pillars, circle,
                                  discs * width, mat.yield_strength_MPa)
         return round_to_step(dia / 2 + e + 0.5, HOLE_STEP_MM, "up"), dia
 
-    def length_ok(d):
-        _, _, b_sup = support_bearing_mm(d.shaft(e))
-        return axial_stack_mm(discs, d.width, b_sup, spur_w) <= env.length_mm + 1e-9
+    def search(k):
+        """The rounds with k cranks (and as many pillars): (design, figures, rounds)."""
+        pillars = k
+        rounds: list = []
 
-    width = max(round_to_step(0.1 * R, WIDTH_STEP_MM, "up"), WIDTH_STEP_MM)
-    d = _Design(module=module, circle=circle, width=width,
-                crank_hole=round_to_step(0.42 * room, HOLE_STEP_MM, "down"),
-                pillar_hole=pillar_min(width)[0])
-    rounds: list = []
-    fig: dict = {}
-    for r in range(MAX_ROUNDS):
-        d.pillar_hole = max(d.pillar_hole, pillar_min(d.width)[0])
-        text = _text_of(source_text, d, case)
-        cand, fig = _verify(text, targets)
-        missed = _missed(fig, targets, allowable)
-        rounds.append(Round(dimensions=dict(vars(d)), missed=missed,
-                            **{k_: fig[k_] for k_ in ("rigidity_Nm_per_arcmin", "unit_l10_h",
-                                                      "limiting", "max_ph_MPa",
-                                                      "lost_motion_arcmin",
-                                                      "compliance_shares")}))
-        say(f"size: round {r + 1}: crank hole {d.crank_hole:g} mm, width {d.width:g} mm, "
-            f"pillar hole {d.pillar_hole:g} mm: rigidity {fig['rigidity_Nm_per_arcmin']:.4g} "
-            f"N m/arcmin, unit L10 {fig['unit_l10_h']:.4g} h, P_h {fig['max_ph_MPa']:.4g} MPa"
-            + (f"; missed: {', '.join(missed)}" if missed else "; every target met"))
-        if not missed:
-            break
-        grown = False
-        if fig["unit_l10_h"] < targets.rated_life_h or fig["max_ph_MPa"] > allowable:
-            best = None
-            w = d.width
-            while True:
-                trial = _Design(**{**vars(d), "width": w})
-                if not length_ok(trial):
-                    break
-                hmax = largest_crank_hole_mm(circle, bore, root, k,
-                                             max(d.pillar_hole, pillar_min(w)[0]))
-                h = d.crank_hole
-                while h <= hmax + 1e-9:
-                    trial = _Design(**{**vars(d), "width": w, "crank_hole": h,
-                                       "pillar_hole": max(d.pillar_hole, pillar_min(w)[0])})
-                    life = _predicted_life(source_text, trial, case, fig)
-                    ph = fig["max_ph_MPa"] * math.sqrt(d.width / w)
-                    if best is None or life > best[0]:
-                        best = (life, trial)
-                    if life >= targets.rated_life_h and ph <= allowable:
-                        best = (life, trial)
+        def pillar_min(width):
+            return pillar_for(width, pillars)
+
+        def length_ok(d):
+            _, _, b_sup = support_bearing_mm(d.shaft(e))
+            return (axial_stack_mm(discs, d.width, b_sup, spur_w) <= env.length_mm + 1e-9
+                    and d.width <= WIDTH_MAX_PER_RADIUS * R + 1e-9)
+
+        width = max(round_to_step(0.1 * R, WIDTH_STEP_MM, "up"), WIDTH_STEP_MM)
+        d = _Design(module=module, circle=circle, width=width, cranks=k,
+                    crank_hole=round_to_step(0.42 * room, HOLE_STEP_MM, "down"),
+                    pillar_hole=pillar_min(width)[0])
+        fig: dict = {}
+        for r in range(MAX_ROUNDS):
+            d.pillar_hole = max(d.pillar_hole, pillar_min(d.width)[0])
+            text = _text_of(source_text, d, case)
+            cand, fig = _verify(text, targets)
+            missed = _missed(fig, targets, allowable)
+            rounds.append(Round(dimensions=dict(vars(d)), missed=missed, **{
+                k_: fig[k_] for k_ in ("rigidity_Nm_per_arcmin", "unit_l10_h", "limiting",
+                                       "max_ph_MPa", "lost_motion_arcmin",
+                                       "compliance_shares")}))
+            say(f"size: {k} cranks, round {r + 1}: crank hole {d.crank_hole:g} mm, "
+                f"width {d.width:g} mm, "
+                f"pillar hole {d.pillar_hole:g} mm: rigidity {fig['rigidity_Nm_per_arcmin']:.4g} "
+                f"N m/arcmin, unit L10 {fig['unit_l10_h']:.4g} h, P_h {fig['max_ph_MPa']:.4g} MPa"
+                + (f"; missed: {', '.join(missed)}" if missed else "; every target met"))
+            if not missed:
+                break
+            grown = False
+            if fig["unit_l10_h"] < targets.rated_life_h or fig["max_ph_MPa"] > allowable:
+                best = None
+                w = d.width
+                while True:
+                    trial = _Design(**{**vars(d), "width": w})
+                    if not length_ok(trial):
                         break
-                    h += HOLE_STEP_MM
-                if best is not None and best[0] >= targets.rated_life_h and \
-                        fig["max_ph_MPa"] * math.sqrt(d.width / best[1].width) <= allowable:
-                    break
-                w += WIDTH_STEP_MM
-            if best is not None and vars(best[1]) != vars(d):
-                d, grown = best[1], True
-        elif fig["rigidity_Nm_per_arcmin"] < targets.rigidity_Nm_per_arcmin:
-            k_all = fig["rigidity_Nm_per_arcmin"]
-            c_car = fig["compliance_shares"].get("carrier", 0.0) / k_all
-            k_car = _carrier_Nm_per_arcmin(d, case, pillars)
-            pmax = min(largest_crank_hole_mm(circle, bore, root, k, d.crank_hole),
-                       round_to_step((1 - WEB_PER_ROOM) * room, HOLE_STEP_MM, "down"))
-            p = d.pillar_hole + HOLE_STEP_MM
-            while p <= pmax + 1e-9:
-                trial = _Design(**{**vars(d), "pillar_hole": p})
-                c_new = c_car * k_car / _carrier_Nm_per_arcmin(trial, case, pillars)
-                if 1 / (1 / k_all - c_car + c_new) >= targets.rigidity_Nm_per_arcmin:
-                    break
-                p += HOLE_STEP_MM
-            p = min(p, pmax)
-            if p > d.pillar_hole:
-                d.pillar_hole, grown = p, True
-        if not grown:
+                    hmax = largest_crank_hole_mm(circle, bore, root, k,
+                                                 max(d.pillar_hole, pillar_min(w)[0]))
+                    h = d.crank_hole
+                    while h <= hmax + 1e-9:
+                        trial = _Design(**{**vars(d), "width": w, "crank_hole": h,
+                                           "pillar_hole": max(d.pillar_hole, pillar_min(w)[0])})
+                        life = _predicted_life(source_text, trial, case, fig)
+                        ph = fig["max_ph_MPa"] * math.sqrt(d.width / w)
+                        if best is None or life > best[0]:
+                            best = (life, trial)
+                        if life >= targets.rated_life_h and ph <= allowable:
+                            best = (life, trial)
+                            break
+                        h += HOLE_STEP_MM
+                    if best is not None and best[0] >= targets.rated_life_h and \
+                            fig["max_ph_MPa"] * math.sqrt(d.width / best[1].width) <= allowable:
+                        break
+                    w += WIDTH_STEP_MM
+                if best is not None and vars(best[1]) != vars(d):
+                    d, grown = best[1], True
+            elif fig["rigidity_Nm_per_arcmin"] < targets.rigidity_Nm_per_arcmin:
+                k_all = fig["rigidity_Nm_per_arcmin"]
+                c_car = fig["compliance_shares"].get("carrier", 0.0) / k_all
+                k_car = _carrier_Nm_per_arcmin(d, case, pillars)
+                pmax = min(largest_crank_hole_mm(circle, bore, root, k, d.crank_hole),
+                           round_to_step((1 - WEB_PER_ROOM) * room, HOLE_STEP_MM, "down"))
+                p = d.pillar_hole + HOLE_STEP_MM
+                while p <= pmax + 1e-9:
+                    trial = _Design(**{**vars(d), "pillar_hole": p})
+                    c_new = c_car * k_car / _carrier_Nm_per_arcmin(trial, case, pillars)
+                    if 1 / (1 / k_all - c_car + c_new) >= targets.rigidity_Nm_per_arcmin:
+                        break
+                    p += HOLE_STEP_MM
+                p = min(p, pmax)
+                if p > d.pillar_hole:
+                    d.pillar_hole, grown = p, True
+            if not grown:
+                break
+        return d, fig, rounds
+
+    rounds: list = []
+    best = None
+    skipped: list = []
+    for k in CRANK_COUNTS:
+        try:
+            d, fig, tried = search(k)
+        except CaseError as exc:          # a layout the system model cannot place
+            skipped.append(f"{k} cranks not tried: {exc}")
+            say(f"size: {skipped[-1]}")
+            continue
+        rounds += tried
+        if best is None or (len(_missed(fig, targets, allowable)), -fig["unit_l10_h"]) < \
+                (len(_missed(best[1], targets, allowable)), -best[1]["unit_l10_h"]):
+            best = (d, fig)
+        if not _missed(fig, targets, allowable):
             break
+    if best is None:
+        raise CaseError(f"no crank count to size ({CRANK_COUNTS})")
+    d, fig = best
+    pillars = d.cranks
+
     final_missed = _missed(fig, targets, allowable)
     for m_ in final_missed:
-        binding.append(f"{m_}: the largest crank hole the web allows ({WEB_PER_ROOM:g} of "
-                       f"the room kept), the widest disc envelope.length_mm = "
-                       f"{env.length_mm:g} allows, and the largest pillar between the holes")
+        binding.append(f"{m_} with {d.cranks} cranks: the largest crank hole the web allows "
+                       f"({WEB_PER_ROOM:g} of the room kept), the widest disc envelope.length_mm"
+                       f" = {env.length_mm:g} and {WIDTH_MAX_PER_RADIUS:g} of the pin circle "
+                       "allow, and the largest pillar between the holes"
+                       + "".join(f"; {x}" for x in skipped))
 
     # the modification: P5 of the as-built backlash at 0
     text = _text_of(source_text, d, case)
@@ -495,8 +522,8 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
         say(f"size: modification {d.equidistant * 1000:.4g} um: as built, backlash median "
             f"{built['median_arcmin']:.3g} arcmin, {100 * built['interfering_share']:.3g} % "
             f"of {built['rings']} rings interfere")
-    choices = _choices(d, case, targets, circle, room, bore, root, pillars, spur_w,
-                       pillar_min(d.width)[1], built, notes["module_mm"])
+    choices = sizing_choices(d, case, targets, circle, room, bore, root, pillars, spur_w,
+                       pillar_for(d.width, pillars)[1], built, notes["module_mm"])
     notes = {c.key.rsplit(".", 1)[1]: "sized: " + c.rule for c in choices}
     text = _text_of(source_text, d, case, notes)
     sized = parse_case_text(text)
@@ -504,51 +531,6 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
     return SizingResult(case_name=case.name, targets=targets, choices=tuple(choices),
                         rounds=tuple(rounds), figures=figures, binding=tuple(binding),
                         case=sized, text=text)
-
-
-def _choices(d, case, targets, circle, room, bore, root, pillars, spur_w, pillar_dia,
-             built, module_rule) -> list:
-    """Every sized key with its rule."""
-    e, discs = case.cycloid.eccentricity_mm, case.cycloid.disc_count
-    shaft = d.shaft(e)
-    bore_s, outer_s, width_s = support_bearing_mm(shaft)
-    out = [
-        Choice("first_stage.module_mm", d.module, module_rule, "ISO 54:1996 series I"),
-        Choice("cycloid.disc_holes.crank_hole_circle_radius_mm", d.circle,
-               f"the first stage's centre distance m (z1 + z2) / 2 = {circle:.4g} mm (each "
-               "planet sits on its crank)", "the 2K-V train's kinematics"),
-        Choice("cycloid.disc_holes.crank_hole_radius_mm", d.crank_hole,
-               f"the smallest hole (0.5 mm steps, at most {1 - WEB_PER_ROOM:g} of the "
-               f"{room:.4g} mm room) whose needle set gives the unit L10 of "
-               f"{targets.rated_life_h:g} h at the rated point with the disc width",
-               "ISO 281:2007 (needle rollers: a quarter of the hole's radius, 1.2 diameters "
-               "apart)"),
-        Choice("cycloid.face_width_mm", d.width,
-               f"the narrowest disc (from 0.1 of the pin circle, 1 mm steps) with the life "
-               f"above and the reducer's P_h at {targets.rated_torque_Nm:g} N m within "
-               f"material.allowable_contact_stress_MPa", "ISO 281:2007; Hertz line contact"),
-        Choice("cycloid.disc_holes.pillar_hole_circle_radius_mm", d.circle,
-               "on the crank circle, halfway between the cranks", "the RV layout"),
-        Choice("cycloid.disc_holes.pillar_hole_radius_mm", d.pillar_hole,
-               f"a pillar of at least {pillar_dia:.3g} mm (yield at the momentary "
-               f"{targets.momentary_torque_Nm:g} N m, half of it through the pillars) plus "
-               "the eccentricity and a 0.5 mm gap, grown to the rigidity target where short",
-               "Roark's Formulas, Table 8.1 case 1e (fixed-guided beam)"),
-        Choice("supports.crankshaft_diameter_mm", shaft,
-               f"the journal (the hole less two needles) less twice the eccentricity; its "
-               f"support bearings ISO 15 series 0, {bore_s:g} x {outer_s:g} x {width_s:g} mm",
-               "ISO 15:2017"),
-        Choice("supports.crankshaft_span_mm", d.span(discs, e),
-               f"{discs} discs, a {SHOULDER_MM:g} mm carrier wall each side, half a support "
-               f"bearing's {width_s:g} mm each side", "the RV layout (ASSUMPTION: the walls)"),
-    ]
-    if built is not None:
-        out.append(Choice(
-            "cycloid.equidistant_modification_mm", round(d.equidistant, 6),
-            f"the smallest (0.5 um steps) that leaves at most {INTERFERING_MAX:.0%} of "
-            f"{built['rings']} reducers built within [tolerances] interfering and their "
-            "median backlash at least 0", "the tolerance ensemble (docs/tolerance.md)"))
-    return out
 
 
 def _figures(sized, targets, fig, built, d, spur_w, env) -> dict:

@@ -4,12 +4,29 @@ with them on the system model."""
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 from .units import M_PER_MM, MM_PER_M
+
+@dataclass(frozen=True)
+class Choice:
+    """One sized case key: its ``value``, the ``rule`` that chose it and its ``source``."""
+    key: str
+    value: float
+    rule: str
+    source: str
+
 
 #: Steps of the sized dimensions [mm]: holes and pillars to half a millimetre, the disc
 #: width to a millimetre (ground discs come in whole millimetres).
 HOLE_STEP_MM, WIDTH_STEP_MM = 0.5, 1.0
+#: Crankshafts tried, fewest first (each with its planet and a pillar between each pair):
+#: the catalogue's RV units run two or three.
+CRANK_COUNTS = (2, 3)
+#: ASSUMPTION: the widest disc, as a share of the pin circle's radius (RV discs: 0.1-0.25;
+#: a wider disc tilts on its crank bearings and loads its edges, which the plane model
+#: does not see).
+WIDTH_MAX_PER_RADIUS = 0.25
 #: ASSUMPTION: the disc's web between a crank hole and the root circle, the centre bore
 #: or a neighbouring hole is at least this share of the crank circle's radial room (a
 #: quarter: the web carries the pins' resultant round the hole; RV discs of the catalogue
@@ -110,3 +127,56 @@ def round_to_step(x: float, step: float, how: str) -> float:
     return float(f(x / step - 1e-9 if how == "up" else x / step + 1e-9) * step)
 
 
+
+
+def sizing_choices(d, case, targets, circle, room, bore, root, pillars, spur_w, pillar_dia,
+             built, module_rule) -> list:
+    """Every sized key of design ``d`` with its rule, in the words of the case file's
+    comments (``sized: <rule>``) and sizing.json."""
+    e, discs = case.cycloid.eccentricity_mm, case.cycloid.disc_count
+    shaft = d.shaft(e)
+    bore_s, outer_s, width_s = support_bearing_mm(shaft)
+    out = [
+        Choice("cycloid.disc_holes.crank_hole_count", d.cranks,
+               f"the fewest crankshafts of {CRANK_COUNTS} that reach every target",
+               "the catalogue's RV units run two or three"),
+        Choice("first_stage.planet_count", d.cranks, "one planet on each crankshaft",
+               "the 2K-V train"),
+        Choice("cycloid.disc_holes.pillar_hole_count", d.cranks,
+               "one carrier pillar between each pair of cranks", "the RV layout"),
+        Choice("first_stage.module_mm", d.module, module_rule, "ISO 54:1996 series I"),
+        Choice("cycloid.disc_holes.crank_hole_circle_radius_mm", d.circle,
+               f"the first stage's centre distance m (z1 + z2) / 2 = {circle:.4g} mm (each "
+               "planet sits on its crank)", "the 2K-V train's kinematics"),
+        Choice("cycloid.disc_holes.crank_hole_radius_mm", d.crank_hole,
+               f"the smallest hole (0.5 mm steps, at most {1 - WEB_PER_ROOM:g} of the "
+               f"{room:.4g} mm room) whose needle set gives the unit L10 of "
+               f"{targets.rated_life_h:g} h at the rated point with the disc width",
+               "ISO 281:2007 (needle rollers: a quarter of the hole's radius, 1.2 diameters "
+               "apart)"),
+        Choice("cycloid.face_width_mm", d.width,
+               f"the narrowest disc (from 0.1 of the pin circle, 1 mm steps) with the life "
+               f"above and the reducer's P_h at {targets.rated_torque_Nm:g} N m within "
+               f"material.allowable_contact_stress_MPa", "ISO 281:2007; Hertz line contact"),
+        Choice("cycloid.disc_holes.pillar_hole_circle_radius_mm", d.circle,
+               "on the crank circle, halfway between the cranks", "the RV layout"),
+        Choice("cycloid.disc_holes.pillar_hole_radius_mm", d.pillar_hole,
+               f"a pillar of at least {pillar_dia:.3g} mm (yield at the momentary "
+               f"{targets.momentary_torque_Nm:g} N m, half of it through the pillars) plus "
+               "the eccentricity and a 0.5 mm gap, grown to the rigidity target where short",
+               "Roark's Formulas, Table 8.1 case 1e (fixed-guided beam)"),
+        Choice("supports.crankshaft_diameter_mm", shaft,
+               f"the journal (the hole less two needles) less twice the eccentricity; its "
+               f"support bearings ISO 15 series 0, {bore_s:g} x {outer_s:g} x {width_s:g} mm",
+               "ISO 15:2017"),
+        Choice("supports.crankshaft_span_mm", d.span(discs, e),
+               f"{discs} discs, a {SHOULDER_MM:g} mm carrier wall each side, half a support "
+               f"bearing's {width_s:g} mm each side", "the RV layout (ASSUMPTION: the walls)"),
+    ]
+    if built is not None:
+        out.append(Choice(
+            "cycloid.equidistant_modification_mm", round(d.equidistant, 6),
+            f"the smallest (0.5 um steps) that leaves at most {INTERFERING_MAX:.0%} of "
+            f"{built['rings']} reducers built within [tolerances] interfering and their "
+            "median backlash at least 0", "the tolerance ensemble (docs/tolerance.md)"))
+    return out

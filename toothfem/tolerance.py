@@ -194,6 +194,9 @@ def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = 200, se
                              members=int(drive.members),
                              samples=ensemble, nominal={k: nominal[k] for k in OUTPUTS},
                              shares=shares, settings=settings, film_ratio=film)
+    result = dataclasses.replace(result, maker={
+        k: float(case.published[k]) for k in ("backlash_arcmin", "lost_motion_arcmin")
+        if k in case.published})
     found, drawn = check_limits(result, si)
     return dataclasses.replace(result, limits=drawn, warnings=tuple(found))
 

@@ -108,6 +108,7 @@ class ToleranceResult:
     film_ratio: dict = dataclasses.field(default_factory=dict)
     limits: dict = dataclasses.field(default_factory=dict)
     warnings: tuple = ()
+    maker: dict = dataclasses.field(default_factory=dict)   # [published] {output: value}
 
     def table(self) -> list:
         """The ensemble's rows: each output's nominal value and percentiles, in the drive's
@@ -221,6 +222,7 @@ class ToleranceResult:
                 "members": self.members, **self.settings,
                 "outputs": {k: list(v) for k, v in self.outputs().items()},
                 "nominal": self.nominal, "percentiles": self.percentiles(),
+                "maker": self.maker,
                 "mean": {k: float(np.mean(v)) for k, v in self.samples.items()},
                 "variance_shares": self.shares,
                 "film_ratio_lowest": {

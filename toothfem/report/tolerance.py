@@ -525,6 +525,8 @@ def summary_rows(summary: dict, outputs: dict) -> list:
                 _percentile_text(q, p, fmt) + (
                     (" (low side)" if _tail_of(q) < 50 else " (high side)") if two else "")
                 for q, p in parts)
+        if k in summary.get("maker", {}):
+            cells["maker"] = format(summary["maker"][k], "g")
         rows.append((label, unit, cells))
     return rows
 
