@@ -26,6 +26,20 @@ def rv(cases_dir):
     return load_case(cases_dir / "rv40e.toml")
 
 
+@pytest.fixture(scope="module")
+def rv_small(rv):
+    """The RV-40E as it was before toothfem size (issue 40): 20 mm crank holes on a 30 mm
+    circle, 10 mm discs, its crankshaft through the journal: the hand figures below are
+    this one's."""
+    d = case_to_dict(rv)
+    d["cycloid"]["face_width_mm"] = 10.0
+    d["cycloid"]["disc_holes"].update(crank_hole_circle_radius_mm=30.0, crank_hole_radius_mm=10.0,
+                                      pillar_hole_circle_radius_mm=30.0,
+                                      pillar_hole_radius_mm=8.0)
+    d["supports"] = {}
+    return parse_case(d)
+
+
 def _parsed(case, section, **kw):
     d = case_to_dict(case)
     d.setdefault(section, {}).update(kw)
@@ -68,29 +82,29 @@ def test_standard_sizes():
     assert list(ISO15_SERIES_0) == sorted(ISO15_SERIES_0)
 
 
-def test_a_bearing_that_does_not_fit_is_refused_naming_both_keys(rv):
+def test_a_bearing_that_does_not_fit_is_refused_naming_both_keys(rv_small):
     """A crankshaft that cannot pass through its eccentric journal, rollers that fill the
     hole, a pitch circle outside the hole, a rating no bearing of that hole has, a support
     bearing that reaches the pins: one line naming both keys."""
     cases = [
-        (_parsed(rv, "supports", crankshaft_diameter_mm=14.0),
+        (_parsed(rv_small, "supports", crankshaft_diameter_mm=14.0),
          r"supports.crankshaft_diameter_mm = 14 does not fit the eccentric journal .*"
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
-        (_parsed(rv, "supports", bearing_roller_diameter_mm=10.0),
+        (_parsed(rv_small, "supports", bearing_roller_diameter_mm=10.0),
          r"supports.bearing_roller_diameter_mm = 10 does not fit "
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
-        (_parsed(rv, "bearings", eccentric_pitch_diameter_mm=25.0),
+        (_parsed(rv_small, "bearings", eccentric_pitch_diameter_mm=25.0),
          r"bearings.eccentric_pitch_diameter_mm = 25 does not fit "
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
-        (_parsed(rv, "bearings", eccentric_pitch_diameter_mm=18.0),
+        (_parsed(rv_small, "bearings", eccentric_pitch_diameter_mm=18.0),
          r"bearings.eccentric_pitch_diameter_mm = 18 disagrees with the rollers' pitch "
          r"circle 17.5 mm"),
-        (_parsed(rv, "bearings", eccentric_type="ball"),
+        (_parsed(rv_small, "bearings", eccentric_type="ball"),
          r"bearings.eccentric_type = 'ball': the eccentric bearing is the system model's"),
-        (_parsed(rv, "bearings", eccentric_dynamic_rating_kN=40.0),
+        (_parsed(rv_small, "bearings", eccentric_dynamic_rating_kN=40.0),
          r"bearings.eccentric_dynamic_rating_kN = 40 kN does not fit "
          r"cycloid.disc_holes.crank_hole_radius_mm = 10"),
-        (_parsed(rv, "supports", crankshaft_diameter_mm=60.0, bearing_roller_diameter_mm=0.5),
+        (_parsed(rv_small, "supports", crankshaft_diameter_mm=60.0, bearing_roller_diameter_mm=0.5),
          r"does not fit|no bearing"),
     ]
     for case, message in cases:
@@ -98,14 +112,14 @@ def test_a_bearing_that_does_not_fit_is_refused_naming_both_keys(rv):
         with pytest.raises(CaseError, match=message):
             reducer_bearings(si, drive_for(si))
     # a credible declared rating (within 1.3x ISO 281's) is taken
-    si = _parsed(rv, "bearings", eccentric_dynamic_rating_kN=15.0).to_si()
+    si = _parsed(rv_small, "bearings", eccentric_dynamic_rating_kN=15.0).to_si()
     assert reducer_bearings(si, drive_for(si))[0].rating_source == "case"
 
 
-def test_support_bearing_room(rv):
+def test_support_bearing_room(rv_small):
     """Crank holes on a small circle: the support bearing of a 14 mm crankshaft (ISO 15
     series 0: 15 x 32 mm) overlaps the other crank's; refused naming the circle."""
-    d = case_to_dict(rv)
+    d = case_to_dict(rv_small)
     d["cycloid"]["disc_holes"]["crank_hole_circle_radius_mm"] = 15.0
     d["cycloid"]["disc_holes"]["pillar_hole_count"] = 0
     d["cycloid"]["disc_holes"]["centre_bore_radius_mm"] = 2.0

@@ -95,15 +95,15 @@ def test_rv40e_disc_dxf_holds_the_profile_and_every_hole(rv40e, tmp_path):
                           (h.crank_hole_count, h.crank_hole_radius_m),
                           (h.pillar_hole_count, h.pillar_hole_radius_m)):
         expected[round(2e3 * radius, 6)] += count
-    # cases/rv40e.toml: bore 16 mm, 2 crank holes of 20 mm, 2 pillar holes of 16 mm
-    assert by_diameter == expected == Counter({16.0: 3, 20.0: 2})
+    # cases/rv40e.toml: bore 16 mm, 2 crank holes of 35 mm, 2 pillar holes of 15 mm
+    assert by_diameter == expected == Counter({16.0: 1, 35.0: 2, 15.0: 2})
     angles = {round(2 * r, 6): [] for _, _, r in holes}
     for x, y, r in holes:
         if math.hypot(x - ex, y - ey) > 1e-6:
-            assert math.hypot(x - ex, y - ey) == pytest.approx(30.0, abs=DXF_ATOL_MM)
+            assert math.hypot(x - ex, y - ey) == pytest.approx(36.0, abs=DXF_ATOL_MM)
             angles[round(2 * r, 6)].append(round(math.degrees(math.atan2(y - ey, x - ex))))
-    assert sorted(angles[20.0]) == [0, 180]           # crank holes from +x
-    assert sorted(angles[16.0]) == [-90, 90]          # pillars halfway between
+    assert sorted(angles[35.0]) == [0, 180]           # crank holes from +x
+    assert sorted(angles[15.0]) == [-90, 90]          # pillars halfway between
     # every hole inside the profile, apart from the others
     disc = Polygon(np.array(poly.get_points("xy")))
     discs = [Point(x, y).buffer(r, 64) for x, y, r in holes]

@@ -98,27 +98,30 @@ def test_readme_new_rv_reproduces_the_rv40e_case(tmp_path):
     out = tmp_path / "my_rv.toml"
     assert cli(["new", *args[:-2], "--out", out]) == 0
 
-    m = stated(r"face width ([\d.]+) mm against ([\d.]+); crank circle ([\d.]+) mm, the "
-               r"first stage's centre distance, against the case's ([\d.]+)\)", text)
+    m = stated(r"module and crank circle \(([\d.]+) mm, the first stage's centre distance\)",
+               text)
     new = tomllib.loads(out.read_text())
     case = tomllib.loads((ROOT / "cases" / "rv40e.toml").read_text())
-    assert new["cycloid"]["face_width_mm"] == printed(m[1])
-    assert case["cycloid"]["face_width_mm"] == float(m[2])
     holes_new, holes_case = new["cycloid"]["disc_holes"], case["cycloid"]["disc_holes"]
-    assert holes_new["crank_hole_circle_radius_mm"] == printed(m[3])
-    assert holes_case["crank_hole_circle_radius_mm"] == float(m[4])
+    for holes in (holes_new, holes_case):
+        assert holes["crank_hole_circle_radius_mm"] == float(m[1])
+        # the pillars sit on the cranks' circle in both files
+        assert holes["pillar_hole_circle_radius_mm"] == holes["crank_hole_circle_radius_mm"]
     fs = new["first_stage"]     # "the first stage's centre distance" m (z1 + z2) / 2
     assert holes_new["crank_hole_circle_radius_mm"] == pytest.approx(
         fs["module_mm"] * (fs["sun_teeth"] + fs["planet_teeth"]) / 2, rel=1e-12)
-    # the pillars sit on the cranks' circle in both files, so they move with it
-    for holes in (holes_new, holes_case):
-        assert holes["pillar_hole_circle_radius_mm"] == holes["crank_hole_circle_radius_mm"]
-    # "reproduces ... disc, holes and module": everything else equal
+    # the start and the sized values, as the README states them
+    s = stated(r"face width ([\d.]+) mm against the sized ([\d.]+); crank hole\s+([\d.]+) mm "
+               r"against ([\d.]+)", text)
+    assert new["cycloid"]["face_width_mm"] == printed(s[1])
+    assert case["cycloid"]["face_width_mm"] == float(s[2])
+    assert holes_new["crank_hole_radius_mm"] == printed(s[3])
+    assert holes_case["crank_hole_radius_mm"] == float(s[4])
+    # "reproduces ... disc, module and crank circle": the tooth geometry and the counts equal
     for key in ("pin_count", "lobe_count", "pin_circle_radius_mm", "eccentricity_mm",
                 "pin_radius_mm", "disc_count", "pin_structure"):
         assert new["cycloid"][key] == case["cycloid"][key], key
-    for key in ("centre_bore_radius_mm", "crank_hole_count", "crank_hole_radius_mm",
-                "pillar_hole_count", "pillar_hole_radius_mm"):
+    for key in ("centre_bore_radius_mm", "crank_hole_count", "pillar_hole_count"):
         assert holes_new[key] == holes_case[key], key
     for key in ("sun_teeth", "planet_teeth", "planet_count", "module_mm",
                 "pressure_angle_deg"):

@@ -50,7 +50,7 @@ def consistency(case: Case, rows: dict) -> list:
 
 def _crank_circle(case: Case) -> list:
     fs, cyc = case.first_stage, case.cycloid
-    if case.drive != "rv" or fs is None or cyc is None or not cyc.disc_holes.crank_hole_count:
+    if fs is None or cyc is None or not cyc.disc_holes.crank_hole_count:   # a 2K-V's cranks
         return []
     a = fs.module_mm * (fs.sun_teeth + fs.planet_teeth) / 2
     r_c = cyc.disc_holes.crank_hole_circle_radius_mm
@@ -118,8 +118,9 @@ def interference_estimate(case: Case, rows: dict) -> dict | None:
     Returns
     -------
     dict or None
-        ``share``, ``clearance_um``, ``closure_p50_um``, ``pins``; None without cycloid
-        tolerances or the rows it reads.
+        ``share``, ``clearance_um``, ``closure_p50_um``, ``pins`` and
+        ``clearance_needed_um`` (per flank, for at most :data:`INTERFERING_WARN`); None
+        without cycloid tolerances or the rows it reads.
     """
     tol = case.tolerances
     need = ("backlash_first_order_arcmin", "disc_pitch_radius_mm",
@@ -152,4 +153,7 @@ def interference_estimate(case: Case, rows: dict) -> dict | None:
     tight = closure.max(axis=2) + ring[:, None]
     play = (clearance - tight).sum(axis=1)
     return {"share": float(np.mean(play < 0)), "clearance_um": float(clearance),
-            "closure_p50_um": float(np.median(tight)), "pins": n}
+            "closure_p50_um": float(np.median(tight)), "pins": n,
+            # the clearance per flank at which INTERFERING_WARN of the rings interfere
+            "clearance_needed_um": float(np.percentile(tight.sum(axis=1) / 2,
+                                                       100 * (1 - INTERFERING_WARN)))}

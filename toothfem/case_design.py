@@ -162,23 +162,21 @@ def check_tolerances(tolerances: Tolerances, stage: str | None) -> None:
                                 f"which this case has not: valid value 0")
 
 
-#: The source of an envelope figure: the maker's outline drawing.
-_OUTLINE = "the maker's outline drawing (the case file names it)"
-
-
 @dataclass(frozen=True)
 class Envelope(_Section):
     """The catalogue's outer envelope a reducer must fit (``toothfem size``: every dimension
     chosen inside it; ``check``: the case's parts against it)."""
     _section = "envelope"
-    outer_diameter_mm: float = _f(1.0, 4000.0, doc="the case's largest outer diameter",
-                                  source=_OUTLINE)
+    outer_diameter_mm: float = _f(1.0, 4000.0, doc="the case's largest outer diameter "
+                                                   "(the maker's outline drawing)")
     length_mm: float = _f(1.0, 4000.0, doc="axial length from the output flange's face to "
                                            "the case's input side (the motor flange "
-                                           "excluded)", source=_OUTLINE)
+                                           "excluded; the maker's outline drawing)")
     centre_bore_diameter_mm: float = _f(0.0, 4000.0, default=0.0,
                                         doc="the input shaft's (or a hollow unit's) bore "
-                                            "through the discs", source=_OUTLINE)
+                                            "through the discs", source="0: no bore "
+                                            "required (the outline drawing gives a hollow "
+                                            "unit's)")
 
     def _check(self):
         if self.centre_bore_diameter_mm >= self.outer_diameter_mm:

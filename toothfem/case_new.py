@@ -40,6 +40,7 @@ from .case_sections import Material
 from .case_template import (FLOAT_KEY_NUMBERS, OPTIONS, Entry, NewCaseTemplate, field_range,
                             key_numbers_text, put, restated, round_to, size_step)
 from .errors import CaseError, ToothfemError, check_range
+from .case_consistency import INTERFERING_WARN, interference_estimate
 from .derived import derived
 from .fem.drives import DEFAULT_POSITIONS, drive_for
 from .layouts import LAYOUTS, layout_named
@@ -322,6 +323,18 @@ def new_case(drive: str, *, torque_Nm: float | None = None,
     except ToothfemError as exc:
         raise restated(exc, template, given) from None
     shown = derived(case)                 # what `check` prints: the operating point too
+    est = interference_estimate(case, shown)
+    if est is not None and est["share"] > INTERFERING_WARN:
+        # play for the built discs: an equidistant modification of the per-flank clearance
+        # the estimate needs (to first order it is that clearance)
+        mod = round_to(est["clearance_needed_um"] / 1000.0, 0.0005, "up")
+        put(s, layout.stage_section, "equidistant_modification_mm", mod, "assumption",
+            f"the smallest (0.5 um steps) that keeps {100 * INTERFERING_WARN:g} % of the "
+            "reducers built within [tolerances] from interfering, by check's estimate "
+            "(toothfem size chooses it on the built reducers)")
+        text = _render(s, drive, layout.label, given, ratio, body.notes)
+        case = parse_case_text(text)
+        shown = derived(case)
     if "operating_efficiency_analytic" not in shown:
         raise CaseError(f"{'; '.join(shown['warnings'])} (the key numbers "
                         f"{key_numbers_text(given)} leave no valid value for it)")

@@ -194,7 +194,6 @@ def _larger_pressure(contact, ph_held_Pa: float, held_source: str, drive) -> tup
     supports, the split solved) and the held member's, which it is, and where each sits;
     a note naming both contacts and their curvature where the force and the pressure move
     apart between them (a larger pressure under a smaller force: a smaller radius)."""
-    from .pipeline import peak_contact
     summ = contact.summary
     held = peak_contact(contact.load_sharing)
     reducer_MPa = summ.get("max_ph_reducer_MPa")
@@ -224,6 +223,28 @@ def _larger_pressure(contact, ph_held_Pa: float, held_source: str, drive) -> tup
                 f"of it and {held_source} ({ph_held_Pa / PA_PER_MPA:.4g} MPa)", extra)
     return (ph_held_Pa, f"{held_source}, the larger of it and the reducer's "
                         f"({reducer_MPa:.4g} MPa)", extra)
+
+
+def peak_contact(sharing) -> dict:
+    """Where a load sharing's largest Hertz pressure sits: the contact, the crank angle,
+    its force and the equivalent radius of curvature there.
+
+    Parameters
+    ----------
+    sharing : toothfem.fem.load_sharing.LoadSharing
+
+    Returns
+    -------
+    dict
+        ``contact`` (its index), ``position_deg``, ``force_N``, ``ph_MPa`` and
+        ``equivalent_radius_mm``.
+    """
+    p, c = np.unravel_index(int(np.argmax(sharing.ph)), sharing.ph.shape)
+    return {"contact": int(sharing.contact_id[p, c]),
+            "position_deg": float(np.degrees(sharing.position_rad[p])),
+            "force_N": float(sharing.force[p, c]),
+            "ph_MPa": float(sharing.ph[p, c]) / PA_PER_MPA,
+            "equivalent_radius_mm": float(sharing.equivalent_radius[p, c]) * 1e3}
 
 
 def finite(x):
@@ -276,11 +297,14 @@ def as_built_summary(case, *, rings: int = AS_BUILT_RINGS, progress: bool = Fals
         ``warnings`` (a share above :data:`INTERFERING_MAX`; a P95 pressure above the
         allowable); {} without a tolerance zone.
     """
-    from .tolerance import tolerance_analysis
+    from .tolerance import release_models, tolerance_analysis
     if not case.to_si().tolerances.active():
         return {}
-    res = tolerance_analysis(case, samples=rings, share_samples=0,
-                             positions=AS_BUILT_POSITIONS, progress=progress)
+    try:
+        res = tolerance_analysis(case, samples=rings, share_samples=0,
+                                 positions=AS_BUILT_POSITIONS, progress=progress)
+    finally:
+        release_models()           # every pitch's tables: not kept past the run
     rows = {}
     for key, _, _ in AS_BUILT_OUTPUTS:
         v = np.asarray(res.samples[key], float)

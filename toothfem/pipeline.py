@@ -259,33 +259,12 @@ def reducer_te(system, output_torque_Nm: float) -> dict:
     return {"max_force_reducer_N": float(max(np.max(r.force) for r in records)),
             "max_ph_reducer_MPa": float(max(np.max(r.ph) for r in records)) * MPA_PER_PA,
             "max_ph_reducer_contact": {"member": worst + 1,
-                                       **peak_contact(records[worst])},
+                                       **durability.peak_contact(records[worst])},
             "transmission_error_reducer_arcsec": float(point.total.mean() * arcsec),
             "transmission_error_reducer_ripple_arcsec": float(np.ptp(point.total) * arcsec),
             "transmission_error_reducer_mesh_arcsec": float(point.paths["mesh"].mean()
                                                             * arcsec),
             "transmission_error_reducer_definition": TE_DEFINITION}
-
-
-def peak_contact(sharing) -> dict:
-    """Where a load sharing's largest Hertz pressure sits: the contact, the crank angle,
-    its force and the equivalent radius of curvature there.
-
-    Parameters
-    ----------
-    sharing : toothfem.fem.load_sharing.LoadSharing
-
-    Returns
-    -------
-    dict
-        ``contact`` (its index), ``position_deg``, ``force_N``, ``ph_MPa`` and
-        ``equivalent_radius_mm``.
-    """
-    p, c = np.unravel_index(int(np.argmax(sharing.ph)), sharing.ph.shape)
-    return {"contact": int(sharing.contact_id[p, c]),
-            "position_deg": float(np.degrees(sharing.position_rad[p])),
-            "force_N": float(sharing.force[p, c]), "ph_MPa": float(sharing.ph[p, c]) * MPA_PER_PA,
-            "equivalent_radius_mm": float(sharing.equivalent_radius[p, c]) * 1e3}
 
 
 def assembly_preload(system, material) -> dict:

@@ -220,7 +220,21 @@ PH_POSITIONS = 18
 def reducer_ph_MPa(case: Case, torque_Nm: float, positions: int = PH_POSITIONS) -> float:
     """The largest Hertz pressure of any disc's pin contacts in the reducer (the system
     model: every disc free on its supports, the split between them solved) at an output
-    torque, over one meshing period [MPa]."""
+    torque, over one meshing period.
+
+    Parameters
+    ----------
+    case : Case
+    torque_Nm : float
+        Output torque [N m].
+    positions : int
+        Positions over one meshing period.
+
+    Returns
+    -------
+    float
+        [MPa].
+    """
     from .fem.drives import drive_for
     from .fem.system.datasheet import SystemTwist
     drive = drive_for(case)
@@ -230,8 +244,21 @@ def reducer_ph_MPa(case: Case, torque_Nm: float, positions: int = PH_POSITIONS) 
                for j in range(system.discs)) / 1e6
 
 
+def _release() -> None:
+    """Drop what the last design's solves keep in memory (influence tables of every pitch:
+    a large reducer's run to gigabytes over a search's rounds)."""
+    import gc
+
+    from .fem.drives.base import release_solvers
+    from .tolerance import release_models
+    release_solvers()
+    release_models()
+    gc.collect()
+
+
 def _verify(text: str, targets: Targets) -> tuple:
     """The candidate on the system model: (case, its figures)."""
+    _release()
     from .datasheet import stiffness_analysis
     from .efficiency.bearings import reducer_life
     case = parse_case_text(text)
@@ -316,6 +343,7 @@ def as_built(case: Case, rings: int = RINGS, seed: int = 0) -> dict:
     dict
     """
     from .tolerance import tolerance_analysis
+    _release()
     res = tolerance_analysis(case, samples=rings, seed=seed, share_samples=0,
                              positions=RING_POSITIONS, progress=False)
     b = np.asarray(res.samples["backlash_arcmin"], float)
@@ -350,7 +378,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
     """
     case = as_case(case)
     say = progress or (lambda line: None)
-    if case.drive != "rv" or case.cycloid is None or case.first_stage is None:
+    if case.cycloid is None or case.first_stage is None:      # the cranks and their planets
         raise CaseError(f"drive = {case.drive!r}: toothfem size sizes a 2K-V (RV) reducer "
                         "(drive = \"rv\" with [cycloid] and [first_stage])")
     env = case.envelope
@@ -453,7 +481,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
                     w += WIDTH_STEP_MM
                 if best is not None and vars(best[1]) != vars(d):
                     d, grown = best[1], True
-            elif fig["rigidity_Nm_per_arcmin"] < targets.rigidity_Nm_per_arcmin:
+            if not grown and fig["rigidity_Nm_per_arcmin"] < targets.rigidity_Nm_per_arcmin:
                 k_all = fig["rigidity_Nm_per_arcmin"]
                 c_car = fig["compliance_shares"].get("carrier", 0.0) / k_all
                 k_car = _carrier_Nm_per_arcmin(d, case, pillars)

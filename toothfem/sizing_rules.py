@@ -64,14 +64,40 @@ def iso54_module(wanted_mm: float) -> float:
 
 def crank_room_mm(circle_mm: float, bore_mm: float, root_mm: float) -> float:
     """The crank circle's radial room: the smaller distance to the centre bore and to the
-    disc's root circle [mm]."""
+    disc's root circle.
+
+    Parameters
+    ----------
+    circle_mm, bore_mm, root_mm : float
+        The crank circle's, the centre bore's and the root circle's radii [mm].
+
+    Returns
+    -------
+    float
+        [mm].
+    """
     return min(circle_mm - bore_mm, root_mm - circle_mm)
 
 
 def largest_crank_hole_mm(circle_mm, bore_mm, root_mm, cranks, pillar_hole_mm) -> float:
-    """The largest crank hole [mm] that leaves the web :data:`WEB_PER_ROOM` of the room to
-    the root circle and the bore, and to the neighbouring pillar hole (cranks and pillars
-    alternate on the one circle), rounded down to :data:`HOLE_STEP_MM`."""
+    """The largest crank hole that leaves the web :data:`WEB_PER_ROOM` of the room to the
+    root circle and the bore, and to the neighbouring pillar hole (cranks and pillars
+    alternate on the one circle), rounded down to :data:`HOLE_STEP_MM`.
+
+    Parameters
+    ----------
+    circle_mm, bore_mm, root_mm : float
+        The crank circle's, the centre bore's and the root circle's radii [mm].
+    cranks : int
+        Cranks on the circle (as many pillars between them).
+    pillar_hole_mm : float
+        The pillar hole's radius [mm].
+
+    Returns
+    -------
+    float
+        The crank hole's radius [mm].
+    """
     room = crank_room_mm(circle_mm, bore_mm, root_mm)
     web = WEB_PER_ROOM * room
     between = 2 * circle_mm * math.sin(math.pi / (2 * cranks)) - pillar_hole_mm - web
@@ -107,7 +133,18 @@ def pillar_diameter_mm(momentary_torque_Nm, pillars, circle_mm, length_mm,
 
 def support_bearing_mm(shaft_mm: float) -> tuple:
     """The support bearing of a crankshaft: the smallest ISO 15 diameter series 0 bore that
-    takes the shaft, its outside diameter and width [mm]."""
+    takes the shaft.
+
+    Parameters
+    ----------
+    shaft_mm : float
+        The crankshaft's diameter [mm].
+
+    Returns
+    -------
+    tuple of float
+        (bore, outside diameter, width) [mm].
+    """
     from .efficiency.bearing_set import standard_size
     bore, outer, width = standard_size(shaft_mm * M_PER_MM, "supports.crankshaft_diameter_mm")
     return bore * MM_PER_M, outer * MM_PER_M, width * MM_PER_M
@@ -115,14 +152,35 @@ def support_bearing_mm(shaft_mm: float) -> tuple:
 
 def axial_stack_mm(discs: int, width_mm: float, support_width_mm: float,
                    spur_width_mm: float) -> float:
-    """The reducer's axial length [mm]: the discs side by side, a support bearing and a
-    carrier wall (:data:`SHOULDER_MM`) each side, and the first stage's gears outside the
-    end plate."""
+    """The reducer's axial length: the discs side by side, a support bearing and a carrier
+    wall (:data:`SHOULDER_MM`) each side, and the first stage's gears outside the end plate.
+
+    Parameters
+    ----------
+    discs : int
+    width_mm, support_width_mm, spur_width_mm : float
+        The disc's, the support bearing's and the first stage's widths [mm].
+
+    Returns
+    -------
+    float
+        [mm].
+    """
     return discs * width_mm + 2 * (support_width_mm + SHOULDER_MM) + spur_width_mm
 
 
 def round_to_step(x: float, step: float, how: str) -> float:
-    """``x`` rounded up or down (``how``) to a multiple of ``step``."""
+    """``x`` rounded up or down to a multiple of ``step``.
+
+    Parameters
+    ----------
+    x, step : float
+    how : {"up", "down"}
+
+    Returns
+    -------
+    float
+    """
     f = {"up": math.ceil, "down": math.floor}[how]
     return float(f(x / step - 1e-9 if how == "up" else x / step + 1e-9) * step)
 
@@ -132,7 +190,29 @@ def round_to_step(x: float, step: float, how: str) -> float:
 def sizing_choices(d, case, targets, circle, room, bore, root, pillars, spur_w, pillar_dia,
              built, module_rule) -> list:
     """Every sized key of design ``d`` with its rule, in the words of the case file's
-    comments (``sized: <rule>``) and sizing.json."""
+    comments (``sized: <rule>``) and sizing.json.
+
+    Parameters
+    ----------
+    d : toothfem.sizing._Design
+    case : toothfem.case.Case
+    targets : toothfem.sizing.Targets
+    circle, room, bore, root : float
+        The crank circle's radius, its room, the bore's and the root's radii [mm].
+    pillars : int
+    spur_w : float
+        The first stage's face width [mm].
+    pillar_dia : float
+        The pillar the momentary torque needs [mm].
+    built : dict or None
+        The as-built ensemble of the final design (:func:`toothfem.sizing.as_built`).
+    module_rule : str
+        The module's rule, in words.
+
+    Returns
+    -------
+    list of Choice
+    """
     e, discs = case.cycloid.eccentricity_mm, case.cycloid.disc_count
     shaft = d.shaft(e)
     bore_s, outer_s, width_s = support_bearing_mm(shaft)

@@ -291,6 +291,12 @@ def _system(setup: _Setup, prepare: bool = False):
 _MODELS: dict[str, tuple] = {}
 
 
+def release_models() -> None:
+    """Drop the last setup's models kept for the process's next task (a search over many
+    designs calls it between designs: the system model holds every pitch's tables)."""
+    _MODELS.clear()
+
+
 def _models(setup: _Setup):
     """(meshing state, system model, the nominal design's SystemTwist) of a setup, kept for
     the process's next task of the same run."""

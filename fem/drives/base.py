@@ -598,3 +598,9 @@ def _merged_orders(pairs) -> dict:
 SOLVERS_KEPT = 4
 _SOLVERS: dict = {}
 
+
+def release_solvers() -> None:
+    """Drop the cycle solvers kept in memory (a search over many designs calls it between
+    designs: each holds its influence tables)."""
+    _SOLVERS.clear()
+

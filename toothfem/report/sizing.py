@@ -57,7 +57,17 @@ def rows(summary: dict) -> list:
 
 
 def markdown(summary: dict) -> str:
-    """report.md: the table, the binding figures, each choice's rule and the rounds."""
+    """report.md: the table, the binding figures, each choice's rule and the rounds.
+
+    Parameters
+    ----------
+    summary : dict
+        :meth:`toothfem.sizing.SizingResult.summary`.
+
+    Returns
+    -------
+    str
+    """
     lines = [f"# {summary['case']}: sized to the datasheet", ""]
     lines.append("Every target met inside the envelope." if summary["feasible"] else
                  "**Not every target fits the envelope:**")
