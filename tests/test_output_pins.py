@@ -43,7 +43,7 @@ def test_khv_output_pins_force_and_hertz_pressure(khv, khv_contact):
     assert s["output_pin_ph_max_MPa"] == pytest.approx(
         math.sqrt(w * e_star / (math.pi * r)) / 1e6, rel=1e-9)
     assert s["output_pin_ph_contact"]["equivalent_radius_mm"] == pytest.approx(r * 1e3)
-    assert "roller r 5.5 mm in hole r 6.7 mm" == s["output_pin_ph_contact"]["contact"]
+    assert s["output_pin_ph_contact"]["contact"] == "roller r 5.5 mm in hole r 6.7 mm"
     assert max(s["output_pin_force_max_by_pin_N"]) == f
     assert len(s["output_pin_ph_max_by_pin_MPa"]) == om.pin_count
     assert 1 <= s["output_pins_in_contact_min"] <= om.pin_count // 2 + 1

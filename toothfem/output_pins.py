@@ -15,10 +15,10 @@ from .units import MPA_PER_PA
 DEFINITION = ("the output flange's pins in the members' holes as the system model carries "
               "them (every member free on its supports, the split solved) over the run's "
               "positions of one meshing pitch (the pins' load pattern turns with the crank: "
-              "a pitch samples part of it); P_h: Hertz's line contact (Johnson 1985, Eq. 4.45) of the pin, or "
-              "its roller where it has one, in the hole over the member's face width; a "
-              "roller's bore on its pin is a conformal journal (no Hertz pressure), its force "
-              "the same")
+              "a pitch samples part of it); P_h: Hertz's line contact (Johnson 1985, "
+              "Eq. 4.45) of the pin, or its roller where it has one, in the hole over the "
+              "member's face width; a roller's bore on its pin is a conformal journal (no "
+              "Hertz pressure), its force the same")
 
 
 def output_pin_summary(system, si, output_torque_Nm: float) -> tuple[dict, list]:
