@@ -87,10 +87,13 @@ def run(args) -> int:
                           "percentiles": summary["percentiles"],
                           "warnings": summary["warnings"]}, indent=2))
         return 0
-    print(report_summary.text(result.table(),
+    rows, legend, note = report_tolerance.screen_table(summary, result.outputs())
+    print(report_summary.text(rows,
                               f"{case.name}: {summary['samples']} built reducers; "
                               f"{report_tolerance.operating_text(summary)}; "
-                              f"{report_tolerance.model_text(summary)}"))
+                              f"{report_tolerance.model_text(summary)}", legend=legend))
+    if note:
+        print(note)
     for w in summary["warnings"]:
         print(f"warning: {w['message']}")
     print(f"wrote {Path(args.out).resolve()} (samples.csv, summary.json, report.html, "
