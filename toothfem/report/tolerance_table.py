@@ -102,15 +102,18 @@ def _percentile_text(q: str, p: dict, fmt: str) -> str:
 
 #: The terminal's short name of each output (its full label in the legend below the
 #: table); an output not listed shows its key.
-SHORT = {"max_force_N": "largest force", "max_ph_MPa": "largest P_h",
-         "contacts_min": "fewest contacts", "lost_motion_arcmin": "lost motion",
-         "backlash_arcmin": "backlash", "te_mean_arcsec": "TE, mean",
-         "te_pp_arcsec": "TE, peak to peak", "mesh_efficiency_pct": "mesh efficiency",
-         "total_efficiency_pct": "total efficiency"}
+SHORT = {"max_force_N": "max force", "max_ph_MPa": "max P_h",
+         "contacts_min": "min contacts", "lost_motion_arcmin": "lost motion",
+         "backlash_arcmin": "backlash", "te_mean_arcsec": "TE mean",
+         "te_pp_arcsec": "TE p-to-p", "mesh_efficiency_pct": "mesh eff.",
+         "total_efficiency_pct": "total eff."}
 #: The terminal's column of each percentile column (TAIL_COLUMNS, shorter).
 SCREEN_COLUMNS = {"1 in 10 worse than": "1 in 10 worse", "1 in 100 worse than": "1 in 100 worse"}
 #: The label of a row holding the 95 % intervals of the row above.
-INTERVAL_ROW = "  95 % interval"
+INTERVAL_ROW = "  interval"
+#: Its line of the legend.
+INTERVAL_LEGEND = ("the 95 % confidence interval of the percentile above it "
+                   "(distribution-free: order statistics of the sample)")
 
 
 def screen_table(summary: dict, outputs: dict) -> tuple:
@@ -148,12 +151,13 @@ def screen_table(summary: dict, outputs: dict) -> tuple:
         legend[short] = label
         fmt = number_format(_row_values(summary["nominal"][k], pct), unit)
         tails = any(_column_of(q) in columns for q in pct if _tail_of(q) != 50)
-        sides = ([("low side", lambda q: _tail_of(q) <= 50),
-                  ("high side", lambda q: _tail_of(q) > 50)] if side_of_two(pct) and tails
+        sides = ([("low", lambda q: _tail_of(q) <= 50),
+                  ("high", lambda q: _tail_of(q) > 50)] if side_of_two(pct) and tails
                  else [("", lambda q: True)])
         for i, (side, on) in enumerate(sides):
-            name = short + (f", {side}" if side else "") if i == 0 else f"  {side}"
-            cells, ci = {"nominal": ""}, {"nominal": ""}     # the nominal: once, first row
+            name = short + (f", {side}" if side else "")
+            cells = {"nominal": "", "median": ""}         # the nominal and median: once,
+            ci = {"nominal": "", "median": ""}            # on the first row
             if i == 0:
                 cells["nominal"] = format(summary["nominal"][k], fmt)
             for q, p in pct.items():
@@ -176,6 +180,8 @@ def screen_table(summary: dict, outputs: dict) -> tuple:
                 rows.append((INTERVAL_ROW, "", ci))
     rows = [(name, unit, {SCREEN_COLUMNS.get(c, c): v for c, v in cells.items()})
             for name, unit, cells in rows]
+    if any(name == INTERVAL_ROW for name, _, _ in rows):
+        legend[INTERVAL_ROW.strip()] = INTERVAL_LEGEND
     note = ""
     if missing:
         by_need: dict = {}
