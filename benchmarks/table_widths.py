@@ -26,8 +26,8 @@ PROSE = ("warning:", "wrote ", "progress:", "note:")
 
 def _commands(case: str, out: str) -> list:
     """(name, argv) of every command that prints a table, on one case."""
-    name = os.path.splitext(os.path.basename(case))[0]
-    text = open(case, encoding="utf-8").read()
+    with open(case, encoding="utf-8") as f:
+        text = f.read()
     cmds = [("check", ["check", case]),
             ("contact", ["contact", case, "--field", "none", "--out", f"{out}/contact"]),
             ("stiffness", ["stiffness", case, "--out", f"{out}/stiffness"]),
@@ -39,7 +39,6 @@ def _commands(case: str, out: str) -> list:
                                   "--out", f"{out}/run"])]
     if "\n[design]" in text:
         cmds.append(("design", ["design", case, "--out", f"{out}/design"]))
-    del name
     return cmds
 
 
