@@ -68,5 +68,5 @@ def output_pin_summary(system, si, output_torque_Nm: float) -> tuple[dict, list]
         "output_pin_ph_max_by_pin_MPa": [float(v) * MPA_PER_PA for v in ph.max(axis=(0, 1))],
         "output_pins_definition": DEFINITION}
     found = limits.contact_pressure(f"the output pins on their holes ({what})",
-                                    summary["output_pin_ph_max_MPa"], si.material)
+                                    float(ph.max()) * MPA_PER_PA, si.material)
     return summary, found

@@ -151,7 +151,8 @@ MIN_LABEL = 16
 
 def _shortened(labels: list, budget: int) -> tuple:
     """(labels cut to ``budget`` at a word with a reference [n], {[n]: full label})."""
-    out, refs = [], {}
+    out: list = []
+    refs: dict = {}
     for label in labels:
         if len(label) <= budget:
             out.append(label)
