@@ -107,3 +107,17 @@ def test_tolerance_command_prints_within_100_columns(cases_dir, tmp_path, capsys
     assert "P90 and P10 need 36; P99 and P1 need 368 (--samples 368)" in " ".join(out.split())
     assert "variance shares: not run" in out
     assert any(x.startswith("max force: largest pin force on any disc") for x in lines)
+
+
+def test_check_and_efficiency_print_within_100_columns(cases_dir, capsys):
+    """check's convention and long values, efficiency's sources and notes: wrapped within
+    100 columns (the warnings are prose and stay one line each)."""
+    from toothfem import cli
+
+    for argv in (["check", str(cases_dir / "rv40e.toml")],
+                 ["efficiency", str(cases_dir / "cycloid_khv.toml")]):
+        assert cli.main(argv) == 0
+        out = capsys.readouterr().out
+        lines = [x for x in out.splitlines() if not x.startswith("warning:")]
+        assert max(len(x) for x in lines) <= report_summary.WIDTH, argv[0]
+    assert "source: pin_contacts: pin-disc contacts: EHL (Xu 2007)" in out
