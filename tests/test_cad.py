@@ -155,8 +155,15 @@ def test_each_shipped_case_writes_its_drawing(cases_dir, tmp_path, name):
     if name == "cycloid_khv":    # bore and 8 output holes; 8 pins with 8 roller sleeves
         assert layers["DISC_HOLES"] == {"CIRCLE": 9} and layers["OUTPUT_PINS"] == {
             "CIRCLE": 16}
-    assert {r.name for r in drawing.regions} == ({"planet", "ring"} if sine
-                                                 else {"disc", "housing"})
+    # a STEP part each; the conventional pins and the output pins (with their rollers)
+    # one solid each (tests/test_cad_pins.py), integral pins the housing's own teeth
+    expected = {"planet", "ring", "output_pins"} if sine else {"disc", "housing"}
+    if not sine and load_case(cases_dir / f"{name}.toml").cycloid.pin_structure \
+            != "integral":
+        expected.add("pins")
+    if name == "cycloid_khv":
+        expected |= {"output_pins", "output_rollers"}
+    assert {r.name for r in drawing.regions} == expected
 
 
 def test_sine_planet_holes_are_the_drives(cases_dir):

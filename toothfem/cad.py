@@ -65,6 +65,8 @@ class Region:
     outer: object
     holes: tuple = ()
     thickness_m: float = 0.0
+    at: tuple = ()                   # (x [m], y [m]) of each copy (the pins: one solid
+                                     # each in one file); empty: once, at its own origin
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -278,8 +280,8 @@ def _ocp():
         # (the probe: SIGTERM at 1.3 s of `run` ended "needs the extra", exit 2): only
         # noted until the import is done, then raised
         with signals.deferred():
-            from OCP import (BRepBuilderAPI, BRepPrimAPI, GeomAPI, IFSelect, Interface,
-                             Message, STEPControl, gp)
+            from OCP import (BRep, BRepBuilderAPI, BRepPrimAPI, GeomAPI, IFSelect,
+                             Interface, Message, STEPControl, TopoDS, gp)
     except ImportError:
         raise MissingExtra(f"STEP needs the optional extra [{CAD_EXTRA}] (OCP, the "
                            f"cadquery-ocp-novtk wheel): {CAD_EXTRA_INSTALL}") from None
@@ -290,7 +292,8 @@ def _ocp():
     for printer in Message.Message.DefaultMessenger_s().Printers():
         printer.SetTraceLevel(Message.Message_Gravity.Message_Fail)
     return dict(api=BRepBuilderAPI, prism=BRepPrimAPI, geomapi=GeomAPI, ifselect=IFSelect,
-                interface=Interface, step=STEPControl, points=points, gp=gp)
+                interface=Interface, step=STEPControl, points=points, gp=gp, brep=BRep,
+                topods=TopoDS)
 
 
 #: A polyline turning by more than this at a point has a corner there [deg]: the STEP
@@ -371,10 +374,24 @@ def _wire(ocp, boundary, hole: bool):
     return wire.Wire()
 
 
+def _copies(ocp, solid, at):
+    """One compound of ``solid`` moved to each (x, y) [m] of ``at`` (a translation each)."""
+    gp = ocp["gp"]
+    compound = ocp["topods"].TopoDS_Compound()
+    builder = ocp["brep"].BRep_Builder()
+    builder.MakeCompound(compound)
+    for x, y in at:
+        move = gp.gp_Trsf()
+        move.SetTranslation(gp.gp_Vec(float(x) * MM_PER_M, float(y) * MM_PER_M, 0.0))
+        builder.Add(compound, ocp["api"].BRepBuilderAPI_Transform(solid, move, True).Shape())
+    return compound
+
+
 def write_step(path, region: Region) -> Path:
     """One part as a STEP AP214 solid in millimetres: the region's outer boundary less its
     holes (circles exact; polylines as C2 B-splines through their points from corner to
-    corner, :func:`corners`) extruded from z = 0 over its thickness. Needs the optional
+    corner, :func:`corners`) extruded from z = 0 over its thickness; with ``region.at``,
+    one such solid at each of its points, in one compound (the pins). Needs the optional
     extra ``[cad]``.
 
     Parameters
@@ -408,6 +425,8 @@ def write_step(path, region: Region) -> Path:
         raise ToothfemError(f"region {region.name!r}: OCP could not build its face")
     solid = ocp["prism"].BRepPrimAPI_MakePrism(
         face.Face(), ocp["gp"].gp_Vec(0.0, 0.0, region.thickness_m * MM_PER_M)).Shape()
+    if region.at:
+        solid = _copies(ocp, solid, region.at)
     step = ocp["step"]
     writer = step.STEPControl_Writer()          # registers the write.step.* settings
     static = ocp["interface"].Interface_Static

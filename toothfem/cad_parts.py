@@ -16,7 +16,10 @@ own records (SI):
   output pins' holes), ``OUTPUT_PINS``, ``RING`` (the ring's tooth outline and its rim).
 
 The drawing is in the housing frame (the pins' or ring's centre at the origin); each STEP
-region is in its part's own frame (the disc's or planet's centre at the origin).
+region is in its part's own frame (the disc's or planet's centre at the origin), but the
+pins' (``pins``: conventional pins; integral pins are the housing's teeth), the output
+pins' (``output_pins``) and their rollers' (``output_rollers``): one solid per pin at its
+place in the housing frame at crank angle 0, as the drawing places them.
 """
 from __future__ import annotations
 
@@ -191,11 +194,32 @@ def cycloid_parts(si, drive, points_per_tooth: int) -> PartDrawing:
             "housing_outer_radius_mm": r_out * MM_PER_M,
             "housing_length_mm": length * MM_PER_M,
             "disc_holes_in_disc_frame": _listed(h)}
-    regions = (Region(name="disc", outer=profile, holes=holes, thickness_m=st.face_width_m),
-               Region(name="housing", outer=(0.0, 0.0, r_out), holes=(bore,),
-                      thickness_m=length))
+    regions: tuple[Region, ...] = (
+        Region(name="disc", outer=profile, holes=holes, thickness_m=st.face_width_m),
+        Region(name="housing", outer=(0.0, 0.0, r_out), holes=(bore,), thickness_m=length))
+    if not integral:            # integral pins are the housing's teeth (its bore)
+        regions += (Region(name="pins", outer=(0.0, 0.0, g.pin_radius_m),
+                           at=tuple((float(x), float(y)) for x, y in cym.pin_centres(g).T),
+                           thickness_m=length),)
+    if drive.output is not None:
+        regions += _output_pin_regions(drive.output, length)
     return PartDrawing(bodies=tuple(bodies), regions=regions, dimensions_mm=_tidy(dims),
                        assumed=assumed)
+
+
+def _output_pin_regions(om, length_m: float) -> tuple:
+    """The output pins' STEP regions at crank angle 0 in the housing frame, as the drawing
+    places them: the pins, and their roller sleeves (a ring of the roller's radius on the
+    pin's) where they have them, each over the members' stack ``length_m``."""
+    centres = tuple((float(x), float(y)) for x, y, _ in _ring_of(
+        om.pin_count, om.pin_hole_circle_radius_m, om.pin_radius_m))
+    out: tuple[Region, ...] = (Region(name="output_pins", outer=(0.0, 0.0, om.pin_radius_m),
+                                      at=centres, thickness_m=length_m),)
+    if om.roller_radius_m is not None:
+        out += (Region(name="output_rollers", outer=(0.0, 0.0, om.roller_radius_m),
+                       holes=((0.0, 0.0, om.pin_radius_m),), at=centres,
+                       thickness_m=length_m),)
+    return out
 
 
 def _planet_holes(si, drive) -> tuple:
@@ -294,10 +318,12 @@ def sine_parts(si, drive, points_per_tooth: int) -> PartDrawing:
             "face_width_mm": pair.face_width_m * MM_PER_M,
             "planet_bore_radius_mm": bore * MM_PER_M, "ring_outer_radius_mm": rim * MM_PER_M,
             "planet_holes_in_planet_frame": _listed(holes)}
-    regions = (Region(name="planet", outer=planet, holes=circles,
-                      thickness_m=pair.face_width_m),
-               Region(name="ring", outer=(0.0, 0.0, rim), holes=(ring,),
-                      thickness_m=pair.face_width_m))
+    regions: tuple[Region, ...] = (
+        Region(name="planet", outer=planet, holes=circles, thickness_m=pair.face_width_m),
+        Region(name="ring", outer=(0.0, 0.0, rim), holes=(ring,),
+               thickness_m=pair.face_width_m))
+    if drive.output_mechanism is not None:
+        regions += _output_pin_regions(drive.output_mechanism, pair.face_width_m)
     return PartDrawing(bodies=tuple(bodies), regions=regions, dimensions_mm=_tidy(dims),
                        assumed=assumed)
 

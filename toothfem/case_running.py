@@ -314,10 +314,14 @@ class Thermal(_Section):
     case_temperature_limit_C: float | None = _f(0.0, 300.0, lo_open=True, default=None,
                                                 doc="the maker's limit of the case surface "
                                                     "(a warning above it)",
-                                                unset="60 °C for a 2K-V drive, else none",
+                                                unset="60 °C for a 2K-V drive, 100 °C for "
+                                                      "K-H-V and sine drives",
                                                 source="Nabtesco RV-E catalogue: the surface "
                                                        "at most 60 °C (ASSUMPTION for another "
-                                                       "maker's RV)")
+                                                       "maker's RV); K-H-V, sine: nitrile lip "
+                                                       "seals to +100 °C (Neale, The Tribology "
+                                                       "Handbook, 'Lip seals'; ASSUMPTION: nitrile "
+                                                       "seals, no maker's figure found)")
     mounting: str = _f(choices=("free", "flange"), default="free",
                        doc="free: the housing sheds heat to the air only (convection and "
                            "radiation); flange: one end face is bolted to a machine that "

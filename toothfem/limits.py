@@ -198,8 +198,8 @@ def contact_pressure(where: str, ph_MPa: float, material) -> list:
 def case_temperature(si, drive, temperature_C) -> list:
     """The housing (case surface) temperature against its limit: the case's
     ``thermal.case_temperature_limit_C``, else the layout's default with its source
-    (``DriveRecord.case_temperature_limit_C``: a 2K-V drive's, Nabtesco's 60 C); none
-    otherwise.
+    (``Layout.case_temperature_limit_C``: a 2K-V drive's, Nabtesco's 60 C; a K-H-V or
+    sine drive's, its nitrile seals' 100 C); none where a layout gives none.
 
     Parameters
     ----------

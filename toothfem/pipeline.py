@@ -28,6 +28,7 @@ from .fem.load_sharing import LoadSharing
 from .fem.system.datasheet import SystemTwist
 from .maps import EfficiencyMaps, efficiency_maps
 from .output import atomic_dir, reserved, target
+from .output_pins import output_pin_summary
 from .report.files import write_run
 from .units import ARCSEC, MPA_PER_PA, PA_PER_MPA
 
@@ -214,7 +215,9 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         summary["max_ph_MPa"], si.material)
     found += limits.contact_pressure(f"the {drive.contact_name} contacts in the reducer",
                                      summary["max_ph_reducer_MPa"], si.material)
-    summary["warnings"] = [w.as_dict() for w in found]
+    pins_out, pins_found = output_pin_summary(system, si, output)   # K-H-V, the sine pair
+    summary.update(pins_out)
+    summary["warnings"] = [w.as_dict() for w in found + pins_found]
     if mode == "cycle" and detail is not None:
         fd = detail.load_sharing.force[0]
         summary["detailed_check_at_worst_position"] = {

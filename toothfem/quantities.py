@@ -83,6 +83,14 @@ CONTACT = (
              "(member torque)"),
     Quantity("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing "
              "seats"),
+    Quantity("output_pin_force_max_N", "largest output pin force on a hole (system model, one pitch)",
+             "the output flange's pins on the members' holes, every member free on its "
+             "supports (toothfem.output_pins.DEFINITION)"),
+    Quantity("output_pin_ph_max_MPa", "largest Hertz pressure P_h, output pin (roller) on "
+             "its hole, one pitch", "the pin, or its roller where it has one, in the hole: Hertz's "
+             "line contact over the member's face width"),
+    Quantity("output_pins_in_contact_min", "output pins carrying on one {member}, fewest",
+             unit=""),
     Quantity("transmission_error_reducer_arcsec", "transmission error of the reducer (system "
              "model) at the output torque, mean"),
     Quantity("transmission_error_reducer_ripple_arcsec", "  its peak to peak over one pitch at "

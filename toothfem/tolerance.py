@@ -62,6 +62,13 @@ PITCH_SAMPLES = 13
 #: all its tasks (``_models``), so a task costs little more than its rings, and small tasks
 #: keep the last worker's tail short (20 rings: 3 s on the pin-housing drive).
 CHUNK = 20
+#: The default ensemble [built reducers]: enough for the median and the P90/P10 with
+#: their 95 % intervals (36, tolerance_result.rings_needed), a margin above it, and
+#: within a minute on RV-40E (docs/tolerance.md, measured); P99/P1 need 368 (--samples).
+DEFAULT_SAMPLES = 40
+#: The one-tolerance runs' default size: a quarter of the ensemble where that is at least
+#: this many reducers a tolerance (fewer give a share of little meaning), else none.
+SHARE_SAMPLES_MIN = 20
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -77,7 +84,25 @@ class _Setup:
     pitch_samples: int = 0          # the system's sampled pitches (PITCH_SAMPLES when made)
 
 
-def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = 200, seed: int = 0,
+def default_share_samples(samples: int) -> int:
+    """The one-tolerance runs' size when none is given: a quarter of ``samples`` where that
+    is at least :data:`SHARE_SAMPLES_MIN`, else 0 (none).
+
+    Parameters
+    ----------
+    samples : int
+        The ensemble's size.
+
+    Returns
+    -------
+    int
+    """
+    quarter = int(samples) // 4
+    return quarter if quarter >= SHARE_SAMPLES_MIN else 0
+
+
+def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = DEFAULT_SAMPLES,
+                       seed: int = 0,
                        positions: int = 36,
                        workers: int = 1, scheduler=None, share_samples: int | None = None,
                        overrides: dict | None = None, progress: bool = True,
@@ -102,7 +127,8 @@ def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = 200, se
         A Dask scheduler to run on.
     share_samples : int, optional
         Samples of each one-tolerance run for the variance shares (default a quarter of
-        ``samples``, at least 20); 0 for none.
+        ``samples`` where that is at least SHARE_SAMPLES_MIN, else none: from 80
+        samples on); 0 for none.
     overrides : dict, optional
         [tolerances] keys (mm) to use instead of the case's.
     progress : bool
@@ -155,7 +181,8 @@ def tolerance_analysis(case: Case | str | os.PathLike, *, samples: int = 200, se
                    pitch_samples=PITCH_SAMPLES)
     rng = np.random.default_rng(seed)
     runs = [("all", tol, int(samples))]
-    n_share = max(20, int(samples) // 4) if share_samples is None else int(share_samples)
+    n_share = default_share_samples(int(samples)) if share_samples is None \
+        else int(share_samples)
     if n_share and len(active) > 1:
         runs += [(name, only(tol, name), n_share) for name in active]
     plan = [(label, drive.sample_deviation(t, rng)) for label, t, count in runs

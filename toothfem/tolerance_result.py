@@ -82,6 +82,9 @@ COUNT_METHOD = "lower"
 CONFIDENCE = 0.95
 #: Most samples one run takes (1e5 rings x 36 positions: about an hour on 2 cores).
 MAX_SAMPLES = 100_000
+#: The sizes :func:`rings_needed` searches up to, block by block (the first that answers
+#: is the same as over 1 to MAX_SAMPLES at once, found without the larger blocks).
+RINGS_SEARCH_BLOCKS = (512, 8192)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -295,10 +298,17 @@ def rings_needed(q: float, confidence: float = CONFIDENCE) -> int:
     """
     from scipy.stats import binom
 
-    n = np.arange(1, MAX_SAMPLES + 1)
-    ok = ((binom.ppf((1 - confidence) / 2, n, q) >= 1)
-          & (binom.ppf((1 + confidence) / 2, n, q) + 1 <= n))
-    return int(n[np.argmax(ok)]) if ok.any() else MAX_SAMPLES + 1
+    start = 1
+    for end in (*RINGS_SEARCH_BLOCKS, MAX_SAMPLES):     # the first n, block by block: the
+        if end < start:                                 # binomial's ppf over all 1e5
+            continue                                    # sizes took a second a call
+        n = np.arange(start, end + 1)
+        ok = ((binom.ppf((1 - confidence) / 2, n, q) >= 1)
+              & (binom.ppf((1 + confidence) / 2, n, q) + 1 <= n))
+        if ok.any():
+            return int(n[np.argmax(ok)])
+        start = end + 1
+    return MAX_SAMPLES + 1
 
 
 def check_limits(result: ToleranceResult, si) -> tuple:

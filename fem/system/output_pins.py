@@ -141,3 +141,49 @@ def _centres(system, om, phi: float) -> np.ndarray:
 def _normal(system, phi: float, s) -> np.ndarray:
     """(2,) the output pins' contact normal in member ``s``'s holes, -E_j/e."""
     return -system.eccentric(phi, s) / system.mesh.eccentricity_m
+
+
+def pin_pressures(states, om, material, width_m: float, eccentricity_m: float) -> dict:
+    """The output pins' forces on the members' holes as the system model carries them, and
+    Hertz's pressure where each pin (its roller, where it has one) touches its hole
+    (Johnson 1985, Eq. 4.45: a convex cylinder in a concave one, 1/R = 1/r - 1/R_hole,
+    over the member's face width). A roller's bore on its pin is a sleeve on a pin of its
+    radius, a conformal journal: Hertz's b << R does not hold there and no pressure is
+    given for it; the force is the same.
+
+    Parameters
+    ----------
+    states : sequence of toothfem.fem.system.parts.SystemState
+        One per position, each with ``output_pin_force_N`` (members, pins).
+    om : toothfem.si.OutputMechanismSI
+    material : toothfem.si.MaterialSI
+        The pins' and the members' (one material).
+    width_m : float
+        The member's face width [m], the line contact's length.
+    eccentricity_m : float
+        [m]: the holes' radius where ``om`` gives none (the contact radius plus it, as
+        :func:`pin_contacts` takes them).
+
+    Returns
+    -------
+    dict
+        ``force_N`` (positions, members, pins) [N], ``ph_Pa`` the same shape [Pa] (0 where
+        a pin carries nothing), ``equivalent_radius_m``, ``hole_radius_m``,
+        ``contact_radius_m`` and ``half_width_m`` (positions, members, pins) [m].
+    """
+    from ..hertz import hertz_line, reduced_modulus
+
+    force = np.array([s.output_pin_force_N for s in states], float)
+    r = om.contact_radius_m
+    hole = om.hole_radius_m if om.hole_radius_m is not None else r + eccentricity_m
+    r_eq = 1.0 / (1.0 / r - 1.0 / hole)
+    e_star = reduced_modulus(material.youngs_modulus_Pa, material.poisson_ratio,
+                             material.youngs_modulus_Pa, material.poisson_ratio)
+    carried = force > 0
+    ph = np.zeros_like(force)
+    b = np.zeros_like(force)
+    if carried.any():
+        p0, half = hertz_line(force[carried] / width_m, r_eq, e_star)
+        ph[carried], b[carried] = p0, half
+    return {"force_N": force, "ph_Pa": ph, "equivalent_radius_m": r_eq,
+            "hole_radius_m": hole, "contact_radius_m": r, "half_width_m": b}

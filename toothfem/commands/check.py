@@ -50,14 +50,15 @@ def run(args) -> int:
     if args.json:
         print(json.dumps(d, indent=2))
         return 0
+    from ..report.summary import wrapped
     print(f"{args.case}: OK")
-    print(f"  ({d['ratio_sign_convention']})")
+    print(wrapped(f"  ({d['ratio_sign_convention']})", indent="   "))
     rows = {k: v for k, v in d.items() if k not in ("ratio_sign_convention", "warnings")}
     if case.stated_ratio is not None:
         rows["ratio"] = f"{d['ratio']:g}  (the case states {case.stated_ratio:g})"
     width = max(len(k) for k in rows)
-    for k, v in rows.items():
-        print(f"  {k:<{width}}  {v}")
+    for k, v in rows.items():          # a long value (a list) wrapped under its own column
+        print(wrapped(f"  {k:<{width}}  {v}", indent=" " * (width + 4)))
     for w in d["warnings"]:
         print(f"warning: {w}")
     return 0

@@ -140,9 +140,9 @@ def _run(args) -> int:
             print(f"  warm-up {row['time_h']:6.2f} h: oil {row['oil_temp_C']:6.1f} C, "
                   f"efficiency {100 * row['efficiency']:.2f} %")
     for name, source in out["loss_sources"].items():
-        print(f"source: {name}: {source}")
+        print(report_summary.wrapped(f"source: {name}: {source}"))
     for note in out["notes"]:
-        print(f"note: {note}")
+        print(report_summary.wrapped(f"note: {note}"))
     for w in out["warnings"]:
         print(f"warning: {w['message']}")
     return 0

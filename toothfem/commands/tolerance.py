@@ -26,14 +26,16 @@ def add_parser(sub):
                    help="output folder: the tables and pictures at the end (the rings as "
                         "they finish in a hidden journal folder beside it); the same "
                         "command resumes an unfinished ensemble")
-    p.add_argument("--samples", type=int, default=200,
-                   help="built reducers to draw (default 200)")
+    p.add_argument("--samples", type=int, default=None,
+                   help="built reducers to draw (default 40: the median and P90/P10 with "
+                        "their 95 %% intervals; P99/P1 need 368)")
     p.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     p.add_argument("--positions", type=int, default=36,
                    help="positions per reducer, spread over the pairing period (default 36)")
     p.add_argument("--share-samples", type=int, default=None, dest="share_samples",
                    help="reducers per one-tolerance run for the variance shares (default "
-                        "a quarter of --samples, at least 20; 0: none)")
+                        "a quarter of --samples where that is 20 or more, else none; 0: "
+                        "none)")
     p.add_argument("--workers", type=int, default=1,
                    help="processes (a Dask LocalCluster above 1; default 1)")
     p.add_argument("--scheduler", default=None,
@@ -68,8 +70,10 @@ def run(args) -> int:
     from ..output import atomic_dir, reserved, resumable_dir
     from ..report import html as report_html, summary as report_summary
     from ..report import tolerance as report_tolerance
-    from ..tolerance import tolerance_analysis
+    from ..tolerance import DEFAULT_SAMPLES, tolerance_analysis
     case = load_case(args.case)
+    if args.samples is None:
+        args.samples = DEFAULT_SAMPLES
     key = content_key("tolerance", case, args.samples, args.seed, args.positions,
                       args.share_samples)
     with reserved(args.out):      # the name held for the run: a second run is refused
@@ -87,10 +91,17 @@ def run(args) -> int:
                           "percentiles": summary["percentiles"],
                           "warnings": summary["warnings"]}, indent=2))
         return 0
-    print(report_summary.text(result.table(),
+    rows, legend, note = report_tolerance.screen_table(summary, result.outputs())
+    print(report_summary.text(rows,
                               f"{case.name}: {summary['samples']} built reducers; "
                               f"{report_tolerance.operating_text(summary)}; "
-                              f"{report_tolerance.model_text(summary)}"))
+                              f"{report_tolerance.model_text(summary)}", legend=legend))
+    if note:
+        print(report_summary.wrapped(note))
+    if not summary.get("share_samples") and len(summary.get("tolerances_mm", {})) > 1:
+        print(report_summary.wrapped(
+            "variance shares: not run (--share-samples N: a run of N reducers for each "
+            "tolerance alone; by default from --samples 80 on)"))
     for w in summary["warnings"]:
         print(f"warning: {w['message']}")
     print(f"wrote {Path(args.out).resolve()} (samples.csv, summary.json, report.html, "

@@ -1,5 +1,6 @@
 """Small rules more than one layout shares: a section a layout requires, the output pins
-of a single-stage layout, and the rounding of the rows ``toothfem check`` prints."""
+of a single-stage layout, the seals' temperature limit of a layout without a maker's, and
+the rounding of the rows ``toothfem check`` prints."""
 from __future__ import annotations
 
 from typing import TypeVar
@@ -7,6 +8,19 @@ from typing import TypeVar
 from ..errors import CaseError
 
 _S = TypeVar("_S")
+
+#: The case (oil) temperature limit of a layout without a maker's figure (K-H-V, the sine
+#: pair) [C]: the upper end of nitrile lip seals' working range for oil or grease. No
+#: K-H-V or sine maker's surface limit was found (Sumitomo's Fine Cyclo catalogue was
+#: searched and not read in full); the seals taken for nitrile and their lips at the lumped
+#: heat balance's one temperature (their own friction heating above it not counted) are
+#: ASSUMPTIONS.
+NITRILE_SEAL_LIMIT_C = 100.0
+NITRILE_SEAL_SOURCE = ("nitrile lip seals' working range -40 to +100 C for oil or grease "
+                       "(M. J. Neale, ed., The Tribology Handbook, Butterworth-Heinemann, "
+                       "'Lip seals', the table of sealing-lip rubbers); ASSUMPTION: nitrile "
+                       "seals, their lips at the heat balance's temperature "
+                       "(thermal.case_temperature_limit_C sets it)")
 
 
 def need(section: _S | None, name: str, case) -> _S:

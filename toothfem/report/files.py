@@ -253,8 +253,10 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
     (one closed path, mm). The drive's parts (:func:`toothfem.cad_parts.part_drawing`: the
     disc or planet with every hole, the pins, the housing or ring) as ``drawing.dxf`` (one
     layer per body, mm) and ``drawing.svg`` (one group per body, mm); with the extra
-    ``[cad]`` installed each part as ``NAME.step`` (``disc`` and ``housing``; ``planet`` and
-    ``ring``), its centre at the origin. ``check.json`` holds under ``cad`` the layers, the
+    ``[cad]`` installed each part as ``NAME.step`` (``disc``, ``housing``, the conventional
+    ``pins``; ``planet`` and ``ring``; the ``output_pins`` and their ``output_rollers``
+    where the drive has them), the disc's, planet's, housing's and ring's centre at the
+    origin, the pins in the housing frame. ``check.json`` holds under ``cad`` the layers, the
     dimensions [mm], what is assumed and the STEP files (or why there are none).
 
     Parameters
@@ -304,7 +306,7 @@ def write_geometry(case: Case, folder: Path, points_per_tooth: int = 96) -> dict
                       "dimensions_mm": parts.dimensions_mm, "assumed": parts.assumed,
                       "step": step}
     summary["files"] = files + ["drawing.png", "check.json"]
-    save(plots.drawing(drive, case_name=case.name), folder / "drawing.png")
+    save(plots.drawing(drive, case_name=case.name, parts=parts), folder / "drawing.png")
     (folder / "check.json").write_text(json.dumps(summary, indent=2))
     return summary
 

@@ -391,7 +391,57 @@ def loss_shares(labels, shares: dict, title="", published=None):
     return fig
 
 
-def drawing(drive, case_name=""):
+#: The bodies of a part drawing the pair's own drawing leaves out, drawn over it by
+#: :func:`drawing` (the profiles, the pin ring and the ring are the pair's own).
+OVERLAID = ("DISC_HOLES", "PLANET_HOLES", "OUTPUT_PINS", "HOUSING")
+#: Each overlaid body's look: holes white with their outline, pins filled, the housing's
+#: outlines only.
+OVERLAY_COLOURS = {"DISC_HOLES": "#2ca02c", "PLANET_HOLES": "#2ca02c",
+                   "OUTPUT_PINS": "#ff7f0e", "HOUSING": "#555555"}
+
+
+def draw_parts(ax, parts) -> list:
+    """The bodies of ``parts`` the pair's drawing leaves out (:data:`OVERLAID`: the holes,
+    the output pins with their rollers, the housing) over ``ax`` [mm], as the DXF and SVG
+    hold them.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    parts : toothfem.cad.PartDrawing
+
+    Returns
+    -------
+    list
+        A legend handle per body drawn, labelled with its layer and description.
+    """
+    from matplotlib.patches import Patch
+
+    t = np.linspace(0, 2 * math.pi, 90)
+    handles = []
+    for body in parts.bodies:
+        if body.layer not in OVERLAID:
+            continue
+        colour = OVERLAY_COLOURS[body.layer]
+        for x, y, r in sorted(body.circles, key=lambda c: -c[2]):    # rollers under pins
+            cx, cy_ = (x + r * np.cos(t)) * MM_PER_M, (y + r * np.sin(t)) * MM_PER_M
+            if body.layer.endswith("HOLES"):
+                ax.fill(cx, cy_, color="white", ec=colour, lw=0.8, zorder=3)
+            elif body.layer == "OUTPUT_PINS":
+                ax.fill(cx, cy_, color=colour, ec="k", lw=0.4, alpha=0.75, zorder=4)
+            else:
+                ax.plot(cx, cy_, color=colour, lw=0.8, zorder=0.5)
+        for xy in body.polylines:
+            ax.plot(*np.vstack([xy.T, xy[:, :1].T]).T * MM_PER_M, color=colour, lw=0.6,
+                    zorder=0.5)
+        filled = body.layer != "HOUSING"
+        handles.append(Patch(facecolor=colour if body.layer == "OUTPUT_PINS" else "white",
+                             edgecolor=colour, fill=filled,
+                             label=f"{body.layer}: {body.description}"))
+    return handles
+
+
+def drawing(drive, case_name="", parts=None):
     """The drawing of a drive's pair, its layout's (``Layout.drawing``: :func:`cycloid_drawing`
     or :func:`sine_drawing`), titled with its dimensions and ``case_name``.
 
@@ -401,10 +451,21 @@ def drawing(drive, case_name=""):
         A cycloid or sine drive.
     case_name : str
         Named in the title.
+    parts : toothfem.cad.PartDrawing, optional
+        The drive's parts (:func:`toothfem.cad_parts.part_drawing`): their holes, output
+        pins and housing drawn over the pair (:func:`draw_parts`), as the DXF and SVG.
 
     Returns
     -------
     matplotlib.figure.Figure
         The drawing.
     """
-    return drive.layout.drawing(drive, case_name)
+    fig = drive.layout.drawing(drive, case_name)
+    if parts is not None:
+        handles = []
+        for ax in fig.axes:
+            handles = draw_parts(ax, parts)
+        if handles:
+            fig.legend(handles=handles, loc="outside lower center", fontsize=8, ncol=2,
+                       frameon=False)
+    return fig

@@ -140,8 +140,61 @@ def _columns(rows) -> list:
     return list(dict.fromkeys(c for _, _, cols in rows for c in cols))
 
 
-def text(rows, title: str = "") -> str:
-    """The rows as an aligned plain-text table (the terminal's summary).
+#: The widest a terminal table runs [columns]: a longer quantity name is cut at a word
+#: with a reference [n] to its full name in the legend below the table, a longer title
+#: wrapped (issue 41).
+WIDTH = 100
+#: The shortest a cut quantity name gets [characters] (a table whose number columns leave
+#: less is wider than WIDTH).
+MIN_LABEL = 16
+
+
+def _shortened(labels: list, budget: int) -> tuple:
+    """(labels cut to ``budget`` at a word with a reference [n], {[n]: full label})."""
+    out: list = []
+    refs: dict = {}
+    for label in labels:
+        if len(label) <= budget:
+            out.append(label)
+            continue
+        ref = f" [{len(refs) + 1}]"
+        indent = label[:len(label) - len(label.lstrip())]
+        room = budget - len(ref)
+        cut = label[:room + 1].rsplit(" ", 1)[0] if " " in label[len(indent):room + 1] \
+            else label[:room]
+        if cut.count("(") > cut.count(")"):         # not a bracket left open
+            cut = cut[:cut.rfind("(")]
+        out.append(cut.rstrip(" ,:;(") + ref)
+        refs[ref.strip()] = label.strip()
+    return out, refs
+
+
+def _wrapped(line: str, width: int, indent: str = "") -> list:
+    import textwrap
+    return textwrap.wrap(line, width, subsequent_indent=indent, break_on_hyphens=False) or [""]
+
+
+def wrapped(line: str, width: int = WIDTH, indent: str = "    ") -> str:
+    """A line of a table's legend (a source, a note) wrapped at ``width``, the lines after
+    the first indented.
+
+    Parameters
+    ----------
+    line : str
+    width : int
+    indent : str
+
+    Returns
+    -------
+    str
+    """
+    return "\n".join(_wrapped(line, width, indent))
+
+
+def text(rows, title: str = "", width: int = WIDTH, legend: dict | None = None) -> str:
+    """The rows as an aligned plain-text table (the terminal's summary), at most ``width``
+    columns where its numbers leave room: a longer quantity name cut at a word with a
+    reference [n] to its full name, listed below the table; a longer title wrapped.
 
     Parameters
     ----------
@@ -149,6 +202,10 @@ def text(rows, title: str = "") -> str:
         (quantity, unit, {column: value}).
     title : str
         A first line, if given.
+    width : int
+        The widest line [columns].
+    legend : dict, optional
+        Short name -> full name of the rows' own short names, listed below the table.
 
     Returns
     -------
@@ -158,13 +215,23 @@ def text(rows, title: str = "") -> str:
     cols = _columns(rows)
     head = ["quantity", "unit", *cols]
     body = [[what, unit, *(_cell(vals.get(c)) for c in cols)] for what, unit, vals in rows]
-    width = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
+    widths = [max(len(r[i]) for r in [head, *body]) for i in range(len(head))]
+    refs: dict = {}
+    over = sum(widths) + 2 * (len(widths) - 1) - width
+    if over > 0:
+        labels, refs = _shortened([r[0] for r in body], max(MIN_LABEL, widths[0] - over))
+        body = [[label, *r[1:]] for label, r in zip(labels, body)]
+        widths[0] = max(len(r[0]) for r in [head, *body])
     fmt = lambda r: "  ".join(  # noqa: E731
-        (x.ljust(w) if i < 2 else x.rjust(w)) for i, (x, w) in enumerate(zip(r, width)))
-    lines = ([title] if title else []) + [fmt(head), fmt(["-" * w for w in width])]
+        (x.ljust(w) if i < 2 else x.rjust(w)) for i, (x, w) in enumerate(zip(r, widths)))
+    lines = [w for part in title.splitlines() for w in _wrapped(part, width, "  ")] \
+        if title else []
+    lines += [fmt(head), fmt(["-" * w for w in widths])]
     lines += [fmt(r) for r in body]
+    for name, full in [*(legend or {}).items(), *refs.items()]:
+        lines += _wrapped(f"{name}: {full}", width, "    ")
     if PUBLISHED in cols:
-        lines.append(PUBLISHED_NOTE)
+        lines += _wrapped(PUBLISHED_NOTE, width, "  ")
     return "\n".join(lines)
 
 

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -12,6 +11,8 @@ import numpy as np
 
 from ..quantities import ALONE_OVER_ALL, side_of
 from . import NBSP, pyplot, save, wrap
+from .tolerance_table import (  # noqa: F401  (summary_rows, TAIL_COLUMNS: the API's)
+    TAIL_COLUMNS, _row_values, _tail_of, number_format, screen_table, summary_rows)
 
 if TYPE_CHECKING:      # annotations only: the record's .write() calls this module
     from ..tolerance_result import ToleranceResult
@@ -136,44 +137,6 @@ def shares_title(summary: dict) -> str:
              "over the tolerances' sum, a ranking (few reducers: a rough one, not a "
              "decomposition)"]
     return "\n".join(lines)
-
-
-def number_format(values, unit: str) -> str:
-    """The format of an output's numbers: 4 significant digits, an efficiency with enough
-    decimals to tell it from 100 % (two significant digits of its distance from 100, at
-    least 3 decimals, at most 6).
-
-    Parameters
-    ----------
-    values : iterable of float or None
-        The numbers shown together (nominal, percentiles, their intervals).
-    unit : str
-        The output's unit ("%": an efficiency).
-
-    Returns
-    -------
-    str
-        A format spec ('.4g', '.3f', '.4f', ...).
-    """
-    if unit != "%":
-        return ".4g"
-    gaps = [abs(100 - float(x)) for x in values
-            if x is not None and math.isfinite(float(x)) and float(x) != 100]
-    if not gaps:
-        return ".3f"
-    return f".{min(6, max(3, 1 - math.floor(math.log10(min(gaps)))))}f"
-
-
-def _row_values(result_or_summary_nominal, pct: dict) -> list:
-    vals = [result_or_summary_nominal]
-    for p in pct.values():
-        if p.get("value") is not None:
-            vals += [p["value"], *(p.get("ci") or ())]
-    return vals
-
-
-def _tail_of(q: str) -> int:
-    return int(q[1:])
 
 
 def histograms(result, outputs: dict, title: str):
@@ -490,62 +453,6 @@ def _passed(found: list, quantity: str) -> str:
         return "within."
     return (f"passed by {len(hits)} of the figures (see the warnings): "
             + "; ".join(f"{w['value']:.4g} {w['unit']}".rstrip() for w in hits) + ".")
-
-
-def summary_rows(summary: dict, outputs: dict) -> list:
-    """The ensemble's key figures as rows of :func:`toothfem.report.summary.text`: each
-    output's nominal value and percentiles, in the output's format (an efficiency with
-    enough decimals to tell it from 100 %: :func:`number_format`).
-
-    Parameters
-    ----------
-    summary : dict
-        :meth:`toothfem.tolerance_result.ToleranceResult.summary`.
-    outputs : dict
-        Column -> (label, unit) (:data:`toothfem.tolerance_result.OUTPUTS`).
-
-    Returns
-    -------
-    list of (str, str, dict)
-        (label, unit, {"nominal": its text, and per TAIL_COLUMNS the percentile's text with
-        its 95 % interval, or the reducers it needs; both tails of a two-sided output}).
-    """
-    rows = []
-    for k, (label, unit) in outputs.items():
-        if k not in summary["percentiles"]:
-            continue
-        pct = summary["percentiles"][k]
-        nominal = summary["nominal"][k]
-        fmt = number_format(_row_values(nominal, pct), unit)
-        cells = {"nominal": format(nominal, fmt)}
-        for column in TAIL_COLUMNS:
-            parts = [(q, p) for q, p in pct.items() if _column_of(q) == column]
-            two = len(parts) > 1
-            cells[column] = "; ".join(
-                _percentile_text(q, p, fmt) + (
-                    (" (low side)" if _tail_of(q) < 50 else " (high side)") if two else "")
-                for q, p in parts)
-        if k in summary.get("maker", {}):
-            cells["maker"] = format(summary["maker"][k], "g")
-        rows.append((label, unit, cells))
-    return rows
-
-
-#: The columns of the percentile table: the median and the unfavourable tail.
-TAIL_COLUMNS = ("median", "1 in 10 worse than", "1 in 100 worse than")
-
-
-def _column_of(q: str) -> str:
-    return {50: TAIL_COLUMNS[0], 10: TAIL_COLUMNS[1], 90: TAIL_COLUMNS[1],
-            1: TAIL_COLUMNS[2], 99: TAIL_COLUMNS[2]}[_tail_of(q)]
-
-
-def _percentile_text(q: str, p: dict, fmt: str) -> str:
-    """'P90 1234 [1200, 1260]', or 'P99: needs 368 reducers'."""
-    if p["value"] is None:
-        return f"{q}: needs {p['rings_needed']} reducers"
-    lo, hi = p["ci"]
-    return f"{q} {p['value']:{fmt}} [{lo:{fmt}}, {hi:{fmt}}]"
 
 
 def tolerance_figures(result: ToleranceResult) -> dict:

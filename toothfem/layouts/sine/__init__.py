@@ -6,7 +6,7 @@ from ...cad_parts import sine_parts
 from ...efficiency.bearings import output_pin_force, pin_held_loads
 from ...efficiency.drive_losses import LossModel
 from ...layout import Layout
-from ..common import needs_output_pins
+from ..common import NITRILE_SEAL_LIMIT_C, NITRILE_SEAL_SOURCE, needs_output_pins
 from . import parts, template
 
 LAYOUT = Layout(
@@ -15,6 +15,9 @@ LAYOUT = Layout(
     stage_section="sine", tolerance_keys=("tooth_profile_mm",),
     required_sections={"sine": ("sine", "material")},
     components=frozenset({"teeth", "eccentric_bearing", "output_mechanism"}),
+    # no maker's surface limit found for a K-H-V or sine reducer: the nitrile lip seals'
+    # working range, the lumped heat balance's one temperature at the lips (ASSUMPTION)
+    case_temperature_limit_C=NITRILE_SEAL_LIMIT_C, case_temperature_source=NITRILE_SEAL_SOURCE,
     drive=parts.sine_drive, ratio=parts.ratio, case_checks=needs_output_pins,
     case_template=template.SINE_TEMPLATE, derived_rows=parts.rows,
     loss_model=LossModel(
