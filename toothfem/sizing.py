@@ -562,9 +562,16 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
 
 
 def _figures(sized, targets, fig, built, d, spur_w, env) -> dict:
-    """The sized reducer's datasheet beside the maker's, and its envelope."""
+    """The sized reducer's datasheet beside the maker's, and its envelope: the case as
+    written (its modification too), the same figures `stiffness` and `run` print."""
     from .datasheet import stiffness_analysis
+    from .efficiency.bearings import reducer_life
+    _release()
     sheet = stiffness_analysis(sized, te_samples=1, te_positions=2).summary
+    speed = targets.rated_output_speed_rpm * abs(sized.ratio())
+    life = reducer_life(sized, duty=[(targets.rated_torque_Nm, speed, 1.0)])
+    fig = {"unit_l10_h": float(life.l10_h), "limiting": life.limiting,
+           "max_ph_MPa": reducer_ph_MPa(sized, targets.rated_torque_Nm)}
     e = sized.cycloid.eccentricity_mm
     _, _, b_sup = support_bearing_mm(d.shaft(e))
     out = {
