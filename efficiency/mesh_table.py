@@ -98,11 +98,14 @@ class MeshTable:
         numpy.ndarray, shape (M, P, 2)
             Resultant [N], housing frame, fixed -> moving member.
         """
-        m = force.shape[0]
-        out = np.zeros((m, self.n_positions, 2))
+        m, p = force.shape[0], self.n_positions
+        # each point's contacts summed into their positions in the contacts' order (a
+        # bincount adds as np.add.at does, one after the other, at a tenth of its time)
+        cell = (np.arange(m)[:, None] * p + self.position[None, :]).ravel()
+        out = np.empty((m, p, 2))
         for k in range(2):
-            np.add.at(out[:, :, k], (np.arange(m)[:, None], self.position[None, :]),
-                      force * self.normal[:, k])
+            out[:, :, k] = np.bincount(cell, weights=(force * self.normal[:, k]).ravel(),
+                                       minlength=m * p).reshape(m, p)
         return out
 
     def scaled(self, ratio):
