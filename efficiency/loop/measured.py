@@ -39,6 +39,7 @@ many locales) is read as a decimal point; ``notes`` says both.
 from __future__ import annotations
 
 import csv
+import math
 import io
 import json
 from dataclasses import dataclass, field
@@ -237,10 +238,15 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         row = {}
         for key in checked if reason is None else ():
             j, f, o = columns[key]
-            v, why = parse_number(cells[j], header[j])
-            if why:
-                reason = why
-                break
+            try:                    # a finite number: parse_number's value, at once
+                v = float(cells[j])
+            except ValueError:
+                v = math.nan
+            if v - v != 0:          # NaN, infinite or not a number: its reason
+                v, why = parse_number(cells[j], header[j])
+                if why:
+                    reason = why
+                    break
             row[key] = f * v + o
         if reason is None:
             reason = _check_row(row, i_abs)

@@ -204,6 +204,13 @@ def _free_columns(cells):
     that it never refuses a good row nor puts a hole in a covariate."""
     extra, notes = {}, []
     for name, col in cells.items():
+        try:                    # every cell a finite number: parse_number's values at once
+            values = np.array([float(c) for c in col], float)
+            if np.all(np.isfinite(values)):
+                extra[name] = values
+                continue
+        except ValueError:
+            pass
         parsed = [parse_number(c, name) for c in col]
         bad = [why for _, why in parsed if why]
         if not bad:
