@@ -11,6 +11,7 @@ mu = (1 - f) mu_EHL + f mu_b.
 """
 from __future__ import annotations
 
+import hashlib
 import warnings
 
 import numpy as np
@@ -63,7 +64,8 @@ def _ehl_block(ph, ve, vs, eta, r_eq, ok, sigma, e_prime, alpha, hardness):
     return mu, lam, asperity_load_share(lam, ph, hardness)
 
 
-def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits=None):
+def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits=None, *,
+               memo=None):
     """Friction coefficient at each loaded contact, and the film ratio.
 
     Parameters
@@ -84,6 +86,9 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits
     limits : list, optional
         The film ratio's limits passed (:func:`toothfem.limits.film_ratio`) are appended
         here.
+    memo : toothfem.efficiency.mesh_table.LoadsMemo, optional
+        Keeps the EHL law's friction, the film ratio and the asperities' share of these
+        inputs for the calling computation's next evaluation (the same numbers).
 
     Returns
     -------
@@ -114,16 +119,26 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits
                          "(outside its range): taken as 0")
             mu[neg] = 0.0
         return mu, lam
-    share = np.zeros(force.shape)
     r_eq = np.asarray(table.r_eq, float)[None, :]
     sigma = fr.composite_rms_roughness(lub.roughness_Ra_m)
-    rows = max(1, BLOCK_ELEMENTS // max(1, force.shape[1]))
-    for start in range(0, force.shape[0], rows):
-        b = slice(start, start + rows)
-        mu[b], lam[b], share[b] = _ehl_block(ph[b], ve[b], vs[b], eta_col[b], r_eq, ok[b],
-                                             sigma, 2 * e_star_Pa,
-                                             lub.pressure_viscosity_1_per_Pa,
-                                             si.material.hardness_Pa)
+    law = (sigma, 2 * e_star_Pa, lub.pressure_viscosity_1_per_Pa, si.material.hardness_Pa)
+
+    def film():
+        mu, lam, share = np.zeros(force.shape), np.full(force.shape, np.inf), \
+            np.zeros(force.shape)
+        rows = max(1, BLOCK_ELEMENTS // max(1, force.shape[1]))
+        for start in range(0, force.shape[0], rows):
+            b = slice(start, start + rows)
+            mu[b], lam[b], share[b] = _ehl_block(ph[b], ve[b], vs[b], eta_col[b], r_eq, ok[b],
+                                                 *law)
+        return mu, lam, share
+
+    if memo is None:
+        mu, lam, share = film()
+    else:
+        mu, lam, share = memo.film(_fingerprint(force, ph, crank_speed, eta_col, table, law),
+                                   film)
+        lam = lam.copy()       # the caller's, not the memo's
     if limits is not None and np.any(ok):
         limits.extend(film_ratio("the mesh contacts", float(np.min(lam[ok]))))
     low = np.isfinite(lam) & (lam < LAMBDA_FULL)
@@ -139,8 +154,19 @@ def contact_mu(si, e_star_Pa, table, force, ph, crank_speed, eta0, notes, limits
     # friction.boundary_coefficient = 0 switches the blend off: the EHL law alone (a test
     # oracle's reading, and the model before issue 13), not frictionless asperities
     if f.boundary_coefficient <= 0:
-        return mu, lam
+        return mu.copy(), lam
     return mixed_friction(mu, share, f.boundary_coefficient), lam
+
+
+def _fingerprint(force, ph, crank_speed, eta, table, law):
+    """A key of the contacts' inputs: SHA-256 digests of their bytes (3 ms for two
+    (4913, 142) arrays) and the law's constants."""
+    digest = hashlib.sha256()
+    for a in (force, ph, crank_speed, eta, table.ve, table.vs, table.r_eq):
+        a = np.ascontiguousarray(a, float)
+        digest.update(repr(a.shape).encode())
+        digest.update(a)
+    return digest.hexdigest(), tuple(float(v) for v in law)
 
 
 def sliding_loss(table, force, mu, crank_speed):
