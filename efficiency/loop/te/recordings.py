@@ -70,6 +70,7 @@ from .columns import (CONDITIONS, DIRECTION_WORDS, Condition, close, column,
 from .columns import name_pattern as compile_pattern
 from .spectrum import DEFAULT_MAX_ORDER, WINDOWS, Spectrum, te_spectrum
 from .windows import Windows, windows_of
+from .plausibility import angle_unit_note, warn_angle_units
 
 #: Bins of the revolution-averaged TE (0.1 deg of output angle). A bin's mean attenuates a
 #: ripple of order q by sin(x)/x, x = pi q / ANGLE_BINS: 0.2 % at order 121, 28 % at 1560
@@ -384,7 +385,9 @@ def read_te_file(path, *, name_pattern=None, angle_bins: int = ANGLE_BINS,
         notes = [f"{src}: column {name!r} not used" for name in ignored]
         runs = _read_te_rows(table, cols, fixed, bool(both), angle_bins, max_order, window,
                              notes)
-    return tuple(runs), tuple(notes)
+        slip = angle_unit_note(src, cols["output_angle"][3], cols["output_angle"][1],
+                               (r.windows.span_rad for r in runs))
+    return tuple(runs), tuple(notes) + ((slip,) if slip else ())
 
 
 def _read_te_rows(table, cols, fixed, sides, angle_bins, max_order, window, notes):
@@ -595,6 +598,7 @@ def read_te_recordings(paths, *, name_pattern=None, angle_bins: int = ANGLE_BINS
     for _, (file_runs, file_notes) in results:
         runs.extend(file_runs)
         notes.extend(file_notes)
+    warn_angle_units(notes)
     return TeRecordings(runs=tuple(runs), files=tuple(str(p) for p, _ in results),
                         refused=tuple(refused), notes=tuple(notes),
                         angle_bins=int(angle_bins), window=window, max_order=float(max_order))
