@@ -49,9 +49,9 @@ def _ehl_block(ph, ve, vs, eta, r_eq, ok, sigma, e_prime, alpha, hardness):
             or np.any(r <= 0) or np.any(w <= 0):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", fr.MixedLubricationWarning)
-            res = fr.ehl_xu2007(*(np.broadcast_to(a, ph.shape)[ok] for a in (ph, sr, ve, eta,
-                                                                             r_eq)),
-                                sigma, e_prime=e_prime, pressure_viscosity=alpha)
+            p, s, v, e, r = (np.broadcast_to(a, ph.shape)[ok] for a in (ph, sr, ve, eta, r_eq))
+            res = fr.ehl_xu2007(p, s, v, e, r, sigma, e_prime=e_prime,
+                                pressure_viscosity=alpha)
         mu[ok], lam[ok] = res.mu, res.film_ratio
         return mu, lam, asperity_load_share(lam, ph, hardness)
 
@@ -165,7 +165,7 @@ def _fingerprint(force, ph, crank_speed, eta, table, law):
     for a in (force, ph, crank_speed, eta, table.ve, table.vs, table.r_eq):
         a = np.ascontiguousarray(a, float)
         digest.update(repr(a.shape).encode())
-        digest.update(a)
+        digest.update(a.data)
     return digest.hexdigest(), tuple(float(v) for v in law)
 
 
