@@ -12,7 +12,8 @@ check and then fits to thousands of sigma. Against the case:
   under :data:`SHORT_SWEEP_REVOLUTIONS` of a revolution in its labelled unit while their
   numbers, read as radians, span a quarter revolution or more (pi/2 to about 2 pi) is a
   turn in radians under a deg (arcmin, arcsec) label: warned, in one line naming the
-  column and the files (a short sweep in degrees is possible, so not refused);
+  column (the recordings' notes name each file), not refused (a short sweep in degrees is
+  possible);
 - **TE widths and twists**: the recordings' largest hysteresis width (or the loop's twist
   range) against the model's own at the same torques, the case as declared; a ratio beyond
   :data:`SCALE_LIMIT` either way is another unit (deg as arcsec: 3600x; arcmin as arcsec:
@@ -107,59 +108,44 @@ SHORT_SWEEP_REVOLUTIONS = 1 / 36
 #: ... and, with their numbers spanning at least this many radians (a quarter revolution),
 #: likelier a turn in radians under another unit's label.
 RADIAN_SPAN_MIN = math.pi / 2
-#: The start of the note :func:`angle_unit_note` writes (:func:`warn_angle_units` finds it).
+#: The note :func:`angle_unit_note` writes (in report.md's notes on the recordings).
 ANGLE_NOTE = "output angle in radians?"
 
 
-def angle_unit_note(source, column: str, factor: float, spans_rad) -> str | None:
-    """A note on a file whose output angles look like radians under another unit's label.
+def angle_unit_note(source, column, runs) -> tuple:
+    """A note on a file whose output angles look like radians under another unit's label,
+    and a warning naming the column (the same line for every file: said once).
 
     Parameters
     ----------
     source : str
         The file.
-    column : str
-        The output-angle column, its unit the suffix.
-    factor : float
-        Radians per labelled unit (1 for rad: no note).
-    spans_rad : iterable of float
-        Each run's first-to-last angle span [rad, as read with the label].
+    column : tuple
+        The output-angle column as the reader holds it: (index, radians per labelled unit,
+        offset, name); its unit is the name's suffix (rad: no note).
+    runs : iterable of .recordings.Run
+        The file's runs (their windows' first-to-last angle spans [rad, read with the
+        label]).
 
     Returns
     -------
-    str or None
-        One line naming the file, the column, its span and the likely unit.
+    tuple of str
+        One line naming the file, the column, its span and the likely unit; or none.
     """
-    span = max((float(s) for s in spans_rad), default=0.0)
+    factor, name = column[1], column[3]
+    span = max((r.windows.span_rad for r in runs), default=0.0)
     numbers = span / factor                     # the span in the column's own numbers
     if factor == 1.0 or not (span < 2 * math.pi * SHORT_SWEEP_REVOLUTIONS
                              and numbers >= RADIAN_SPAN_MIN):
-        return None
-    unit = column.rsplit("_", 1)[-1]
-    return (f"{source}: {ANGLE_NOTE} column {column!r} spans {numbers:.4g} {unit}, "
-            f"{span / (2 * math.pi):.2g} of a revolution; read as rad, "
-            f"{numbers / (2 * math.pi):.2g} of one")
-
-
-def warn_angle_units(notes) -> None:
-    """One warning line for the files whose output angle looks like radians under another
-    unit's label (:func:`angle_unit_note`), naming the column and the files.
-
-    Parameters
-    ----------
-    notes : iterable of str
-        The recordings' notes.
-    """
-    hits = [n for n in notes if ANGLE_NOTE in n]
-    if not hits:
-        return
-    column = hits[0].split("column ", 1)[1].split(" spans", 1)[0]
-    unit = column.strip("'").rsplit("_", 1)[-1]
-    files = [n.split(": " + ANGLE_NOTE, 1)[0] for n in hits]
-    first = hits[0].split(" spans ", 1)[1]
+        return ()
+    unit = name.rsplit("_", 1)[-1]
+    # the warning the same for every file (said once), the note naming the file and span
     warnings.warn(
-        f"{column}: the output angles of {len(files)} file(s) ({', '.join(files[:3])}"
-        f"{', ...' if len(files) > 3 else ''}) span under {SHORT_SWEEP_REVOLUTIONS * 360:g} "
-        f"deg of output (the first: {first}): radians under a {unit} label (1 rad = "
+        f"{name!r}: a recording's output angles span under {SHORT_SWEEP_REVOLUTIONS * 360:g} "
+        f"deg of output while their numbers span a quarter revolution or more as radians: "
+        f"radians under a {unit} label (1 rad = "
         f"{180 / math.pi:.4g} deg)? A TE recording sweeps the output through its revolution; "
-        "name the column by its unit (output_angle_rad)", stacklevel=2)
+        "name the column by its unit (output_angle_rad)", stacklevel=3)
+    return (f"{source}: {ANGLE_NOTE} column {name!r} spans {numbers:.4g} {unit}, "
+            f"{span / (2 * math.pi):.2g} of a revolution; read as rad, "
+            f"{numbers / (2 * math.pi):.2g} of one",)
