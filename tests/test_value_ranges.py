@@ -74,6 +74,8 @@ def test_check_refuses_what_the_commands_refuse(cases_dir, tmp_path, capsys):
 def test_warm_up_duration_bounded(cases_dir, capsys, monkeypatch, hours):
     """--duration-h outside (0, 100] h: refused in one line before the heat balance."""
     from toothfem import durability
+    from toothfem import maps  # noqa: F401 (binds heat_balance by name: imported before the
+    # patch, else a first import under it keeps `never` for the worker's later tests)
 
     def never(*a, **kw):
         raise AssertionError("computed before --duration-h was checked")
