@@ -300,6 +300,21 @@ def clean_rows(body, header, columns, checked, free, i_abs, start):
     :func:`~toothfem.efficiency.loop.measured.parse_measured` then reads (1e6 rows: 2.8 s
     against 5 s, the same values).
 
+    Parameters
+    ----------
+    body : list of str
+        The header line and the rows, as split into lines.
+    header : list of str
+        The column names.
+    columns : dict
+        quantity or column -> (index, factor, offset) (:func:`_columns`).
+    checked, free : list of str
+        The quantities whose bad cell refuses a row, and the further covariates.
+    i_abs : float or None
+        The ratio's magnitude (the efficiency from torques, its check).
+    start : int
+        The header's index among the file's lines (a row's line number follows from it).
+
     Returns
     -------
     tuple or None
