@@ -2,7 +2,9 @@
 
 Every key of the three seed cases gets values a careless or hostile user might write (a
 number as a string, a bool, a table, an array, zero, negatives, 1e-300, 1e300, inf, NaN,
-huge integers, the value x 1000 and x 0.001); the files get encodings and byte-order marks.
+huge integers, the value x 1000 and x 0.001), and 1e300 goes into every numeric key of
+[material], [bearings] and [thermal] a seed case leaves at its default; the files get
+encodings and byte-order marks.
 Each variant runs ``toothfem check`` and, when accepted, ``efficiency`` (analytic loads)
 and ``geometry``, each in a forked child with a memory limit and a time limit.
 
@@ -129,18 +131,36 @@ def variants(doc: dict):
         for label, new in values.items():
             yield label, path, _set(doc, path, new)
         yield "missing", path, _set(doc, path, _DELETE)
+    for path in absent_numeric_keys(doc):      # keys the seed case leaves at their default
+        yield "huge-absent", path, _set(doc, path, 1e300)
     yield "unknown-key", ("case", "colour"), _set(doc, ("case", "colour"), "red")
     yield "unknown-section", ("gearbox",), _set(doc, ("gearbox",), {"x": 1})
 
 
 _DELETE = object()
+#: Sections whose numeric keys are tried at 1e300 where a seed case does not set them (issue
+#: 45: the external loads, the bearings' sizes and the thermal keys had no upper bound).
+ABSENT_SECTIONS = ("material", "bearings", "thermal")
+
+
+def absent_numeric_keys(doc: dict):
+    """(section, key) of the numeric keys of :data:`ABSENT_SECTIONS` the document lacks."""
+    import dataclasses
+
+    from toothfem.case import _SECTIONS
+    from toothfem.case_checks import expected_type
+    for sec in ABSENT_SECTIONS:
+        for f in dataclasses.fields(_SECTIONS[sec]):
+            if f.metadata and f.metadata.get("choices") is None \
+                    and expected_type(f) != "string" and f.name not in doc.get(sec, {}):
+                yield sec, f.name
 
 
 def _set(doc, path, value):
     out = json.loads(json.dumps(doc, allow_nan=True))
     d = out
     for k in path[:-1]:
-        d = d[k]
+        d = d.setdefault(k, {}) if isinstance(k, str) else d[k]
     if value is _DELETE:
         del d[path[-1]]
     else:

@@ -187,10 +187,28 @@ def central_film_thickness_line(ve, eta0, r_eq, w_per_length, *, e_prime=E_PRIME
     w = _array("w_per_length", w_per_length, 0.0, lo_open=True, why="load per length [N/m]")
     ep = _array("e_prime", e_prime, 0.0, lo_open=True, why="E' = 2E* [Pa]")
     al = _array("pressure_viscosity", pressure_viscosity, 0.0, lo_open=True, why="alpha [1/Pa]")
-    U = eta * u / (ep * r)
-    G = al * ep
-    W = w / (ep * r)
-    return _out(3.06 * r * U**0.69 * G**0.56 * W**-0.10)
+    return _out(film_core(u, eta, r, w, ep, al))
+
+
+def film_core(ve, eta0, r_eq, w_per_length, e_prime, pressure_viscosity):
+    """:func:`central_film_thickness_line` of arguments already checked (positive and
+    finite; broadcast together): the formula alone, for a caller that checked its inputs
+    once (:func:`toothfem.efficiency.contact_friction.contact_mu`).
+
+    Parameters
+    ----------
+    ve, eta0, r_eq, w_per_length, e_prime, pressure_viscosity : numpy.ndarray or float
+        As :func:`central_film_thickness_line`'s.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        h_c [m], the broadcast shape.
+    """
+    U = eta0 * ve / (e_prime * r_eq)
+    G = pressure_viscosity * e_prime
+    W = w_per_length / (e_prime * r_eq)
+    return 3.06 * r_eq * U**0.69 * G**0.56 * W**-0.10
 
 
 def minimum_film_thickness_line(ve, eta0, r_eq, w_per_length, *, e_prime=E_PRIME_STEEL,
@@ -296,7 +314,6 @@ def ehl_xu2007(ph, sr, ve, eta0, r, roughness, *, e_prime=E_PRIME_STEEL,
     ToothfemError
         Naming the first argument outside its range.
     """
-    b1, b2, b3, b4, b5, b6, b7, b8, b9 = XU2007_COEFFICIENTS
     ph_a = _array("ph", ph, 0.0, lo_open=True, why="maximum Hertz pressure [Pa]")
     sr_a = _array("sr", sr, why="slide-to-roll ratio [-]")
     ve_a = _array("ve", ve, 0.0, lo_open=True, why="mean entraining velocity [m/s]")
@@ -306,19 +323,11 @@ def ehl_xu2007(ph, sr, ve, eta0, r, roughness, *, e_prime=E_PRIME_STEEL,
     ep = _array("e_prime", e_prime, 0.0, lo_open=True, why="E' = 2E* [Pa]")
     lam_min = _array("lambda_min", lambda_min, 0.0, why="full-film threshold [-]")
 
-    # SI -> regression units
-    p_gpa = ph_a * GPA_PER_PA
-    nu_cp = eta_a * CP_PER_PA_S
-    s_um = s_a * UM_PER_M
-    a_sr = np.abs(sr_a)
-
-    x = a_sr * p_gpa * np.log10(nu_cp)
-    f = b1 + b4 * x + b5 * np.exp(-x) + b9 * np.exp(s_um)
-    mu = np.exp(f) * p_gpa**b2 * a_sr**b3 * ve_a**b6 * nu_cp**b7 * r_a**b8
-
-    w = 2.0 * math.pi * ph_a**2 * r_a / ep              # N/m, Hertz with E* = E'/2
-    h_c = np.asarray(central_film_thickness_line(
-        ve_a, eta_a, r_a, w, e_prime=ep, pressure_viscosity=pressure_viscosity))
+    al = _array("pressure_viscosity", pressure_viscosity, 0.0, lo_open=True, why="alpha [1/Pa]")
+    mu = xu2007_core(ph_a, sr_a, ve_a, eta_a, r_a, s_a)
+    w = _array("w_per_length", hertz_load(ph_a, r_a, ep), 0.0, lo_open=True,
+               why="load per length [N/m]")
+    h_c = np.asarray(film_core(ve_a, eta_a, r_a, w, ep, al))
     with np.errstate(divide="ignore"):
         lam = np.where(s_a > 0.0, h_c / np.where(s_a > 0.0, s_a, 1.0), np.inf)
     low = lam < lam_min
@@ -333,6 +342,50 @@ def ehl_xu2007(ph, sr, ve, eta0, r, roughness, *, e_prime=E_PRIME_STEEL,
     mu = np.broadcast_to(mu, shape)
     return FrictionResult(mu=_out(mu), film_ratio=_out(np.broadcast_to(lam, shape)),
                           film_thickness=_out(np.broadcast_to(h_c, shape)))
+
+
+def xu2007_core(ph, sr, ve, eta0, r, roughness):
+    """:func:`ehl_xu2007`'s friction coefficient of arguments already checked (in their
+    ranges; broadcast together): the regression alone, for a caller that checked its
+    inputs once (:func:`toothfem.efficiency.contact_friction.contact_mu`).
+
+    Parameters
+    ----------
+    ph, sr, ve, eta0, r, roughness : numpy.ndarray or float
+        As :func:`ehl_xu2007`'s, SI.
+
+    Returns
+    -------
+    numpy.ndarray or float
+        mu [-], the broadcast shape.
+    """
+    b1, b2, b3, b4, b5, b6, b7, b8, b9 = XU2007_COEFFICIENTS
+    # SI -> regression units
+    p_gpa = ph * GPA_PER_PA
+    nu_cp = eta0 * CP_PER_PA_S
+    s_um = roughness * UM_PER_M
+    a_sr = np.abs(sr)
+
+    x = a_sr * p_gpa * np.log10(nu_cp)
+    f = b1 + b4 * x + b5 * np.exp(-x) + b9 * np.exp(s_um)
+    return np.exp(f) * p_gpa**b2 * a_sr**b3 * ve**b6 * nu_cp**b7 * r**b8
+
+
+def hertz_load(ph, r, e_prime):
+    """Load per length [N/m] of a Hertz line contact of peak pressure ``ph`` [Pa] and
+    equivalent radius ``r`` [m]: w = pi ph^2 R / E* = 2 pi ph^2 R / E'.
+
+    Parameters
+    ----------
+    ph, r, e_prime : numpy.ndarray or float
+        Peak pressure [Pa], equivalent radius [m], E' = 2 E* [Pa].
+
+    Returns
+    -------
+    numpy.ndarray or float
+        w [N/m].
+    """
+    return 2.0 * math.pi * ph**2 * r / e_prime
 
 
 # --------------------------------------------------------------------------- B & K

@@ -100,41 +100,53 @@ def asperity_load_share(lam, ph, hardness):
 
     # asperities that carry all but SATURATED of the load even with that little film left
     full = rhs(1.0 - SATURATED, lam_a, ratio) >= 1.0
+    share = np.ones(lam_a.shape)
+    lam_r, ratio_r = lam_a[~full], ratio[~full]
     # and films so thick that the asperities' share is below SATURATED (f = its first order)
-    first = rhs(0.0, lam_a, ratio)
-    share = np.where(full, 1.0, first)
-    part = ~full & (first >= SATURATED)
-    share[part] = _newton_share(lam_a[part], ratio[part])
+    first = rhs(0.0, lam_r, ratio_r)
+    part = first >= SATURATED
+    first[part] = _newton_share(lam_r[part], ratio_r[part], below=first[part] < 1.0)
+    share[~full] = first
     out[active] = share
     return out
 
 
-def _newton_share(lam, ratio):
+def _newton_share(lam, ratio, below=None):
     """The share f where f = k BR(lam (1 - f)^-0.1), solved for the film's separation
     x = lam (1 - f)^-0.1 instead (f = 1 - (lam/x)^10 is steep near 1 in f, smooth in x):
     G(x) = 1 - (lam/x)^10 - k BR(x) rises through 0 once between x = lam (G <= 0) and
     lam + SEPARATION_SPAN (G near 1). Newton from the left, at the larger of lam and
     BR^-1(1/k) (where G = -(lam/x)^10 <= 0), each step kept inside the bracket (bisecting
-    where it leaves), until |G| < NEWTON_TOL (f to 1e-7 or better)."""
+    where it leaves), until |G| < NEWTON_TOL (f to 1e-7 or better). ``below``: where
+    k BR(lam) < 1 (BR^-1(1/k) is below lam there: the start is lam without the inverse),
+    when the caller knows it.
+
+    The contacts still stepping are kept together (those converged leave the arrays after
+    their last step), so a step's work goes with the contacts it moves."""
     lo, hi = lam.copy(), lam + SEPARATION_SPAN
+    x = lam.copy()
+    need = np.ones(lam.size, bool) if below is None else ~below
     with np.errstate(invalid="ignore"):
-        start = math.sqrt(2.0) * erfcinv(np.minimum(2.0 / ratio, 1.0))
-    x = np.clip(np.maximum(lam, start), lo, hi)
+        start = math.sqrt(2.0) * erfcinv(np.minimum(2.0 / ratio[need], 1.0))
+    x[need] = np.clip(np.maximum(lam[need], start), lo[need], hi[need])
     todo = np.arange(lam.size)
+    xt, lt, kt = x, lam, ratio
     for _ in range(NEWTON_STEPS):
-        xt, lt, kt = x[todo], lam[todo], ratio[todo]
         q = (lt / xt) ** 10
         g = 1.0 - q - kt * bearing_ratio(xt)
         left = g < 0
-        lo[todo] = np.where(left, xt, lo[todo])
-        hi[todo] = np.where(left, hi[todo], xt)
+        lo = np.where(left, xt, lo)
+        hi = np.where(left, hi, xt)
         slope = 10.0 * q / xt + kt * np.exp(-0.5 * xt * xt) / SQRT_2PI
         step = xt - g / slope
-        ok = (step >= lo[todo]) & (step <= hi[todo])
-        x[todo] = np.where(ok, step, 0.5 * (lo[todo] + hi[todo]))
-        todo = todo[np.abs(g) >= NEWTON_TOL]
+        xt = np.where((step >= lo) & (step <= hi), step, 0.5 * (lo + hi))
+        going = np.abs(g) >= NEWTON_TOL
+        if not going.all():
+            x[todo[~going]] = xt[~going]          # converged: its last step taken
+            todo, xt, lt, kt, lo, hi = (a[going] for a in (todo, xt, lt, kt, lo, hi))
         if todo.size == 0:
             break
+    x[todo] = xt
     return 1.0 - (lam / x) ** 10
 
 

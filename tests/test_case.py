@@ -118,7 +118,7 @@ RULES = [
     ("sine_prototype.toml", "sine.centre_distance_mm", 0.5,
      "sine.centre_distance_mm = 0.5 is not module*(ring_teeth-planet_teeth)/2 = 0.45"),
     ("sine_prototype.toml", "sine.tooth_height_mm", -0.4,
-     "sine.tooth_height_mm = -0.4 is outside the valid range (0, inf)"),
+     "sine.tooth_height_mm = -0.4 is outside the valid range (0, 100]"),
     ("sine_prototype.toml", "lubricant.dynamic_viscosity_Pa_s", 0.0,
      "lubricant.dynamic_viscosity_Pa_s = 0.0 is outside the valid range [0.0001, 10]"),
     ("sine_prototype.toml", "lubricant.roughness_Ra_um", -0.1,

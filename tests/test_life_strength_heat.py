@@ -164,7 +164,7 @@ def test_bad_bearing_and_duty_input(cases):
     d = case_to_dict(cases["rv40e"])
     d["bearings"]["eccentric_dynamic_rating_kN"] = -14.0
     with pytest.raises(CaseError, match=r"bearings.eccentric_dynamic_rating_kN = -14.0 is "
-                                        r"outside the valid range \(0, inf\)"):
+                                        r"outside the valid range \(0, 100000\]"):
         parse_case(d)
     d = case_to_dict(cases["rv40e"])
     d["duty_cycle"] = [{"output_torque_Nm": 412.0, "input_speed_rpm": 1815.0,

@@ -162,3 +162,39 @@ def test_no_good_row_lost(rows):
     np.testing.assert_array_equal(d.speed_rpm, [g[0] for g in good])
     np.testing.assert_array_equal(d.efficiency, [g[2] for g in good])
     assert [r.line for r in d.rejected] == bad_lines
+
+
+@pytest.mark.parametrize("bad", [None, "1000,-5,0.8,0.5,40,0.1,r1,x",
+                                 '1000,5,"0.8",0.5,40,0.1,r1,x', "",
+                                 "1000,5,0.8,0.5,40,0.1,r1,x,"])
+def test_a_plain_file_read_at_once_gives_the_row_loop_s_record(monkeypatch, bad):
+    """A plain comma-separated file of good rows is read column by column (clean_rows);
+    the record is the row loop's, value for value; a file with a bad row, a quoted cell, a
+    blank line or a trailing comma is read by the row loop (its refusals and line numbers)."""
+    from toothfem.efficiency.loop import measured_columns as mc
+
+    rng = np.random.default_rng(5)
+    rows = [f"{a:.6g},{t:.6g},{e:.6g},{t / (51 * e):.9g},{c:.4g},{h:.6g},r{k % 3}, {v:.3g}"
+            for k, (a, t, e, c, h, v) in enumerate(zip(
+                rng.uniform(100, 3000, 300), rng.uniform(1, 200, 300),
+                rng.uniform(0.5, 0.95, 300), rng.uniform(20, 90, 300),
+                np.arange(300) / 60, rng.normal(size=300)))]
+    if bad is not None:
+        rows.insert(150, bad)
+    text = "\n".join(["# source: rig", "input_speed_rpm,output_torque_Nm,efficiency,"
+                      "input_torque_Nm,oil_temp_C,time_h,run_id,vibration_mm_s"] + rows)
+    seen = []
+    monkeypatch.setattr(ms, "clean_rows", lambda *a: seen.append(mc.clean_rows(*a)) or seen[-1])
+    at_once = parse_measured(text, ratio=51)
+    monkeypatch.setattr(ms, "clean_rows", lambda *a: None)
+    by_rows = parse_measured(text, ratio=51)
+    assert (seen[0] is None) == (bad is not None)
+    for f in ("speed_rpm", "torque_Nm", "efficiency", "oil_temp_C", "time_h", "run_id",
+              "input_torque_Nm", "lines"):
+        a, b = getattr(at_once, f), getattr(by_rows, f)
+        assert np.array_equal(a, b) and np.asarray(a).dtype == np.asarray(b).dtype, f
+    assert at_once.extra.keys() == by_rows.extra.keys() == {"vibration_mm_s"}
+    assert np.array_equal(at_once.extra["vibration_mm_s"], by_rows.extra["vibration_mm_s"])
+    assert (at_once.rejected, at_once.notes, at_once.provenance) == \
+        (by_rows.rejected, by_rows.notes, by_rows.provenance)
+    assert len(at_once) == 300          # the good rows; the bad one refused or skipped

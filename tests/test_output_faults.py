@@ -8,7 +8,9 @@ the new result for the old one leaves a whole result under the name (the exchang
 step), and, where the platform has no exchange, the next run puts the old one back; a
 file-size limit (RLIMIT_FSIZE, in the child) leaves nothing under the final name and one
 error line naming ``--out``, and a cache that cannot be written is one warning line, the
-sweep's result written and exit 0; an output name that is not UTF-8 is written.
+sweep's result written and exit 0; an output name that is not UTF-8 is written; a
+read-only output folder of a user who is not root (as root: a forked child that drops to
+nobody) is refused in one line naming ``--out`` as given.
 """
 from __future__ import annotations
 
@@ -319,3 +321,65 @@ def test_a_journal_that_cannot_be_written_is_one_line(cases_dir, tmp_path):
     assert err[0].startswith(f"toothfem sweep: error: --out {out}: its finished points "
                              "cannot be kept beside it (File too large);"), err
     assert "finished points kept beside" in err[0] and not out.exists()
+
+
+def _as_nobody_or_self(argv, cwd: Path) -> tuple[int, str]:
+    """Exit code and stderr of ``toothfem ARGV`` run by a user who is not root: this user
+    where it is not root; as root, a forked child that drops to ``nobody`` (os.setuid) and
+    calls the CLI in the same interpreter (root's Python may sit where nobody cannot read
+    it; the modules the refusal needs are loaded by a first run as root)."""
+    from toothfem import cli
+
+    if os.geteuid() != 0:
+        done = subprocess.run(CLI + argv, capture_output=True, cwd=cwd, timeout=300)
+        return done.returncode, done.stderr.decode()
+    import pwd
+    nobody = pwd.getpwnam("nobody")
+    cli.main([argv[0], argv[1], "--out", "/proc/res"])     # the refusal's modules loaded
+    r, w = os.pipe()
+    pid = os.fork()
+    if pid == 0:                                            # the child: nobody from here
+        code = 99
+        try:
+            os.close(r)
+            os.dup2(w, 2)
+            sys.stderr = os.fdopen(2, "w", closefd=False)
+            os.setgroups([])
+            os.setgid(nobody.pw_gid)
+            os.setuid(nobody.pw_uid)
+            os.chdir(cwd)
+            code = cli.main(argv)
+            sys.stderr.flush()
+        except BaseException as exc:        # said on the pipe, the test fails on it
+            os.write(2, f"child: {exc!r}".encode())
+        finally:
+            os._exit(code)
+    os.close(w)
+    with os.fdopen(r, "rb") as fh:
+        err = fh.read().decode()
+    return os.waitstatus_to_exitcode(os.waitpid(pid, 0)[1]), err
+
+
+def test_a_read_only_output_folder_of_a_user_is_one_line_naming_out(cases_dir, capsys):
+    """A user who cannot write the output's folder (not root, who writes anywhere): exit 2,
+    one line naming ``--out`` as given (no hidden temporary folder), nothing left there."""
+    import shutil
+    import tempfile
+
+    base = Path(tempfile.mkdtemp(prefix="toothfem-ro-"))      # nobody may look in, not write
+    try:
+        base.chmod(0o755)
+        (base / "ro").mkdir(mode=0o555)
+        (base / "ro").chmod(0o555)
+        code, err = _as_nobody_or_self(
+            ["geometry", str(cases_dir / "sine_prototype.toml"), "--out", "ro/res"], base)
+        capsys.readouterr()                                   # the root run's own line
+        lines = err.strip().splitlines()
+        assert code == 2 and len(lines) == 1, err
+        assert lines[0].startswith("toothfem geometry: error: --out ro/res: its folder "
+                                   "cannot be written (Permission denied)"), err
+        assert list((base / "ro").iterdir()) == [] and sorted(p.name for p in base.iterdir()) \
+            == ["ro"]
+    finally:
+        (base / "ro").chmod(0o755)
+        shutil.rmtree(base)

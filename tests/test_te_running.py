@@ -223,3 +223,42 @@ def test_each_selection_step_is_handed_on_as_it_finishes(cases_dir, tmp_path):
     assert journal                              # step 1 on disk as it finished
     assert sorted(p.name for p in tmp_path.iterdir()) == ["loop"]
     assert (out / "report.md").exists() and (out / "widths.png").exists()
+
+
+@pytest.mark.parametrize("demo", ["rv40e_crank_play", "rv40e_running"])
+def test_an_output_angle_in_radians_labelled_deg_is_warned(cases_dir, tmp_path, demo):
+    """The demos' output angle in radians under its deg label (a whole sweep, and windows
+    spread over a turn): one warning line naming the column and radians (the same for every
+    file), a note naming each file; the demos as written: none (issue 45: it passed
+    silently, or ended in an internal error)."""
+    import math
+    import warnings
+
+    from toothfem.efficiency.loop.te.recordings import read_te_recordings
+
+    src = cases_dir.parent / "data" / "demo" / "te" / demo
+    files = sorted(src.glob("te_*.csv"))
+    for f in files:
+        lines, header = [], None
+        for line in f.read_text(encoding="utf-8").splitlines():
+            if not line.startswith("#"):
+                if header is None:
+                    header = line.split(",")
+                    j = header.index("output_angle_deg")
+                else:
+                    cells = line.split(",")
+                    cells[j] = f"{math.radians(float(cells[j])):.9g}"
+                    line = ",".join(cells)
+            lines.append(line)
+        (tmp_path / f.name).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    for folder, expected in ((src, 0), (tmp_path, 1)):
+        with warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            rec = read_te_recordings(sorted(folder.glob("te_*.csv")), progress=False)
+        said = {str(w.message) for w in seen}          # one line, the same for every file
+        assert len(said) == expected, said
+    line = said.pop()
+    assert "\n" not in line and line.startswith("'output_angle_deg'"), line
+    assert "radians under a deg label" in line, line
+    noted = [n for n in rec.notes if "output angle in radians?" in n]
+    assert len(noted) == len(files) and all("'output_angle_deg' spans" in n for n in noted)

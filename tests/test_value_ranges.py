@@ -4,7 +4,8 @@ refused at load (so by `check` and by every command) in one line naming the key.
 Facts checked: [published] figures in their unit's range and a [lo, hi] range in order;
 the duty cycle's torque and speed in [operating]'s ranges; the supports' sizes bounded
 (`check` refuses what a command would fail on); `efficiency --thermal --duration-h`
-bounded, before any work.
+bounded, before any work; every numeric key of the schema with a finite upper bound, and
+1e300 in each key that had none refused naming it, by `check` and by a command alike.
 """
 from __future__ import annotations
 
@@ -25,7 +26,7 @@ def _with(cases_dir, name, dotted, value):
     node = raw
     *path, last = dotted.split(".")
     for k in path:
-        node = node[k] if not k.isdigit() else node[int(k)]
+        node = node.setdefault(k, {}) if not k.isdigit() else node[int(k)]
     node[last] = value
     return raw
 
@@ -73,6 +74,8 @@ def test_check_refuses_what_the_commands_refuse(cases_dir, tmp_path, capsys):
 def test_warm_up_duration_bounded(cases_dir, capsys, monkeypatch, hours):
     """--duration-h outside (0, 100] h: refused in one line before the heat balance."""
     from toothfem import durability
+    from toothfem import maps  # noqa: F401 (binds heat_balance by name: imported before the
+    # patch, else a first import under it keeps `never` for the worker's later tests)
 
     def never(*a, **kw):
         raise AssertionError("computed before --duration-h was checked")
@@ -109,3 +112,70 @@ def test_meshing_names_its_argument_for_a_grid_of_angles_or_a_case(cases_dir):
             call()
         assert text in str(exc.value), str(exc.value)
     assert cycloid_mesh.meshing(cyc.cycloid.geometry(), 0.1).gap.shape == (1, 40)
+
+
+def _schema_sections():
+    """Every section of the case schema (the dataclasses of the case modules that check
+    their keys against the ranges in their fields' metadata), with the [case] table."""
+    import dataclasses
+
+    from toothfem import case, case_design, case_running, case_sections
+    seen = {case.Case}
+    for module in (case_sections, case_running, case_design):
+        seen |= {c for c in vars(module).values() if isinstance(c, type)
+                 and issubclass(c, case_sections._Section) and dataclasses.is_dataclass(c)
+                 and c.__module__ == module.__name__}
+    return sorted(seen, key=lambda c: c.__name__)
+
+
+def test_every_numeric_key_has_an_upper_bound():
+    """Each number a case can hold has a finite upper bound in its key's range (issue 45:
+    1e300 in a bearing or thermal key passed `check` and ended in a command's overflow)."""
+    import dataclasses
+    import math
+
+    from toothfem.case_checks import expected_type
+    unbounded = [f"{cls.__name__}.{f.name}" for cls in _schema_sections()
+                 for f in dataclasses.fields(cls)
+                 if f.metadata and f.metadata.get("choices") is None
+                 and expected_type(f) != "string"
+                 and not math.isfinite(f.metadata.get("hi") or math.inf)]
+    assert len(_schema_sections()) > 15 and unbounded == [], unbounded
+
+
+#: The keys that had no upper bound until issue 45, each with a case that has its section.
+BOUNDED_AT_LAST = [
+    ("rv40e.toml", f"material.{k}") for k in (
+        "allowable_contact_stress_MPa", "static_contact_stress_MPa", "yield_strength_MPa",
+        "fatigue_limit_MPa")] + [
+    ("cycloid_khv.toml", "cycloid.housing_outer_radius_mm"),
+    ("sine_prototype.toml", "sine.tooth_height_mm"),
+    ("sine_prototype.toml", "sine.centre_distance_mm")] + [
+    ("rv40e.toml", f"bearings.{k}") for k in (
+        "eccentric_pitch_diameter_mm", "eccentric_dynamic_rating_kN", "main_pitch_diameter_mm",
+        "main_dynamic_rating_kN", "main_span_mm", "main_preload_N", "external_radial_load_N",
+        "external_axial_load_N", "external_moment_Nm", "external_radial_offset_mm",
+        "external_axial_radius_mm")] + [
+    ("rv40e.toml", f"thermal.{k}") for k in ("housing_area_m2", "heat_capacity_J_K")]
+
+
+@pytest.mark.parametrize("name, key", BOUNDED_AT_LAST)
+def test_1e300_refused_in_one_line_naming_the_key(cases_dir, name, key):
+    with pytest.raises(CaseError) as exc:
+        parse_case(_with(cases_dir, name, key, 1e300))
+    msg = str(exc.value)
+    assert f"{key} = 1e+300 is outside the valid range" in msg and "\n" not in msg, msg
+
+
+@pytest.mark.parametrize("command", [["check"], ["efficiency", "--thermal"]])
+def test_every_command_refuses_an_external_load_of_1e300(cases_dir, tmp_path, capsys,
+                                                         command):
+    """`check` and a command share the loader: exit 2, one line naming the key."""
+    text = (cases_dir / "rv40e.toml").read_text()
+    assert "\n[bearings]" in text
+    case = tmp_path / "rv.toml"
+    case.write_text(text.replace("\n[bearings]", "\n[bearings]\nexternal_radial_load_N = 1e300",
+                                 1))
+    assert cli.main([command[0], str(case), *command[1:]]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "bearings.external_radial_load_N = 1e+300" in err, err

@@ -54,6 +54,30 @@ DRAG_NMM = (0.0, 1e6)
 STATED_RATIO_MAX = 1e5
 #: Smallest mesh efficiency accepted: below it the pair is not a working gear mesh.
 MESH_EFFICIENCY_MIN = 0.5
+#: A material's stress limits [MPa]: no surface of the hardness range (up to 2000 HV, a
+#: flow pressure of 19.6 GPa) carries more.
+STRESS_MPA = (0.0, 20000.0)
+#: Basic load rating of one bearing [kN]: the largest rolling bearings made (slewing rings
+#: of several metres) rate about 2e4 kN.
+BEARING_RATING_KN = (0.0, 1e5)
+#: External loads on the output [N]: above the largest rating (BEARING_RATING_KN) any
+#: bearing's ISO 281 life is below one million revolutions.
+EXTERNAL_LOAD_N = (0.0, 1e3 * BEARING_RATING_KN[1])
+#: Moment arms of the external loads [mm]: 10 m is a crane's jib, not a reducer's output.
+LOAD_ARM_MM = (0.0, 10000.0)
+#: External tilting moment [N m]: the largest load on the longest arm.
+EXTERNAL_MOMENT_NM = (0.0, EXTERNAL_LOAD_N[1] * LOAD_ARM_MM[1] / 1000.0)
+#: Axial preload of a main bearing row [N]: a tenth of the largest rating (makers' matched
+#: pairs are preloaded with a few % of C0).
+PRELOAD_N = (0.0, 0.1 * EXTERNAL_LOAD_N[1])
+#: Bearing pitch diameters [mm]: within the largest housing (RADIUS_MM, a radius).
+PITCH_DIAMETER_MM = (0.0, 2 * RADIUS_MM[1])
+#: Housing surface [m²]: a cylinder of the largest housing (RADIUS_MM's 2 m radius) as long
+#: as its diameter has 6 pi (2 m)² = 75 m².
+HOUSING_AREA_M2 = (0.0, 100.0)
+#: Lumped heat capacity [J/K]: that whole housing solid steel, pi (2 m)² 4 m 7850 kg/m³ x
+#: 450 J/(kg K) = 1.8e8 J/K.
+HEAT_CAPACITY_J_K = (0.0, 2e8)
 
 
 def expected_type(f) -> str:

@@ -7,7 +7,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .case_checks import DRAG_NMM, INPUT_TORQUE_NM, POWER_KW, RADIUS_MM, SPEED_RPM, TORQUE_NM
+from .case_checks import (BEARING_RATING_KN, DRAG_NMM, EXTERNAL_LOAD_N, EXTERNAL_MOMENT_NM,
+                          HEAT_CAPACITY_J_K, HOUSING_AREA_M2, INPUT_TORQUE_NM, LOAD_ARM_MM,
+                          PITCH_DIAMETER_MM, POWER_KW, PRELOAD_N, RADIUS_MM, SPEED_RPM,
+                          SUPPORT_MM, TORQUE_NM)
 from .case_sections import _f, _Section
 from .errors import CaseError, check_range
 
@@ -213,13 +216,13 @@ class Bearings(_Section):
                                            "bearings (Nabtesco's RV construction): the "
                                            "system model's rollers; another type is refused")
     eccentric_pitch_diameter_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None,
+        *PITCH_DIAMETER_MM, lo_open=True, default=None,
         doc="checked to lie between the journal and the hole (refused naming the hole's key)",
         unset="the rollers' pitch circle",
         source="the system model's rollers: the hole less one roller diameter (2K-V crank "
                "hole, K-H-V centre bore); 2 r_p plus one roller (sine)")
     eccentric_dynamic_rating_kN: float | None = _f(
-        0.0, None, lo_open=True, default=None,
+        *BEARING_RATING_KN, lo_open=True, default=None,
         doc="basic dynamic load rating C of one eccentric bearing (ISO 281); refused above "
             "1.3x the rating of the rolling set that fits the hole",
         unset="ISO 281 of the rollers that fit (sine: no life)",
@@ -230,11 +233,11 @@ class Bearings(_Section):
                         source="the RV-E's built-in main bearings; ISO 281:2007 Table 3 of a "
                                "40 deg contact: X = 0.35, Y = 0.57, e = 1.14")
     main_pitch_diameter_mm: float | None = _f(
-        0.0, None, lo_open=True, default=None,
+        *PITCH_DIAMETER_MM, lo_open=True, default=None,
         unset="the pin-circle diameter (sine: 2 (R_w + r_x))",
         source="ASSUMPTION: the rows at the pin circle (Palmgren drag without an oil bath)")
     main_dynamic_rating_kN: float | None = _f(
-        0.0, None, lo_open=True, default=None,
+        *BEARING_RATING_KN, lo_open=True, default=None,
         doc="basic dynamic load rating C of one main bearing row (ISO 281)",
         unset="ISO 281 of an assumed ball set (sine: none)",
         source="ASSUMPTION: ISO 281 of a ball set with balls 6 % of the pitch diameter "
@@ -247,26 +250,26 @@ class Bearings(_Section):
             "L10m = a_ISO L10 of every bearing",
         unset="no modified life",
         source="none: ISO 281's basic rating life L10 alone")
-    main_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+    main_span_mm: float | None = _f(*SUPPORT_MM, lo_open=True, default=None,
                                     doc="distance between the load centres of the two rows",
                                     unset="needed with an external moment",
                                     source="none: needed only with an external moment")
-    main_preload_N: float | None = _f(0.0, None, default=None,
+    main_preload_N: float | None = _f(*PRELOAD_N, default=None,
                                       doc="axial preload of each main bearing row",
                                       unset="ASSUMPTION 2 % of the row's C0",
                                       source="ASSUMPTION: a light preload of makers' matched "
                                              "angular contact pairs is about 1-2 % of C0")
-    external_radial_load_N: float = _f(0.0, None, default=0.0, source=_NO_LOAD)
-    external_axial_load_N: float = _f(0.0, None, default=0.0, source=_NO_LOAD)
-    external_moment_Nm: float = _f(0.0, None, default=0.0,
+    external_radial_load_N: float = _f(*EXTERNAL_LOAD_N, default=0.0, source=_NO_LOAD)
+    external_axial_load_N: float = _f(*EXTERNAL_LOAD_N, default=0.0, source=_NO_LOAD)
+    external_moment_Nm: float = _f(*EXTERNAL_MOMENT_NM, default=0.0,
                                    doc="tilting moment on the output besides the one the "
                                        "offsets below give",
                                    source=_NO_LOAD)
-    external_radial_offset_mm: float = _f(0.0, None, default=0.0,
+    external_radial_offset_mm: float = _f(*LOAD_ARM_MM, default=0.0,
                                           doc="axial distance from the main pair's centre to "
                                               "the radial load's line (its moment arm)",
                                           source=_NO_LOAD)
-    external_axial_radius_mm: float = _f(0.0, None, default=0.0,
+    external_axial_radius_mm: float = _f(*LOAD_ARM_MM, default=0.0,
                                          doc="distance from the axis to the axial load's line "
                                              "(its moment arm)",
                                          source=_NO_LOAD)
@@ -280,7 +283,7 @@ class Thermal(_Section):
     ambient_C: float = _f(-40.0, 100.0, default=20.0,
                           doc="ambient air; within [pour point, max_temperature_C) of the oil",
                           source="ASSUMPTION: a laboratory")
-    housing_area_m2: float | None = _f(0.0, None, lo_open=True, default=None,
+    housing_area_m2: float | None = _f(*HOUSING_AREA_M2, lo_open=True, default=None,
                                        doc="surface that sheds heat",
                                        unset="6 pi r² of the housing radius r",
                                        source="ASSUMPTION: a cylinder of the housing radius as "
@@ -298,7 +301,7 @@ class Thermal(_Section):
                            doc="of the housing's surface (radiation)",
                            source="painted housing: Incropera & DeWitt, Fundamentals of Heat "
                                   "and Mass Transfer, Table A.11 (paints 0.90-0.98)")
-    heat_capacity_J_K: float | None = _f(0.0, None, lo_open=True, default=None,
+    heat_capacity_J_K: float | None = _f(*HEAT_CAPACITY_J_K, lo_open=True, default=None,
                                          doc="lumped heat capacity",
                                          unset="half the housing envelope in steel at "
                                                "450 J/(kg K)",

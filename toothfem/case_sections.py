@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from .units import M_PER_MM, MM_PER_M
 from .case_checks import (CARRIER_NM_PER_ARCMIN, DRAG_NMM, ECCENTRICITY_MM, FACE_WIDTH_MM,
                           HOUSING_WALL_MAX, MESH_EFFICIENCY_MIN, MODULE_MM, PIN_RADIUS_MM,
-                          RADIUS_MM, SUPPORT_MM, check_type, expected_type)
+                          RADIUS_MM, STRESS_MPA, SUPPORT_MM, check_type, expected_type)
 from .errors import CaseError, GeometryError, check_range
 from .geometry.cycloid import CycloidGeometry
 from .geometry.disc import DiscHolesSI, disc_polygon
@@ -40,7 +40,7 @@ def _f(lo=None, hi=None, *, lo_open=False, hi_open=False, default=dataclasses.MI
 
 def _stress(default: float, doc: str, source: str):
     """A positive stress limit [MPa] with its default and the default's source."""
-    return _f(0.0, None, lo_open=True, default=default, doc=doc, source=source)
+    return _f(*STRESS_MPA, lo_open=True, default=default, doc=doc, source=source)
 
 
 class _Section:
@@ -209,7 +209,9 @@ class CycloidStage(_Section):
                                  source="an even split between the discs; the pin-housing "
                                         "paper's 1.1 covers manufacturing errors "
                                         "(docs/derivations.md C4)")
-    housing_outer_radius_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+    # at most the largest pin circle, a pin and a wall as thick as that circle (_check)
+    housing_outer_radius_mm: float | None = _f(0.0, 2 * RADIUS_MM[1] + PIN_RADIUS_MM[1],
+                                               lo_open=True, default=None,
                                                doc="outer radius of the pin housing",
                                                unset="the pin circle + 5 pin radii",
                                                source="ASSUMPTION: a wall of 4 pin radii "
@@ -328,9 +330,12 @@ class SineStage(_Section):
     planet_teeth: int = _f(10, 1000, integer=True)
     ring_teeth: int = _f(11, 1001, integer=True)
     module_mm: float = _f(*MODULE_MM)
-    tooth_height_mm: float = _f(0.0, None, lo_open=True)
+    # a tooth no taller than the largest module (the pair's own bound, a fraction of its
+    # module, is checked with its geometry)
+    tooth_height_mm: float = _f(0.0, MODULE_MM[1], lo_open=True)
     face_width_mm: float = _f(*FACE_WIDTH_MM)
-    centre_distance_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+    # inside the largest ring (RADIUS_MM)
+    centre_distance_mm: float | None = _f(0.0, RADIUS_MM[1], lo_open=True, default=None,
                                           doc="a0; checked against m (z2 - z1)/2",
                                           unset="m (z2 - z1)/2",
                                           source="the pitch circles roll: a0 = m (z2 - z1)/2 "

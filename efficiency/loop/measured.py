@@ -39,6 +39,7 @@ many locales) is read as a decimal point; ``notes`` says both.
 from __future__ import annotations
 
 import csv
+import math
 import io
 import json
 from dataclasses import dataclass, field
@@ -49,7 +50,8 @@ import numpy as np
 from ...errors import MeasuredDataError, decode_text
 from ...errors import ToothfemError  # noqa: F401 (re-exported)
 from .measured_columns import (QUANTITIES, _check_percent_column, _check_row, _columns,
-                               comment_lines, _free_columns, header_names, next_row, parse_number,
+                               clean_rows, comment_lines, _free_columns, header_names, next_row,
+                               parse_number,
                                _percent_hint)
 
 
@@ -216,8 +218,13 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
     cells_free: dict[str, list[str]] = {k: [] for k in free}
     run, rejected, line_no = [], [], []
     decimal_comma = False
+    clean = None if delimiter != "," else clean_rows(body, header, columns, checked, free,
+                                                      i_abs, start)
+    if clean is not None:       # a plain file of good rows: read column by column
+        values, cells_free, run, line_no = clean
+        body = []
     k = 0
-    while True:
+    while clean is None:
         line = start + 2 + k
         cells = next_row(reader, source, line)
         k += 1
@@ -237,10 +244,15 @@ def parse_measured(text: str, *, ratio=None, provenance=None, source="<string>",
         row = {}
         for key in checked if reason is None else ():
             j, f, o = columns[key]
-            v, why = parse_number(cells[j], header[j])
-            if why:
-                reason = why
-                break
+            try:                    # a finite number: parse_number's value, at once
+                v = float(cells[j])
+            except ValueError:
+                v = math.nan
+            if v - v != 0:          # NaN, infinite or not a number: its reason
+                v, why = parse_number(cells[j], header[j])
+                if why:
+                    reason = why
+                    break
             row[key] = f * v + o
         if reason is None:
             reason = _check_row(row, i_abs)

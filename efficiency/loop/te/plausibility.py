@@ -7,6 +7,13 @@ check and then fits to thousands of sigma. Against the case:
 - **torque**: a recorded output torque above :data:`TORQUE_LIMIT_RATED` times the rated torque
   (the catalogues' momentary limit is 5 times the rating at most; a staircase or a brake
   beyond it breaks the reducer) is a torque in another unit (N mm as N m: 1000x);
+- **output angle**: a recording sweeps the output through a revolution, or through
+  windows spread over it (the once-per-turn ripple, the mesh orders); one whose angles span
+  under :data:`SHORT_SWEEP_REVOLUTIONS` of a revolution in its labelled unit while their
+  numbers, read as radians, span a quarter revolution or more (pi/2 to about 2 pi) is a
+  turn in radians under a deg (arcmin, arcsec) label: warned, in one line naming the
+  column (the recordings' notes name each file), not refused (a short sweep in degrees is
+  possible);
 - **TE widths and twists**: the recordings' largest hysteresis width (or the loop's twist
   range) against the model's own at the same torques, the case as declared; a ratio beyond
   :data:`SCALE_LIMIT` either way is another unit (deg as arcsec: 3600x; arcmin as arcsec:
@@ -14,6 +21,9 @@ check and then fits to thousands of sigma. Against the case:
   play are within a few times the model's.
 """
 from __future__ import annotations
+
+import math
+import warnings
 
 import numpy as np
 
@@ -90,3 +100,52 @@ def check_scale(measured, model, what: str, column: str) -> None:
             f"{column}: the recorded {what} is {r:.3g}x the case's model's ({measured:.4g} "
             f"against {model:.4g}); a reducer differs from its model by less than "
             f"{SCALE_LIMIT:g}x either way: a unit slip ({_likely(r)})?")
+
+
+#: A recording's output angles spanning less than this share of a revolution in their
+#: labelled unit (10 deg: about a mesh period of a 36-pin drive) are a short sweep...
+SHORT_SWEEP_REVOLUTIONS = 1 / 36
+#: ... and, with their numbers spanning at least this many radians (a quarter revolution),
+#: likelier a turn in radians under another unit's label.
+RADIAN_SPAN_MIN = math.pi / 2
+#: The note :func:`angle_unit_note` writes (in report.md's notes on the recordings).
+ANGLE_NOTE = "output angle in radians?"
+
+
+def angle_unit_note(source, column, runs) -> tuple:
+    """A note on a file whose output angles look like radians under another unit's label,
+    and a warning naming the column (the same line for every file: said once).
+
+    Parameters
+    ----------
+    source : str
+        The file.
+    column : tuple
+        The output-angle column as the reader holds it: (index, radians per labelled unit,
+        offset, name); its unit is the name's suffix (rad: no note).
+    runs : iterable of .recordings.Run
+        The file's runs (their windows' first-to-last angle spans [rad, read with the
+        label]).
+
+    Returns
+    -------
+    tuple of str
+        One line naming the file, the column, its span and the likely unit; or none.
+    """
+    factor, name = column[1], column[3]
+    span = max((r.windows.span_rad for r in runs), default=0.0)
+    numbers = span / factor                     # the span in the column's own numbers
+    if factor == 1.0 or not (span < 2 * math.pi * SHORT_SWEEP_REVOLUTIONS
+                             and numbers >= RADIAN_SPAN_MIN):
+        return ()
+    unit = name.rsplit("_", 1)[-1]
+    # the warning the same for every file (said once), the note naming the file and span
+    warnings.warn(
+        f"{name!r}: a recording's output angles span under {SHORT_SWEEP_REVOLUTIONS * 360:g} "
+        f"deg of output while their numbers span a quarter revolution or more as radians: "
+        f"radians under a {unit} label (1 rad = "
+        f"{180 / math.pi:.4g} deg)? A TE recording sweeps the output through its revolution; "
+        "name the column by its unit (output_angle_rad)", stacklevel=3)
+    return (f"{source}: {ANGLE_NOTE} column {name!r} spans {numbers:.4g} {unit}, "
+            f"{span / (2 * math.pi):.2g} of a revolution; read as rad, "
+            f"{numbers / (2 * math.pi):.2g} of one",)

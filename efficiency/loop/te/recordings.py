@@ -30,15 +30,14 @@ column); the delimiter is the comma, or a semicolon or tab when the header has n
 and then a decimal comma is read as a point (as :mod:`..measured`). Unknown columns are
 skipped (a note says so).
 
-**Streaming.** Each file is read line by line (the csv module over the open file); the
-rows of one sweep (consecutive rows of one direction and one condition: a *run*) are kept
-as two float arrays only until the run ends, then reduced to a :class:`Run`: its mean TE
-(over the whole output revolutions of the spectrum's uniform grid, where whole orders
-integrate out; a run shorter than a revolution: the mean of its angle bins), its
-revolution-averaged TE in :data:`ANGLE_BINS` bins, and its spectrum up to ``max_order``
-(:mod:`.spectrum`). No raw row outlives its file, so hundreds
-of files of 1e5 rows take the memory of their reductions (tens of kB per run). A progress
-bar runs over the files (:func:`toothfem.bars.bar`).
+**Streaming.** Each file is read line by line (the csv module over the open file); the rows
+of one sweep (consecutive rows of one direction and one condition: a *run*) are kept as two
+float arrays only until the run ends, then reduced to a :class:`Run`: its mean TE (over the
+whole output revolutions of the spectrum's uniform grid, where whole orders integrate out; a
+run shorter than a revolution: the mean of its angle bins), its revolution-averaged TE in
+:data:`ANGLE_BINS` bins, and its spectrum up to ``max_order`` (:mod:`.spectrum`). No raw row
+outlives its file, so hundreds of files of 1e5 rows take the memory of their reductions
+(tens of kB per run). A progress bar runs over the files (:func:`toothfem.bars.bar`).
 
 **Refusals.** A bad file is refused in one line naming the file, and the line and column
 where it applies: no header, a required column missing, a column in an unknown unit, a
@@ -70,6 +69,7 @@ from .columns import (CONDITIONS, DIRECTION_WORDS, Condition, close, column,
 from .columns import name_pattern as compile_pattern
 from .spectrum import DEFAULT_MAX_ORDER, WINDOWS, Spectrum, te_spectrum
 from .windows import Windows, windows_of
+from .plausibility import angle_unit_note
 
 #: Bins of the revolution-averaged TE (0.1 deg of output angle). A bin's mean attenuates a
 #: ripple of order q by sin(x)/x, x = pi q / ANGLE_BINS: 0.2 % at order 121, 28 % at 1560
@@ -384,7 +384,7 @@ def read_te_file(path, *, name_pattern=None, angle_bins: int = ANGLE_BINS,
         notes = [f"{src}: column {name!r} not used" for name in ignored]
         runs = _read_te_rows(table, cols, fixed, bool(both), angle_bins, max_order, window,
                              notes)
-    return tuple(runs), tuple(notes)
+    return tuple(runs), tuple(notes) + angle_unit_note(src, cols["output_angle"], runs)
 
 
 def _read_te_rows(table, cols, fixed, sides, angle_bins, max_order, window, notes):

@@ -158,7 +158,8 @@ def losses(si, drive, points: OperatingPoints) -> DriveLosses:
     force, ph = table.at(t2)
     eta0 = si.lubricant.dynamic_viscosity_Pa_s * points.viscosity_factor
     limits: list[Exceeded] = []
-    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes, limits)
+    mu, _ = contact_mu(si, drive.e_star_Pa, table, force, ph, crank, eta0, notes, limits,
+                       memo=points.memo)
     mesh = sliding_loss(table, force, mu, crank)
     if np.any(table.hertz_invalid):
         notes.append(f"Hertz's assumptions fail at {int(table.hertz_invalid.sum())} of "
