@@ -45,6 +45,10 @@ def add_parser(sub):
                         "effect of the drive but the costly ones, the pin ring's, which the "
                         "report lists; the names are in report.json)")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="processes the model's TE is solved in: 1, or 2 (its two directions "
+                        "side by side, the same numbers); default 2 where this process may "
+                        "run on two processors or more, else 1")
     p.add_argument("--out", required=True, help="output folder (written atomically; each "
                    "selection step is kept in a journal beside it as it finishes)")
     p.add_argument("--json", action="store_true", help="print report.json instead of the "
@@ -58,8 +62,8 @@ def run(args) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        ``case``, ``te``, ``hysteresis``, ``name_pattern``, ``effects``, ``folds``, ``out``,
-        ``json``.
+        ``case``, ``te``, ``hysteresis``, ``name_pattern``, ``effects``, ``folds``,
+        ``workers``, ``out``, ``json``.
 
     Returns
     -------
@@ -69,25 +73,53 @@ def run(args) -> int:
     Raises
     ------
     ToothfemError
-        Without any recording, for an unknown effect or ``--folds`` below 2.
+        Without any recording, for an unknown effect, ``--folds`` below 2 or ``--workers``
+        outside [1, 2].
     """
     from ..case import load_case
-    from ..efficiency.loop.settings import Settings
     from ..errors import ToothfemError
-    from ..output import reserved, resumable_dir
-    from ..fem.cache import content_key
-    from . import json_default
-    from ..efficiency.loop.te.effects import catalog
-    from ..efficiency.loop.te.loop import run_te_loop
-    from ..efficiency.loop.te.model import RecordingModel
+    from ..efficiency.loop.te.model import WORKERS, RecordingModel
 
     if not args.te and not args.hysteresis:
         raise ToothfemError("--te, --hysteresis: give TE recordings, a hysteresis recording, "
                             "or both")
     if args.folds < 2:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
+    workers = default_workers() if args.workers is None else args.workers
+    if workers not in WORKERS:
+        raise ToothfemError(f"--workers = {workers} is outside the valid range "
+                            f"[{min(WORKERS)}, {max(WORKERS)}]")
     case = load_case(args.case)
-    model = RecordingModel(case)
+    with RecordingModel(case, workers=workers) as model:
+        return _run(args, case, model)
+
+
+def default_workers() -> int:
+    """2 where this process may run on two processors or more, else 1.
+
+    Returns
+    -------
+    int
+    """
+    import os
+
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:             # not on Linux
+        cpus = os.cpu_count() or 1
+    return 2 if cpus >= 2 else 1
+
+
+def _run(args, case, model) -> int:
+    """The loop on the case's model, the report written and printed."""
+    from ..errors import ToothfemError
+    from ..output import reserved, resumable_dir
+    from ..fem.cache import content_key
+    from . import json_default
+    from ..efficiency.loop.settings import Settings
+    from ..efficiency.loop.te.effects import catalog
+    from ..efficiency.loop.te.loop import run_te_loop
+
     names = [e.name for e in catalog(model)]
     chosen = None
     if args.effects:
