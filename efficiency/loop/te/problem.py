@@ -66,6 +66,8 @@ FAILED_SIGMA = 30.0
 OPTION_DECIMALS = 15
 #: Model evaluations kept (each an (N,) array of a few hundred rows).
 EVALUATIONS_KEPT = 4096
+#: Seconds between a step's progress lines off a terminal (a step takes minutes).
+PROGRESS_EVERY_S = 30.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -165,6 +167,8 @@ class TeModel:
         self.evaluations = 0
         self.failures: list[str] = []     # the model's failures, one line each
         self._cache: dict = {}
+        # called after each evaluation with the effects fitted, the last one the candidate
+        self.on_evaluation = None
 
     def options(self, names, values) -> dict:
         """The model's options of the effects ``names`` at ``values``.
@@ -208,6 +212,8 @@ class TeModel:
         if len(self._cache) >= EVALUATIONS_KEPT:
             self._cache.pop(next(iter(self._cache)))
         self._cache[key] = out
+        if self.on_evaluation is not None:
+            self.on_evaluation(", ".join(names) or "the case as declared")
         return out
 
     def _evaluate(self, options: dict) -> np.ndarray:
@@ -349,11 +355,19 @@ class _Bar(en.Listener):
     @contextlib.contextmanager
     def scoring(self, step, names):
         with bar(total=len(names), desc=f"TE loop step {step}", unit="candidate",
-                 enabled=self.enabled) as shown:
+                 enabled=self.enabled, every_s=PROGRESS_EVERY_S) as shown:
+            def evaluated(fitting):
+                shown.set_postfix_str(f"{self.model.evaluations} model evaluations; "
+                                      f"fitting {fitting}")
+
             def tick(score):
                 shown.update(1)
                 shown.set_postfix_str(f"{self.model.evaluations} model evaluations")
-            yield tick
+            self.model.on_evaluation = evaluated
+            try:
+                yield tick
+            finally:
+                self.model.on_evaluation = None
 
 
 def _gains(f: en.Fit, ref: en.Fit) -> tuple:
