@@ -132,14 +132,22 @@ def _run(args, case, model) -> int:
     key = content_key("te-loop", case, inputs, args.name_pattern, chosen, args.folds)
     with reserved(args.out):           # the name held for the run; a bad --out refused now
         with resumable_dir(args.out, key) as steps:
-            # each selection step kept beside --out as it finishes (a killed run keeps them)
+            # each selection step kept beside --out as it finishes (a killed run keeps
+            # them, and the same command goes through them again without the model)
+            replay = [e for _, rec in sorted((int(p.split()[-1]), r)
+                                             for p, r in steps.done.items())
+                      for e in rec.get("evaluations", ())]
+            if steps.done and not args.json:
+                print(f"resuming: {len(steps.done)} finished selection steps kept beside "
+                      f"{args.out} ({len(replay)} model evaluations read back)", flush=True)
             try:
                 result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
                                      name_pattern=args.name_pattern,
                                      settings=Settings(folds=args.folds),
                                      candidates="all" if chosen == ["all"] else chosen,
                                      model=model, progress=not args.json,
-                                     on_step=lambda i, rec: steps.record(f"step {i}", rec))
+                                     on_step=lambda i, rec: _keep_step(steps, i, rec),
+                                     replay=replay)
             except ValueError as exc:
                 raise ToothfemError(str(exc)) from exc
         summary = result.summary()
@@ -150,6 +158,16 @@ def _run(args, case, model) -> int:
         return 0
     _print(result, args)
     return 0
+
+
+def _keep_step(steps, index: int, record: dict) -> None:
+    """A finished selection step into the journal; a step gone through again on resuming
+    keeps the evaluations its first run made (none are made again)."""
+    earlier = steps.done.get(f"step {index}")
+    if earlier:
+        record = {**record, "evaluations": list(earlier.get("evaluations", ()))
+                  + list(record.get("evaluations", ()))}
+    steps.record(f"step {index}", record)
 
 
 def _write(args, case, result, summary: dict) -> None:
@@ -181,8 +199,9 @@ def _write(args, case, result, summary: dict) -> None:
 def _print(result, args) -> None:
     """What the screen shows."""
     loop = result.loop
+    replayed = f" (and {loop.replayed} read back from the steps kept)" if loop.replayed else ""
     print(f"{result.case_name}: {result.elapsed_s:.0f} s, {result.evaluations} model "
-          f"evaluations; {len(loop.observations.values)} observed figures; held-out "
+          f"evaluations{replayed}; {len(loop.observations.values)} observed figures; held-out "
           f"error {loop.baseline.cv_wrmse:.3g} -> {loop.final.cv_wrmse:.3g} sigma; effects: "
           + (", ".join(f"{n} ({', '.join(f'{v:.3g}' for v in loop.final.values[n])})"
                        for n in loop.added) or "none"))
