@@ -3,7 +3,9 @@ transmission error and hysteresis with rig recordings, add the physical effects 
 recordings ask for, and report the error before and after (DIR/report.md, report.json,
 hysteresis.png, spectrum.png where a recording holds a whole turn, widths.png where widths
 were measured, report.html); the running widths' rigidity and lost-motion intercept beside
-the model's; each selection step kept beside DIR as it finishes."""
+the model's; each selection step kept beside DIR as it finishes, with its model
+evaluations, so the same command resumes after the steps kept; the model's two directions
+solved in two processes (``--workers``)."""
 from __future__ import annotations
 
 import json
@@ -50,7 +52,8 @@ def add_parser(sub):
                         "side by side, the same numbers); default 2 where this process may "
                         "run on two processors or more, else 1")
     p.add_argument("--out", required=True, help="output folder (written atomically; each "
-                   "selection step is kept in a journal beside it as it finishes)")
+                   "selection step is kept in a journal beside it as it finishes, and the "
+                   "same command resumes after the steps kept)")
     p.add_argument("--json", action="store_true", help="print report.json instead of the "
                    "summary lines")
     p.set_defaults(func=run)

@@ -77,6 +77,7 @@ from ....fem.datasheet.transmission import sampled_pitches
 from ....fem.datasheet.twist import ARCMIN, ZERO_TORQUE_NM
 from ....fem.drives import drive_for
 from ....fem.contracts import ReducerModel
+from ....fem.linsolve import one_blas_thread
 from ....fem.system.datasheet import SystemTwist, period_te
 from ...evaluation import rated_output_torque
 from .workers import DirectionWorkers
@@ -432,16 +433,17 @@ class RecordingModel:
         near = _near(self._warm_effects.get(sign), effects)
         self._warm_effects[sign] = effects
         out, previous = [], None          # the last torque's states
-        for t in torques_Nm:
-            path = t + self.running_loss_torque_Nm(t, effects)
-            signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
-            key = (sign, t, tuple(pitches), tuple(on))
-            warm = dict((near and self._warm.get(key)) or previous or {})
-            loaded, split, _ = period_te(iter(systems), pitches, signed, full_period=period,
-                                         deviation=deviation, geometry=geometry,
-                                         solve_pitches=on, warm=warm)
-            self._warm[key] = previous = warm
-            out.append((loaded, split))
+        with one_blas_thread():           # once for every solve (each would set it again)
+            for t in torques_Nm:
+                path = t + self.running_loss_torque_Nm(t, effects)
+                signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
+                key = (sign, t, tuple(pitches), tuple(on))
+                warm = dict((near and self._warm.get(key)) or previous or {})
+                loaded, split, _ = period_te(iter(systems), pitches, signed,
+                                             full_period=period, deviation=deviation,
+                                             geometry=geometry, solve_pitches=on, warm=warm)
+                self._warm[key] = previous = warm
+                out.append((loaded, split))
         return out
 
     def default_samples(self, effects: Effects, period: int) -> int:
