@@ -17,19 +17,23 @@ def _widths(runs) -> np.ndarray:
 
 
 def test_two_processes_and_warm_starts_give_the_cold_single_process_numbers(cases_dir):
-    """The same effects after other calls (warm starts from a near call's states and from
-    the torque before) and in two processes: the widths of a fresh model's cold solve
-    within 1e-3 arcsec (the Newton solve's own tolerance: RTOL 1e-8 of the coordinates,
-    a twist of some 1000 arcsec; measured 5e-4 at most), and the two processes' bit for bit
-    the one process's from the same history."""
+    """Without warm starts a call's numbers are a fresh model's bit for bit whatever came
+    before; with them (from a near call's states and from the torque before) and in two
+    processes, the widths of a fresh model's cold solve within 1e-3 arcsec (the Newton
+    solve's own tolerance: RTOL 1e-8 of the coordinates, a twist of some 1000 arcsec;
+    measured 5e-4 at most), and the two processes' bit for bit the one process's from the
+    same history."""
     from toothfem import load_case
 
     case = load_case(cases_dir / "rv40e.toml")
     history = [Effects(crank_bearing_play_m=5e-6), Effects(crank_bearing_play_m=5.05e-6),
                Effects(friction_scale=1.3), Effects(crank_bearing_play_m=5.1e-6)]
     cold = [_widths(RecordingModel(case).te(e, TORQUES)) for e in history]
-    one = RecordingModel(case)
-    with RecordingModel(case, workers=2) as two:
+    again = RecordingModel(case)              # without warm starts: no call moves another
+    for e, c in zip(history, cold):
+        np.testing.assert_array_equal(_widths(again.te(e, TORQUES)), c)
+    one = RecordingModel(case, warm_starts=True)
+    with RecordingModel(case, workers=2, warm_starts=True) as two:
         for e, c in zip(history, cold):
             a, b = one.te(e, TORQUES), two.te(e, TORQUES)
             np.testing.assert_array_equal(_widths(a), _widths(b))
@@ -109,6 +113,7 @@ def test_a_model_twice_too_soft_is_said_with_its_best_effect_and_what_the_widths
                                Effects(stiffness_scale={p: 2.0 for p in SCALABLE}), torques,
                                model=model, noise=Noise(seed=4), shapes=("W",),
                                revolutions=1, samples_per_revolution=3600)
+    model.warm_starts = True                  # the fit's calls from each other's states
     result = run_te_loop(case, te=tmp_path, candidates=["stiffness_mesh"], model=model)
     loop = result.loop
     assert loop.added == ()

@@ -93,7 +93,7 @@ def run(args) -> int:
         raise ToothfemError(f"--workers = {workers} is outside the valid range "
                             f"[{min(WORKERS)}, {max(WORKERS)}]")
     case = load_case(args.case)
-    with RecordingModel(case, workers=workers) as model:
+    with RecordingModel(case, workers=workers, warm_starts=True) as model:
         return _run(args, case, model)
 
 

@@ -193,7 +193,8 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         (:attr:`TeEffect.costly`, the pin ring's: each model evaluation some 40 times a
         drawn one's), which the result lists as not considered; "all": every effect.
     model : RecordingModel, optional
-        The case's model already set up.
+        The case's model already set up (default: one with ``warm_starts``, what a fit's
+        many calls want).
     progress : bool
         Progress over the TE files and over each selection step's candidates.
     on_step : callable, optional
@@ -215,7 +216,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     t0 = time.perf_counter()
     if te is None and hysteresis is None:
         raise ValueError("te, hysteresis: give TE recordings, a hysteresis recording, or both")
-    model = model or RecordingModel(case)
+    model = model or RecordingModel(case, warm_starts=True)
     rated = model.rated_torque_Nm
     orders = fitted_orders(model.te_orders())
     refused = []

@@ -129,6 +129,11 @@ class RecordingModel:
         2: the TE's two directions solved side by side in two processes of their own
         (:class:`~.workers.DirectionWorkers`, started at the first TE; the same numbers;
         :meth:`close` or ``with`` stops them); 1: in this process.
+    warm_starts : bool
+        Each TE solve from the last call's state where the effects are near, else from
+        the torque before (:meth:`runs`: what a fit's many calls want; the same equilibria
+        to the solver's tolerance); False: every call from cold starts, as the datasheet's
+        TE solves (its numbers bit for bit).
     **system_options
         Go to every :class:`toothfem.fem.drives.assembly.CycloidSystem` (e.g.
         ``pin_spring_m_per_N``: equal contact springs instead of the FE, ``rigid``).
@@ -143,7 +148,7 @@ class RecordingModel:
 
     def __init__(self, case, *, positions: int = DEFAULT_POSITIONS,
                  te_samples: int = DEFAULT_TE_SAMPLES, cache=True, workers: int = 1,
-                 **system_options):
+                 warm_starts: bool = False, **system_options):
         if workers not in WORKERS:
             raise ValueError(f"workers = {workers!r} is outside the valid range "
                              f"{list(WORKERS)}")
@@ -162,12 +167,13 @@ class RecordingModel:
         # (direction, torque, pitches, solved on) -> the last TE's states there, by system
         self._warm: dict[tuple, dict] = {}
         self._warm_effects: dict[int, Effects] = {}     # direction -> the last call's
+        self.warm_starts = bool(warm_starts)
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
         self._workers = None if workers == 1 else DirectionWorkers(self.case, dict(
             positions=self.positions, te_samples=self.te_samples, cache=cache,
-            **self.system_options))
+            warm_starts=self.warm_starts, **self.system_options))
 
     def close(self) -> None:
         """Stop the TE's processes (``workers=2``); the model then solves in this one."""
@@ -405,9 +411,10 @@ class RecordingModel:
              samples: int | None = None) -> list:
         """One direction's TE over the effects' period at each output torque (what
         :meth:`te` puts together, in this process or in its workers'): each torque under
-        its running losses, its positions solved from this direction's last call at that
-        torque where the effects are near (:func:`_near`: a fit's steps), else from the
-        torque before (a continuation along the torques).
+        its running losses; with ``warm_starts`` its positions solved from this
+        direction's last call at that torque where the effects are near (:func:`_near`: a
+        fit's steps), else from the torque before (a continuation along the torques), and
+        without, each pitch's positions from cold, one from the other.
 
         Parameters
         ----------
@@ -438,11 +445,13 @@ class RecordingModel:
                 path = t + self.running_loss_torque_Nm(t, effects)
                 signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
                 key = (sign, t, tuple(pitches), tuple(on))
-                warm = dict((near and self._warm.get(key)) or previous or {})
+                warm = dict((near and self._warm.get(key)) or previous or {}) \
+                    if self.warm_starts else None
                 loaded, split, _ = period_te(iter(systems), pitches, signed,
                                              full_period=period, deviation=deviation,
                                              geometry=geometry, solve_pitches=on, warm=warm)
-                self._warm[key] = previous = warm
+                if warm is not None:
+                    self._warm[key] = previous = warm
                 out.append((loaded, split))
         return out
 
