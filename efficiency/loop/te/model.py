@@ -547,7 +547,8 @@ def te_orders(case) -> dict:
 
 def _numbers(effects: Effects) -> tuple:
     """(what the effects set, their values): every field flattened, the mappings by key."""
-    keys, values = [], []
+    keys: list[tuple] = []
+    values: list[float] = []
     for f in dataclasses.fields(effects):
         v = getattr(effects, f.name)
         if isinstance(v, dict):

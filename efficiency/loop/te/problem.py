@@ -15,6 +15,7 @@ The model is a callable: ``model(options) -> (N,) predictions`` on the observati
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Callable
 import math
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -168,7 +169,7 @@ class TeModel:
         self.failures: list[str] = []     # the model's failures, one line each
         self._cache: dict = {}
         # called after each evaluation with the effects fitted, the last one the candidate
-        self.on_evaluation = None
+        self.on_evaluation: Callable[[str], None] | None = None
         self.replayed = 0                 # evaluations read back from a journal
         self._log: list = []              # the evaluations since take_log
 

@@ -49,6 +49,7 @@ def serve(inp, out) -> None:
             if msg is None:
                 return
             effects, torques, samples = msg
+            answer: tuple
             try:
                 model = model or RecordingModel(case, **options)
                 answer = ("ok", model.runs(effects, torques, sign, samples=samples))
