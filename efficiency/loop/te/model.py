@@ -171,9 +171,10 @@ class RecordingModel:
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
-        self._workers = None if workers == 1 else DirectionWorkers(self.case, dict(
-            positions=self.positions, te_samples=self.te_samples, cache=cache,
-            warm_starts=self.warm_starts, **self.system_options))
+        self._workers = None if workers == 1 else DirectionWorkers(
+            type(self), self.case, dict(positions=self.positions, te_samples=self.te_samples,
+                                        cache=cache, warm_starts=self.warm_starts,
+                                        **self.system_options))
 
     def close(self) -> None:
         """Stop the TE's processes (``workers=2``); the model then solves in this one."""

@@ -30,19 +30,18 @@ class WorkerEnded(RuntimeError):
 
 
 def serve(inp, out) -> None:
-    """A worker's loop: (case, options, direction) first, then (effects, torques, samples)
-    in, that direction's runs out (or the exception that stopped them), until None or the
-    end of the input.
+    """A worker's loop: (model class, case, options, direction) first (the class pickled
+    by its name: this module imports no model), then (effects, torques, samples) in, that
+    direction's runs out (or the exception that stopped them), until None or the end of
+    the input.
 
     Parameters
     ----------
     inp, out : binary files
         The requests and the answers.
     """
-    from .model import RecordingModel
-
     try:
-        case, options, sign = pickle.load(inp)
+        make, case, options, sign = pickle.load(inp)
         model = None
         while True:
             msg = pickle.load(inp)
@@ -51,7 +50,7 @@ def serve(inp, out) -> None:
             effects, torques, samples = msg
             answer: tuple
             try:
-                model = model or RecordingModel(case, **options)
+                model = model or make(case, **options)
                 answer = ("ok", model.runs(effects, torques, sign, samples=samples))
             except Exception as exc:      # noqa: BLE001 - handed to the parent, raised there
                 answer = ("error", exc)
@@ -83,14 +82,17 @@ class DirectionWorkers:
 
     Parameters
     ----------
+    make : type
+        The model's class (:class:`~.model.RecordingModel`; its ``runs``), pickled by name.
     case : toothfem.case.Case
         A loaded case (pickled to each process).
     options : dict
-        :class:`~.model.RecordingModel`'s keywords (positions, samples, cache, system
-        options), the same in each process.
+        The class's keywords (positions, samples, cache, system options), the same in each
+        process.
     """
 
-    def __init__(self, case, options: dict):
+    def __init__(self, make, case, options: dict):
+        self.make = make
         self.case = case
         self.options = dict(options)
         self._procs: list = []
@@ -101,7 +103,7 @@ class DirectionWorkers:
             proc = subprocess.Popen([sys.executable, "-m", __spec__.name],  # noqa: S603
                                     stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=env)
             self._procs.append(proc)
-            self._send(proc, (self.case, self.options, sign))
+            self._send(proc, (self.make, self.case, self.options, sign))
 
     @staticmethod
     def _send(proc, msg) -> None:
