@@ -40,3 +40,32 @@ def test_a_bar_shows_on_a_terminal():
     assert list(bar(range(3), file=out, desc="x")) == [0, 1, 2]
     assert "x" in out.getvalue() and "3/3" in out.getvalue()
     assert PROGRESS_PREFIX not in out.getvalue()
+
+
+def test_a_long_stage_asked_for_it_writes_lines_inside_itself():
+    out = io.StringIO()
+    with bar(total=3, file=out, desc="TE loop step 1", unit="candidate", every_s=0.0) as b:
+        b.set_postfix_str("5 model evaluations; fitting friction")
+        b.update(1)
+    lines = out.getvalue().splitlines()
+    assert lines[0] == (PROGRESS_PREFIX + "TE loop step 1: 0 of 3 candidates so far in "
+                        + lines[0].split(" in ")[1])
+    assert lines[0].endswith("s (5 model evaluations; fitting friction)")
+    assert "1 of 3 candidate so far in" in lines[1]
+    assert "so far" not in lines[-1] and "1 of 3 candidate in" in lines[-1]
+    out = io.StringIO()                       # not asked: the end's line only
+    with bar(total=3, file=out, desc="x", unit="candidate") as b:
+        b.set_postfix_str("y")
+        b.update(1)
+    assert len(out.getvalue().splitlines()) == 1
+
+
+def test_a_terminal_bar_takes_every_s_without_passing_it_to_tqdm():
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    out = Terminal()
+    with bar(total=2, file=out, desc="x", every_s=0.0) as b:
+        b.update(2)
+    assert "2/2" in out.getvalue() and PROGRESS_PREFIX not in out.getvalue()

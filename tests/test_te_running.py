@@ -204,11 +204,11 @@ def test_each_selection_step_is_handed_on_as_it_finishes(cases_dir, tmp_path):
 
     real = problem.TeProblem.run
 
-    def spy(self, candidates=None, progress=False, on_step=None):
+    def spy(self, candidates=None, progress=False, on_step=None, replay=()):
         def hand_on(i, record):
             on_step(i, record)                  # the command's: kept on disk
             seen.append((i, record, sorted(p.name for p in tmp_path.iterdir())))
-        return real(self, candidates, progress, hand_on)
+        return real(self, candidates, progress, hand_on, replay)
 
     problem.TeProblem.run = spy
     try:

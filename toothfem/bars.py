@@ -1,6 +1,8 @@
 """Progress of the long runs, on stderr: a bar on a terminal; elsewhere (a log, a pipe, CI)
 one line per finished stage, ``progress: <stage>: <count> <unit>s in <time> s``, so a log
-says what ran and how long without being flooded with redraws."""
+says what ran and how long without being flooded with redraws; a stage that asks for it
+(``every_s``) also writes a line inside itself at most that often, so a long stage's log
+says how far it got."""
 from __future__ import annotations
 
 import contextlib
@@ -21,7 +23,8 @@ def bar(iterable=None, *, enabled: bool = True, **kwargs):
     enabled : bool
         False: nothing shown at all.
     **kwargs
-        Go to :class:`tqdm.tqdm` (``total``, ``desc``, ``unit``, ``initial``).
+        Go to :class:`tqdm.tqdm` (``total``, ``desc``, ``unit``, ``initial``); ``every_s``
+        to :class:`StageLine` only (a terminal's bar redraws by itself).
 
     Returns
     -------
@@ -33,6 +36,7 @@ def bar(iterable=None, *, enabled: bool = True, **kwargs):
         return StageLine(iterable, stream=stream, **kwargs)
     from tqdm import tqdm
 
+    kwargs.pop("every_s", None)
     return tqdm(iterable, disable=not enabled, **kwargs)
 
 
@@ -60,15 +64,19 @@ class StageLine:
         How many there are to do.
     initial : int
         How many are done already (a resumed run).
+    every_s : float, optional
+        Also a line inside the stage, on a count or a postfix that comes at least this
+        many seconds after the stage's start or its last line (None: the end's only).
     """
 
     def __init__(self, iterable=None, *, stream=None, desc: str = "", unit: str = "it",
-                 total=None, initial: int = 0, **_ignored):
+                 total=None, initial: int = 0, every_s: float | None = None, **_ignored):
         self.iterable = iterable
         self.stream = stream or sys.stderr
         self.desc, self.unit, self.total = desc or "stage", unit, total
         self.n = int(initial)
-        self._start = time.perf_counter()
+        self._start = self._said = time.perf_counter()
+        self.every_s = every_s
         self._closed = False
         self.postfix = ""
 
@@ -86,25 +94,41 @@ class StageLine:
         n : int
         """
         self.n += n
+        self._interim()
 
-    def set_postfix_str(self, text: str) -> None:
+    def set_postfix_str(self, text: str, refresh: bool = True) -> None:
         """What the stage's line ends with (tqdm's postfix).
 
         Parameters
         ----------
         text : str
+        refresh : bool
+            tqdm's (ignored: a line is written by ``every_s``).
         """
         self.postfix = str(text)
+        self._interim()
+
+    def _interim(self) -> None:
+        """A line inside the stage where ``every_s`` has passed since the last."""
+        if self.every_s is None or self._closed:
+            return
+        now = time.perf_counter()
+        if now - self._said >= self.every_s:
+            self._said = now
+            self._line(" so far")
 
     def close(self) -> None:
         """Write the stage's line (once)."""
         if self._closed:
             return
         self._closed = True
+        self._line("")
+
+    def _line(self, so_far: str) -> None:
         of = f" of {self.total}" if self.total is not None and self.total != self.n else ""
         unit = self.unit if self.n == 1 else self.unit + "s"
         with contextlib.suppress(OSError, ValueError):  # a closed or broken stderr: progress only
-            print(f"{PROGRESS_PREFIX}{self.desc}: {self.n}{of} {unit} in "
+            print(f"{PROGRESS_PREFIX}{self.desc}: {self.n}{of} {unit}{so_far} in "
                   f"{time.perf_counter() - self._start:.1f} s"
                   + (f" ({self.postfix})" if self.postfix else ""), file=self.stream, flush=True)
 

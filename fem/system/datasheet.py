@@ -321,7 +321,7 @@ def system_te(drive, supports, output_torque_Nm: float, *, samples: int, per_pit
 
 
 def period_te(systems, pitches, output_torque_Nm: float, *, full_period: int,
-              deviation=None, geometry=None, solve_pitches=None):
+              deviation=None, geometry=None, solve_pitches=None, warm: dict | None = None):
     """:func:`system_te` from its systems, one per sampled pitch (built at that pitch, on
     one grid of positions): each position solved from its neighbour's state, the pitches
     filled over the period.
@@ -344,6 +344,12 @@ def period_te(systems, pitches, output_torque_Nm: float, *, full_period: int,
         (:meth:`CycloidSystem.solve`'s ``pitch``: a period longer than the tables' full
         period reuses the systems of the pitch modulo that period, solved whole full
         periods on); default 0 each.
+    warm : dict, optional
+        System index -> the states (one per position) of a nearby solve of that system
+        (another torque's, a variant's a few micrometres away) to start each position from
+        instead of its neighbour's; this solve's states are put in it. The same equilibria
+        to the solver's tolerance (RTOL) in fewer Newton steps (a fit's evaluations, a
+        sweep along torque).
 
     Returns
     -------
@@ -354,13 +360,16 @@ def period_te(systems, pitches, output_torque_Nm: float, *, full_period: int,
     k = int(full_period)
     twist, mesh, shares, bearings = [], [], [], []
     solve_pitches = [0] * len(pitches) if solve_pitches is None else list(solve_pitches)
-    for system, on in zip(systems, solve_pitches):
+    for i, (system, on) in enumerate(zip(systems, solve_pitches)):
         drive, per_pitch = system.drive, system.n_positions
         sts, last = [], None
+        near = None if warm is None else warm.get(i)
         for p in range(per_pitch):
-            last = system.solve(t, p, start=last, deviation=deviation, geometry=geometry,
-                                pitch=int(on))
+            last = system.solve(t, p, start=last if near is None else near[p],
+                                deviation=deviation, geometry=geometry, pitch=int(on))
             sts.append(last)
+        if warm is not None:
+            warm[i] = sts
         twist.append([s.twist_rad for s in sts])
         mesh.append(_paths(sts)["mesh"])
         torque = np.array([s.disc_torque_Nm for s in sts])           # (P, M)

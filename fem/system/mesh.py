@@ -135,6 +135,7 @@ class PinMesh(Mesh):
             {"equal_springs": pin_spring_m_per_N * drive.face_width_m}
             if pin_spring_m_per_N is not None else {})}
         self._turned = {}        # (disc, position, side, turn) -> its normals and points
+        self._read: dict = {}    # id -> each solver whose tables are read or stored
 
     def journal_radius_m(self, supports) -> float:
         """The crank (eccentric) journal's radius under the crank bearing's rollers.
@@ -229,8 +230,10 @@ class PinMesh(Mesh):
         if self.pin_spring is not None:
             base, local = np.eye(q.pins.size) * self.pin_spring, None
         else:
-            if tables is None and s.cache is not None and s.equal_springs is None:
+            if tables is None and s.cache is not None and s.equal_springs is None \
+                    and id(s) not in self._read:
                 s.tables()      # from the disk cache, else computed and stored (as s.solve)
+                self._read[id(s)] = s      # held: its id is not another's while kept
             base = (s.influence(p, side) if tables is None else
                     tables.table(p, int(pitch), side)) / w
             law = s.local_law(q, q_load)

@@ -423,10 +423,31 @@ def rest(n: int, elements) -> np.ndarray:
     return np.linalg.lstsq(rows, rhs, rcond=None)[0]
 
 
+#: Splits of element lists kept (:func:`_split_linear`): a system's elements at a position
+#: are one list for every torque solved there.
+SPLITS_KEPT = 256
+_SPLITS: dict = {}
+
+
 def _split_linear(elements, n):
     """(K of the linear elements summed (n, n), the constant force of their forced
     deformations sum B^T K offset (n,), the other elements grouped by their law:
-    [(law, B stacked (G, d, n), offsets stacked (G, d))], evaluated together)."""
+    [(law, B stacked (G, d, n), offsets stacked (G, d))], evaluated together); kept for
+    the same elements (the same objects: an Element is frozen, and the entry holds them,
+    so their ids are not reused while it is kept), whose split is the same arrays."""
+    key = (n, *map(id, elements))
+    kept = _SPLITS.get(key)
+    if kept is not None:
+        return kept[1]
+    out = _split(elements, n)
+    if len(_SPLITS) >= SPLITS_KEPT:
+        _SPLITS.pop(next(iter(_SPLITS)), None)
+    _SPLITS[key] = (tuple(elements), out)
+    return out
+
+
+def _split(elements, n):
+    """:func:`_split_linear`, computed."""
     k = np.zeros((n, n))
     forced = np.zeros(n)
     groups: dict = {}

@@ -3,7 +3,9 @@ transmission error and hysteresis with rig recordings, add the physical effects 
 recordings ask for, and report the error before and after (DIR/report.md, report.json,
 hysteresis.png, spectrum.png where a recording holds a whole turn, widths.png where widths
 were measured, report.html); the running widths' rigidity and lost-motion intercept beside
-the model's; each selection step kept beside DIR as it finishes."""
+the model's; each selection step kept beside DIR as it finishes, with its model
+evaluations, so the same command resumes after the steps kept; the model's two directions
+solved in two processes (``--workers``)."""
 from __future__ import annotations
 
 import json
@@ -45,8 +47,13 @@ def add_parser(sub):
                         "effect of the drive but the costly ones, the pin ring's, which the "
                         "report lists; the names are in report.json)")
     p.add_argument("--folds", type=int, default=5, help="k of the k-fold held-out error")
+    p.add_argument("--workers", type=int, default=None, metavar="N",
+                   help="processes the model's TE is solved in: 1, or 2 (its two directions "
+                        "side by side, the same numbers); default 2 where this process may "
+                        "run on two processors or more, else 1")
     p.add_argument("--out", required=True, help="output folder (written atomically; each "
-                   "selection step is kept in a journal beside it as it finishes)")
+                   "selection step is kept in a journal beside it as it finishes, and the "
+                   "same command resumes after the steps kept)")
     p.add_argument("--json", action="store_true", help="print report.json instead of the "
                    "summary lines")
     p.set_defaults(func=run)
@@ -58,8 +65,8 @@ def run(args) -> int:
     Parameters
     ----------
     args : argparse.Namespace
-        ``case``, ``te``, ``hysteresis``, ``name_pattern``, ``effects``, ``folds``, ``out``,
-        ``json``.
+        ``case``, ``te``, ``hysteresis``, ``name_pattern``, ``effects``, ``folds``,
+        ``workers``, ``out``, ``json``.
 
     Returns
     -------
@@ -69,25 +76,53 @@ def run(args) -> int:
     Raises
     ------
     ToothfemError
-        Without any recording, for an unknown effect or ``--folds`` below 2.
+        Without any recording, for an unknown effect, ``--folds`` below 2 or ``--workers``
+        outside [1, 2].
     """
     from ..case import load_case
-    from ..efficiency.loop.settings import Settings
     from ..errors import ToothfemError
-    from ..output import reserved, resumable_dir
-    from ..fem.cache import content_key
-    from . import json_default
-    from ..efficiency.loop.te.effects import catalog
-    from ..efficiency.loop.te.loop import run_te_loop
-    from ..efficiency.loop.te.model import RecordingModel
+    from ..efficiency.loop.te.model import WORKERS, RecordingModel
 
     if not args.te and not args.hysteresis:
         raise ToothfemError("--te, --hysteresis: give TE recordings, a hysteresis recording, "
                             "or both")
     if args.folds < 2:
         raise ToothfemError(f"--folds = {args.folds} is outside the valid range [2, inf)")
+    workers = default_workers() if args.workers is None else args.workers
+    if workers not in WORKERS:
+        raise ToothfemError(f"--workers = {workers} is outside the valid range "
+                            f"[{min(WORKERS)}, {max(WORKERS)}]")
     case = load_case(args.case)
-    model = RecordingModel(case)
+    with RecordingModel(case, workers=workers, warm_starts=True) as model:
+        return _run(args, case, model)
+
+
+def default_workers() -> int:
+    """2 where this process may run on two processors or more, else 1.
+
+    Returns
+    -------
+    int
+    """
+    import os
+
+    try:
+        cpus = len(os.sched_getaffinity(0))
+    except AttributeError:             # not on Linux
+        cpus = os.cpu_count() or 1
+    return 2 if cpus >= 2 else 1
+
+
+def _run(args, case, model) -> int:
+    """The loop on the case's model, the report written and printed."""
+    from ..errors import ToothfemError
+    from ..output import reserved, resumable_dir
+    from ..fem.cache import content_key
+    from . import json_default
+    from ..efficiency.loop.settings import Settings
+    from ..efficiency.loop.te.effects import catalog
+    from ..efficiency.loop.te.loop import run_te_loop
+
     names = [e.name for e in catalog(model)]
     chosen = None
     if args.effects:
@@ -100,14 +135,22 @@ def run(args) -> int:
     key = content_key("te-loop", case, inputs, args.name_pattern, chosen, args.folds)
     with reserved(args.out):           # the name held for the run; a bad --out refused now
         with resumable_dir(args.out, key) as steps:
-            # each selection step kept beside --out as it finishes (a killed run keeps them)
+            # each selection step kept beside --out as it finishes (a killed run keeps
+            # them, and the same command goes through them again without the model)
+            replay = [e for _, rec in sorted((int(p.split()[-1]), r)
+                                             for p, r in steps.done.items())
+                      for e in rec.get("evaluations", ())]
+            if steps.done and not args.json:
+                print(f"resuming: {len(steps.done)} finished selection steps kept beside "
+                      f"{args.out} ({len(replay)} model evaluations read back)", flush=True)
             try:
                 result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
                                      name_pattern=args.name_pattern,
                                      settings=Settings(folds=args.folds),
                                      candidates="all" if chosen == ["all"] else chosen,
                                      model=model, progress=not args.json,
-                                     on_step=lambda i, rec: steps.record(f"step {i}", rec))
+                                     on_step=lambda i, rec: _keep_step(steps, i, rec),
+                                     replay=replay)
             except ValueError as exc:
                 raise ToothfemError(str(exc)) from exc
         summary = result.summary()
@@ -118,6 +161,16 @@ def run(args) -> int:
         return 0
     _print(result, args)
     return 0
+
+
+def _keep_step(steps, index: int, record: dict) -> None:
+    """A finished selection step into the journal; a step gone through again on resuming
+    keeps the evaluations its first run made (none are made again)."""
+    earlier = steps.done.get(f"step {index}")
+    if earlier:
+        record = {**record, "evaluations": list(earlier.get("evaluations", ()))
+                  + list(record.get("evaluations", ()))}
+    steps.record(f"step {index}", record)
 
 
 def _write(args, case, result, summary: dict) -> None:
@@ -149,8 +202,9 @@ def _write(args, case, result, summary: dict) -> None:
 def _print(result, args) -> None:
     """What the screen shows."""
     loop = result.loop
+    replayed = f" (and {loop.replayed} read back from the steps kept)" if loop.replayed else ""
     print(f"{result.case_name}: {result.elapsed_s:.0f} s, {result.evaluations} model "
-          f"evaluations; {len(loop.observations.values)} observed figures; held-out "
+          f"evaluations{replayed}; {len(loop.observations.values)} observed figures; held-out "
           f"error {loop.baseline.cv_wrmse:.3g} -> {loop.final.cv_wrmse:.3g} sigma; effects: "
           + (", ".join(f"{n} ({', '.join(f'{v:.3g}' for v in loop.final.values[n])})"
                        for n in loop.added) or "none"))

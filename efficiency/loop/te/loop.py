@@ -126,7 +126,8 @@ class TeLoopResult:
                                         else self.after.loop.figures()),
                 "refused": [str(r) for r in self.refused],
                 "not_considered": self.not_considered,
-                "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations, **d}
+                "elapsed_s": self.elapsed_s, "model_evaluations": self.evaluations,
+                "replayed_evaluations": self.loop.replayed, **d}
 
 
 def fitted_orders(named: dict) -> dict:
@@ -173,7 +174,7 @@ def candidate_names(effects, candidates=None) -> list:
 
 def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=DEFAULT_SETTINGS,
                 candidates=None, model: RecordingModel | None = None, progress=False,
-                on_step=None):
+                on_step=None, replay=()):
     """Fit the effects a case's model lacks to its TE and hysteresis recordings.
 
     Parameters
@@ -192,12 +193,16 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
         (:attr:`TeEffect.costly`, the pin ring's: each model evaluation some 40 times a
         drawn one's), which the result lists as not considered; "all": every effect.
     model : RecordingModel, optional
-        The case's model already set up.
+        The case's model already set up (default: one with ``warm_starts``, what a fit's
+        many calls want).
     progress : bool
         Progress over the TE files and over each selection step's candidates.
     on_step : callable, optional
         ``on_step(index, record)`` as each selection step finishes
         (:meth:`TeProblem.run`).
+    replay : iterable, optional
+        The model evaluations of an earlier run's finished steps (their records'
+        ``evaluations``): the loop resumes after them (:meth:`TeProblem.run`).
 
     Returns
     -------
@@ -211,7 +216,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     t0 = time.perf_counter()
     if te is None and hysteresis is None:
         raise ValueError("te, hysteresis: give TE recordings, a hysteresis recording, or both")
-    model = model or RecordingModel(case)
+    model = model or RecordingModel(case, warm_starts=True)
     rated = model.rated_torque_Nm
     orders = fitted_orders(model.te_orders())
     refused = []
@@ -252,7 +257,7 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
     problem = TeProblem(obs, lambda options: model_rows(layout, recordings(options)),
                         effects, settings)
     fitted = problem.run(candidate_names(effects, candidates), progress=progress,
-                         on_step=on_step)
+                         on_step=on_step, replay=replay)
     final_options: dict = {}
     for name in fitted.final.effects:
         final_options.update(problem.catalog[name].model_options(fitted.final.values[name]))

@@ -77,8 +77,10 @@ from ....fem.datasheet.transmission import sampled_pitches
 from ....fem.datasheet.twist import ARCMIN, ZERO_TORQUE_NM
 from ....fem.drives import drive_for
 from ....fem.contracts import ReducerModel
+from ....fem.linsolve import one_blas_thread
 from ....fem.system.datasheet import SystemTwist, period_te
 from ...evaluation import rated_output_torque
+from .workers import DirectionWorkers
 from .model_records import (Effects, ModelLoop, ModelRecordings, ModelTe, ring_order,
                             ring_samples)
 
@@ -102,6 +104,13 @@ DEFAULT_STEPS = 4
 #: zero (lost motion at 3 %, a rig's backlash fit up to 10 %), then 25-50-75-100 % (the
 #: rigidity's 50 and 100 %).
 STAIRCASE_FRACTIONS = (0.0, 0.03, 0.06, 0.1, 0.25, 0.5, 0.75, 1.0)
+#: The TE's states under one set of effects start the next call's solves where every value
+#: is within this fraction of the other's (:func:`_near`).
+NEAR_REL = 0.1
+#: Processes a model may solve its TE in: one, or one per direction of rotation.
+WORKERS = (1, 2)
+
+
 class RecordingModel:
     """The system model of a case set up once for many calls (a fit): its drive, supports,
     rating, path friction and one system per pin pitch used, whose FE tables stay in
@@ -116,6 +125,15 @@ class RecordingModel:
         Sampled pitches over the TE's period (DEFAULT_TE_SAMPLES).
     cache : bool or toothfem.fem.cache.DiskCache
         The FE tables' disk cache (True: the user's).
+    workers : {1, 2}
+        2: the TE's two directions solved side by side in two processes of their own
+        (:class:`~.workers.DirectionWorkers`, started at the first TE; the same numbers;
+        :meth:`close` or ``with`` stops them); 1: in this process.
+    warm_starts : bool
+        Each TE solve from the last call's state where the effects are near, else from
+        the torque before (:meth:`runs`: what a fit's many calls want; the same equilibria
+        to the solver's tolerance); False: every call from cold starts, as the datasheet's
+        TE solves (its numbers bit for bit).
     **system_options
         Go to every :class:`toothfem.fem.drives.assembly.CycloidSystem` (e.g.
         ``pin_spring_m_per_N``: equal contact springs instead of the FE, ``rigid``).
@@ -124,10 +142,16 @@ class RecordingModel:
     ------
     CaseError
         For a drive without a system model, or no rating or operating torque.
+    ValueError
+        For ``workers`` not in WORKERS.
     """
 
     def __init__(self, case, *, positions: int = DEFAULT_POSITIONS,
-                 te_samples: int = DEFAULT_TE_SAMPLES, cache=True, **system_options):
+                 te_samples: int = DEFAULT_TE_SAMPLES, cache=True, workers: int = 1,
+                 warm_starts: bool = False, **system_options):
+        if workers not in WORKERS:
+            raise ValueError(f"workers = {workers!r} is outside the valid range "
+                             f"{list(WORKERS)}")
         self.case = _a_case(case)
         self.si = self.case.to_si()
         self.drive = drive_for(self.case)
@@ -140,9 +164,30 @@ class RecordingModel:
         self.system_options = dict(system_options)
         self._systems: dict[int, ReducerModel] = {}
         self._losses: dict[float, float] = {}
+        # (direction, torque, pitches, solved on) -> the last TE's states there, by system
+        self._warm: dict[tuple, dict] = {}
+        self._warm_effects: dict[int, Effects] = {}     # direction -> the last call's
+        self.warm_starts = bool(warm_starts)
         if self.system(0) is None:
             raise CaseError(f"a {self.drive.kind} drive without [output_mechanism] has no "
                             "system model: no modelled recordings")
+        self._workers = None if workers == 1 else DirectionWorkers(
+            type(self), self.case, dict(positions=self.positions, te_samples=self.te_samples,
+                                        cache=cache, warm_starts=self.warm_starts,
+                                        **self.system_options))
+
+    def close(self) -> None:
+        """Stop the TE's processes (``workers=2``); the model then solves in this one."""
+        if self._workers is not None:
+            self._workers.close()
+            self._workers = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+        return False
 
     def system(self, pitch: int = 0, effects: Effects | None = None):
         """The system over one pin pitch, ``pitch`` pitches on (kept), with the effects'
@@ -326,31 +371,24 @@ class RecordingModel:
             For a negative or non-finite torque.
         """
         effects = Effects() if effects is None else effects
-        drive = self.drive
-        deviation = effects.deviation(drive)
-        geometry = effects.geometry(drive)
-        period = drive.deviation_period_pitches(deviation)
-        full = drive.full_period_pitches
-        pitches = sampled_pitches(period, self.default_samples(effects, period)
-                                  if samples is None else samples)
-        systems = [self.system(m % full, effects) for m in pitches]
-        on = [m - m % full for m in pitches]
-        speeds = drive.speeds()
-        out_per_crank = abs(speeds["output"] / speeds["crank"])
-        out = []
+        torques = []
         for t in torques_Nm:
             t = self.rated_torque_Nm if t is None else float(t)
             if not (math.isfinite(t) and t >= 0):
                 raise CaseError(f"output torque {t!r} N m: >= 0 and finite (forward at +T, "
                                 "backward at -T)")
-            runs = []
-            path = t + self.running_loss_torque_Nm(t, effects)
-            for sign in (1, -1):
-                signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
-                runs.append(period_te(iter(systems), pitches, signed, full_period=period,
-                                      deviation=deviation, geometry=geometry,
-                                      solve_pitches=on))
-            (fwd, split_f, _), (bwd, split_b, _) = runs
+            torques.append(t)
+        if self._workers is not None:
+            forward, backward = self._workers.runs(effects, torques, samples)
+        else:
+            forward, backward = (self.runs(effects, torques, sign, samples=samples)
+                                 for sign in (1, -1))
+        drive = self.drive
+        period, pitches, _ = self._sampled(effects, samples)
+        speeds = drive.speeds()
+        out_per_crank = abs(speeds["output"] / speeds["crank"])
+        out = []
+        for t, (fwd, split_f), (bwd, split_b) in zip(torques, forward, backward):
             out.append(ModelTe(
                 case_name=self.case.name, effects=effects, output_torque_Nm=t,
                 crank_angle_rad=fwd.crank_angle_rad, output_angle_rad=fwd.output_angle_rad,
@@ -361,6 +399,62 @@ class RecordingModel:
                 per_pitch=self.positions,
                 period_output_rad=float(period * drive.period_rad * out_per_crank)))
         return tuple(out)
+
+    def _sampled(self, effects: Effects, samples: int | None) -> tuple:
+        """(the effects' period [pitches], the sampled pitches, the deviation)."""
+        deviation = effects.deviation(self.drive)
+        period = self.drive.deviation_period_pitches(deviation)
+        pitches = sampled_pitches(period, self.default_samples(effects, period)
+                                  if samples is None else samples)
+        return period, pitches, deviation
+
+    def runs(self, effects: Effects, torques_Nm, sign: int, *,
+             samples: int | None = None) -> list:
+        """One direction's TE over the effects' period at each output torque (what
+        :meth:`te` puts together, in this process or in its workers'): each torque under
+        its running losses; with ``warm_starts`` its positions solved from this
+        direction's last call at that torque where the effects are near (:func:`_near`: a
+        fit's steps), else from the torque before (a continuation along the torques), and
+        without, each pitch's positions from cold, one from the other.
+
+        Parameters
+        ----------
+        effects : Effects
+        torques_Nm : sequence of float
+            Output torques T >= 0 [N m], checked.
+        sign : {1, -1}
+            Forward (the output driven against a brake of T) or backward (-T).
+        samples : int, optional
+            As :meth:`te`.
+
+        Returns
+        -------
+        list of (LoadedTE, MemberSplit or None)
+            One per torque (:func:`toothfem.fem.system.datasheet.period_te`).
+        """
+        drive = self.drive
+        geometry = effects.geometry(drive)
+        period, pitches, deviation = self._sampled(effects, samples)
+        full = drive.full_period_pitches
+        systems = [self.system(m % full, effects) for m in pitches]
+        on = [m - m % full for m in pitches]
+        near = _near(self._warm_effects.get(sign), effects)
+        self._warm_effects[sign] = effects
+        out, previous = [], None          # the last torque's states
+        with one_blas_thread():           # once for every solve (each would set it again)
+            for t in torques_Nm:
+                path = t + self.running_loss_torque_Nm(t, effects)
+                signed = sign * (path if path > 0 else ZERO_TORQUE_NM)
+                key = (sign, t, tuple(pitches), tuple(on))
+                warm = dict((near and self._warm.get(key)) or previous or {}) \
+                    if self.warm_starts else None
+                loaded, split, _ = period_te(iter(systems), pitches, signed,
+                                             full_period=period, deviation=deviation,
+                                             geometry=geometry, solve_pitches=on, warm=warm)
+                if warm is not None:
+                    self._warm[key] = previous = warm
+                out.append((loaded, split))
+        return out
 
     def default_samples(self, effects: Effects, period: int) -> int:
         """The sampled pitches :meth:`te` takes by default: ``te_samples``; a pin ring's
@@ -450,6 +544,37 @@ def te_orders(case) -> dict:
     dict of str to float
     """
     return drive_for(_a_case(case)).te_orders()
+
+
+def _numbers(effects: Effects) -> tuple:
+    """(what the effects set, their values): every field flattened, the mappings by key."""
+    keys: list[tuple] = []
+    values: list[float] = []
+    for f in dataclasses.fields(effects):
+        v = getattr(effects, f.name)
+        if isinstance(v, dict):
+            items = sorted(v.items())
+            keys.append((f.name, tuple(k for k, _ in items)))
+            values += [float(x) for _, x in items]
+        elif v is None:
+            keys.append((f.name, None))
+        else:
+            a = np.asarray(v, float).ravel()
+            keys.append((f.name, a.size))
+            values += a.tolist()
+    return tuple(keys), np.array(values)
+
+
+def _near(a: Effects | None, b: Effects) -> bool:
+    """Whether the TE's states under effects ``a`` are a good start for ``b``'s: the same
+    effects set, each value within NEAR_REL of the other's (a fit's finite-difference and
+    trust-region steps; from much farther, e.g. a play of 0 to 5 um, Newton's steps from
+    the other state took twice the steps of a start from rest)."""
+    if a is None:
+        return False
+    (ka, va), (kb, vb) = _numbers(a), _numbers(b)
+    return ka == kb and bool(np.all(np.abs(va - vb) <= NEAR_REL * np.maximum(np.abs(va),
+                                                                             np.abs(vb))))
 
 
 def _a_case(case):

@@ -15,6 +15,7 @@ The model is a callable: ``model(options) -> (N,) predictions`` on the observati
 from __future__ import annotations
 
 import contextlib
+from collections.abc import Callable
 import math
 from dataclasses import dataclass, field
 from typing import Protocol
@@ -66,6 +67,8 @@ FAILED_SIGMA = 30.0
 OPTION_DECIMALS = 15
 #: Model evaluations kept (each an (N,) array of a few hundred rows).
 EVALUATIONS_KEPT = 4096
+#: Seconds between a step's progress lines off a terminal (a step takes minutes).
+PROGRESS_EVERY_S = 30.0
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -165,6 +168,10 @@ class TeModel:
         self.evaluations = 0
         self.failures: list[str] = []     # the model's failures, one line each
         self._cache: dict = {}
+        # called after each evaluation with the effects fitted, the last one the candidate
+        self.on_evaluation: Callable[[str], None] | None = None
+        self.replayed = 0                 # evaluations read back from a journal
+        self._log: list = []              # the evaluations since take_log
 
     def options(self, names, values) -> dict:
         """The model's options of the effects ``names`` at ``values``.
@@ -201,14 +208,59 @@ class TeModel:
         numpy.ndarray, (N,)
         """
         options = self.options(names, values)
-        key = tuple(sorted((k, round(float(v), OPTION_DECIMALS)) for k, v in options.items()))
+        key = _key(options)
         if key in self._cache:
             return self._cache[key]
+        failed = len(self.failures)
         out = self._evaluate(options)
+        self._keep(key, out)
+        self._log.append([[[list(k), float(v)] for k, v in options.items()],
+                          [float(x) for x in out],
+                          self.failures[-1] if len(self.failures) > failed else ""])
+        if self.on_evaluation is not None:
+            self.on_evaluation(", ".join(names) or "the case as declared")
+        return out
+
+    def _keep(self, key, out) -> None:
         if len(self._cache) >= EVALUATIONS_KEPT:
             self._cache.pop(next(iter(self._cache)))
         self._cache[key] = out
-        return out
+
+    def take_log(self) -> list:
+        """The evaluations since the last call, each ``[options, rows, failure]`` in plain
+        JSON (the options as [key as a list, value] pairs): what a journal keeps for
+        :meth:`replay`.
+
+        Returns
+        -------
+        list
+        """
+        log, self._log = self._log, []
+        return log
+
+    def replay(self, log) -> None:
+        """Take evaluations a journal kept (:meth:`take_log`'s entries) as done: the same
+        options give those rows without a model evaluation, so a resumed loop goes through
+        its finished steps again in moments, to the same numbers.
+
+        Parameters
+        ----------
+        log : iterable of [list of [list, float], list of float, str]
+
+        Raises
+        ------
+        ValueError
+            For an entry of another number of rows than the observations'.
+        """
+        for options, rows, failure in log:
+            out = np.asarray(rows, float)
+            if out.shape != self.obs.values.shape:
+                raise ValueError(f"a journaled evaluation holds {out.size} rows; the "
+                                 f"recordings give {self.obs.values.size}")
+            self._keep(_key({tuple(k): v for k, v in options}), out)
+            if failure:
+                self.failures.append(str(failure))
+            self.replayed += 1
 
     def _evaluate(self, options: dict) -> np.ndarray:
         """One model evaluation, checked (the wall of FAILED_SIGMA where it fails)."""
@@ -225,6 +277,11 @@ class TeModel:
                              f"{bool(np.all(np.isfinite(out)))}) for {len(self.obs.values)} "
                              "observations")
         return out
+
+
+def _key(options: dict) -> tuple:
+    """One evaluation's key: its options, each to OPTION_DECIMALS."""
+    return tuple(sorted((k, round(float(v), OPTION_DECIMALS)) for k, v in options.items()))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -253,6 +310,7 @@ class TeLoop:
     catalog: dict = field(default_factory=dict)      # name -> TeEffect
     failures: tuple = ()               # where the model did not settle, one line each
     evaluations: int = 0
+    replayed: int = 0                  # evaluations read back from an earlier run's journal
 
     def failure_note(self) -> str:
         """One line on the evaluations where the model did not settle (the fit was
@@ -335,6 +393,7 @@ class _Bar(en.Listener):
         """Hand each finished step to ``on_step`` (its record: what was added, every
         candidate's fit), as it finishes."""
         if self.on_step is None:
+            self.model.take_log()
             return
         self.on_step(step.index, {
             "added": step.added, "removed": list(step.removed),
@@ -344,16 +403,26 @@ class _Bar(en.Listener):
             "held_out_weighted_rmse_sigma": step.after.cv_wrmse,
             "candidates": [{"name": sc.name, "delta_bic": sc.delta_bic,
                             "cv_gain": sc.cv_gain, "failure": sc.failure}
-                           for sc in step.scores]})
+                           for sc in step.scores],
+            # what a resumed run replays (TeModel.replay): this step's new evaluations
+            "evaluations": self.model.take_log()})
 
     @contextlib.contextmanager
     def scoring(self, step, names):
         with bar(total=len(names), desc=f"TE loop step {step}", unit="candidate",
-                 enabled=self.enabled) as shown:
+                 enabled=self.enabled, every_s=PROGRESS_EVERY_S) as shown:
+            def evaluated(fitting):
+                shown.set_postfix_str(f"{self.model.evaluations} model evaluations; "
+                                      f"fitting {fitting}")
+
             def tick(score):
                 shown.update(1)
                 shown.set_postfix_str(f"{self.model.evaluations} model evaluations")
-            yield tick
+            self.model.on_evaluation = evaluated
+            try:
+                yield tick
+            finally:
+                self.model.on_evaluation = None
 
 
 def _gains(f: en.Fit, ref: en.Fit) -> tuple:
@@ -414,7 +483,8 @@ class TeProblem:
         """
         return self.engine.separation(a, b)
 
-    def run(self, candidates=None, progress: bool = False, on_step=None) -> TeLoop:
+    def run(self, candidates=None, progress: bool = False, on_step=None,
+            replay=()) -> TeLoop:
         """Forward selection by the TE loop's rules (:func:`..engine.select`).
 
         Parameters
@@ -424,13 +494,19 @@ class TeProblem:
         progress : bool
             A bar over each step's candidates, the model evaluations so far beside it.
         on_step : callable, optional
-            ``on_step(index, record)`` as each step finishes (a long run keeps it on disk).
+            ``on_step(index, record)`` as each step finishes (a long run keeps it on disk);
+            the record's ``evaluations`` are the step's new model evaluations.
+        replay : iterable, optional
+            Model evaluations of an earlier run's finished steps (their records'
+            ``evaluations``, :meth:`TeModel.replay`): the run goes through those steps
+            again without evaluating the model, then on.
 
         Returns
         -------
         TeLoop
         """
         s = self.settings
+        self.model.replay(replay)
         listener = _Bar(self.model, progress, on_step)
         sel = en.select(self.engine, list(candidates or self.catalog), listener=listener)
         steps = tuple(self._step(st) for st in sel.steps)
@@ -449,7 +525,16 @@ class TeProblem:
                       added=sel.final.effects,
                       alias_groups={st.added: st.aliased for st in sel.steps if st.added},
                       stop_reason=stop, observations=self.obs, catalog=self.catalog,
-                      failures=tuple(self.model.failures), evaluations=self.model.evaluations)
+                      failures=tuple(self.model.failures), evaluations=self.model.evaluations,
+                      replayed=self.model.replayed)
+
+    def _values(self, name: str, fit: en.Fit) -> str:
+        """An effect's fitted parameters, each with its unit, a bound said."""
+        out = []
+        for p, v, at in zip(self.catalog[name].parameters, fit.values[name],
+                            fit.at_bound[name]):
+            out.append(f"{p.name} = {v:.4g}" + (" (its bound)" if at else ""))
+        return ", ".join(out)
 
     def _step(self, step: en.Step) -> TeStep:
         """The report's record of a step, its candidates by BIC."""
@@ -460,14 +545,21 @@ class TeProblem:
         bounded = tuple(c.name for c in order if c.bounded)
         if step.added is None:
             if bounded:
+                best = next(c for c in order if c.bounded)
+                assert best.fit is not None       # a bounded candidate was fitted
+                _, gain_cv = _gains(best.fit, step.before)
                 stop = ("every candidate that would help does so only at a bound of its "
-                        "parameter: the data ask for more than it can physically give")
+                        f"parameter: the best, {best.name}, at "
+                        f"{self._values(best.name, best.fit)}, would cut the held-out error "
+                        f"by {100 * gain_cv:.3g} %; the data ask for more than it can "
+                        "physically give")
             else:
                 best = order[0]
                 gain_bic, gain_cv = _gains(best.fit, step.before) if best.fit else (
                     -math.inf, 0.0)
-                stop = (f"the best candidate, {best.name}, lowers BIC by {gain_bic:.3g} (needs "
-                        f"{s.delta_bic:g}) and the held-out error by "
+                at = f", at {self._values(best.name, best.fit)}," if best.fit else ""
+                stop = (f"the best candidate, {best.name}{at} lowers BIC by {gain_bic:.3g} "
+                        f"(needs {s.delta_bic:g}) and the held-out error by "
                         f"{100 * gain_cv:.3g} % (needs {100 * s.min_cv_gain:g} %)")
             return TeStep(index=step.index, scored=table, added=None, reason=stop,
                           bounded=bounded)
