@@ -194,6 +194,16 @@ def screen_table(summary: dict, outputs: dict) -> tuple:
 
 
 def side_of_two(pct: dict) -> bool:
-    """Whether an output's percentiles hold both tails (P10 and P90: the backlash)."""
+    """Whether an output's percentiles hold both tails (P10 and P90: the backlash).
+
+    Parameters
+    ----------
+    pct : dict
+        The output's percentiles by name ("P50", "P10", ...).
+
+    Returns
+    -------
+    bool
+    """
     tails = {_tail_of(q) for q in pct}
     return bool(tails & {1, 10}) and bool(tails & {90, 99})
