@@ -213,8 +213,9 @@ def _text_of(source: str, d: _Design, case: Case, notes: dict | None = None) -> 
     return text
 
 
-#: Positions over one meshing period of the verification's pressure solve.
-PH_POSITIONS = 18
+#: Positions over one meshing period of the verification's pressure solve: run's and
+#: contact's (so the sized datasheet's pressure is theirs).
+PH_POSITIONS = 36
 
 
 def reducer_ph_MPa(case: Case, torque_Nm: float, positions: int = PH_POSITIONS) -> float:
