@@ -189,6 +189,16 @@ def strength_summary(case, *, contact=None, loads="analytic", positions=36,
             **extra, "warnings": list(s.warnings)}
 
 
+def _how(where: dict) -> str:
+    """How a peak pressure was found, for the note: Hertz's, or the FE's where Hertz fails
+    (the contact half-width not small against the radii)."""
+    if where.get("pressure_from_fe"):
+        return "; P_h from the FE: Hertz fails there"
+    if where.get("hertz_invalid"):
+        return "; Hertz outside its range there"
+    return "; Hertz"
+
+
 def _larger_pressure(contact, ph_held_Pa: float, held_source: str, drive) -> tuple:
     """The larger of the reducer's largest P_h (system model: every member free on its
     supports, the split solved) and the held member's, which it is, and where each sits;
@@ -214,9 +224,9 @@ def _larger_pressure(contact, ph_held_Pa: float, held_source: str, drive) -> tup
             f"{drive.member_name}'s {ph_held_Pa / PA_PER_MPA:.4g} MPa move apart from their "
             f"largest forces ({f_red:.4g} N and {f_held:.4g} N): the reducer's sits at {c} "
             f"{red['contact']} at {red['position_deg']:.3g} deg ({red['force_N']:.4g} N on an "
-            f"equivalent radius of {red['equivalent_radius_mm']:.3g} mm), the held one's at "
-            f"{c} {held['contact']} at {held['position_deg']:.3g} deg ({held['force_N']:.4g} N "
-            f"on {held['equivalent_radius_mm']:.3g} mm)")
+            f"equivalent radius of {red['equivalent_radius_mm']:.3g} mm{_how(red)}), the held "
+            f"one's at {c} {held['contact']} at {held['position_deg']:.3g} deg "
+            f"({held['force_N']:.4g} N on {held['equivalent_radius_mm']:.3g} mm{_how(held)})")
     if on_reducer:
         return (reducer_MPa * PA_PER_MPA,
                 "the reducer (system model: every member free on its supports), the larger "
@@ -243,6 +253,8 @@ def peak_contact(sharing) -> dict:
     return {"contact": int(sharing.contact_id[p, c]),
             "position_deg": float(np.degrees(sharing.position_rad[p])),
             "force_N": float(sharing.force[p, c]),
+            "pressure_from_fe": bool(sharing.pressure_from_fe[p, c]),
+            "hertz_invalid": bool(sharing.hertz_invalid[p, c]),
             "ph_MPa": float(sharing.ph[p, c]) / PA_PER_MPA,
             "equivalent_radius_mm": float(sharing.equivalent_radius[p, c]) * 1e3}
 
