@@ -8,12 +8,12 @@ import math
 import numpy as np
 
 from .case import Case
+from .sizing_rules import INTERFERING_MAX
 
 #: Built reducers of the interference estimate, and its seed (the same answer each time).
 ESTIMATE_RINGS, ESTIMATE_SEED = 4000, 0
-#: Share of built reducers that may interfere before ``check`` warns (the sizing's rule:
-#: toothfem.sizing_rules.INTERFERING_MAX).
-INTERFERING_WARN = 0.05
+#: Share of built reducers that may interfere before ``check`` warns: the sizing's rule.
+INTERFERING_WARN = INTERFERING_MAX
 #: The sigma a zone's limit stands for (a capable process: 3 sigma at the limit).
 SIGMAS_AT_LIMIT = 3.0
 

@@ -16,6 +16,7 @@ from .efficiency.main_bearing import main_tilt
 from .efficiency.mesh_table import LoadsMemo
 from .efficiency.evaluation import operating_point
 from .fem.drives import drive_for
+from .sizing_rules import INTERFERING_MAX
 from .units import PA_PER_MPA, S_PER_H
 
 #: [published] keys of a maker's rated life (Nabtesco's K, T0, N0).
@@ -285,8 +286,6 @@ AS_BUILT_OUTPUTS = (("backlash_arcmin", "backlash (< 0: the flanks interfere)", 
                     ("lost_motion_arcmin", "lost motion at +-3 % of rated (elastic)", "arcmin"),
                     ("max_force_N", "largest pin force in the reducer", "N"),
                     ("max_ph_MPa", "largest Hertz pressure in the reducer", "MPa"))
-#: The share of built reducers that may interfere (the sizing's rule).
-INTERFERING_MAX = 0.05
 
 
 def as_built_summary(case, *, rings: int = AS_BUILT_RINGS, progress: bool = False) -> dict:
