@@ -52,6 +52,7 @@ def run(args) -> int:
         0 when the report folder is complete.
     """
     import json
+    import textwrap
 
     from ..bars import bar
     from ..efficiency.mesh_table import fe_progress
@@ -90,14 +91,15 @@ def run(args) -> int:
                                         "[tolerances] (system model)"))
     heat, life, strength = (dur[k] for k in ("heat", "life", "strength"))
     l10 = life["unit_l10_h"]
-    print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C; bearings L10 "
-          + ("not rated" if l10 is None else f"{l10:.4g} h (limiting: {life['limiting']})")
-          + f"; contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f} "
-          f"(on {strength['ph_max_MPa']:.4g} MPa, "
+    print(f"\nequilibrium oil {heat['equilibrium_oil_temp_C']:.1f} C")
+    print("bearings L10 " + ("not rated" if l10 is None else
+                             f"{l10:.4g} h (limiting: {life['limiting']})"))
+    print(f"contact safety {strength['contact_fatigue_safety'] or float('inf'):.2f} (on "
+          f"{strength['ph_max_MPa']:.4g} MPa, "
           + ("the reducer's" if strength.get("judged_on") == "reducer" else
              "one member held") + ")")
     if strength.get("note"):
-        print(f"note: {strength['note']}")
+        print(textwrap.fill(f"note: {strength['note']}", width=100, subsequent_indent="  "))
     for w in res.warnings:
         print(f"warning: {w}")
     print(f"\nwrote the report to {report} (pictures, CSV tables and VTU fields beside it)")
