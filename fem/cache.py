@@ -214,3 +214,40 @@ class DiskCache:
                 Path(tmp).unlink(missing_ok=True)
             raise
         return path
+
+
+#: Cycle solvers kept in memory per process (each holds its influence tables, tens of MB):
+#: enough for the designs of one command or one sweep task group.
+SOLVERS_KEPT = 4
+_SOLVERS: dict = {}
+
+
+def kept_solver(key, build):
+    """The cycle solver kept under ``key``, else ``build()``'s, kept (the oldest dropped
+    beyond :data:`SOLVERS_KEPT`).
+
+    Parameters
+    ----------
+    key : hashable
+        The drive, its positions, options, cache folder and pitch.
+    build : callable
+        Makes the solver.
+
+    Returns
+    -------
+    object
+        The solver.
+    """
+    solver = _SOLVERS.get(key)
+    if solver is None:
+        solver = build()
+        if len(_SOLVERS) >= SOLVERS_KEPT:
+            _SOLVERS.pop(next(iter(_SOLVERS)))
+        _SOLVERS[key] = solver
+    return solver
+
+
+def release_solvers() -> None:
+    """Drop the cycle solvers kept in memory (a search over many designs calls it between
+    designs: each holds its influence tables)."""
+    _SOLVERS.clear()

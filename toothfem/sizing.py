@@ -250,7 +250,7 @@ def _release() -> None:
     a large reducer's run to gigabytes over a search's rounds)."""
     import gc
 
-    from .fem.drives.base import release_solvers
+    from .fem.cache import release_solvers
     from .tolerance import release_models
     release_solvers()
     release_models()

@@ -10,7 +10,7 @@ import numpy as np
 
 from ...errors import CaseError, check_range, checked_array
 from ..hertz import reduced_modulus
-from ..cache import DiskCache, default_dir
+from ..cache import DiskCache, default_dir, kept_solver
 from ..load_sharing import LoadSharing, analytic_split
 from ..contracts import CycleSolver, DetailedSolution, ReducerModel
 
@@ -567,16 +567,10 @@ class Drive(abc.ABC):
         key = (self, int(n_positions), tuple(sorted(overrides.items())),
                tuple(sorted(options.items())), None if cache is None else str(cache.directory),
                int(pitch), int(offset))
-        solver = _SOLVERS.get(key)
-        if solver is None:
-            phis = self.positions(n_positions) + (int(pitch) + int(offset) / int(n_positions)) \
-                * self.period_rad
-            solver = self._new_cycle_solver(self.fe_model(**overrides), phis, cache,
-                                            **options)
-            if len(_SOLVERS) >= SOLVERS_KEPT:
-                _SOLVERS.pop(next(iter(_SOLVERS)))
-            _SOLVERS[key] = solver
-        return solver
+        phis = self.positions(n_positions) + (int(pitch) + int(offset) / int(n_positions)) \
+            * self.period_rad
+        return kept_solver(key, lambda: self._new_cycle_solver(
+            self.fe_model(**overrides), phis, cache, **options))
 
 
 def _merged_orders(pairs) -> dict:
@@ -591,16 +585,3 @@ def _merged_orders(pairs) -> dict:
             names.append(name)
             orders.append(q)
     return dict(zip(names, orders))
-
-
-#: Cycle solvers kept in memory per process (each holds its influence tables, tens of MB):
-#: enough for the designs of one command or one sweep task group.
-SOLVERS_KEPT = 4
-_SOLVERS: dict = {}
-
-
-def release_solvers() -> None:
-    """Drop the cycle solvers kept in memory (a search over many designs calls it between
-    designs: each holds its influence tables)."""
-    _SOLVERS.clear()
-
