@@ -237,12 +237,10 @@ def reducer_ph_MPa(case: Case, torque_Nm: float, positions: int = PH_POSITIONS) 
         [MPa].
     """
     from .fem.drives import drive_for
-    from .fem.system.datasheet import SystemTwist
+    from .pipeline import reducer_te
     drive = drive_for(case)
     system = drive.system_model(drive.supports(case.to_si().supports), positions)
-    states = SystemTwist(system).states(torque_Nm)
-    return max(float(np.max(system.member_record(j, states).ph))
-               for j in range(system.discs)) / 1e6
+    return reducer_te(system, torque_Nm)["max_ph_reducer_MPa"]     # contact's and run's
 
 
 def _release() -> None:
@@ -441,7 +439,7 @@ def size_reducer(case, source_text: str, *, progress=None) -> SizingResult:
         for r in range(MAX_ROUNDS):
             d.pillar_hole = max(d.pillar_hole, pillar_min(d.width)[0])
             text = _text_of(source_text, d, case)
-            cand, fig = _verify(text, targets)
+            _, fig = _verify(text, targets)
             missed = _missed(fig, targets, allowable)
             rounds.append(Round(dimensions=dict(vars(d)), missed=missed, **{
                 k_: fig[k_] for k_ in ("rigidity_Nm_per_arcmin", "unit_l10_h", "limiting",
