@@ -65,6 +65,9 @@ LOSSES: dict[str, Loss] = {x.name: x for x in (
     Loss("windage", None,
          "declared drag on the input growing with speed squared, T_w (n/1000 rpm)^2 "
          "(friction.windage_torque_Nmm; Dawson 1984)"),
+    Loss("viscous_drag", None,
+         "declared drag on the input growing with speed and viscosity, T_v (n/1000 rpm) "
+         "eta/eta_ref (friction.viscous_drag_Nmm; Petroff 1883)"),
     Loss("sun_planet_mesh", "first_stage",
          "RV paper Eqs. 8-15 with the declared mesh efficiency"),
     Loss("cycloid_mesh", "pins", "RV paper Eqs. 8-15 with the declared mesh efficiency"),

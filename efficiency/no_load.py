@@ -30,6 +30,14 @@ One cited law per mechanism, none counted twice:
   rho omega^2 r^5 (P. H. Dawson, "Windage loss in larger high-speed gears", Proc. IMechE
   198A (1984) 51-59: power as n^2.9 near n^3); 0 by default, as the reducers here turn
   slowly in an oil bath (churning covers the bath).
+* ``viscous_drag``: a declared drag on the input shaft that grows in proportion to the speed
+  and the oil's viscosity (``friction.viscous_drag_Nmm``, its value at
+  :data:`WINDAGE_REFERENCE_RPM` and the lubricant's reference viscosity): an oil film of
+  fixed gap sheared between a shaft and a sleeve, a bushing or a close-running part
+  (N. Petroff, "Friction in machines and the effect of the lubricant", Inzh. Zh. 1883;
+  Hamrock, Schmid & Jacobson, *Fundamentals of Fluid Film Lubrication*, 2004, Eq. 8.52:
+  T = 2 pi eta r^3 L omega / c, laminar and concentric, so T ~ eta omega). Between the
+  constant ``drag`` and the speed-squared ``windage``; 0 by default.
 """
 from __future__ import annotations
 
@@ -153,6 +161,17 @@ def _windage(si, drive, points):
     return si.friction.windage_torque_Nm * (w / WINDAGE_REFERENCE_RAD_S) ** 2 * w
 
 
+def _viscous_applies(si, points) -> bool:
+    return bool(si.friction.viscous_drag_Nm)
+
+
+def _viscous(si, drive, points):
+    """A declared drag on the input growing with its speed and the oil's viscosity."""
+    w = np.abs(points.input_rad_s)
+    return (si.friction.viscous_drag_Nm * (w / WINDAGE_REFERENCE_RAD_S)
+            * points.viscosity_factor * w)
+
+
 #: The load-independent losses, in the order the summaries list them.
 NO_LOAD: tuple[NoLoadLoss, ...] = (
     NoLoadLoss("churning", _churning, _churning_applies),
@@ -160,6 +179,7 @@ NO_LOAD: tuple[NoLoadLoss, ...] = (
     NoLoadLoss("seals", _seals),
     NoLoadLoss("drag", _drag),
     NoLoadLoss("windage", _windage, _windage_applies),
+    NoLoadLoss("viscous_drag", _viscous, _viscous_applies),
 )
 
 
@@ -187,8 +207,8 @@ def no_load_losses(si, drive, *, stages, input_rad_s, output_rad_s, viscosity_fa
     Returns
     -------
     dict
-        ``churning`` (oil bath) or ``bearing_drag`` (otherwise), ``seals``, ``drag`` and
-        ``windage`` where declared: (M,) arrays.
+        ``churning`` (oil bath) or ``bearing_drag`` (otherwise), ``seals``, ``drag``, and
+        ``windage`` and ``viscous_drag`` where declared: (M,) arrays.
     """
     points = NoLoadPoints(stages=tuple(stages), input_rad_s=input_rad_s,
                           output_rad_s=output_rad_s, viscosity_factor=viscosity_factor,

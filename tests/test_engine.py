@@ -177,6 +177,51 @@ def test_an_effect_that_helps_only_at_its_bound_is_not_added(rules):
     assert c.fit.at_bound["stiff"] == (True,)
 
 
+@pytest.mark.parametrize("rules", RULES)
+def test_the_final_model_has_no_parameter_at_a_bound(rules):
+    """cap (bound 1) is 0.6 and the rest is ecc's shape, offered only as neg = ecc - cap: a
+    fit of neg with cap free takes neg = 1 and cap to its bound 1.6 -> 1. The at-bound rule
+    holds for the model the selection ends with: the efficiency loop (joint scoring) calls
+    neg bounded and keeps cap alone; the TE loop (scored alone, cap held at 0.6) adds neg
+    but refuses the joint refit that would put cap at its bound."""
+    shapes = {**SHAPES, "cap": T, "neg": SHAPES["ecc"] - T}
+    obs = rows({"cap": 0.6, "ecc": 1.0}, 1, {**SHAPES, "cap": T})
+    e = engine(obs, rules, (effect("cap", hi=1.0), effect("neg")), Linear(shapes))
+    sel = en.select(e, ["cap", "neg"])
+    assert not en.any_at_bound(sel.final)
+    assert sel.final.values["cap"][0] == pytest.approx(0.6, abs=0.05)
+    if rules == "efficiency":
+        assert sel.final.effects == ("cap",)
+        (neg,) = sel.steps[1].scores
+        assert neg.bounded and neg.fit.at_bound["cap"] == (True,)
+    else:
+        assert sel.final.effects == ("cap", "neg")
+
+
+@pytest.mark.parametrize("rules", RULES)
+def test_a_pair_is_added_where_one_alone_stops_at_its_bound(rules):
+    """cap (bound 1) is 0.95 and partner (cap's shape + 6 ecc's) 0.08: alone, cap wants
+    1.05 and stops at its bound, though its bounded fit beats partner's; the efficiency loop
+    (Rules.pairs) fits cap with each other candidate and adds cap with partner in one step,
+    each to its true value; the TE loop tries no pair (each is a run of system solves)."""
+    shapes = {**SHAPES, "cap": T, "partner": T + 6 * SHAPES["ecc"]}
+    obs = rows({"cap": 0.95, "partner": 0.08}, 1, shapes)
+    catalog = (effect("cap", hi=1.0), effect("partner"), effect("play"))
+    e = engine(obs, rules, catalog, Linear(shapes))
+    sel = en.select(e, ["cap", "partner", "play"])
+    first = sel.steps[0]
+    scores = {c.name: c for c in first.scores}
+    assert scores["cap"].bounded and scores["cap"].bic < scores["partner"].bic
+    assert set(sel.final.effects) == {"cap", "partner"}
+    assert sel.final.values["cap"][0] == pytest.approx(0.95, abs=0.02)
+    assert sel.final.values["partner"][0] == pytest.approx(0.08, abs=0.01)
+    if rules == "efficiency":
+        assert (first.added, first.partner) == ("cap", "partner")
+        assert {p.partner for p in first.pairs} == {"partner", "play"}
+    else:
+        assert first.pairs == () and first.partner == ""
+
+
 def test_an_effect_made_redundant_leaves_again():
     """'both' is play + slope + x: alone it explains data of play + slope best and is added
     first; slope and then play follow, each cutting what 'both' leaves, and with both of

@@ -95,7 +95,8 @@ def test_declared_and_applicable(cases):
     # churning and mixed lubrication are in the model by default: candidates as corrections
     # of their parameters (the churning law's factor, the boundary coefficient)
     assert cands == ["drag_torque", "churning", "mixed_lubrication", "viscosity_grade",
-                     "windage", "input_torque_offset", "output_torque_offset"]
+                     "windage", "viscous_drag", "input_torque_offset",
+                     "output_torque_offset"]
     assert "declared" in skipped["bearing_friction"]
     assert "oil_temp_C" in skipped["viscosity_temperature"]
     assert "oil_temp_C" in skipped["thermal"]              # no sensor to be warmer than

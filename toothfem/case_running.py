@@ -173,6 +173,14 @@ class Friction(_Section):
                                        "rpm)^2 omega_in; Dawson 1984)",
                                    source="0: these reducers turn slowly in an oil bath, "
                                           "whose churning law covers the bath")
+    viscous_drag_Nmm: float = _f(*DRAG_NMM, default=0.0,
+                                 doc="drag on the input shaft at 1000 rpm and the case's "
+                                     "reference viscosity that grows in proportion to the "
+                                     "speed and the oil's viscosity (a sleeve, bushing or "
+                                     "close clearance shearing oil: Petroff's law, "
+                                     "T = T_v (n/1000 rpm) eta/eta_ref)",
+                                 source="0: no sheared oil film beyond the bearings and "
+                                        "churning modelled")
 
 
 BEARING_TYPES = ("ball", "angular_ball", "cylindrical", "tapered", "needle")

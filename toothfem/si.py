@@ -129,6 +129,7 @@ class FrictionSI:
     boundary_coefficient: float
     drag_torque_Nm: float
     windage_torque_Nm: float = 0.0     # at 1000 rpm input, growing with speed squared
+    viscous_drag_Nm: float = 0.0       # at 1000 rpm input and eta_ref, growing with speed
 
 
 @dataclass(**_RECORD)
@@ -442,7 +443,8 @@ def from_case(case) -> CaseSI:
             pin_groove_coefficient=fri.pin_groove_coefficient, mesh_law=fri.mesh_law,
             boundary_coefficient=fri.boundary_coefficient,
             drag_torque_Nm=fri.drag_torque_Nmm * _MM,
-            windage_torque_Nm=fri.windage_torque_Nmm * _MM),
+            windage_torque_Nm=fri.windage_torque_Nmm * _MM,
+            viscous_drag_Nm=fri.viscous_drag_Nmm * _MM),
         output_mechanism=None if om is None else OutputMechanismSI(
             pin_count=om.pin_count, pin_hole_circle_radius_m=om.pin_hole_circle_radius_mm * _MM,
             pin_radius_m=om.pin_radius_mm * _MM,

@@ -63,7 +63,7 @@ from ..mesh_table import table_from_records
 from .effect_base import (Effect, Parameter, Points, Prediction, crank_speed_factor,  # noqa: F401
                           declared_if_changed, need_cycloid, predict, prepare, read, setter,
                           true_points, with_effects)
-from .loss_effects import bearing_preload, viscosity_grade, windage
+from .loss_effects import bearing_preload, viscosity_grade, viscous_drag, windage
 from .rig_effects import input_torque_offset, oil_temp_offset, output_torque_offset, warm_up
 from .thermal_effect import thermal
 from ...units import rpm_to_rad_s
@@ -547,7 +547,8 @@ def load_sharing_clearance(compliance=None) -> Effect:
 
 NAMES = ("drag_torque", "churning", "viscosity_temperature", "mixed_lubrication",
          "bearing_friction", "output_mechanism_friction", "load_sharing_clearance",
-         "pin_sliding", "thermal", "viscosity_grade", "windage", "bearing_preload",
+         "pin_sliding", "thermal", "viscosity_grade", "windage", "viscous_drag",
+         "bearing_preload",
          "input_torque_offset", "output_torque_offset", "oil_temp_offset", "warm_up")
 
 
@@ -568,7 +569,8 @@ def catalog(*, clearance_compliance=None) -> tuple:
     return (drag_torque(), churning(), viscosity_temperature(), mixed_lubrication(),
             bearing_friction(), output_mechanism_friction(),
             load_sharing_clearance(clearance_compliance), pin_sliding(), thermal(),
-            viscosity_grade(), windage(), bearing_preload(), input_torque_offset(),
+            viscosity_grade(), windage(), viscous_drag(), bearing_preload(),
+            input_torque_offset(),
             output_torque_offset(), oil_temp_offset(), warm_up())
 
 

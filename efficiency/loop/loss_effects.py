@@ -1,5 +1,6 @@
 """Effects of the reducer the default model takes at a default or leaves out: the oil's
-viscosity grade, a drag growing with the square of the speed, the main bearings' preload.
+viscosity grade, a drag growing with the square of the speed or in proportion to it, the
+main bearings' preload.
 
 * ``viscosity_grade``: the oil in the rig is not the case's (a VG 32 fill where the case
   says VG 68): its kinematic viscosity at 40 C is fitted, the case's Vogel law kept
@@ -10,6 +11,10 @@ viscosity grade, a drag growing with the square of the speed, the main bearings'
   (``friction.windage_torque_Nmm`` at 1000 rpm; :mod:`toothfem.efficiency.no_load`), the
   turbulent drag of parts turning in air and mist (Dawson 1984), or lip seals running
   short of oil (their friction rising with speed).
+* ``viscous_drag``: a drag torque on the input that grows in proportion to the speed and the
+  oil's viscosity (``friction.viscous_drag_Nmm`` at 1000 rpm and the reference viscosity;
+  :mod:`toothfem.efficiency.no_load`): an oil film of fixed gap sheared by the input shaft
+  (Petroff's law), between the constant ``drag_torque`` and the speed-squared ``windage``.
 * ``bearing_preload``: the axial preload of each main bearing row
   (``bearings.main_preload_N``; by default 2 % of the row's C0, an ASSUMPTION of
   :mod:`toothfem.efficiency.main_bearing`), its Palmgren load term mu F d_m / 2 at the
@@ -122,6 +127,33 @@ def windage() -> Effect:
         linear_in=lambda case: "windage",
         direct_test="no-load runs (output uncoupled) at three or more input speeds: a drag "
                     "torque rising with the square of the speed")
+
+
+def viscous_drag() -> Effect:
+    """Drag on the input growing with the speed and the oil's viscosity (module docstring).
+
+    Returns
+    -------
+    Effect
+        Parameter viscous_drag_Nmm [N mm] at 1000 rpm and the reference viscosity
+        (friction.viscous_drag_Nmm).
+    """
+    return Effect(
+        name="viscous_drag",
+        summary="drag on the input growing with speed and viscosity (a sheared oil film)",
+        equation="P = T_v (n / 1000 rpm) (eta / eta_ref) omega_in",
+        citation="N. Petroff (1883); B. J. Hamrock, S. R. Schmid, B. O. Jacobson, "
+                 "Fundamentals of Fluid Film Lubrication (2004), Eq. 8.52",
+        parameters=(Parameter("viscous_drag_Nmm", "N mm", 0.0, 1e6, (5.0, 50.0, 500.0),
+                              50.0, "drag torque at 1000 rpm input"),),
+        case_fields=("friction.viscous_drag_Nmm",),
+        set_fields=setter("friction", "viscous_drag_Nmm"),
+        declared_by=declared_if_changed("friction", "viscous_drag_Nmm",
+                                         "friction.viscous_drag_Nmm"),
+        linear_in=lambda case: "viscous_drag",
+        direct_test="no-load runs (output uncoupled) at three or more input speeds and two "
+                    "oil temperatures: a drag torque rising in proportion to the speed and "
+                    "the viscosity")
 
 
 def _static_rating(case):

@@ -56,6 +56,9 @@ EFFICIENCY_RULES = Rules(
                             # not hold once another effect is in
     prune_fraction=0.5,     # below the entry threshold, so an effect just added does not
                             # leave at once
+    pairs=True,             # a pair costs one joint fit of a few evaluations; a warm-up the
+                            # log does not show, read by a sensor that is also off, is met
+                            # only by the two together (tests/test_loop_effects.py)
 )
 
 #: Parameter values equal to this many decimals are one prediction: the optimiser revisits

@@ -41,6 +41,7 @@ class Step:
     bounded: tuple = ()            # names that would help only at a parameter's bound
     group: AliasGroup | None = None   # the alias group of this step and how to separate it
     trend: Trend | None = None     # the covariate the residual follows most after the step
+    partner: str = ""              # added together with ``added`` (a pair)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -153,7 +154,8 @@ class LoopReport:
             "unexplained": list(self.unexplained),
             "unexplained_text": self.unexplained_text(),
             "stop_reason": self.stop_reason,
-            "steps": [{"index": s.index, "added": s.added, "reason": s.reason,
+            "steps": [{"index": s.index, "added": s.added, "added_with": s.partner or None,
+                       "reason": s.reason,
                        "aliased": list(s.aliased), "removed": list(s.removed),
                        "bounded": list(s.bounded), "residual_follows_most": trend(s.trend),
                        "candidates": [{"name": c.name, "values": list(c.values),

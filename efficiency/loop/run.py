@@ -239,7 +239,8 @@ class _Steps(en.Listener):
         if step.added is not None:
             order.sort(key=lambda c: c.name != step.added)
         cands = tuple(_candidate(prob, c) for c in order)
-        bounded = tuple(c.name for c in cands if c.bounded)
+        bounded = tuple(c.name for c in cands
+                        if c.bounded and c.name not in (step.added, step.partner))
         trend = most_followed(residual_trends(step.after.residual, self.covs, prob.w,
                                               settings))
         if step.added is None:
@@ -249,24 +250,35 @@ class _Steps(en.Listener):
                     f"by {closest.delta_bic:+.1f} (needs <= -{settings.min_cv_gain:.0%} and "
                     f"<= -{settings.delta_bic:g})")
             if bounded:
-                stop += (f"; {', '.join(bounded)} would explain the data only at the bound of "
-                         "its parameter: the data ask for more than it can physically give, "
-                         "so it is not an explanation")
+                stop += (f"; {', '.join(bounded)} would explain the data only with a "
+                         "parameter at its bound: the data ask for more than the effects can "
+                         "physically give, so it is not an explanation")
+                if step.pairs:
+                    stop += f" (nor with any of the {len(step.pairs)} pairs tried)"
             self.steps.append(Step(index=step.index, added=None, candidates=cands,
                                    reason=stop, bounded=bounded, trend=trend))
             return
-        best = cands[0]
-        reason = (f"added {best.name}: held-out weighted RMS {current.cv_wrmse:.4g} -> "
-                  f"{best.cv_wrmse:.4g}, BIC {best.delta_bic:+.1f}")
+        if step.partner:
+            fit = step.added_fit
+            assert fit is not None          # a step that adds has its fit
+            reason = (f"added {step.added} together with {step.partner} (each alone stops at "
+                      f"a parameter's bound or does not help): held-out weighted RMS "
+                      f"{current.cv_wrmse:.4g} -> {fit.cv_wrmse:.4g}, BIC "
+                      f"{fit.bic - current.bic:+.1f}")
+        else:
+            best = cands[0]
+            reason = (f"added {best.name}: held-out weighted RMS {current.cv_wrmse:.4g} -> "
+                      f"{best.cv_wrmse:.4g}, BIC {best.delta_bic:+.1f}")
         if step.aliased:
             reason += f"; the data cannot tell it from {', '.join(step.aliased)}"
         if bounded:
-            reason += (f"; not added, at the bound of its parameter: {', '.join(bounded)}")
+            reason += (f"; not added, a parameter at its bound: {', '.join(bounded)}")
         if step.removed:
             reason += "; then removed " + ", ".join(step.removed) + " (no longer needed)"
         group = step.group
         assert group is None or isinstance(group, AliasGroup)      # _group's
-        self.steps.append(Step(index=step.index, added=step.added, candidates=cands,
+        self.steps.append(Step(index=step.index, added=step.added, partner=step.partner,
+                               candidates=cands,
                                reason=reason, aliased=step.aliased, removed=step.removed,
                                bounded=bounded, group=group, trend=trend))
         self.say(reason)

@@ -19,12 +19,12 @@ from .records import (AT_BOUND_REL, EXACT_TOL, MIN_FOLDS, STEP_BOUND_EPS,  # noq
                       assign_folds, at_bound, fold_count, parameter)
 from .selection import (ALL_TRIED, EXCHANGING, MAX_EFFECTS, NO_CANDIDATES,  # noqa: F401
                         NOTHING_PASSES, STEPS_PER_CANDIDATE, TOO_FEW_ROWS, Listener, Score,
-                        Selection, Separate, Step, aliases, prune, ranked, score, select,
-                        winner)
+                        Selection, Separate, Step, aliases, any_at_bound, pairs, prune, ranked,
+                        score, select, winner)
 
 __all__ = ["ALL_TRIED", "AT_BOUND_REL", "EXACT_TOL", "EXCHANGING", "MAX_EFFECTS", "MIN_FOLDS",
            "NOTHING_PASSES", "NO_CANDIDATES", "STEPS_PER_CANDIDATE", "STEP_BOUND_EPS",
            "TOO_FEW_ROWS", "WRSS_FLOOR", "Effect", "Engine", "Fit", "HeldOut", "Listener",
            "Model", "Observations", "Parameter", "Rules", "Score", "Selection", "Separate",
-           "Solution", "Step", "aliases", "assign_folds", "at_bound", "fold_count", "parameter",
-           "prune", "ranked", "score", "select", "winner"]
+           "Solution", "Step", "aliases", "any_at_bound", "assign_folds", "at_bound",
+           "fold_count", "pairs", "parameter", "prune", "ranked", "score", "select", "winner"]

@@ -144,6 +144,8 @@ class Rules:
     exclude_aliases : whether an added effect's aliases leave the candidates.
     prune_fraction : after each addition, an earlier effect whose removal costs less than
         this fraction of ``Settings.delta_bic`` in BIC is removed again; None: never.
+    pairs : whether a candidate that helps only at a parameter's bound is fitted together
+        with each other candidate (:func:`.selection.pairs`), two effects added at once.
     """
     fd_step: float
     fit_tol: float
@@ -156,6 +158,7 @@ class Rules:
     alias_separation: float
     exclude_aliases: bool
     prune_fraction: float | None
+    pairs: bool
 
     def __post_init__(self):
         for name, allowed in (("starts", ("screen", "restart")), ("folds", ("deal", "label")),

@@ -6,16 +6,27 @@
    the effects already added (:attr:`Rules.scoring`) and scored: its change of BIC and its
    relative cut of the held-out error against the fit so far. It passes when BIC falls by
    at least :attr:`Settings.delta_bic` and the held-out error by at least
-   :attr:`Settings.min_cv_gain`, unless a parameter of it sits at a bound: the at-bound
-   rule (the data ask for more than the effect can physically give, so it is no
-   explanation; such a candidate is "bounded").
+   :attr:`Settings.min_cv_gain`, unless a parameter of the fit sits at a bound (its own or
+   an earlier effect's, pushed there by the joint fit): the at-bound rule (the data ask for
+   more than the effects can physically give, so it is no explanation; such a candidate is
+   "bounded").
 2. Of the passing candidates the best by :attr:`Rules.rank` is added (of those within
    :attr:`Rules.tie_bic` of its BIC change, the first in the candidates' order).
+   Pairs (:attr:`Rules.pairs`): where a bounded candidate's BIC beats every passing one's
+   (or none passes), it is fitted together with each other candidate (a warm-up seen by a
+   sensor that reads off needs the offset beside it: one at a time, neither explains the
+   data); the best pair that passes, with no parameter at a bound, is added instead when
+   it beats the single winner's BIC by :attr:`Settings.delta_bic` (the price of the second
+   effect) or no single candidate passes.
 3. Its aliases (:attr:`Rules.aliases`: by BIC, and by the rows' distance between the fits,
    :attr:`Rules.alias_separation`) form its alias group; the separating-measurement hook,
    where the loop has one, is asked how to tell the group apart.
 4. Backward (:attr:`Rules.prune_fraction`): an earlier effect that the new one made
    redundant leaves again. Repeat from 1.
+
+The at-bound rule holds for the model the selection ends with, not only for each candidate:
+the joint refit of :attr:`Rules.scoring` "alone" and the backward step's refits are taken
+only where no parameter ends at a bound.
 
 It stops when no candidate passes, none is left, :attr:`Settings.max_effects` are in, too
 few rows are left for another parameter (:attr:`Settings.min_points` beyond the
@@ -55,11 +66,12 @@ class Score:
     passed: bool
     bounded: bool = False          # would pass but for a parameter at its bound
     failure: str = ""
+    partner: str = ""              # a pair's second effect (Rules.pairs); "" for one
 
     @property
     def at_bound(self) -> bool:
-        """Whether a parameter of it sits at a bound (False where its fit failed)."""
-        return self.fit is not None and any(self.fit.at_bound[self.name])
+        """Whether a parameter of its fit sits at a bound (False where its fit failed)."""
+        return self.fit is not None and any_at_bound(self.fit)
 
     @property
     def cv_wrmse(self) -> float:
@@ -82,6 +94,8 @@ class Step:
     after: Fit                     # the fit after the step
     added: str | None = None
     added_fit: Fit | None = None   # the fit with the added effect, before the backward step
+    partner: str = ""              # added together with ``added`` (Rules.pairs)
+    pairs: tuple = ()              # the pairs scored (Score with a partner)
     aliased: tuple = ()            # names, in the order of :attr:`Rules.rank`
     removed: tuple = ()            # names the backward step took out again
     group: object | None = None    # the separating-measurement hook's answer
@@ -145,9 +159,24 @@ class Listener:
         """
 
 
-def score(engine: Engine, current: Fit, name: str) -> Score:
-    """A candidate fitted with the effects of ``current`` (:attr:`Rules.scoring`) and scored
-    against it (module docstring); a fit the model refuses (a ToothfemError) fails.
+def any_at_bound(fit: Fit) -> bool:
+    """Whether any parameter of a fit sits at a bound.
+
+    Parameters
+    ----------
+    fit : Fit
+
+    Returns
+    -------
+    bool
+    """
+    return any(any(flags) for flags in fit.at_bound.values())
+
+
+def score(engine: Engine, current: Fit, name: str, partner: str = "") -> Score:
+    """A candidate (or a pair) fitted with the effects of ``current``
+    (:attr:`Rules.scoring`) and scored against it (module docstring); a fit the model
+    refuses (a ToothfemError) fails.
 
     Parameters
     ----------
@@ -156,24 +185,71 @@ def score(engine: Engine, current: Fit, name: str) -> Score:
         The fit so far.
     name : str
         The candidate.
+    partner : str, optional
+        A second candidate fitted together with it (:attr:`Rules.pairs`).
 
     Returns
     -------
     Score
     """
     s = engine.settings
-    free = None if engine.rules.scoring == "joint" else (name,)
+    new = (name, partner) if partner else (name,)
+    free = None if engine.rules.scoring == "joint" else new
     try:
-        f = engine.fit(current.effects + (name,), dict(current.values), free=free)
+        f = engine.fit(current.effects + new, dict(current.values), free=free)
     except ToothfemError as exc:
         return Score(name=name, fit=None, delta_bic=float("inf"), cv_gain=float("nan"),
-                     passed=False, failure=str(exc))
+                     passed=False, failure=str(exc), partner=partner)
     dbic = f.bic - current.bic
     gain = 1 - f.cv_wrmse / current.cv_wrmse if current.cv_wrmse > 0 else 0.0
-    helps = dbic <= -s.delta_bic and gain >= s.min_cv_gain
-    at = any(f.at_bound[name])
+    helps = dbic <= -s.delta_bic * len(new) and gain >= s.min_cv_gain
+    at = any_at_bound(f)
     return Score(name=name, fit=f, delta_bic=dbic, cv_gain=gain, passed=helps and not at,
-                 bounded=helps and at)
+                 bounded=helps and at, partner=partner)
+
+
+def pairs(engine: Engine, current: Fit, scores, pool: tuple, best: Score | None) -> tuple:
+    """The pairs tried at a step (:attr:`Rules.pairs`; module docstring, 2): each bounded
+    candidate whose BIC beats the best passing one's with each other candidate of the pool.
+
+    Parameters
+    ----------
+    engine : Engine
+    current : Fit
+    scores : sequence of Score
+        The step's single scores.
+    pool : tuple of str
+    best : Score or None
+        The single winner.
+
+    Returns
+    -------
+    tuple of Score
+        Every pair scored (empty where none was tried).
+    """
+    if not engine.rules.pairs:
+        return ()
+    lead = [c for c in scores if c.bounded and (best is None or c.bic < best.bic)]
+    out, seen = [], set()
+    for c in lead:
+        for other in pool:
+            key = frozenset((c.name, other))
+            if other == c.name or key in seen:
+                continue
+            seen.add(key)
+            out.append(score(engine, current, c.name, other))
+    return tuple(out)
+
+
+def _pair_wins(pair_scores, best: Score | None, delta_bic: float) -> Score | None:
+    """The pair to add instead of the single winner, or None."""
+    passed = [p for p in pair_scores if p.passed]
+    if not passed:
+        return None
+    top = min(passed, key=lambda p: p.bic)
+    if best is None or top.bic <= best.bic - delta_bic:
+        return top
+    return None
 
 
 def ranked(scores, rank: str) -> list:
@@ -250,15 +326,16 @@ def aliases(engine: Engine, scores, added: str, fit: Fit, before: Fit) -> tuple:
     return tuple(out)
 
 
-def prune(engine: Engine, fit: Fit, keep: str, threshold: float) -> tuple:
-    """Backward step: drop, one at a time, an effect (other than ``keep``, the one just
-    added) whose removal raises BIC by less than ``threshold``.
+def prune(engine: Engine, fit: Fit, keep, threshold: float) -> tuple:
+    """Backward step: drop, one at a time, an effect (other than ``keep``, the one(s) just
+    added) whose removal raises BIC by less than ``threshold`` and leaves no parameter at a
+    bound.
 
     Parameters
     ----------
     engine : Engine
     fit : Fit
-    keep : str
+    keep : str or tuple of str
     threshold : float
 
     Returns
@@ -266,15 +343,17 @@ def prune(engine: Engine, fit: Fit, keep: str, threshold: float) -> tuple:
     tuple
         (fit, tuple of the names removed).
     """
+    keep = (keep,) if isinstance(keep, str) else tuple(keep)
     removed: list[str] = []
     while len(fit.effects) >= 2:
         trials = []
         for name in fit.effects:
-            if name == keep:
+            if name in keep:
                 continue
             rest = tuple(n for n in fit.effects if n != name)
             f = engine.fit(rest, {n: fit.values[n] for n in rest})
-            trials.append((f.bic - fit.bic, name, f))
+            if not any_at_bound(f):
+                trials.append((f.bic - fit.bic, name, f))
         if not trials:
             break
         cost, name, f = min(trials, key=lambda t: t[0])
@@ -346,8 +425,12 @@ def select(engine: Engine, candidates, *, base: Fit | None = None,
         index = len(steps) + 1
         scores = _scored(engine, current, pool, index, listener)
         best = winner(scores, rules)
+        tried = pairs(engine, current, scores, pool, best)
+        pair = _pair_wins(tried, best, engine.settings.delta_bic)
+        best = pair or best
         if best is None:
-            steps.append(Step(index=index, before=current, scores=scores, after=current))
+            steps.append(Step(index=index, before=current, scores=scores, after=current,
+                              pairs=tried))
             listener.stepped(steps[-1])
             stop = NOTHING_PASSES
             break
@@ -355,20 +438,20 @@ def select(engine: Engine, candidates, *, base: Fit | None = None,
         assert fit is not None          # it passed
         if rules.scoring == "alone" and current.effects:
             joint = engine.fit(fit.effects, fit.values)      # every parameter refitted
-            if joint.bic <= fit.bic:
+            if joint.bic <= fit.bic and not any_at_bound(joint):
                 fit = joint
-        alike = aliases(engine, scores, best.name, fit, current)
+        alike = () if pair else aliases(engine, scores, best.name, fit, current)
         group = None
         if alike and separate is not None:
             group = separate(index, {best.name: fit, **{c.name: c.fit for c in alike}})
         after, removed = fit, ()
         if rules.prune_fraction is not None:
-            after, removed = prune(engine, fit, best.name,
+            after, removed = prune(engine, fit, (best.name, best.partner),
                                    rules.prune_fraction * engine.settings.delta_bic)
         if rules.exclude_aliases:
             excluded.update(c.name for c in alike)
         steps.append(Step(index=index, before=current, scores=scores, after=after,
-                          added=best.name, added_fit=fit,
+                          added=best.name, added_fit=fit, partner=best.partner, pairs=tried,
                           aliased=tuple(c.name for c in alike), removed=removed, group=group))
         listener.stepped(steps[-1])
         current = after

@@ -59,6 +59,9 @@ TE_RULES = en.Rules(
     exclude_aliases=True,    # an added effect's aliases are not added after it: the rows
                              # cannot tell them apart
     prune_fraction=None,     # no backward step (its refits are system solves)
+    pairs=False,             # a pair's fit is a run of system solves for each of about
+                             # 60 pairs: minutes a step (issue 39's budget); a bounded
+                             # candidate is reported with what it would need instead
 )
 #: Residual [sigma] of every row where the model does not settle: far worse than any fit.
 FAILED_SIGMA = 30.0
