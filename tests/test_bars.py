@@ -6,7 +6,7 @@ import io
 
 import pytest
 
-from toothfem.bars import PROGRESS_PREFIX, bar
+from toothfem.bars import PROGRESS_PREFIX, bar, stage
 
 
 def test_off_a_terminal_each_stage_is_one_line():
@@ -69,3 +69,25 @@ def test_a_terminal_bar_takes_every_s_without_passing_it_to_tqdm():
     with bar(total=2, file=out, desc="x", every_s=0.0) as b:
         b.update(2)
     assert "2/2" in out.getvalue() and PROGRESS_PREFIX not in out.getvalue()
+
+
+def test_a_stage_without_a_count_says_when_it_is_done():
+    """bars.stage: off a terminal one line at its end with its time; on a terminal also its
+    name when it starts; nothing when it is left by an error."""
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    out = io.StringIO()
+    with stage("datasheet", stream=out):
+        pass
+    (line,) = out.getvalue().splitlines()
+    assert line.startswith(PROGRESS_PREFIX + "datasheet: done in ") and line.endswith(" s")
+    term = Terminal()
+    with stage("datasheet", stream=term):
+        assert term.getvalue() == "datasheet ...\n"
+    assert term.getvalue().splitlines()[1].startswith(PROGRESS_PREFIX + "datasheet: done")
+    out = io.StringIO()
+    with pytest.raises(RuntimeError), stage("x", stream=out):
+        raise RuntimeError("stop")
+    assert out.getvalue() == ""

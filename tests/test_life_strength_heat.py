@@ -349,8 +349,16 @@ def test_run_reports_life_strength_and_heat(cases_dir, tmp_path, capsys):
     out = tmp_path / "run"
     assert cli.main(["run", str(cases_dir / "rv40e.toml"), "--out", str(out),
                      "--no-fem"]) == 0
-    printed = capsys.readouterr().out
+    both = capsys.readouterr()
+    printed = both.out
     assert "equilibrium oil" in printed and "L10" in printed
+    # every stage of the run says when it is done and how long it took (issue 41: no stretch
+    # of a run silent); --no-fem has no contact, datasheet or as-built stage
+    stages = [ln.split(": done in")[0] for ln in both.err.splitlines() if ": done in " in ln]
+    assert stages == ["progress: efficiency at the operating point",
+                      "progress: heat balance, bearing life, contact strength",
+                      "progress: efficiency maps over the operating range",
+                      "progress: report files"]
     d = json.loads((out / "durability.json").read_text())
     assert set(d) == {"heat", "life", "strength", "as_built"}
     assert d["as_built"] == {}              # --no-fem: no built reducers solved

@@ -141,3 +141,46 @@ class StageLine:
         else:
             self._closed = True
         return False
+
+
+@contextlib.contextmanager
+def stage(desc: str, *, stream=None):
+    """A stage without a count (a factorisation, a system solve, a report): on a terminal
+    ``<desc> ...`` when it starts; everywhere ``progress: <desc>: done in <time> s`` when it
+    ends (nothing when it is left by an exception: the error says what happened), so that
+    no stretch of a run is silent.
+
+    Parameters
+    ----------
+    desc : str
+        The stage's name.
+    stream : file, optional
+        Where the lines go (default stderr).
+
+    Yields
+    ------
+    None
+    """
+    stream = stream or sys.stderr
+    start = time.perf_counter()
+    with contextlib.suppress(OSError, ValueError):
+        if _is_terminal(stream):
+            print(f"{desc} ...", file=stream, flush=True)
+    yield
+    with contextlib.suppress(OSError, ValueError):   # a closed or broken stderr
+        print(f"{PROGRESS_PREFIX}{desc}: done in {time.perf_counter() - start:.1f} s",
+              file=stream, flush=True)
+
+
+def no_stage(desc: str):
+    """:func:`stage`'s silent stand-in (an API call without progress).
+
+    Parameters
+    ----------
+    desc : str
+
+    Returns
+    -------
+    contextlib.AbstractContextManager
+    """
+    return contextlib.nullcontext()

@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from . import durability, limits
+from .bars import no_stage
 from .case import Case, as_case
 from .datasheet import TE_DEFINITION, StiffnessResult, stiffness_analysis
 from .efficiency import evaluate, operating_point
@@ -409,7 +410,7 @@ class RunResult:
 
 def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = "structural",
              fem: bool = True, progress=None,
-             as_built: int = durability.AS_BUILT_RINGS) -> RunResult:
+             as_built: int = durability.AS_BUILT_RINGS, stage=None) -> RunResult:
     """The whole pipeline of a case with its report.
 
     Parameters
@@ -429,6 +430,9 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     as_built : int
         Reducers built within the case's ``[tolerances]`` solved beside the nominal
         (:func:`toothfem.durability.as_built_summary`; 0: none).
+    stage : callable, optional
+        ``stage(name)`` is a context manager around each stage of the run
+        (:func:`toothfem.bars.stage`: its time on stderr); default silent.
 
     Returns
     -------
@@ -443,8 +447,8 @@ def run_case(case: Case | str | Path, out, *, positions: int = 36, field: str = 
     out = target(out)
     with reserved(out):        # checked and held before computing: a second run is refused
         run = analyse_run(case, positions=positions, field=field, fem=fem, progress=progress,
-                          as_built=as_built)
-        with atomic_dir(out) as tmp:
+                          as_built=as_built, stage=stage)
+        with (stage or no_stage)("report files"), atomic_dir(out) as tmp:
             run.write(tmp, case_file)
     return RunResult(out=out, report=out / "report.md", contact=run.contact,
                      efficiency=run.efficiency, speed_rpm=run.speed_rpm,
@@ -519,46 +523,57 @@ class RunAnalysis:
 
 def analyse_run(case: Case, *, positions: int = 36, field: str = "structural",
                 fem: bool = True, progress=None,
-                as_built: int = durability.AS_BUILT_RINGS) -> RunAnalysis:
+                as_built: int = durability.AS_BUILT_RINGS, stage=None) -> RunAnalysis:
     """Every analysis of ``toothfem run``, as records (nothing written).
 
     Parameters
     ----------
     case : toothfem.case.Case
-    positions, field, fem, progress, as_built
+    positions, field, fem, progress, as_built, stage
         As :func:`run_case`.
 
     Returns
     -------
     RunAnalysis
     """
+    stage = stage or no_stage
     contact = datasheet = None
     if fem:
-        contact = contact_analysis(case, positions=positions, field=field, progress=progress)
+        with stage("contact (FE of the disc and the system model)"):
+            contact = contact_analysis(case, positions=positions, field=field,
+                                       progress=progress)
         # the datasheet: stiffness, lost motion, backlash, loaded TE, member split
-        datasheet = stiffness_analysis(case, positions=positions)
+        with stage("datasheet (rigidity, lost motion, backlash, TE over the full period)"):
+            datasheet = stiffness_analysis(case, positions=positions)
     # efficiency at the operating point, analytic and FE loads side by side; the run's
     # analyses share each load table (one memo, passed)
     memo = LoadsMemo()
     speed, torque = operating_point(case)
     sources = ["analytic"] + (["fem"] if fem else [])
-    results = {s: efficiency_summary(case, speed, torque, loads=s, memo=memo) for s in sources}
-    if case.rv is not None:       # the RV paper method beside ours
-        results["rv_split_power"] = efficiency_summary(case, speed, torque,
-                                                      method="rv_split_power")
+    with stage("efficiency at the operating point"):
+        results = {s: efficiency_summary(case, speed, torque, loads=s, memo=memo)
+                   for s in sources}
+        if case.rv is not None:       # the RV paper method beside ours
+            results["rv_split_power"] = efficiency_summary(case, speed, torque,
+                                                          method="rv_split_power")
     if not case.operating.output_torque_Nm:     # said beside each (toothfem efficiency)
         for r in results.values():
             r["operating_point_from"] = "analytic loads, power_flow"
     # life, strength and heat beside the efficiency, from the FE loads where the FE has
     # run (the strength from its contact result)
     loads = "fem" if fem else "analytic"
-    dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads, memo=memo),
-           "life": durability.life_summary(
-               case, known=None if datasheet is None else datasheet.bearings),
-           "strength": durability.strength_summary(case, contact=contact, memo=memo),
-           "as_built": durability.as_built_summary(case, rings=as_built) if fem and as_built
-           else {}}
-    maps = efficiency_maps(case, speed, torque, sources, memo)
+    with stage("heat balance, bearing life, contact strength"):
+        dur = {"heat": durability.thermal_summary(case, speed, torque, loads=loads, memo=memo),
+               "life": durability.life_summary(
+                   case, known=None if datasheet is None else datasheet.bearings),
+               "strength": durability.strength_summary(case, contact=contact, memo=memo)}
+    dur["as_built"] = {}
+    if fem and as_built:
+        with stage(f"as built: {as_built} reducers within [tolerances] (system model)"):
+            dur["as_built"] = durability.as_built_summary(case, rings=as_built,
+                                                          progress=progress is not None)
+    with stage("efficiency maps over the operating range"):
+        maps = efficiency_maps(case, speed, torque, sources, memo)
     return RunAnalysis(case=case, contact=contact, datasheet=datasheet, efficiency=results,
                        durability=dur, speed_rpm=float(speed), output_torque_Nm=float(torque),
                        maps=maps)

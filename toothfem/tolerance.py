@@ -368,7 +368,7 @@ def _run_all(setup, deviations, client, progress, points=None) -> list:
         bar.update()
 
     bar = progress_bar(total=len(deviations), initial=len(results), desc="tolerance",
-                       unit="ring", enabled=progress)
+                       unit="ring", enabled=progress, every_s=15.0)
     try:
         if client is None:
             _run_chunk(setup, [deviations[i] for i in todo],

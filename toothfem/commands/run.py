@@ -54,7 +54,7 @@ def run(args) -> int:
     import json
     import textwrap
 
-    from ..bars import bar
+    from ..bars import bar, stage
     from ..efficiency.mesh_table import fe_progress
     from ..pipeline import run_case
     from ..report import summary as report_summary
@@ -64,7 +64,8 @@ def run(args) -> int:
     progress = lambda it: bar(it, desc="cycle mode", unit="position")  # noqa: E731
     with fe_progress(bar):          # the efficiency's FE load table on a bar too
         res = run_case(args.case, args.out, positions=args.positions, field=args.field,
-                       fem=not args.no_fem, progress=progress, as_built=args.as_built)
+                       fem=not args.no_fem, progress=progress, as_built=args.as_built,
+                       stage=stage)
     report = res.report.resolve()
     if args.json:
         contact = None if res.contact is None else res.contact.summary
