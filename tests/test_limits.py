@@ -189,3 +189,43 @@ def test_every_layout_has_a_temperature_limit_with_its_source(cases_dir):
         case.thermal, case_temperature_limit_C=150.0))
     assert not [w for w in heat_balance(stated, 2 * speed, torque).warnings
                 if "temperature" in w.quantity]
+
+
+def test_the_limits_doc_paragraph_is_computed(cases_dir):
+    """docs/limits.md's measured paragraph, each figure computed here to its printed digits
+    (issue 41: docs numbers that cannot drift)."""
+    import math
+    import re
+    from pathlib import Path
+
+    from toothfem.durability import life_summary
+    from toothfem.efficiency import operating_point
+    from toothfem.errors import ToothfemError
+
+    text = " ".join((Path(__file__).resolve().parents[1] / "docs" / "limits.md")
+                    .read_text().split())
+
+    def num(pattern):
+        m = re.search(pattern, text)
+        assert m, f"docs/limits.md: {pattern!r} not found"
+        return float(m[1])
+
+    paper = load_case(cases_dir / "rv_paper_example.toml")
+    speed, torque = operating_point(paper)
+    assert round(torque) == num(r"at 1500 rpm, (\d+) N m output")
+    assert round(torque / 412.0, 1) == num(r"The output torque is ([\d.]+) times")
+    film = {w.quantity: w.value for w in evaluate(paper, speed, torque).warnings}
+    f = film["film ratio of the mesh contacts"]
+    assert float(f"{f:.1e}") == num(r"contacts is ([\d.e-]+) at the lubricant")
+    with pytest.raises(ToothfemError, match="no heat balance below"):
+        heat_balance(paper, speed, torque)
+    rv = load_case(cases_dir / "rv40e.toml")
+    hot = [w for w in heat_balance(rv, 1815.0, 412.0).warnings if "temperature" in w.quantity]
+    assert round(hot[0].value, 1) == num(r"analytic loads settles at ([\d.]+) °C")
+    sine = load_case(cases_dir / "sine_prototype.toml")
+    s_speed, s_torque = operating_point(sine)
+    sf = {w.quantity: w.value for w in evaluate(sine, s_speed, s_torque).warnings}
+    assert round(sf["film ratio of the mesh contacts"], 3) == num(r"film ratio of ([\d.]+), below")
+    l10 = life_summary(rv)["unit_l10_h"]
+    assert round(l10, -2) == num(r"live (\d+) h together")
+    assert not math.isnan(l10)
