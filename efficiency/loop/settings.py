@@ -30,10 +30,15 @@ class Settings:
                                    # Kass & Raftery 1995: 6)
     seed: int = 0                  # fold assignment
     max_nfev: int = 60             # function evaluations per least-squares fit
-    max_points: int = 5000         # more rows than this are binned onto at most this many
-                                   # operating points (binning.py): the analytic model
-                                   # takes ~26 kB a point, so ~0.3 GB and ~10 s a loop on
-                                   # the sine prototype, with bins of 20 rows at 1e5 rows
+    max_points: int = 2000         # more rows than this are binned onto at most this many
+                                   # operating points (binning.py): 12 cells on each of
+                                   # speed, torque and oil temperature, 200x the most
+                                   # parameters a selection fits (4 effects, ~8) and far
+                                   # beyond the degree-3 residual trends; every row's
+                                   # information kept (a bin's mean, sigma s/sqrt(n)). A
+                                   # loop's time goes with the points times the model
+                                   # evaluations: a million rows within the minute with
+                                   # 17 candidates and pairs (issue 45; 5000 took twice)
 
     def __post_init__(self):
         check_range("folds", self.folds, 2, why="one fold to hold out and one to train on")

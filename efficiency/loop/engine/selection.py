@@ -13,9 +13,10 @@
 2. Of the passing candidates the best by :attr:`Rules.rank` is added (of those within
    :attr:`Rules.tie_bic` of its BIC change, the first in the candidates' order).
    Pairs (:attr:`Rules.pairs`): where a bounded candidate's BIC beats every passing one's
-   (or none passes), it is fitted together with each other candidate (a warm-up seen by a
-   sensor that reads off needs the offset beside it: one at a time, neither explains the
-   data); the best pair that passes, with no parameter at a bound, is added instead when
+   (or none passes), the best such is fitted together with each of the few other
+   candidates that explain most alone (:data:`PAIR_PARTNERS`; a warm-up seen by a sensor
+   that reads off needs the offset beside it: one at a time, neither explains the data);
+   the best pair that passes, with no parameter at a bound, is added instead when
    it beats the single winner's BIC by :attr:`Settings.delta_bic` (the price of the second
    effect) or no single candidate passes.
 3. Its aliases (:attr:`Rules.aliases`: by BIC, and by the rows' distance between the fits,
@@ -46,6 +47,14 @@ from .records import Fit
 #: Selection steps allowed per candidate: each can be added once and removed once; more
 #: steps than that means the selection keeps exchanging effects.
 STEPS_PER_CANDIDATE = 2
+
+#: Partners tried with a bounded candidate (:func:`pairs`): the candidates that explain
+#: most of the data alone, by BIC (a partner takes the part the bounded one cannot, so it
+#: must explain some of it itself). Four keep a step's pairs to four joint fits: a
+#: million-row loop tries every effect in bounded pairs within its minute (issue 45); the
+#: warm-up read by an offset sensor finds its partner second of them
+#: (tests/test_loop_effects.py).
+PAIR_PARTNERS = 4
 
 #: Why a selection stopped (:attr:`Selection.stop`).
 NO_CANDIDATES = "no candidates"          # none given
@@ -173,7 +182,8 @@ def any_at_bound(fit: Fit) -> bool:
     return any(any(flags) for flags in fit.at_bound.values())
 
 
-def score(engine: Engine, current: Fit, name: str, partner: str = "") -> Score:
+def score(engine: Engine, current: Fit, name: str, partner: str = "",
+          start: dict | None = None) -> Score:
     """A candidate (or a pair) fitted with the effects of ``current``
     (:attr:`Rules.scoring`) and scored against it (module docstring); a fit the model
     refuses (a ToothfemError) fails.
@@ -187,6 +197,9 @@ def score(engine: Engine, current: Fit, name: str, partner: str = "") -> Score:
         The candidate.
     partner : str, optional
         A second candidate fitted together with it (:attr:`Rules.pairs`).
+    start : dict, optional
+        {name: values} to start the new effects from (a pair: each one's fit alone), not
+        screened again.
 
     Returns
     -------
@@ -196,7 +209,8 @@ def score(engine: Engine, current: Fit, name: str, partner: str = "") -> Score:
     new = (name, partner) if partner else (name,)
     free = None if engine.rules.scoring == "joint" else new
     try:
-        f = engine.fit(current.effects + new, dict(current.values), free=free)
+        f = engine.fit(current.effects + new, {**current.values, **(start or {})},
+                       free=free)
     except ToothfemError as exc:
         return Score(name=name, fit=None, delta_bic=float("inf"), cv_gain=float("nan"),
                      passed=False, failure=str(exc), partner=partner)
@@ -208,17 +222,17 @@ def score(engine: Engine, current: Fit, name: str, partner: str = "") -> Score:
                  bounded=helps and at, partner=partner)
 
 
-def pairs(engine: Engine, current: Fit, scores, pool: tuple, best: Score | None) -> tuple:
-    """The pairs tried at a step (:attr:`Rules.pairs`; module docstring, 2): each bounded
-    candidate whose BIC beats the best passing one's with each other candidate of the pool.
+def pairs(engine: Engine, current: Fit, scores, best: Score | None) -> tuple:
+    """The pairs tried at a step (:attr:`Rules.pairs`; module docstring, 2): the bounded
+    candidate with the lowest BIC, where it beats the best passing one's, with each of the
+    :data:`PAIR_PARTNERS` other candidates of the lowest BIC alone.
 
     Parameters
     ----------
     engine : Engine
     current : Fit
     scores : sequence of Score
-        The step's single scores.
-    pool : tuple of str
+        The step's single scores (every candidate of the step).
     best : Score or None
         The single winner.
 
@@ -229,16 +243,16 @@ def pairs(engine: Engine, current: Fit, scores, pool: tuple, best: Score | None)
     """
     if not engine.rules.pairs:
         return ()
-    lead = [c for c in scores if c.bounded and (best is None or c.bic < best.bic)]
-    out, seen = [], set()
-    for c in lead:
-        for other in pool:
-            key = frozenset((c.name, other))
-            if other == c.name or key in seen:
-                continue
-            seen.add(key)
-            out.append(score(engine, current, c.name, other))
-    return tuple(out)
+    bounded = [c for c in scores if c.bounded and (best is None or c.bic < best.bic)]
+    if not bounded:
+        return ()
+    lead = min(bounded, key=lambda c: c.bic)
+    fitted = sorted((c for c in scores if c.fit is not None and c.name != lead.name),
+                    key=lambda c: c.bic)
+    return tuple(score(engine, current, lead.name, c.name,
+                       start={lead.name: lead.fit.values[lead.name],
+                              c.name: c.fit.values[c.name]})
+                 for c in fitted[:PAIR_PARTNERS] if lead.fit is not None and c.fit is not None)
 
 
 def _pair_wins(pair_scores, best: Score | None, delta_bic: float) -> Score | None:
@@ -425,7 +439,7 @@ def select(engine: Engine, candidates, *, base: Fit | None = None,
         index = len(steps) + 1
         scores = _scored(engine, current, pool, index, listener)
         best = winner(scores, rules)
-        tried = pairs(engine, current, scores, pool, best)
+        tried = pairs(engine, current, scores, best)
         pair = _pair_wins(tried, best, engine.settings.delta_bic)
         best = pair or best
         if best is None:
