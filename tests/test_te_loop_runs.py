@@ -93,6 +93,30 @@ def test_a_loop_stopped_after_its_first_step_resumes_from_the_journal(cases_dir,
     assert not [p for p in tmp_path.iterdir() if ".journal-" in p.name]
 
 
+def test_a_plain_value_error_of_the_model_is_a_bug_not_bad_input(cases_dir, tmp_path, capsys,
+                                                                  monkeypatch):
+    """Issue 39: a ValueError from inside the loop's model is an internal error (exit 3,
+    'a bug: please report it'), not the user's bad input (exit 2); the user's own bad input
+    (a candidate name the API does not know) is still refused as such."""
+    from toothfem import cli
+    from toothfem.efficiency.loop.te import problem
+    from toothfem.efficiency.loop.te.loop import candidate_names
+    from toothfem.errors import ToothfemError
+
+    def broken(self, *a, **k):
+        raise ValueError("operands could not be broadcast together")
+
+    monkeypatch.setattr(problem.TeProblem, "run", broken)
+    folder = cases_dir.parent / "data" / "demo" / "te" / "rv40e_running"
+    code = cli.main(["te-loop", str(cases_dir / "rv40e.toml"), "--te", str(folder),
+                     "--effects", "friction", "--out", str(tmp_path / "loop")])
+    err = capsys.readouterr().err
+    assert code == 3 and "internal error: ValueError" in err and "a bug" in err
+    assert not (tmp_path / "loop").exists()
+    with pytest.raises(ToothfemError, match="'ring'"):
+        candidate_names((), "ring")
+
+
 def test_a_model_twice_too_soft_is_said_with_its_best_effect_and_what_the_widths_need(
         cases_dir, tmp_path):
     """Running recordings of the case with every part twice as stiff, fitted with the mesh's

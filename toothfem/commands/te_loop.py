@@ -143,16 +143,15 @@ def _run(args, case, model) -> int:
             if steps.done and not args.json:
                 print(f"resuming: {len(steps.done)} finished selection steps kept beside "
                       f"{args.out} ({len(replay)} model evaluations read back)", flush=True)
-            try:
-                result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
-                                     name_pattern=args.name_pattern,
-                                     settings=Settings(folds=args.folds),
-                                     candidates="all" if chosen == ["all"] else chosen,
-                                     model=model, progress=not args.json,
-                                     on_step=lambda i, rec: _keep_step(steps, i, rec),
-                                     replay=replay)
-            except ValueError as exc:
-                raise ToothfemError(str(exc)) from exc
+            # the user's input is refused as ToothfemError where it is read; a plain
+            # ValueError from the model is a bug (exit 3), never called bad input
+            result = run_te_loop(case, te=args.te or None, hysteresis=args.hysteresis,
+                                 name_pattern=args.name_pattern,
+                                 settings=Settings(folds=args.folds),
+                                 candidates="all" if chosen == ["all"] else chosen,
+                                 model=model, progress=not args.json,
+                                 on_step=lambda i, rec: _keep_step(steps, i, rec),
+                                 replay=replay)
         summary = result.summary()
         summary["case_file"] = str(args.case)
         _write(args, case, result, summary)

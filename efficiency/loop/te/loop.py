@@ -26,7 +26,7 @@ from .observations import Layout, observations, model_rows
 from .recordings import read_te_recordings, recording_paths
 from .plausibility import check_scale, check_torques
 from .running import RunningDatasheet, from_figures, running_datasheet
-from ....errors import MeasuredDataError
+from ....errors import MeasuredDataError, ToothfemError
 
 #: Named orders fitted: up to this multiple of the lowest named order above the output's
 #: own (the crank's or the pins' passing): the model's TE resolves its period's first three
@@ -167,7 +167,7 @@ def candidate_names(effects, candidates=None) -> list:
         return [e.name for e in effects if not e.costly]
     if isinstance(candidates, str):
         if candidates != "all":
-            raise ValueError(f"candidates = {candidates!r}: effect names, or 'all'")
+            raise ToothfemError(f"candidates = {candidates!r}: effect names, or 'all'")
         return [e.name for e in effects]
     return list(candidates)
 
@@ -210,12 +210,13 @@ def run_te_loop(case, *, te=None, hysteresis=None, name_pattern=None, settings=D
 
     Raises
     ------
-    ValueError
+    ToothfemError
         Where neither recording is given or none gives a row.
     """
     t0 = time.perf_counter()
     if te is None and hysteresis is None:
-        raise ValueError("te, hysteresis: give TE recordings, a hysteresis recording, or both")
+        raise ToothfemError("te, hysteresis: give TE recordings, a hysteresis recording, "
+                            "or both")
     model = model or RecordingModel(case, warm_starts=True)
     rated = model.rated_torque_Nm
     orders = fitted_orders(model.te_orders())

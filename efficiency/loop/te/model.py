@@ -71,7 +71,7 @@ import math
 import numpy as np
 
 from ...no_load import path_friction
-from ....errors import CaseError
+from ....errors import CaseError, ToothfemError
 from ....fem.datasheet.sheet import stuck_after_reversals, datasheet, loop_branches
 from ....fem.datasheet.transmission import sampled_pitches
 from ....fem.datasheet.twist import ARCMIN, ZERO_TORQUE_NM
@@ -142,7 +142,7 @@ class RecordingModel:
     ------
     CaseError
         For a drive without a system model, or no rating or operating torque.
-    ValueError
+    ToothfemError
         For ``workers`` not in WORKERS.
     """
 
@@ -150,7 +150,7 @@ class RecordingModel:
                  te_samples: int = DEFAULT_TE_SAMPLES, cache=True, workers: int = 1,
                  warm_starts: bool = False, **system_options):
         if workers not in WORKERS:
-            raise ValueError(f"workers = {workers!r} is outside the valid range "
+            raise ToothfemError(f"workers = {workers!r} is outside the valid range "
                              f"{list(WORKERS)}")
         self.case = _a_case(case)
         self.si = self.case.to_si()

@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .problem import Observations
+from ....errors import MeasuredDataError
 
 #: The loop's rows: these fractions of the rated torque, each sign, each branch (the
 #: staircase's own fractions past the knee: lost motion at 3 %, the backlash fit to 10 %,
@@ -182,7 +183,7 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
 
     Raises
     ------
-    ValueError
+    MeasuredDataError
         Where neither gives a row, or a TE condition has no torque.
     """
     values, sigma, group, labels, rows = [], [], [], [], []
@@ -208,8 +209,8 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
         for c in te.conditions:
             t = c.condition.output_torque_Nm
             if t is None:
-                raise ValueError(f"a TE condition has no output torque ({c.files}): the "
-                                 "fit needs the torque of every recording")
+                raise MeasuredDataError(f"a TE condition has no output torque ({c.files}): "
+                                        "the fit needs the torque of every recording")
             torques.append(abs(float(t)))
             for d in (c.forward, c.backward):
                 if d is None or d.spectrum is None:
@@ -238,8 +239,8 @@ def observations(rated_torque_Nm: float, *, loop=None, te=None, orders=None):
                 labels.append(f"TE hysteresis width [arcsec], {abs(t):.4g} N m")
                 rows.append(Row(kind="width", torque_Nm=abs(float(t))))
     if not rows:
-        raise ValueError("no observation: the recordings cover none of the loop's torques "
-                         "and hold no TE spectrum")
+        raise MeasuredDataError("no observation: the recordings cover none of the loop's "
+                                "torques and hold no TE spectrum")
     loop_rows = np.array([i for i, r in enumerate(rows) if r.kind == "twist"], int)
     measured = np.array(values, float)
     loop_mean = float(measured[loop_rows].mean()) if loop_rows.size else 0.0
