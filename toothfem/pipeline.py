@@ -194,7 +194,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
     summary = {
         "case": case.name, "mode": mode, "positions": int(positions),
         "output_torque_Nm": output, f"{drive.member_name}_torque_Nm": torque,
-        **model.describe(),
+        **reducer_backlash(case, model.describe()),
         **ls.figures(many),
         f"{many}_in_contact_min": int(ls.contacts_per_position.min()),
         "transmission_error_ripple_arcsec": float(np.ptp(ls.transmission_error) / ARCSEC),
@@ -231,6 +231,35 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
                          member_point=point, member_name=drive.member_name, summary=summary,
                          contact_name=drive.contact_name, contacts_name=many,
                          members=drive.members, outlines=outlines)
+
+
+def reducer_backlash(case: Case, described: dict) -> dict:
+    """The FE model's description with its disc's backlash before load (its own free turn,
+    the cranks held) turned into the reducer's, input held, as `check` gives it
+    (:func:`toothfem.layouts.cycloid.reducer_per_disc_turn`); the disc's own kept beside as
+    ``disc_backlash_min_arcmin`` / ``disc_backlash_max_arcmin``.
+
+    Parameters
+    ----------
+    case : Case
+    described : dict
+        The FE model's ``describe()``.
+
+    Returns
+    -------
+    dict
+    """
+    if described.get("backlash_min_arcmin") is None or case.cycloid is None:
+        return described
+    from .layouts.cycloid import reducer_per_disc_turn
+
+    turn = reducer_per_disc_turn(case)
+    out = dict(described)
+    for key in ("backlash_min_arcmin", "backlash_max_arcmin"):
+        if described.get(key) is not None:
+            out[f"disc_{key}"] = described[key]
+            out[key] = described[key] * turn
+    return out
 
 
 def reducer_te(system, output_torque_Nm: float) -> dict:

@@ -93,7 +93,7 @@ def cycloid_rows(case: Case) -> dict:
         "min_convex_curvature_radius_mm": rounded(rho * MM_PER_M),
         "undercut_margin_mm": rounded((rho - g.generating_pin_radius) * MM_PER_M),
     }
-    d.update(_before_load(g, _reducer_per_disc_turn(case)))
+    d.update(_before_load(g, reducer_per_disc_turn(case)))
     if case.first_stage is not None:
         fs = case.first_stage
         d["first_stage_centre_distance_mm"] = rounded(fs.module_mm * (fs.sun_teeth + fs.planet_teeth)
@@ -113,7 +113,7 @@ def cycloid_rows(case: Case) -> dict:
     return d
 
 
-def _reducer_per_disc_turn(case: Case) -> float:
+def reducer_per_disc_turn(case: Case) -> float:
     """The output's turn per turn of the disc about its centre that closes the same pin
     clearance, input held (docs/stiffness.md): the pins' normals pass through the pitch
     point, e Za from the disc's centre; a K-H-V disc turns with its output about its held
@@ -131,13 +131,15 @@ def _before_load(g, per_disc_turn: float = 1.0) -> dict:
     :func:`toothfem.geometry.cycloid_backlash.before_load`), with the first-order backlash of
     the closed form beside (docs/derivations.md C6: twice the closing rotation beta0). The
     backlash is the reducer's, input held (the disc's own closing rotation about its centre
-    times ``per_disc_turn``, :func:`_reducer_per_disc_turn`), the disc's own beside."""
+    times ``per_disc_turn``, :func:`reducer_per_disc_turn`), the disc's own beside: the least
+    over the period (``backlash_min_arcmin``: the datasheet's ``backlash_arcmin`` is the
+    system model's mean over its positions, toothfem stiffness) and the most."""
     phis = np.linspace(0.0, 2 * math.pi / g.pin_count, BEFORE_LOAD_POSITIONS, endpoint=False)
     b = cyb.before_load(g, phis)
     lo, hi = b["backlash_min_arcmin"], b["backlash_max_arcmin"]
-    d: dict = {"backlash_arcmin": None if lo is None else rounded(lo * per_disc_turn),
+    d: dict = {"backlash_min_arcmin": None if lo is None else rounded(lo * per_disc_turn),
                "backlash_max_arcmin": None if hi is None else rounded(hi * per_disc_turn),
-               "disc_backlash_arcmin": None if lo is None else rounded(lo),
+               "disc_backlash_min_arcmin": None if lo is None else rounded(lo),
                "backlash_first_order_arcmin": rounded(2 * cyb.closing_rotation(g) / ARCMIN
                                                       * per_disc_turn),
                "clearance_before_load_um": rounded(b["clearance_before_load_um"], 6),
