@@ -1,0 +1,107 @@
+"""`toothfem modes CASE [--load-inertia-kgm2 J] [--motor-inertia-kgm2 J] [--torque-Nm T]
+[--input held|free] [--json] [--out DIR]`: the torsional-lateral modes of the reducer's
+system model linearised at an output torque, each mode's strain-energy shares, and the
+Campbell diagram of the TE orders against input speed (docs/dynamics.md)."""
+from __future__ import annotations
+
+import json
+import textwrap
+from pathlib import Path
+
+#: The subcommand, and its line in ``toothfem --help``.
+NAME = "modes"
+HELP = ("modes of the whole reducer at an output torque (tangent stiffness, inertias from "
+        "the geometry) with their energy shares, and the Campbell diagram of the TE orders")
+
+
+def add_parser(sub):
+    """Add ``toothfem modes`` to the CLI.
+
+    Parameters
+    ----------
+    sub : argparse._SubParsersAction
+        The CLI's subcommands.
+    """
+    p = sub.add_parser(NAME, help=HELP)
+    p.add_argument("case", help="case file (TOML)")
+    p.add_argument("--out", default=None,
+                   help="output folder (written atomically): modes.csv, bodies.csv, "
+                        "campbell.csv, modes.png, campbell.png, summary.json")
+    p.add_argument("--load-inertia-kgm2", type=float, default=None, dest="load",
+                   help="the load's inertia on the output [kg m²] (default: the case's "
+                        "operating.load_inertia_kgm2, else 0)")
+    p.add_argument("--motor-inertia-kgm2", type=float, default=None, dest="motor",
+                   help="the motor's inertia on the input [kg m²], with --input free "
+                        "(default: the case's operating.motor_inertia_kgm2, else 0)")
+    p.add_argument("--torque-Nm", type=float, default=None, dest="torque",
+                   help="output torque the system is linearised at [N m] (default: rated)")
+    p.add_argument("--input", choices=("held", "free"), default="held",
+                   help="the input held (the sun, or the input shaft's end, fixed) or free "
+                        "(the motor's inertia on it; the first mode is then the train's "
+                        "rigid rotation, 0 Hz); default held")
+    p.add_argument("--positions", type=int, default=12,
+                   help="meshing positions over one pitch the tangent is averaged over "
+                        "(default 12)")
+    p.add_argument("--json", action="store_true",
+                   help="print the summary (modes with frequency_Hz, shares and shape) as "
+                        "JSON instead of the mode list")
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    """The modes of a case on screen (or JSON), and its files into ``--out``.
+
+    Parameters
+    ----------
+    args : argparse.Namespace
+        ``case``, ``out``, ``load``, ``motor``, ``torque``, ``input``, ``positions``,
+        ``json``.
+
+    Returns
+    -------
+    int
+        0 once done.
+    """
+    from ..case import load_case
+    from ..dynamics import modes_analysis
+    from ..output import atomic_dir
+    from ..dynamics import WARN_AMPLITUDE_REL
+    from ..report.modes import mode_lines, summary as modes_summary
+    case = load_case(args.case)
+
+    def analyse():
+        return modes_analysis(case, load_kgm2=args.load, motor_kgm2=args.motor,
+                              torque_Nm=args.torque, input_free=args.input == "free",
+                              positions=args.positions)
+
+    if args.out is not None:
+        with atomic_dir(args.out) as tmp:   # a bad --out refused before any work
+            result = analyse()
+            summary = result.write(tmp)
+    else:
+        result = analyse()
+        summary = modes_summary(result)
+    if args.json:
+        print(json.dumps(summary, indent=2))
+        return 0
+    def say(text):                      # one item, wrapped at 100 columns
+        print(textwrap.fill(text, 100, subsequent_indent="  "))
+
+    say(f"{case.name}: modes at {result.torque_Nm:g} N m, input {args.input}, load "
+          f"{result.load_kgm2:g} kg m², motor {result.motor_kgm2:g} kg m²")
+    for line in mode_lines(result):
+        print(line)
+    say(f"two-inertia estimate sqrt(k/J)/(2 pi) = {result.two_inertia_Hz:.4g} Hz (k the "
+          f"tangent rigidity {summary['tangent_rigidity_Nm_per_arcmin']:.4g} N m/arcmin, "
+          "input held)")
+    for what, text in result.assumed.items():
+        say(f"assumed {what}: {text}")
+    quiet = sum(not c["warned"] for c in result.crossings)
+    if quiet:
+        say(f"{quiet} crossings of orders the TE spectrum carries below "
+              f"{100 * WARN_AMPLITUDE_REL:g} % of its largest line (campbell.csv, --json)")
+    for w in result.warnings:
+        say(f"warning: {w}")
+    if args.out is not None:
+        print(f"wrote {Path(args.out).resolve()} (summary.json, modes.png, campbell.png)")
+    return 0
