@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -27,8 +28,8 @@ from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.system import inertia as fi, modes as fm
 from .fem.system.datasheet import system_te
 
-#: Positions per meshing period over which the tangent is averaged (the mesh stiffness's
-#: mean; each mode's range over them is reported).
+#: Positions per meshing period whose modes are averaged (each mode's range over them is
+#: reported: the mesh stiffness's variation).
 MODE_POSITIONS = 12
 #: Harmonics of each named TE order drawn and searched for crossings.
 HARMONICS = 3
@@ -140,12 +141,24 @@ def _linearised(system, states, input_free: bool) -> list:
     return [fm.linearise(system, s, input_free=input_free) for s in states]
 
 
-def _mean(lins) -> fm.Linearised:
-    """The tangent averaged over the positions (its energy parts stacked, each / P)."""
-    p = len(lins)
-    k = sum(lin.k for lin in lins) / p
-    parts = tuple((g, b, ke / p) for lin in lins for g, b, ke in lin.parts)
-    return fm.Linearised(k=k, parts=parts, names=lins[0].names, assumed=lins[0].assumed)
+def _over_positions(lins, mass, count: int) -> tuple:
+    """The modes over the positions of one period: each position's own (a mechanism's
+    kinematics move with the crank angle, so a mean of the tangents would lose the free
+    input's exact rigid motion); the i-th frequency and shares averaged over them, the
+    shape of the position nearest those frequencies, each frequency's range."""
+    each = [fm.modes(lin, mass, count) for lin in lins]
+    freq = np.array([m.frequency_Hz for m in each])
+    mean = freq.mean(axis=0)
+    near = each[int(np.argmin(np.abs(freq - mean).sum(axis=1)))]
+    groups = {g for m in each for s in m.shares for g in s}
+    blocks = {b for m in each for s in m.kinetic for b in s}
+    shares = [{g: float(np.mean([m.shares[i].get(g, 0.0) for m in each])) for g in groups}
+              for i in range(mean.size)]
+    kinetic = [{b: float(np.mean([m.kinetic[i].get(b, 0.0) for m in each])) for b in blocks}
+               for i in range(mean.size)]
+    found = fm.Modes(frequency_Hz=mean, shapes=near.shapes, names=near.names,
+                     shares=shares, kinetic=kinetic)
+    return found, np.stack([freq.min(axis=0), freq.max(axis=0)], axis=1)
 
 
 def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | None = None,
@@ -194,7 +207,8 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
     t = float(torque_Nm)
     drive = drive_for(si)
     supports = drive.supports(si.supports)
-    system = drive.system_model(supports, int(positions))
+    # the assembly itself (its coordinates and elements), beyond the ReducerModel protocol
+    system: Any = drive.system_model(supports, int(positions))
     # each layout's builder lists its member first (toothfem/cad_parts.py)
     member = part_drawing(si, drive=drive).regions[0]
     bodies = fi.reducer_bodies(system, member, si.material.density_kg_m3,
@@ -205,9 +219,7 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
                           input_index=n_in)
     states = _states(system, t)
     lins = _linearised(system, states, input_free)
-    mean = _mean(lins)
-    found = fm.modes(mean, mass, count)
-    each = np.array([fm.modes(lin, mass, count).frequency_Hz for lin in lins])
+    found, ranges = _over_positions(lins, mass, count)
     held = lins if not input_free else _linearised(system, states, False)
     out = system.coords.index["out"].start
     compliance = float(np.mean([fm.output_compliance(lin, out) for lin in held]))
@@ -215,7 +227,7 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
     by_torque = {t: found.frequency_Hz.tolist()}
     for f in TORQUE_FRACTIONS:
         lt = _linearised(system, _states(system, f * t), input_free)
-        by_torque[f * t] = fm.modes(_mean(lt), mass, count).frequency_Hz.tolist()
+        by_torque[f * t] = _over_positions(lt, mass, count)[0].frequency_Hz.tolist()
     w = drive.speeds()
     ratio = abs(w["output"] / w["input"])
     speed_range = case_speed_range_rpm(case)
@@ -234,8 +246,8 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
     return ModesResult(
         case_name=case.name, torque_Nm=t, input_free=input_free, load_kgm2=load,
         motor_kgm2=motor, bodies=bodies, modes=found,
-        frequency_range_Hz=np.stack([each.min(axis=0), each.max(axis=0)], axis=1),
-        by_torque=by_torque, assumed=mean.assumed, rigidity_Nm_per_rad=1.0 / compliance,
+        frequency_range_Hz=ranges, by_torque=by_torque, assumed=lins[0].assumed,
+        rigidity_Nm_per_rad=1.0 / compliance,
         two_inertia_Hz=math.sqrt(1.0 / compliance / j_out) / (2 * math.pi),
         orders=orders, crossings=crossings, speed_range_rpm=speed_range,
         output_per_input=ratio, warnings=warnings)
