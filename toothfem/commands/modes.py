@@ -101,7 +101,7 @@ def run(args) -> int:
         say(f"{quiet} crossings of orders the TE spectrum carries below "
               f"{100 * WARN_AMPLITUDE_REL:g} % of its largest line (campbell.csv, --json)")
     for w in result.warnings:
-        say(f"warning: {w}")
+        print(f"warning: {w}")            # one line each (a log's grep finds it whole)
     if args.out is not None:
         print(f"wrote {Path(args.out).resolve()} (summary.json, modes.png, campbell.png)")
     return 0
