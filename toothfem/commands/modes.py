@@ -42,6 +42,14 @@ def add_parser(sub):
     p.add_argument("--positions", type=int, default=12,
                    help="meshing positions over one pitch the tangent is averaged over "
                         "(default 12)")
+    p.add_argument("--response", action="store_true",
+                   help="also the dynamic TE and output torque ripple against input speed "
+                        "(harmonic balance about the static path, input driven at constant "
+                        "speed; dynamic.csv, dynamic.png) and at each warned crossing")
+    p.add_argument("--damping-ratio", type=float, default=None, dest="zeta",
+                   help="modal damping ratio of --response (default 0.05, docs/dynamics.md)")
+    p.add_argument("--speeds", type=int, default=50,
+                   help="input speeds of --response, log-spaced to the top speed (default 50)")
     p.add_argument("--json", action="store_true",
                    help="print the summary (modes with frequency_Hz, shares and shape) as "
                         "JSON instead of the mode list")
@@ -55,7 +63,7 @@ def run(args) -> int:
     ----------
     args : argparse.Namespace
         ``case``, ``out``, ``load``, ``motor``, ``torque``, ``input``, ``positions``,
-        ``json``.
+        ``response``, ``zeta``, ``speeds``, ``json``.
 
     Returns
     -------
@@ -65,22 +73,38 @@ def run(args) -> int:
     from ..case import load_case
     from ..dynamics import modes_analysis
     from ..output import atomic_dir
+    from ..dynamic_response import DAMPING_RATIO, dynamic_response
     from ..dynamics import WARN_AMPLITUDE_REL
+    from ..report.modes import dynamic_summary, write_dynamic
     from ..report.modes import mode_lines, summary as modes_summary
     case = load_case(args.case)
 
     def analyse():
-        return modes_analysis(case, load_kgm2=args.load, motor_kgm2=args.motor,
-                              torque_Nm=args.torque, input_free=args.input == "free",
-                              positions=args.positions)
+        result = modes_analysis(case, load_kgm2=args.load, motor_kgm2=args.motor,
+                                torque_Nm=args.torque, input_free=args.input == "free",
+                                positions=args.positions)
+        if not args.response:
+            return result, None
+        return result, dynamic_response(
+            case, load_kgm2=result.load_kgm2, torque_Nm=result.torque_Nm,
+            zeta=DAMPING_RATIO if args.zeta is None else args.zeta, speeds=args.speeds,
+            crossings=[c for c in result.crossings if c["warned"]],
+            top_rpm=result.speed_range_rpm[1])
 
     if args.out is not None:
         with atomic_dir(args.out) as tmp:   # a bad --out refused before any work
-            result = analyse()
+            result, dyn = analyse()
             summary = result.write(tmp)
+            if dyn is not None:
+                summary["files"] += write_dynamic(dyn, tmp)
+                summary["dynamic"] = dynamic_summary(dyn)
+                (Path(tmp) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n",
+                                                        encoding="utf-8")
     else:
-        result = analyse()
+        result, dyn = analyse()
         summary = modes_summary(result)
+        if dyn is not None:
+            summary["dynamic"] = dynamic_summary(dyn)
     if args.json:
         print(json.dumps(summary, indent=2))
         return 0
@@ -102,6 +126,15 @@ def run(args) -> int:
               f"{100 * WARN_AMPLITUDE_REL:g} % of its largest line (campbell.csv, --json)")
     for w in result.warnings:
         print(f"warning: {w}")            # one line each (a log's grep finds it whole)
+    if dyn is not None:
+        say(f"dynamic response ({dyn.method}; damping ratio {dyn.damping_ratio:g}: "
+            f"{dyn.damping_source}): static TE {dyn.static_te_pp_arcsec:.4g} arcsec peak to "
+            f"peak; largest over {len(dyn.speeds_rpm)} speeds {dyn.te_pp_arcsec.max():.4g} "
+            f"arcsec, torque ripple {dyn.ripple_pp_Nm.max():.4g} N m peak to peak")
+        for c in dyn.crossings:
+            print(f"at crossing: {c['order_name']} x mode {c['mode']}, {c['speed_rpm']:.4g} rpm: "
+                  f"TE {c['te_pp_arcsec']:.4g} arcsec, torque ripple {c['ripple_pp_Nm']:.4g} N m "
+                  "peak to peak")
     if args.out is not None:
         print(f"wrote {Path(args.out).resolve()} (summary.json, modes.png, campbell.png)")
     return 0

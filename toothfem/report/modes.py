@@ -309,3 +309,86 @@ def write_modes(result: ModesResult, folder) -> dict:
     out["files"] = files + ["summary.json"]
     (folder / "summary.json").write_text(json.dumps(out, indent=2) + "\n", encoding="utf-8")
     return out
+
+
+def dynamic_summary(dr) -> dict:
+    """The dynamic sweep's summary (summary.json's ``dynamic``).
+
+    Parameters
+    ----------
+    dr : toothfem.dynamic_response.DynamicResponse
+
+    Returns
+    -------
+    dict
+    """
+    return {"method": dr.method, "damping_ratio": dr.damping_ratio,
+            "damping_source": dr.damping_source, "output_torque_Nm": dr.torque_Nm,
+            "load_inertia_kgm2": dr.load_kgm2,
+            "static_te_peak_to_peak_arcsec": dr.static_te_pp_arcsec,
+            "speeds_rpm": dr.speeds_rpm.tolist(),
+            "te_peak_to_peak_arcsec": dr.te_pp_arcsec.tolist(),
+            "torque_ripple_peak_to_peak_Nm": dr.ripple_pp_Nm.tolist(),
+            "crossings": dr.crossings}
+
+
+def dynamic_figure(dr):
+    """Dynamic TE and output torque ripple (peak to peak) against input speed, the static
+    TE, the crossings named.
+
+    Parameters
+    ----------
+    dr : toothfem.dynamic_response.DynamicResponse
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    plt = pyplot()
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(10, 8), sharex=True)
+    ax.plot(dr.speeds_rpm, dr.te_pp_arcsec, "-o", ms=3, label="dynamic TE")
+    ax.axhline(dr.static_te_pp_arcsec, color="0.4", ls="--", label="static TE")
+    bx.plot(dr.speeds_rpm, dr.ripple_pp_Nm, "-o", ms=3, color="tab:red")
+    for i, c in enumerate(dr.crossings):
+        for axis, v in ((ax, c["te_pp_arcsec"]), (bx, c["ripple_pp_Nm"])):
+            axis.plot(c["speed_rpm"], v, "D", color="k", ms=5)
+        ax.annotate(f"{i + 1}", (c["speed_rpm"], c["te_pp_arcsec"]), fontsize=8,
+                    xytext=(4, 4), textcoords="offset points")
+    names = "; ".join(f"{i + 1}: {c['order_name']} x mode {c['mode']}"
+                      for i, c in enumerate(dr.crossings))
+    ax.set_xscale("log")
+    ax.set_ylabel("TE peak to peak [arcsec]")
+    bx.set_ylabel("output torque ripple\npeak to peak [N m]")
+    bx.set_xlabel("input speed [rpm]")
+    ax.legend(fontsize=8)
+    ax.set_title(f"{dr.case_name}\ndynamic TE and torque ripple at {dr.torque_Nm:g} N m, "
+                 f"load {dr.load_kgm2:g} kg m², damping ratio {dr.damping_ratio:g}",
+                 fontsize=9)
+    if names:
+        fig.text(0.01, 0.005, "\n".join(textwrap.wrap("crossings: " + names, 150)),
+                 fontsize=7)
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
+    return fig
+
+
+def write_dynamic(dr, folder) -> list:
+    """dynamic.csv and dynamic.png into ``folder``.
+
+    Parameters
+    ----------
+    dr : toothfem.dynamic_response.DynamicResponse
+    folder : path
+
+    Returns
+    -------
+    list of str
+        The files written.
+    """
+    folder = Path(folder)
+    with open(folder / "dynamic.csv", "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["input_speed_rpm", "te_pp_arcsec", "torque_ripple_pp_Nm"])
+        for row in dr.rows():
+            w.writerow([f"{v:.9g}" for v in row])
+    save(dynamic_figure(dr), folder / "dynamic.png", dpi=120)
+    return ["dynamic.csv", "dynamic.png"]
