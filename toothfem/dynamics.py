@@ -20,6 +20,7 @@ from typing import Any
 
 import numpy as np
 
+from .backdrive import torque_bandwidth
 from .cad_parts import part_drawing
 from .case import Case, as_case
 from .efficiency import rated_output_torque
@@ -27,6 +28,7 @@ from .errors import CaseError, check_range
 from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.system import inertia as fi, modes as fm
 from .fem.system.datasheet import system_te
+from .dynamic_response import DAMPING_RATIO
 
 #: Positions per meshing period whose modes are averaged (each mode's range over them is
 #: reported: the mesh stiffness's variation).
@@ -69,6 +71,7 @@ class ModesResult:
     speed_range_rpm: tuple
     output_per_input: float
     warnings: list = field(default_factory=list)
+    bandwidth: dict | None = None             # the input free: the torque bandwidth
 
     def table(self) -> list:
         """The mode list with each mode's strain-energy shares, as the terminal shows it.
@@ -220,8 +223,9 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
     states = _states(system, t)
     lins = _linearised(system, states, input_free)
     found, ranges = _over_positions(lins, mass, count)
-    held = lins if not input_free else _linearised(system, states, False)
     out = system.coords.index["out"].start
+    bandwidth = torque_bandwidth(lins, mass, DAMPING_RATIO, out) if input_free else None
+    held = lins if not input_free else _linearised(system, states, False)
     compliance = float(np.mean([fm.output_compliance(lin, out) for lin in held]))
     j_out = mass[out, out]
     by_torque = {t: found.frequency_Hz.tolist()}
@@ -250,7 +254,7 @@ def modes_analysis(case, *, load_kgm2: float | None = None, motor_kgm2: float | 
         rigidity_Nm_per_rad=1.0 / compliance,
         two_inertia_Hz=math.sqrt(1.0 / compliance / j_out) / (2 * math.pi),
         orders=orders, crossings=crossings, speed_range_rpm=speed_range,
-        output_per_input=ratio, warnings=warnings)
+        output_per_input=ratio, warnings=warnings, bandwidth=bandwidth)
 
 
 def te_orders(named: dict, spectrum_orders, amplitude_arcsec) -> list:

@@ -181,8 +181,35 @@ def _input_group(system, elements) -> str:
     return "spur mesh" if "spur mesh" in groups else system.group("crankshaft torsion")
 
 
-def _with_input(system, state, elements, parts) -> list:
-    """``parts`` with a column for the input's rotation (the module docstring)."""
+def rigid_motion(system, state, elements=None, parts=None):
+    """The train's rigid motion at a solved state, per unit input rotation: every element
+    but those tying the train to its input undeformed and every carrying contact closed
+    (the null space of their rows), scaled to turn the output by the train's ratio.
+
+    Parameters
+    ----------
+    system : toothfem.fem.drives.assembly.CycloidSystem
+    state : toothfem.fem.system.parts.SystemState
+    elements, parts : list, optional
+        The state's elements and their linearised parts (:func:`linearise`'s), if known.
+
+    Returns
+    -------
+    r : numpy.ndarray, shape (n,)
+        [m, rad per rad of input].
+    tied : list of int
+        The indices of the elements that tie the train to its input.
+
+    Raises
+    ------
+    CaseError
+        If the train has no single rigid motion, or it does not turn the output.
+    """
+    if elements is None:
+        elements = system._elements(state.position_rad)   # see linearise
+    if parts is None:
+        parts = [(e.group, np.asarray(e.b, float), None) for e in elements] \
+            + _contact_parts(system, state)
     group = _input_group(system, elements)
     tied = [i for i, e in enumerate(elements) if e.group == group]
     rows = [p[1] for i, p in enumerate(parts) if i not in tied]
@@ -198,7 +225,12 @@ def _with_input(system, state, elements, parts) -> list:
     out = r[system.coords.index["out"]][0]
     if abs(out) < MECHANISM_RTOL * np.max(np.abs(r)):
         raise CaseError("the free input: its rigid motion does not turn the output")
-    r = r * (w["output"] / w["input"]) / out
+    return r * (w["output"] / w["input"]) / out, tied
+
+
+def _with_input(system, state, elements, parts) -> list:
+    """``parts`` with a column for the input's rotation (the module docstring)."""
+    r, tied = rigid_motion(system, state, elements, parts)
     extended = []
     for i, (g, b, ke) in enumerate(parts):
         col = -(b @ r)[:, None] if i in tied else np.zeros((b.shape[0], 1))

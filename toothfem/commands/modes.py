@@ -50,6 +50,10 @@ def add_parser(sub):
                    help="modal damping ratio of --response (default 0.05, docs/dynamics.md)")
     p.add_argument("--speeds", type=int, default=50,
                    help="input speeds of --response, log-spaced to the top speed (default 50)")
+    p.add_argument("--backdrive", action="store_true",
+                   help="also the backdrive torque at the output and the starting torque at "
+                        "the input, both directions, from the system model's friction, and "
+                        "the no-load running torque against speed")
     p.add_argument("--json", action="store_true",
                    help="print the summary (modes with frequency_Hz, shares and shape) as "
                         "JSON instead of the mode list")
@@ -63,7 +67,7 @@ def run(args) -> int:
     ----------
     args : argparse.Namespace
         ``case``, ``out``, ``load``, ``motor``, ``torque``, ``input``, ``positions``,
-        ``response``, ``zeta``, ``speeds``, ``json``.
+        ``response``, ``zeta``, ``speeds``, ``backdrive``, ``json``.
 
     Returns
     -------
@@ -73,6 +77,7 @@ def run(args) -> int:
     from ..case import load_case
     from ..dynamics import modes_analysis
     from ..output import atomic_dir
+    from ..backdrive import backdrive, no_load_torque
     from ..dynamic_response import DAMPING_RATIO, dynamic_response
     from ..dynamics import WARN_AMPLITUDE_REL
     from ..report.modes import dynamic_summary, write_dynamic
@@ -83,9 +88,12 @@ def run(args) -> int:
         result = modes_analysis(case, load_kgm2=args.load, motor_kgm2=args.motor,
                                 torque_Nm=args.torque, input_free=args.input == "free",
                                 positions=args.positions)
+        extra = {} if not args.backdrive else {
+            "backdrive": backdrive(case, positions=args.positions),
+            "no_load_running_torque": no_load_torque(case, result.speed_range_rpm[1])}
         if not args.response:
-            return result, None
-        return result, dynamic_response(
+            return result, extra, None
+        return result, extra, dynamic_response(
             case, load_kgm2=result.load_kgm2, torque_Nm=result.torque_Nm,
             zeta=DAMPING_RATIO if args.zeta is None else args.zeta, speeds=args.speeds,
             crossings=[c for c in result.crossings if c["warned"]],
@@ -93,16 +101,18 @@ def run(args) -> int:
 
     if args.out is not None:
         with atomic_dir(args.out) as tmp:   # a bad --out refused before any work
-            result, dyn = analyse()
+            result, extra, dyn = analyse()
             summary = result.write(tmp)
+            summary.update(extra)
             if dyn is not None:
                 summary["files"] += write_dynamic(dyn, tmp)
                 summary["dynamic"] = dynamic_summary(dyn)
+            if dyn is not None or extra:
                 (Path(tmp) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n",
                                                         encoding="utf-8")
     else:
-        result, dyn = analyse()
-        summary = modes_summary(result)
+        result, extra, dyn = analyse()
+        summary = {**modes_summary(result), **extra}
         if dyn is not None:
             summary["dynamic"] = dynamic_summary(dyn)
     if args.json:
@@ -120,6 +130,22 @@ def run(args) -> int:
           "input held)")
     for what, text in result.assumed.items():
         say(f"assumed {what}: {text}")
+    if result.bandwidth is not None:
+        b = result.bandwidth
+        say(f"torque bandwidth (-3 dB of the output torque per motor torque, damping ratio "
+            f"{DAMPING_RATIO:g}): {b['bandwidth_Hz']:.4g} Hz ({b['range_Hz'][0]:.4g}-"
+            f"{b['range_Hz'][1]:.4g} over the mesh), first mode {b['first_mode_Hz']:.4g} Hz")
+    bd = extra.get("backdrive", {}).get("by_direction", {})
+    if bd:
+        say("backdrive torque at the output (input free, from rest): "
+            + ", ".join(f"{k} {v['backdrive_torque_Nm']:.4g} N m" for k, v in bd.items())
+            + "; starting torque at the input (output free): "
+            + ", ".join(f"{k} {v['input_starting_torque_Nm']:.4g} N m"
+                        for k, v in bd.items()))
+        nl = extra["no_load_running_torque"]
+        say("no-load running torque at the input: " + ", ".join(
+            f"{t:.3g} N m at {n:.4g} rpm" for n, t in list(zip(nl["speeds_rpm"],
+                                                                nl["input_torque_Nm"]))[::3]))
     quiet = sum(not c["warned"] for c in result.crossings)
     if quiet:
         say(f"{quiet} crossings of orders the TE spectrum carries below "

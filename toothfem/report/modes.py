@@ -132,7 +132,7 @@ def summary(result: ModesResult) -> dict:
         "speed_range_rpm": list(result.speed_range_rpm),
         "output_per_input": result.output_per_input,
         "te_orders": result.orders, "crossings": result.crossings,
-        "warnings": result.warnings}
+        "torque_bandwidth": result.bandwidth, "warnings": result.warnings}
 
 
 def modes_figure(result: ModesResult):
