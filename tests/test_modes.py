@@ -118,6 +118,19 @@ def test_free_input_column_is_the_spur_mesh_ratio(rv):
     assert cols == pytest.approx([r_b * path.sun_over_planet] * system.cranks, rel=1e-9)
 
 
+def test_rigid_motion_turns_the_train_by_its_ratios(rv):
+    """The train's rigid motion found from the elements and contacts (a null space) turns
+    the cranks and discs by geometry.train's speeds per output turn (rv_speeds: the crank
+    is the carrier's turn plus psi_e; round-off of an SVD, 1e-8)."""
+    _, drive, _, system = rv
+    r, _ = fm.rigid_motion(system, system.solve(412.0, 0))
+    c, w = system.coords.index, drive.speeds()
+    per_out = 1.0 / r[c["out"]][0]
+    crank = (r[c["carrier"]][0] + r[c["psi_e0"]][0]) * per_out
+    assert crank == pytest.approx(w["crank"] / w["output"], rel=1e-8)
+    assert r[c["disc0"]][2] * per_out == pytest.approx(w["member"] / w["output"], rel=1e-8)
+
+
 def test_two_inertia_limit_against_the_datasheet_twist(rv):
     """Issue 42: a load of 200 kg m^2 (1e4 times the reducer's own output), input held:
     the first mode is sqrt(k/J)/(2 pi), k the tangent rigidity at that torque from the
