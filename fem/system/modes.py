@@ -218,8 +218,9 @@ def rigid_motion(system, state, elements=None, parts=None):
     _, sv, vt = np.linalg.svd(a)
     sv = np.concatenate([sv, np.zeros(vt.shape[0] - sv.size)])
     if sv[-1] > MECHANISM_RTOL * sv[0] or sv[-2] <= MECHANISM_RTOL * sv[0]:
-        raise CaseError("the free input: the train has no single rigid motion (its "
-                        f"singular values {sv[-2]:.3g}, {sv[-1]:.3g} of {sv[0]:.3g})")
+        raise CaseError("input = 'free': the carrying contacts and the elements leave the "
+                        "train no single rigid motion (the smallest singular values "
+                        f"{sv[-2]:.3g}, {sv[-1]:.3g} of {sv[0]:.3g}): use input 'held'")
     r = vt[-1]
     w = system.drive.speeds()
     out = r[system.coords.index["out"]][0]
