@@ -52,6 +52,20 @@ class Operating(_Section):
         unset="no check",
         source="none: the catalogue's figure where the case states it (RV-40E: 2058 N m)")
 
+    # the dynamics (toothfem modes, docs/dynamics.md)
+    motor_inertia_kgm2: float = _f(0.0, 1e4, default=0.0,
+                                   doc="the motor's rotor inertia on the input (modes)",
+                                   source="0: the reducer's own input parts alone")
+    load_inertia_kgm2: float = _f(0.0, 1e6, default=0.0,
+                                  doc="the driven load's inertia on the output (modes)",
+                                  source="0: the reducer's own output flange alone")
+    max_input_speed_rpm: float | None = _f(*SPEED_RPM, default=None,
+                                           doc="top of the speed range of the Campbell "
+                                               "diagram's crossings",
+                                           unset="the highest input speed the case names",
+                                           source="none: the case's operating and duty "
+                                                  "speeds")
+
     def _check(self):
         limits = [("rated_torque_Nm", self.rated_torque_Nm),
                   ("start_stop_torque_Nm", self.start_stop_torque_Nm),

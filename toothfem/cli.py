@@ -23,11 +23,11 @@ from . import __version__
 # each command module is light (NAME, HELP, add_parser, run); what a command needs is
 # imported by its own add_parser and run, so `toothfem --help` imports neither numpy nor
 # the FE (benchmarks/cli_startup.py times it)
-from .commands import (check, contact, design, efficiency, geometry, loop, run, size,
+from .commands import (check, contact, design, efficiency, geometry, loop, modes, run, size,
                        stiffness, sweep, te_loop, tolerance, new)
 
-COMMANDS = (check, geometry, contact, stiffness, tolerance, design, size, efficiency, run,
-            loop, te_loop, sweep, new)
+COMMANDS = (check, geometry, contact, stiffness, modes, tolerance, design, size, efficiency,
+            run, loop, te_loop, sweep, new)
 #: Environment variable that lets an internal error show its traceback.
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).

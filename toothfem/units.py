@@ -107,6 +107,8 @@ UNITS: tuple[Unit, ...] = (
     Unit("arcmin", "arcmin", "rad", ARCMIN), Unit("arcsec", "arcsec", "rad", ARCSEC),
     Unit("deg", "deg", "rad", DEG), Unit("rad", "rad", "rad", 1.0),
     Unit("mm", "mm", "m", M_PER_MM), Unit("um", "µm", "m", M_PER_UM),
+    Unit("kgm2", "kg m²", "kg m²", 1.0), Unit("kg", "kg", "kg", 1.0),
+    Unit("Hz", "Hz", "Hz", 1.0),
     Unit("m2", "m²", "m²", 1.0), Unit("m", "m", "m", 1.0),
     Unit("C", "°C", "°C", 1.0), Unit("K", "K", "°C", 1.0, -273.15),
     Unit("F", "°F", "°C", 5.0 / 9.0, -160.0 / 9.0),
