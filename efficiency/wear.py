@@ -256,8 +256,8 @@ def conforming_depth(volume_m3, width_m: float, radius_m: float, half_width_m: f
     ha = half_width_m ** 2 / (2.0 * radius_m)
     va = 2.0 * half_width_m * width_m * ha
     below = v / (2.0 * half_width_m * width_m)
-    above = (ha ** 1.5 + (v - va) / ((4.0 / 3.0) * width_m * math.sqrt(2.0 * radius_m))) \
-        ** (2.0 / 3.0)
+    above = (ha ** 1.5 + np.maximum(v - va, 0.0)
+             / ((4.0 / 3.0) * width_m * math.sqrt(2.0 * radius_m))) ** (2.0 / 3.0)
     return np.where(v <= va, below, above)
 
 

@@ -1,0 +1,149 @@
+"""The accuracy life (issue 44): Archard's law on the pin-on-disc hand models, the
+coefficient by regime and the run-in, and ``toothfem wear`` on the RV-40E (docs/wear.md)."""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from toothfem.errors import CaseError
+from toothfem.efficiency import wear as w
+from toothfem.efficiency.mixed_film import asperity_load_share
+
+from tests.conftest import CASES, _command_output
+
+#: The hand models' pin on its disc: a steel pin of 5 mm radius, 10 mm wide, 50 N, K 1e-6,
+#: 700 HV; the Hertz half-width of the cylinder on the flat (E* 114 GPa).
+K, F, B, R, H = 1e-6, 50.0, 0.010, 0.005, 700 * 9.80665e6
+A_HERTZ = math.sqrt(4 * F / B * R / (math.pi * 114e9))
+
+
+def test_archard_flat_pin_on_disc_is_the_closed_form():
+    # a flat-ended pin of area A: depth K F s / (H A), linear in the sliding distance
+    s, area = np.array([0.0, 1e3, 5e3, 2e4]), 12.5e-6
+    depth = w.archard_volume(K, F, s, H) / area
+    assert depth == pytest.approx(K * F * s / (H * area), rel=1e-14)
+    assert depth[2] / depth[1] == pytest.approx(5.0, rel=1e-14)
+
+
+def test_conforming_pin_runs_in_as_its_hand_model():
+    """The cylindrical pin wears a flat: the depth from the worn volume in closed form
+    (circular segment), the stepped run-in (dh = K p(h) ds / H with the pressure falling
+    as the flat widens) on it, and its s^(2/3) law once past the Hertz band."""
+    s = 2e4 * (np.arange(201) / 200) ** 3          # dense at the start, as the run-in is
+    closed = w.conforming_depth(w.archard_volume(K, F, s, H), B, R, A_HERTZ)
+    stepped = w.integrate_conforming(K, F, s, H, B, R, A_HERTZ)
+    # midpoint steps: second order (50, 200, 800 steps: 2.5e-4, 1.5e-5, 9e-7 at the end;
+    # 1e-3, 6e-5, 4e-6 over the second half): 200 steps within 2e-4 of the closed form
+    assert stepped[100:] == pytest.approx(closed[100:], rel=2e-4)
+    assert w.conforming_volume(closed, B, R, A_HERTZ) == pytest.approx(
+        w.archard_volume(K, F, s, H), rel=1e-10)
+    # far past the Hertz band: h = (3 K F s / (4 b H sqrt(2 R)))^(2/3)
+    far = (3 * K * F * s[-1] / (4 * B * H * math.sqrt(2 * R))) ** (2 / 3)
+    assert closed[-1] == pytest.approx(far, rel=0.02)      # h_a = a^2/2R is 1 % of it
+    p = w.conforming_pressure(F, closed, B, R, A_HERTZ)
+    assert np.all(np.diff(p) <= 0) and p[-1] < 0.2 * p[0]
+    rate = np.diff(closed) / np.diff(s)
+    assert rate[-1] < 0.5 * rate[len(rate) // 4]      # the run-in: slower as it conforms
+
+
+def test_wear_coefficient_by_regime_and_run_in():
+    # boundary: the asperities carry everything, K = K_b; full film: about 1 % at lambda 3
+    # and 1 GPa (efficiency/mixed_film.py's own figure); mixed in between
+    lam = np.array([0.2, 1.5, 3.0])
+    k = w.wear_coefficient(1e-6, lam, 1e9, H)
+    assert k[0] == pytest.approx(1e-6, rel=1e-12)
+    assert k[2] == pytest.approx(1e-6 * asperity_load_share(3.0, 1e9, H), rel=1e-12)
+    assert k[2] < 0.02e-6 < k[1] < k[0]
+    assert list(w.regime(lam)) == ["boundary", "mixed", "full film"]
+    sigma = 0.7e-6
+    assert w.run_in_factor(0.0, sigma) == pytest.approx(w.RUN_IN_WEAR_RATIO)
+    assert w.run_in_factor(20 * sigma, sigma) == pytest.approx(1.0, abs=1e-7)
+    assert w.run_in_roughness(sigma, 20 * sigma) == pytest.approx(
+        w.RUN_IN_ROUGHNESS_RATIO * sigma, rel=1e-7)
+
+
+@pytest.mark.parametrize("argv, says", [
+    (["--hours", "0"], "hours = 0"),
+    (["--hours", "100", "--wear-coefficient=-1e-9"], "--wear-coefficient = -1e-09"),
+    (["--hours", "100", "--steps", "0"], "steps = 0"),
+])
+def test_wear_refuses_bad_input_naming_it(argv, says, capsys):
+    from toothfem import cli
+    assert cli.main(["wear", str(CASES / "rv40e.toml"), *argv]) == 2
+    assert says in capsys.readouterr().err
+
+
+def test_wear_refuses_a_drive_without_a_cycloid_disc(capsys):
+    from toothfem import cli
+    assert cli.main(["wear", str(CASES / "sine_prototype.toml"), "--hours", "10"]) == 2
+    assert "case.drive = 'sine'" in capsys.readouterr().err
+
+
+@pytest.fixture(scope="module")
+def rv40e_life():
+    """The RV-40E's 2000 h at the default coefficient, on a short grid."""
+    from toothfem.case import load_case
+    from toothfem.wear import wear_analysis
+    return wear_analysis(load_case(CASES / "rv40e.toml"), 2000.0, steps=4)
+
+
+def test_rv40e_lost_motion_grows_from_the_datasheets(rv40e_life, tmp_path):
+    from toothfem.case import load_case
+    from toothfem.efficiency import rated_output_torque
+    from toothfem.efficiency.no_load import path_friction
+    from toothfem.fem.datasheet.sheet import lost_motion_arcmin
+    from toothfem.fem.drives import drive_for
+    from toothfem.fem.system.datasheet import SystemTwist
+    case = load_case(CASES / "rv40e.toml")
+    si, drive = case.to_si(), drive_for(case)
+    # the datasheet's lost motion as `stiffness` computes it (36 positions, friction)
+    sheet = lost_motion_arcmin(SystemTwist(drive.system_model(drive.supports(si.supports), 36),
+                                           friction=path_friction(si, drive)),
+                               rated_output_torque(si)[0])
+    rows = rv40e_life.history
+    lm = np.array([r["lost_motion_arcmin"] for r in rows])
+    hours = np.array([r["hours"] for r in rows])
+    assert lm[0] == pytest.approx(sheet, rel=0.02)
+    assert np.all(np.diff(lm) > 0)
+    # faster in the first quarter of the hours than in the last (the grid's rows at 500,
+    # 1125 and 2000 h: the last quarter's rate from the last interval, a bound above it)
+    first = (np.interp(500, hours, lm) - lm[0]) / 500
+    last = (lm[-1] - lm[-2]) / (hours[-1] - hours[-2])
+    assert first > 1.5 * last
+    # the parts add up to the lost motion (the work balance); the support bearings open
+    # more clearance than the crank bearings, as in the published test
+    end = rows[-1]
+    assert sum(end["lost_motion_parts_arcmin"].values()) == pytest.approx(lm[-1], rel=1e-6)
+    assert end["clearance_um"]["support bearings"] > end["clearance_um"]["crank bearings"] > 0
+    assert end["backlash_arcmin"] > rows[0]["backlash_arcmin"]
+    summary = rv40e_life.write(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(summary["files"])
+    hit = rv40e_life.hours_to_limit
+    assert hit is not None and 0 < hit < 2000
+    assert np.interp(hit, hours, lm) == pytest.approx(1.0, rel=1e-9)
+
+
+def test_zero_coefficient_leaves_every_figure_unchanged():
+    out = json.loads(_command_output(["wear", CASES / "rv40e.toml", "--hours", "5000",
+                                      "--wear-coefficient", "0", "--steps", "2", "--json"]))
+    rows = out["history"]
+    assert [r["hours"] for r in rows] == [0.0, 1250.0, 5000.0]
+    for r in rows[1:]:
+        for key in ("lost_motion_arcmin", "backlash_arcmin", "te_mean_arcsec",
+                    "te_peak_to_peak_arcsec", "efficiency"):
+            assert r[key] == rows[0][key], key
+        assert set(r["clearance_um"].values()) == {0.0}
+    assert out["hours_to_lost_motion_limit"] is None
+
+
+@pytest.mark.slow
+def test_halving_the_steps_moves_the_end_lost_motion_below_1_percent():
+    from toothfem.case import load_case
+    from toothfem.wear import DEFAULT_STEPS, wear_analysis
+    case = load_case(CASES / "rv40e.toml")
+    ends = [wear_analysis(case, 2000.0, steps=n).history[-1]["lost_motion_arcmin"]
+            for n in (DEFAULT_STEPS, 2 * DEFAULT_STEPS)]
+    assert ends[0] == pytest.approx(ends[1], rel=0.01)
