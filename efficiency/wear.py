@@ -18,20 +18,26 @@ the load the asperities carry, f (efficiency/mixed_film.py: Johnson, Greenwood &
 with plastically flattened Gaussian asperities): K = K_b f(lambda, P_h, H). This is the
 load-sharing wear model of M. Priest & C.M. Taylor ("Automobile engine tribology -
 approaching the surface", Wear 241 (2000) 193-203): the boundary wear law applied to the
-asperities' load. K_b, the boundary coefficient of hardened steel in lubricated sliding,
-defaults to the dimensional coefficient k = K/H = 5.4e-16 m^2/N of A. Flodin & S.
-Andersson ("Simulation of mild wear in spur gears", Wear 207 (1997) 16-23), K_b = 3.7e-6
-at 700 HV; the mild-wear range of lubricated steel is K = 1e-8 to 1e-5 (I.M. Hutchings &
-P. Shipway, *Tribology*, 2nd ed., 2017, ch. 5: mild wear of steels; above it severe
-wear, not this model's). The regimes are named by the film ratio lambda = h_c/sigma
+asperities' load. K_b, the boundary coefficient, is not known for a given reducer to
+better than orders of magnitude: the mild wear of lubricated steel spans K = 1e-10 to 1e-6
+by the film, the additives and the surfaces (I.M. Hutchings & P. Shipway, *Tribology*,
+2nd ed., 2017, ch. 5), the dimensional coefficient k = K/H = 5.4e-16 m^2/N of A. Flodin &
+S. Andersson ("Simulation of mild wear in spur gears", Wear 207 (1997) 16-23; K = 3.7e-6
+at 700 HV) its upper end for gears in boundary lubrication. DEFAULT_K = 1e-8 is an
+ASSUMPTION, the middle of the range (a rig's long-run data fits it: the loops' wear effect).
+The regimes are named by the film ratio lambda = h_c/sigma
 (Tallian): boundary below 1, mixed to 3, full film above (f < 1 % there).
 
 Run-in: the asperity tips wear first, so the composite roughness falls as the worn depth
 grows to the order of the roughness itself (the truncated-Gaussian picture of Y.-R. Jeng,
 Z.-W. Lin & S.-H. Shyu, "Changes of surface topography during running-in process",
 J. Tribol. 126 (2004) 620-625): sigma(h) = sigma_r + (sigma_0 - sigma_r) exp(-h/sigma_0);
-the film ratio rises, f and K fall. RUN_IN_ROUGHNESS_RATIO sigma_r/sigma_0 is an
-ASSUMPTION (0.5; ground steel runs in to 0.3-0.8 of its Rq in the source's data).
+the film ratio rises, f and K fall. In boundary lubrication (f = 1 whatever lambda) the
+new surface still wears faster while its tips carry the load at their flow pressure over a
+smaller real area: K(h) = K (1 + (R - 1) exp(-h/sigma_0)). RUN_IN_ROUGHNESS_RATIO
+sigma_r/sigma_0 = 0.5 and RUN_IN_WEAR_RATIO R = 10 are ASSUMPTIONS (ground steel runs in
+to 0.3-0.8 of its Rq in the source's data; R is the order of the ratio of the published RV
+wear test's early and late rates, so the shape of that comparison is not independent).
 
 The conforming contact (the pin-on-disc rig: a cylindrical pin of radius R, its axis along
 the track, loaded against the disc; its tip always under the load): the pin wears flat,
@@ -55,8 +61,8 @@ from ..errors import CaseError, check_range
 #: Flodin & Andersson (1997): the dimensional wear coefficient k = K/H of hardened steel in
 #: boundary-lubricated sliding [m^2/N] (their spur-gear mild-wear simulation).
 FLODIN_K_M2_PER_N = 5.4e-16
-#: The dimensionless coefficient's valid range (Hutchings & Shipway 2017, mild wear of
-#: lubricated steel 1e-8 to 1e-5; 0 switches wear off; above 1e-3 nothing mild is left).
+#: The dimensionless coefficient's valid range (mild wear of lubricated steel 1e-10 to 1e-6,
+#: module docstring; 0 switches wear off; above 1e-3 nothing mild is left).
 K_RANGE = (0.0, 1e-3)
 #: Film ratios bounding the regimes (Tallian: boundary below 1, full film from 3; the
 #: friction model's LAMBDA_FULL_FILM).
@@ -102,7 +108,7 @@ def check_coefficient(k: float, name: str = "wear_coefficient") -> float:
     """
     return float(check_range(name, k, *K_RANGE, error=CaseError,
                              why="Archard's dimensionless K (mild wear of lubricated steel "
-                                 "1e-8 to 1e-5; 0: no wear)"))
+                                 "1e-10 to 1e-6; 0: no wear)"))
 
 
 def archard_volume(k, force_N, distance_m, hardness_Pa):

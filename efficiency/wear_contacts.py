@@ -140,7 +140,6 @@ def pin_disc_wear(si, drive, record, meshing, *, crank_speed_rad_s: float, k_bou
     lub = si.lubricant
     hard = si.material.hardness_Pa
     omega = abs(float(crank_speed_rad_s))
-    vs = np.abs(meshing.sliding_velocity) * omega
     ve = np.abs(meshing.entrainment_velocity) * omega
     sigma0 = fr.composite_rms_roughness(lub.roughness_Ra_m)
     sigma = float(run_in_roughness(sigma0, worn_depth_m))

@@ -8,7 +8,6 @@ import math
 import numpy as np
 import pytest
 
-from toothfem.errors import CaseError
 from toothfem.efficiency import wear as w
 from toothfem.efficiency.mixed_film import asperity_load_share
 

@@ -21,7 +21,8 @@ class Wear(_Section):
         0.0, 1e-3, default=None,
         doc="Archard's dimensionless wear coefficient K_b of the contacts in boundary "
             "lubrication (the film ratio's regime scales it down); 0: no wear",
-        unit="-",
-        unset="5.4e-16 m^2/N times the hardness (3.7e-6 at 700 HV)",
-        source="A. Flodin & S. Andersson, Wear 207 (1997) 16-23: k = 5.4e-16 m^2/N of "
-               "hardened steel in boundary-lubricated sliding")
+        unset="1e-8",
+        source="ASSUMPTION: mild wear of lubricated hardened steel, 1e-10 to 1e-6 (docs/wear.md: "
+               "the boundary-lubricated gear steel of A. Flodin & S. Andersson, Wear 207 "
+               "(1997) 16-23, 3.7e-6 at 700 HV, its upper end; the RV-40E's published wear "
+               "test implies about 5e-10)")

@@ -15,6 +15,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -162,7 +163,8 @@ class WornReducer:
                             "cycloid or RV case")
         self.geometry0 = geometry
         supports = self.drive.supports(self.si.supports)
-        self.base = self.drive.system_model(supports, positions)
+        # a cycloid disc's system (CycloidSystem: its plays, bearings and mesh)
+        self.base: Any = self.drive.system_model(supports, positions)
         self.friction = path_friction(self.si, self.drive)
         self.rated, _ = rated_output_torque(self.si)
         self.k_boundary = k_boundary
@@ -181,7 +183,7 @@ class WornReducer:
                                                 None),
                          "support bearings": sets.get("crank_support_bearings")}
         self.d_shaft = supports.crankshaft_diameter_m
-        self._base_losses = None
+        self._base_losses: tuple[float, float, float] | None = None
 
     def system(self, state: WearState):
         """The system model and the disc's geometry with the worn clearances."""
@@ -214,7 +216,7 @@ class WornReducer:
         records : list of ContactWear
         """
         twist = self.twist(state) if twist is None else twist
-        sys_ = twist.system
+        sys_: Any = twist.system
         rates = {c: np.zeros(2) for c in CLEARANCES}
         records = []
         for row, (torque, speed, share) in enumerate(self.duty):
@@ -262,7 +264,7 @@ class WornReducer:
         ra = lub.roughness_Ra_m * float(run_in_roughness(sigma0, state.depth_m["mesh"])) \
             / sigma0
         si = dataclasses.replace(self.si, lubricant=dataclasses.replace(lub, roughness_Ra_m=ra))
-        sys_ = twist.system
+        sys_: Any = twist.system
         states = twist.states(torque)
         crank = np.array([speed * self.crank_per_input])
         # the first disc's (as the wear's), for every disc
@@ -377,7 +379,6 @@ def wear_analysis(case: Case, hours: float, *, wear_coefficient: float | None = 
                 why="the duty cycle's running time [h]")
     check_range("steps", steps, 1, 1000, error=CaseError, why="steps over the hours")
     check_range("positions", positions, 2, MAX_POSITIONS, error=CaseError)
-    si = case.to_si()
     if wear_coefficient is not None:
         k, source = check_coefficient(wear_coefficient, "--wear-coefficient"), "given"
     elif case.wear.wear_coefficient is not None:
