@@ -314,9 +314,10 @@ class WornReducer:
 def worn_backlash_arcmin(twist: SystemTwist) -> float:
     """The datasheet's backlash (:func:`toothfem.fem.datasheet.sheet.backlash_arcmin`: the
     twists at zero torque from either flank) of a worn reducer. A body floating in a worn
-    bearing's play may not settle under the datasheet's 1e-4 N m; the twists are then taken
-    at the first of BACKLASH_TORQUES_NM that settles, whose elastic part (1e-3 arcmin at
-    most on a reducer of 100 N m/arcmin) is below the figure's digits.
+    bearing's play may not settle under the datasheet's 1e-4 N m: the twists are then taken
+    at the first of BACKLASH_TORQUES_NM that settles, whose elastic part
+    (2e-4 arcmin at 1e-2 N m and 2e-3 at 1e-1 on a reducer of 100 N m/arcmin, both flanks)
+    is below the figure's digits.
 
     Parameters
     ----------
@@ -327,10 +328,10 @@ def worn_backlash_arcmin(twist: SystemTwist) -> float:
     float
         [arcmin].
     """
-    try:
+    try:                               # the datasheet's own
         return backlash_arcmin(twist)
-    except ContactError:
-        pass
+    except ContactError as exc:
+        err = exc
     for t in BACKLASH_TORQUES_NM:
         try:
             return float((twist.at(t, 1).total.mean() - twist.at(-t, -1).total.mean())
@@ -342,7 +343,7 @@ def worn_backlash_arcmin(twist: SystemTwist) -> float:
 
 def wear_analysis(case: Case, hours: float, *, wear_coefficient: float | None = None,
                   steps: int = DEFAULT_STEPS, positions: int = DEFAULT_POSITIONS,
-                  progress=None) -> WearResult:
+                  progress=None, times=None) -> WearResult:
     """Lost motion, backlash, TE and efficiency of a worn reducer over the hours of its
     duty cycle (module docstring; docs/wear.md).
 
@@ -363,6 +364,9 @@ def wear_analysis(case: Case, hours: float, *, wear_coefficient: float | None = 
         Positions per pin pitch of the system model.
     progress : callable, optional
         Wraps the iterator over the steps.
+    times : array_like, optional
+        The times of the rows instead of :func:`hour_grid` [h]: increasing from 0 to
+        ``hours`` (``steps`` is then their count less one).
 
     Returns
     -------
@@ -387,7 +391,11 @@ def wear_analysis(case: Case, hours: float, *, wear_coefficient: float | None = 
         k, source = DEFAULT_K, ("ASSUMPTION: mild wear of lubricated hardened steel "
                                 "(docs/wear.md)")
     model = WornReducer(case, int(positions), k)
-    grid = hour_grid(float(hours), int(steps))
+    grid = hour_grid(float(hours), int(steps)) if times is None else np.asarray(times, float)
+    if times is not None and not (grid.ndim == 1 and grid.size >= 2 and grid[0] == 0
+                                  and np.all(np.diff(grid) > 0) and grid[-1] == hours):
+        raise CaseError(f"times = {grid!r}: increasing from 0 to hours = {hours:g}")
+    steps = grid.size - 1
     state = WearState()
     twist = model.twist(state)
     rates, records = model.rates(state, twist)
