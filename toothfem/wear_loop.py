@@ -150,15 +150,14 @@ class WearCurve:
 
     def predict(self, names, values) -> np.ndarray:
         """The log's rows with the effects ``names`` at ``values`` (the engine's Model)."""
-        k, offset, i = 0.0, 0.0, 0
-        for name in names:
+        k, offset = 0.0, 0.0
+        for i, name in enumerate(names):
             if name == "wear":
                 k = K_UNIT * 10.0 ** float(values[i])
             elif name == "initial_lost_motion":
                 offset = float(values[i])
             else:
                 raise KeyError(f"not a wear effect: {name!r}")
-            i += 1
         return self.lost_motion(self.hours, k) + offset
 
 
