@@ -63,7 +63,8 @@ class WearEffect:
 
 EFFECTS = (
     WearEffect("wear", (en.parameter("log10_wear_coefficient_over_1e-12", "-",
-                                     *(b - math.log10(K_UNIT) for b in LOG10_K_BOUNDS), 3.0,
+                                     LOG10_K_BOUNDS[0] - math.log10(K_UNIT),
+                                     LOG10_K_BOUNDS[1] - math.log10(K_UNIT), 3.0,
                                      starts=(3.0, 4.0, 2.0)),),
                "the clearances growing with the logged hours at Archard's K_b (pins, disc "
                "flanks, crank and support bearings): the lost motion's growth",
