@@ -20,7 +20,7 @@ from typing import Any
 import numpy as np
 
 from .case import Case, as_case
-from .errors import CaseError, check_range
+from .errors import CaseError, GeometryError, check_range
 from .efficiency import rated_output_torque
 from .efficiency.evaluation import evaluate, operating_point
 from .efficiency.no_load import path_friction
@@ -404,12 +404,19 @@ def wear_analysis(case: Case, hours: float, *, wear_coefficient: float | None = 
     for i in progress(it) if progress is not None else it:
         dt = float(grid[i + 1] - grid[i])
         guess = state.advanced(rates, dt)
-        ahead, _ = model.rates(guess)
-        state = state.advanced({c: tuple(0.5 * (a + b) for a, b in zip(rates[c], ahead[c]))
-                                for c in CLEARANCES}, dt)
-        twist = model.twist(state)
-        rates, records = model.rates(state, twist)
-        history.append(model.figures(state, grid[i + 1], twist, records))
+        try:
+            ahead, _ = model.rates(guess)
+            state = state.advanced({c: tuple(0.5 * (a + b) for a, b in zip(rates[c],
+                                                                           ahead[c]))
+                                    for c in CLEARANCES}, dt)
+            twist = model.twist(state)
+            rates, records = model.rates(state, twist)
+            history.append(model.figures(state, grid[i + 1], twist, records))
+        except (ContactError, GeometryError) as exc:
+            worn = ", ".join(f"{c} {1e6 * v:.3g} um" for c, v in guess.clearance_m.items())
+            raise CaseError(f"hours = {hours:g}: the worn reducer's system model does not "
+                            f"solve at {grid[i + 1]:.4g} h (clearances worn: {worn}; {exc}); "
+                            f"valid: up to {grid[i]:.4g} h at this wear coefficient") from None
     notes = ["the pins are taken as held in their grooves (their loaded arc wears)",
              f"rolling bearings: races slide {100 * 0.02:g} % of their rolling distance",
              "the TE is over one pin pitch of the system model at the rated torque"]
