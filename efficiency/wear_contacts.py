@@ -241,3 +241,71 @@ def bearing_wear(si, drive, bearing, radial_load_N, *, speed_rad_s: float, k_bou
                        regime_share={r: float(np.mean([s[r] for s in shares]))
                                      for r in REGIMES},
                        k_mean=float(np.mean(k_w)))
+
+
+def output_pin_wear(si, drive, om, pin_force_N, *, speed_rad_s: float, k_boundary: float,
+                    worn_depth_m: float) -> ContactWear:
+    """The output flange's pins in the members' holes (K-H-V): each pin slides on its hole
+    (or in its sleeve) at 2 e w_rel (the sine paper's Eq. 38, as the efficiency model's
+    output loss: docs/derivations.md 7) under its load; both surfaces of that interface
+    lose K Q v_s / H, spread over their circumference (the contact goes round each once a
+    turn of the crank against the member), and the radial clearance between pin and hole
+    grows by the two depths.
+
+    Parameters
+    ----------
+    si : toothfem.si.CaseSI
+    drive : toothfem.fem.drives.Drive
+        Its eccentricity, face width and E*.
+    om : toothfem.si.OutputMechanismSI
+        The pins, their rollers and holes.
+    pin_force_N : array_like, shape (P, M, n_o)
+        Each pin's load on each member's hole at the positions [N].
+    speed_rad_s : float
+        w_rel, the crank against the member [rad/s].
+    k_boundary : float
+    worn_depth_m : float
+        The interface's worn depth so far (run-in) [m].
+
+    Returns
+    -------
+    ContactWear
+        ``clearance_m_per_h``: the radial clearance's growth (the system model's gap).
+    """
+    q = np.abs(np.asarray(pin_force_N, float))
+    e = drive.geometry.eccentricity_m
+    b = drive.face_width_m
+    hard = si.material.hardness_Pa
+    lub = si.lubricant
+    v_s = 2.0 * e * abs(float(speed_rad_s))
+    r_in = om.pin_radius_m                       # the sliding interface's inner surface:
+    r_out = (om.roller_radius_m if om.roller_radius_m is not None    # the sleeve's bore or
+             else (om.hole_radius_m or om.pin_radius_m + e))          # the hole
+    if om.roller_radius_m is not None:
+        r_out = r_in                               # a sleeve on its pin: conformal
+    sigma0 = fr.composite_rms_roughness(lub.roughness_Ra_m)
+    sigma = float(run_in_roughness(sigma0, worn_depth_m))
+    k_b = k_boundary * float(run_in_factor(worn_depth_m, sigma0))
+    loaded = q > 0
+    r_eq = r_in if r_out <= r_in else r_in * r_out / (r_out - r_in)
+    lam = np.full(q.shape, np.inf)
+    lam[loaded] = _film_ratio(np.full(int(loaded.sum()), 0.5 * v_s), lub.dynamic_viscosity_Pa_s,
+                              r_eq, q[loaded] / b, drive.e_star_Pa,
+                              lub.pressure_viscosity_1_per_Pa, sigma)
+    ph = np.zeros(q.shape)
+    ph[loaded] = np.sqrt(q[loaded] / b * drive.e_star_Pa / (math.pi * r_eq))
+    k = np.zeros(q.shape)
+    k[loaded] = wear_coefficient(k_b, lam[loaded], ph[loaded], hard)
+    # per pin and member, the mean over the positions: K Q v_s / H per second
+    n_pins = q.shape[1] * q.shape[2]
+    volume = float(np.sum(np.mean(k * q, axis=0))) * v_s / hard * S_PER_H / n_pins
+    depth = {"pin": volume / (2 * math.pi * r_in * b),
+             "hole": volume / (2 * math.pi * max(r_out, r_in) * b)}
+    w = q[loaded]
+    return ContactWear(element="output pins", volume_m3_per_h={"pin": volume, "hole": volume},
+                       depth_m_per_h=depth, clearance_m_per_h=sum(depth.values()),
+                       film_ratio=float(np.mean(np.where(np.isfinite(lam[loaded]),
+                                                         lam[loaded], 0.0)))
+                       if np.any(loaded) else math.inf,
+                       regime_share=_shares(lam[loaded], w),
+                       k_mean=float(np.sum(k[loaded] * w) / max(np.sum(w), 1e-300)))

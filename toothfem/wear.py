@@ -25,7 +25,7 @@ from .efficiency import rated_output_torque
 from .efficiency.evaluation import evaluate, operating_point
 from .efficiency.no_load import path_friction
 from .efficiency.wear import DEFAULT_K, check_coefficient
-from .efficiency.wear_contacts import bearing_wear, pin_disc_wear
+from .efficiency.wear_contacts import bearing_wear, output_pin_wear, pin_disc_wear
 from .efficiency.drive_losses import disc_contact_losses
 from .efficiency.mesh_table import table_from_records
 from .fem.datasheet.sheet import backlash_arcmin, lost_motion_arcmin, LOST_MOTION_FRACTION
@@ -46,7 +46,7 @@ MAX_HOURS = 1e6
 #: The torques of the backlash's twists where the datasheet's does not settle [N m].
 BACKLASH_TORQUES_NM = (1e-2, 1e-1)
 #: The clearances the wear opens, by the system model's part.
-CLEARANCES = ("mesh", "crank bearings", "support bearings")
+CLEARANCES = ("mesh", "crank bearings", "support bearings", "output pins")
 
 
 @dataclass(frozen=True)
@@ -196,6 +196,13 @@ class WornReducer:
             sys_.support_bearing = RollerBearing(
                 SUPPORT_ROLLERS, SUPPORT_LENGTH_REL * self.d_shaft,
                 play_m=c["support bearings"], contact_angle_rad=math.radians(SUPPORT_ANGLE_DEG))
+        om = getattr(sys_.path, "output_mechanism", None)
+        if c["output pins"] and om is not None:
+            # the holes' radius grown by the pins' and holes' wear (the path's gap)
+            hole = om.hole_radius_m if om.hole_radius_m is not None \
+                else om.contact_radius_m + self.geometry0.eccentricity_m
+            sys_.path = dataclasses.replace(sys_.path, output_mechanism=dataclasses.replace(
+                om, hole_radius_m=hole + c["output pins"]))
         geom = dataclasses.replace(self.geometry0,
                                    equidistant_m=self.geometry0.equidistant_m + c["mesh"])
         return sys_, geom
@@ -251,6 +258,18 @@ class WornReducer:
                         [w.clearance_m_per_h, sum(w.depth_m_per_h.values())])
                     if row == 0:
                         records.append(w)
+            om = getattr(sys_.path, "output_mechanism", None)
+            if om is not None:
+                forces = np.array([s.output_pin_force_N for s in states])   # (P, M, n_o)
+                speeds = self.drive.speeds()
+                w = output_pin_wear(self.si, self.drive, om, forces,
+                                    speed_rad_s=speed * abs(speeds["crank"] - speeds["member"]),
+                                    k_boundary=self.k_boundary,
+                                    worn_depth_m=state.depth_m["output pins"])
+                rates["output pins"] += share * np.array([w.clearance_m_per_h,
+                                                          sum(w.depth_m_per_h.values())])
+                if row == 0:
+                    records.append(w)
         return {c: tuple(v) for c, v in rates.items()}, records
 
     def pin_loss_W(self, twist: SystemTwist, state: WearState) -> float:
