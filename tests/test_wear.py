@@ -194,3 +194,41 @@ def test_wear_effect_recovers_the_coefficient_of_a_generated_rig_log():
     # the curve's 4 rows a decade interpolated linearly: measured 0.4 %
     assert fit.wear_coefficient == pytest.approx(2e-9, rel=0.02)
     assert fit.lost_motion_offset_arcmin == pytest.approx(0.03, abs=0.01)
+
+
+def test_output_pin_and_bearing_wear_are_their_hand_formulas():
+    """In boundary lubrication (a film-less oil: lambda 0, K = K_b) and past the run-in, a
+    pin in its hole and a bearing's races wear as Archard's volume over the surface the
+    contact sweeps (efficiency/wear_contacts.py's docstrings)."""
+    import dataclasses
+    from toothfem.case import load_case
+    from toothfem.efficiency import wear_contacts as wc
+    from toothfem.fem.drives import drive_for
+    case = load_case(CASES / "cycloid_khv.toml")
+    si, drive = case.to_si(), drive_for(case)
+    si = dataclasses.replace(si, lubricant=dataclasses.replace(si.lubricant,
+                                                               dynamic_viscosity_Pa_s=1e-12))
+    om, k, run_in = si.output_mechanism, 1e-8, 1e-3          # 1 mm: the run-in long done
+    q = np.full((4, 2, om.pin_count), 500.0)
+    w = wc.output_pin_wear(si, drive, om, q, speed_rad_s=100.0, k_boundary=k,
+                           worn_depth_m=run_in)
+    v = k * 500.0 * 2 * drive.geometry.eccentricity_m * 100.0 / si.material.hardness_Pa * 3600
+    # the sliding interface: the pin in its sleeve's bore (same radius), else in its hole
+    r_out = om.pin_radius_m if om.roller_radius_m is not None else \
+        (om.hole_radius_m or om.pin_radius_m + drive.geometry.eccentricity_m)
+    b = drive.face_width_m
+    assert w.volume_m3_per_h["pin"] == pytest.approx(v, rel=1e-9)
+    assert w.clearance_m_per_h == pytest.approx(
+        v / (2 * math.pi * om.pin_radius_m * b) + v / (2 * math.pi * r_out * b), rel=1e-9)
+    assert w.regime_share["boundary"] == 1.0
+    bearing = next(b for b in drive.layout.bearing_set(si, drive) if "eccentric" in b.name)
+    bw = wc.bearing_wear(si, drive, bearing, [1000.0], speed_rad_s=100.0, k_boundary=k,
+                         worn_depth_m=run_in, element="eccentric bearing")
+    d_m, dia = bearing.pitch_diameter_m, bearing.element_diameter_m
+    slide = wc.SLIP * 100.0 * (d_m ** 2 - dia ** 2) / (4 * d_m)
+    vol = k * wc.Q_SUM_PER_FR * 1000.0 * slide / si.material.hardness_Pa * 3600
+    length = bearing.element_length_m or bearing.width_m
+    assert bw.clearance_m_per_h == pytest.approx(
+        2 * vol / (math.pi * length) * (1 / (d_m - dia) + 1 / (d_m + dia)), rel=1e-9)
+    # the roller set's load sum: sum cos^(10/9) / sum cos^(19/9) over the load zone
+    assert wc.Q_SUM_PER_FR == pytest.approx(1.258, abs=1e-3)
