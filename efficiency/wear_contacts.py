@@ -1,6 +1,7 @@
 """The wear rates of a cycloid reducer's contacts from its system model's loads: the pins on
-the discs, the crank (eccentric) bearings and the crank support bearings, each turned into
-the clearance it opens (docs/wear.md). The law and its coefficient: efficiency/wear.py.
+the discs, the crank (eccentric) bearings, the crank support bearings and a K-H-V drive's
+output pins in their holes, each turned into the clearance it opens (docs/wear.md). The
+law and its coefficient: efficiency/wear.py.
 
 Pins on a disc: over one meshing period (one pin pitch of crank angle, P positions) every
 loaded contact c at position p slides |v_s| dphi (v_s at unit crank speed) under its force

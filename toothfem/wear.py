@@ -1,13 +1,14 @@
 """The accuracy life of a cycloid or RV reducer, as a Python call: ``wear_analysis`` steps
-the hours of the case's duty cycle, wears every pin contact and crank and support bearing
-by Archard's law (efficiency/wear.py, efficiency/wear_contacts.py) at the loads the system
+the hours of the case's duty cycle, wears every pin contact, crank and support bearing and
+output pin by Archard's law (efficiency/wear.py, efficiency/wear_contacts.py) at the loads the system
 model solves with the clearances worn so far, and reports the lost motion, backlash, TE and
 efficiency against the hours (what ``toothfem wear`` calls; docs/wear.md).
 
 The clearances enter the system model as they are built into it: the disc flanks' and pins'
 wear as an equidistant modification of the disc on the same FE tables (the design search's
 ``geometry``), the bearings' as their diametral play (the crank bearings' ``variant``
-option; the support bearings' roller law with the play). A wear coefficient of zero leaves
+option; the support bearings' roller law with the play), the output pins' as their holes'
+radius. A wear coefficient of zero leaves
 every figure as at 0 h.
 """
 from __future__ import annotations
