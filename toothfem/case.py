@@ -40,6 +40,7 @@ from .case_running import (Bearings, DutyPoint, Friction, Lubricant, MeasuredPoi
 from .case_sections import (CycloidStage, DiscHoles, Material, OutputMechanism, RVTrain,
                             SineStage, SpurStage, Supports, _f)
 from .case_design import Design, Envelope, Tolerances, check_tolerances
+from .case_wear import Wear
 
 
 @dataclass(frozen=True)
@@ -75,6 +76,7 @@ class Case:
     tolerances: Tolerances = field(default_factory=Tolerances)
     design: Design | None = None
     envelope: Envelope | None = None
+    wear: Wear = field(default_factory=Wear)
 
     def __post_init__(self):
         layout = self.layout            # refuses a drive no layout names
@@ -175,7 +177,7 @@ _SECTIONS = {
     "sine": SineStage, "rv": RVTrain, "operating": Operating, "lubricant": Lubricant,
     "friction": Friction, "output_mechanism": OutputMechanism, "supports": Supports,
     "seals": Seals, "bearings": Bearings, "thermal": Thermal, "tolerances": Tolerances,
-    "design": Design, "envelope": Envelope,
+    "design": Design, "envelope": Envelope, "wear": Wear,
 }
 _NESTED = {CycloidStage: {"disc_holes": DiscHoles}}
 

@@ -24,10 +24,10 @@ from . import __version__
 # imported by its own add_parser and run, so `toothfem --help` imports neither numpy nor
 # the FE (benchmarks/cli_startup.py times it)
 from .commands import (check, contact, design, efficiency, geometry, loop, modes, run, size,
-                       stiffness, sweep, te_loop, tolerance, new)
+                       stiffness, sweep, te_loop, tolerance, new, wear)
 
 COMMANDS = (check, geometry, contact, stiffness, modes, tolerance, design, size, efficiency,
-            run, loop, te_loop, sweep, new)
+            run, loop, te_loop, sweep, new, wear)
 #: Environment variable that lets an internal error show its traceback.
 DEBUG_ENV = "TOOTHFEM_DEBUG"
 #: Exit codes (module docstring).

@@ -133,6 +133,20 @@ DATASHEET = {q.key: q for q in (
 )}
 
 
+#: The accuracy life's quantities (``toothfem wear``: each row of its history).
+WEAR = {q.key: q for q in (
+    Quantity("hours", "running time of the duty cycle", unit="h"),
+    Quantity("lost_motion_arcmin", "lost motion ±3 %", "as the datasheet's, with the "
+             "clearances worn by then"),
+    Quantity("backlash_arcmin", "backlash", "as the datasheet's, worn"),
+    Quantity("te_mean_arcsec", "transmission error at the rated torque, mean",
+             "the system model's over one pin pitch, worn"),
+    Quantity("te_peak_to_peak_arcsec", "  its peak to peak over one pitch"),
+    Quantity("efficiency", "efficiency at the duty cycle's first row", unit="",
+             definition="the efficiency model's losses with the pins' contact loss of the "
+                        "worn reducer's loads and run-in roughness"),
+)}
+
 # -- the tolerance ensemble's outputs: which side of each is worse -------------------------
 
 #: Outputs where low is worse (the rest: high is worse); their tail percentiles are taken
