@@ -132,7 +132,8 @@ class FaceSpec:
             f = self.flat_fraction
             return c * (np.clip(u - f, 0.0, None) / (1 - f)) ** 2
         k = 2 * float(self.crown_load_N_per_m) / (math.pi * e_star)
-        return k * np.log(1 / (1 - (1 - math.exp(-c / k)) * u ** 2))
+        # 1 - (1 - exp(-c/K)) u^2, written so that it is exact at the edge (c/K ~ 40)
+        return -k * np.log((1 - u ** 2) + u ** 2 * math.exp(-c / k))
 
 
 @dataclass(frozen=True)
