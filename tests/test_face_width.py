@@ -166,3 +166,25 @@ def test_face_width_files(pinhousing, tmp_path):
     assert mine["line_load_N_per_mm"] == pytest.approx(mine["slice_force_N"]
                                                        / (r.slice_width * 1e3), rel=1e-8)
     assert (tmp_path / "face_width.png").stat().st_size > 10_000
+
+
+def test_edge_crown_is_the_least_that_keeps_the_edges_below_the_middle(cases_dir):
+    """The design crown at 3 arcmin (4 positions of the pin-housing drive): with it the
+    edges' P_h is at most the middle's, with one resolution step less it is above; a
+    crown is refused for fewer than 3 slices. (36 positions: 5.27 um circular, 6.88 um
+    partial, docs/face_width.md.)"""
+    from toothfem.fem.cycloid_fe.slices import CROWN_RESOLUTION_M, edge_crown
+
+    case = _case(cases_dir, "cycloid_pinhousing.toml")
+    drive = drive_for(case)
+    solver = drive.cycle_solver(4)
+    torque = drive.member_torque(case.operating.output_torque_Nm)
+    face = FaceSpec(9, tilt_rad=3 * ARCMIN)
+    c, r = edge_crown(solver, torque, face)
+    assert 1e-6 < c < 20e-6
+    assert r.edge_figures()["edge_to_centre_ph"] <= 1.0
+    less = solve_sliced(solver, FaceSpec(9, tilt_rad=3 * ARCMIN,
+                                         crown_m=c - 1.01 * CROWN_RESOLUTION_M), torque)
+    assert less.edge_figures()["edge_to_centre_ph"] > 1.0
+    with pytest.raises(ToothfemError, match="face_slices = 2"):
+        edge_crown(solver, torque, FaceSpec(2, tilt_rad=3 * ARCMIN))

@@ -316,3 +316,64 @@ def _solve_position(solver, p, q, q_load, side, g0):
             return lam, sol.gap.reshape(n_s, n_c), sol.rigid
     raise contact.ContactError("the Hertz local approach of the slices did not settle at "
                                f"crank angle {math.degrees(q.phi):.3f} deg")
+
+
+#: The crown search's resolution [m] and its upper bound, a fraction of the face width
+#: (a 10 mm face: 100 um, far beyond any crown that still carries load at the middle).
+CROWN_RESOLUTION_M, CROWN_MAX_REL = 0.05e-6, 0.01
+
+
+def edge_crown(solver, torque: float, face: FaceSpec) -> tuple[float, SlicedSharing]:
+    """The least crown of ``face.form`` that keeps the edge slices' P_h at or below the
+    middle slice's (the largest over every contact and position) at ``torque`` and
+    ``face.tilt_rad`` (the rated torque and the worst as-built tilt: issue 43's design).
+
+    The edge-to-middle ratio falls as the crown grows (the crown only opens the edges'
+    gaps): bisection on the drop to :data:`CROWN_RESOLUTION_M`.
+
+    Parameters
+    ----------
+    solver : toothfem.fem.cycloid_fe.CycleSolver
+    torque : float
+        The disc's torque [N m].
+    face : FaceSpec
+        The slices, the tilt and the crown's form (its drop is what is sought).
+
+    Returns
+    -------
+    crown_m : float
+        The drop at the edges [m] (0 where the straight face already keeps the edges
+        below the middle).
+    sliced : SlicedSharing
+        The load sharing with that crown.
+
+    Raises
+    ------
+    ToothfemError
+        For fewer than 3 slices (no middle apart from the edges), or no crown up to
+        CROWN_MAX_REL of the width that does it.
+    """
+    if face.slices < 3:
+        raise ToothfemError(f"face_slices = {face.slices} is outside the valid range for a "
+                            "crown design: 3 or more (edges and a middle)")
+
+    def run(c):
+        r = solve_sliced(solver, dataclasses.replace(face, crown_m=c), torque)
+        return r, r.edge_figures()["edge_to_centre_ph"] <= 1.0
+
+    r, ok = run(0.0)
+    if ok:
+        return 0.0, r
+    lo, hi = 0.0, CROWN_MAX_REL * solver.model.face_width
+    best, ok = run(hi)
+    if not ok:
+        raise ToothfemError(f"no crown up to {hi * 1e6:.0f} um keeps the edges below the "
+                            "middle (disc_tilt too large for this face)")
+    while hi - lo > CROWN_RESOLUTION_M:
+        mid = 0.5 * (lo + hi)
+        r, ok = run(mid)
+        if ok:
+            hi, best = mid, r
+        else:
+            lo = mid
+    return hi, best
