@@ -236,9 +236,18 @@ class CycloidStage(_Section):
                                             doc="the pin force a logarithmic crown is "
                                                 "designed for (Lundberg)",
                                             unset="required for the logarithmic form")
+    pin_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                   doc="conventional pins held at their ends this far apart "
+                                       "(beams coupling the slices)",
+                                   unset="held along their length in the grooves: no bending")
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
+        if self.pin_span_mm is not None and (self.face_slices == 1 or self.pin_span_mm
+                                             < self.face_width_mm):
+            raise CaseError(f"cycloid.pin_span_mm = {self.pin_span_mm!r} is outside the valid "
+                            f"range: >= face_width_mm = {self.face_width_mm} with face_slices "
+                            "> 1")
         if self.face_slices == 1 and (self.disc_tilt_arcmin or self.face_crowning_um):
             raise CaseError("cycloid.face_slices = 1 is outside the valid range with a tilt "
                             "or a crown: 2 to 99 slices (the planar model has one gap)")

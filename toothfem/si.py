@@ -412,7 +412,8 @@ def from_case(case) -> CaseSI:
                 ("form", cyc.face_crowning_form),
                 ("flat_fraction", cyc.face_crowning_flat_fraction),
                 ("crown_load_N_per_m", None if cyc.face_crowning_load_N is None
-                 else cyc.face_crowning_load_N / (cyc.face_width_mm * _MM)))),
+                 else cyc.face_crowning_load_N / (cyc.face_width_mm * _MM)),
+                ("pin_span_m", None if cyc.pin_span_mm is None else cyc.pin_span_mm * _MM))),
         first_stage=None if fs is None else SpurStageSI(
             sun_teeth=fs.sun_teeth, planet_teeth=fs.planet_teeth,
             planet_count=fs.planet_count, module_m=fs.module_mm * _MM,

@@ -40,6 +40,7 @@ import numpy as np
 from ...errors import ToothfemError, check_range
 from ...geometry import cycloid_mesh as cy
 from .. import contact
+from ..datasheet.supports import simply_supported_influence
 from ..linsolve import one_blas_thread
 from ..load_sharing import LoadSharing, check_member_torque, hertz_fields
 from .model import LOCAL_MAX_ITER, LOCAL_RTOL
@@ -73,6 +74,10 @@ class FaceSpec:
         The flat middle part of a partial crown, a fraction of the width.
     crown_load_N_per_m : float or None
         The logarithmic profile's design line load [N/m].
+    pin_span_m : float or None
+        Conventional pins held at their ends, this far apart (symmetric about the face):
+        each pin a Timoshenko beam on two simple supports whose deflection couples its
+        slices. None: held along their length (in the housing's grooves), no bending.
     """
     slices: int = 1
     tilt_rad: float = 0.0
@@ -80,6 +85,7 @@ class FaceSpec:
     form: str = "circular"
     flat_fraction: float = 0.5
     crown_load_N_per_m: float | None = None
+    pin_span_m: float | None = None
 
     def __post_init__(self):
         check_range("face_slices", self.slices, 1, MAX_SLICES)
@@ -96,6 +102,27 @@ class FaceSpec:
         if self.form == "logarithmic" and self.crown_m > 0:
             check_range("face_crowning_load", self.crown_load_N_per_m, 0.0, None,
                         lo_open=True, why="the logarithmic profile's design line load")
+
+    def pin_bending(self, width: float, radius: float, youngs_modulus: float,
+                    poisson_ratio: float) -> np.ndarray:
+        """The pin's deflection at each slice per unit force on each slice [m/N] (S, S):
+        a solid round pin of ``radius`` on two simple supports ``pin_span_m`` apart, the
+        face in the middle (fem.datasheet.supports.simply_supported_influence: Euler-
+        Bernoulli bending and Timoshenko's shear); zeros without a span.
+
+        Raises
+        ------
+        ToothfemError
+            For a span shorter than the face width.
+        """
+        n = int(self.slices)
+        if self.pin_span_m is None:
+            return np.zeros((n, n))
+        check_range("pin_span", self.pin_span_m, width, None,
+                    why="the pin's supports outside the face")
+        x = self.z(width) + 0.5 * self.pin_span_m
+        return simply_supported_influence(x[:, None], x[None, :], self.pin_span_m,
+                                          2 * radius, youngs_modulus, poisson_ratio)
 
     @property
     def modified(self) -> bool:
@@ -251,6 +278,11 @@ def solve_sliced(solver, face: FaceSpec, torque: float, progress=None) -> Sliced
     drop = face.drop(z, width, m.e_star)
     pos = solver.candidates(side)
     state = cy.meshing(m.geometry, solver.positions_rad)
+    if face.pin_span_m is not None and m.pin_structure != "conventional":
+        raise ToothfemError(f"pin_span = {face.pin_span_m!r} m applies to conventional pins, "
+                            f"not to pin_structure = {m.pin_structure!r}")
+    bending = width * face.pin_bending(width, m.geometry.pin_radius_m, m.youngs_modulus,
+                                       m.poisson_ratio)
     q_load = torque / width
     n_p, zb = len(pos), m.geometry.pin_count
     force = np.zeros((n_s, n_p, zb))
@@ -264,7 +296,7 @@ def solve_sliced(solver, face: FaceSpec, torque: float, progress=None) -> Sliced
             t = tilt_direction(q, q_load)
             g0 = q.gap[None, :] + drop[:, None] - face.tilt_rad * z[:, None] * (t @ q.normal)
             with contact.naming_load(f"disc torque {torque:g} N m, position {p}"):
-                lam, g, beta[p] = _solve_position(solver, p, q, q_load, side, g0)
+                lam, g, beta[p] = _solve_position(solver, p, q, q_load, side, g0, bending)
             force[:, p, q.pins] = lam * (width / n_s)
             gap[:, p, q.pins] = g
             direction[p] = t
@@ -284,12 +316,13 @@ def solve_sliced(solver, face: FaceSpec, torque: float, progress=None) -> Sliced
     return SlicedSharing(total, face, z, w_s, force, ph, direction, moment)
 
 
-def _solve_position(solver, p, q, q_load, side, g0):
+def _solve_position(solver, p, q, q_load, side, g0, bending):
     """Every slice of one position in one complementarity solve, iterated on the Hertz
     half-widths b(F) of every slice.
 
     Unknowns mu = lambda / S (the balance sum_s w arm.lambda_s = -T reads arm.mu summed =
-    -T/B with the planar solver's q_load): gaps g0 + S blockdiag(H + local) mu + beta arm.
+    -T/B with the planar solver's q_load): gaps g0 + S blockdiag(H + local) mu + beta arm
+    + the pins' bending, B w(z_s; z_t) mu_t on each pin (its force on slice t is B mu_t).
 
     Returns
     -------
@@ -298,7 +331,7 @@ def _solve_position(solver, p, q, q_load, side, g0):
     n_s, n_c = g0.shape
     h = solver.influence(p, side)
     law = solver.local_law(q, q_load)
-    big = n_s * np.kron(np.eye(n_s), h)
+    big = n_s * np.kron(np.eye(n_s), h) + np.kron(bending, np.eye(n_c))
     arm = np.tile(q.arm, n_s)
     s = 1.0 if q_load > 0 else -1.0
     w = np.where(s * q.arm < 0, -s * q.arm, 0.0)
