@@ -235,11 +235,14 @@ class CycloidStage(_Section):
     face_crowning_load_N: float | None = _f(0.0, None, lo_open=True, default=None,
                                             doc="the pin force a logarithmic crown is "
                                                 "designed for (Lundberg)",
-                                            unset="required for the logarithmic form")
+                                            unset="required for the logarithmic form",
+                                            source="none: the design load is the user's")
     pin_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
                                    doc="conventional pins held at their ends this far apart "
                                        "(beams coupling the slices)",
-                                   unset="held along their length in the grooves: no bending")
+                                   unset="held along their length in the grooves: no bending",
+                                   source="the usual construction, pins in grooves (no "
+                                          "bending between supports)")
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):

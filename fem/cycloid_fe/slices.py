@@ -110,6 +110,20 @@ class FaceSpec:
         face in the middle (fem.datasheet.supports.simply_supported_influence: Euler-
         Bernoulli bending and Timoshenko's shear); zeros without a span.
 
+        Parameters
+        ----------
+        width : float
+            The face width B [m].
+        radius : float
+            The pin's radius [m].
+        youngs_modulus, poisson_ratio : float
+            The pin's material [Pa, -].
+
+        Returns
+        -------
+        numpy.ndarray, shape (S, S)
+            [m/N].
+
         Raises
         ------
         ToothfemError
@@ -130,7 +144,18 @@ class FaceSpec:
         return bool(self.tilt_rad) or bool(self.crown_m)
 
     def z(self, width: float) -> np.ndarray:
-        """The slices' centres along the width [m], 0 at the middle (S,)."""
+        """The slices' centres along the width, 0 at the middle.
+
+        Parameters
+        ----------
+        width : float
+            The face width B [m].
+
+        Returns
+        -------
+        numpy.ndarray, shape (S,)
+            [m].
+        """
         return ((np.arange(self.slices) + 0.5) / self.slices - 0.5) * width
 
     def drop(self, z, width: float, e_star: float) -> np.ndarray:
@@ -158,7 +183,10 @@ class FaceSpec:
         if self.form == "partial":
             f = self.flat_fraction
             return c * (np.clip(u - f, 0.0, None) / (1 - f)) ** 2
-        k = 2 * float(self.crown_load_N_per_m) / (math.pi * e_star)
+        if self.crown_load_N_per_m is None:        # refused by __post_init__
+            raise ToothfemError("face_crowning_load = None: a logarithmic crown needs its "
+                                "design line load")
+        k = 2 * self.crown_load_N_per_m / (math.pi * e_star)
         # 1 - (1 - exp(-c/K)) u^2, written so that it is exact at the edge (c/K ~ 40)
         return -k * np.log((1 - u ** 2) + u ** 2 * math.exp(-c / k))
 
