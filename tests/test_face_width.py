@@ -57,6 +57,7 @@ def test_nine_straight_slices_are_the_planar_model(cases_dir, name, pins):
     assert ls.force == pytest.approx(planar.force, rel=1e-7, abs=1e-9 * planar.force.max())
     assert ls.ph.max() == pytest.approx(planar.ph.max(), rel=1e-7)
     assert ls.transmission_error == pytest.approx(planar.transmission_error, rel=1e-7)
+    assert sliced.edge_figures()["peak_ph_z_mm"] == 0.0      # uniform: the middle named
     # each slice carries a ninth of each pin's force
     assert sliced.force == pytest.approx(np.broadcast_to(planar.force / 9, sliced.force.shape),
                                          rel=1e-7, abs=1e-9 * planar.force.max())

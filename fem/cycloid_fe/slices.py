@@ -50,6 +50,9 @@ from .record import record
 CROWNING_FORMS = ("circular", "partial", "logarithmic")
 #: Slices allowed: 1 (the planar model) to this.
 MAX_SLICES = 99
+#: Slices whose peak P_h is within this of the largest share it (a straight face without
+#: tilt: every slice, the same problem to round-off); ``peak_ph_z_mm`` names the middle one.
+PEAK_RTOL = 1e-9
 
 
 @dataclass(frozen=True)
@@ -216,17 +219,21 @@ class SlicedSharing:
             ``face_slices``, ``max_ph_centre_MPa`` (the middle slice's peak over every
             contact and position), ``max_ph_edge_MPa`` (the two edge slices'),
             ``edge_to_centre_ph`` (their ratio), ``peak_ph_z_mm`` (where along the width
-            the largest P_h sits, 0 the middle) and ``tilt_moment_max_Nm``.
+            the largest P_h sits, 0 the middle; of equal peaks the one nearest the middle)
+            and ``tilt_moment_max_Nm``.
         """
         s = self.z.size
         mid = self.ph[s // 2] if s % 2 else np.maximum(self.ph[s // 2 - 1], self.ph[s // 2])
         edge = np.maximum(self.ph[0], self.ph[-1])
-        peak = np.unravel_index(int(np.argmax(self.ph)), self.ph.shape)
+        # where the peak sits: of the slices within round-off of it, the nearest the middle
+        top = self.ph.reshape(s, -1).max(axis=1)
+        near = np.flatnonzero(top >= top.max() * (1 - PEAK_RTOL))
+        at = near[np.argmin(np.abs(self.z[near]))]
         return {"face_slices": int(s),
                 "max_ph_centre_MPa": float(mid.max() / 1e6),
                 "max_ph_edge_MPa": float(edge.max() / 1e6),
                 "edge_to_centre_ph": float(edge.max() / mid.max()),
-                "peak_ph_z_mm": float(self.z[peak[0]] * 1e3),
+                "peak_ph_z_mm": float(self.z[at] * 1e3),
                 "tilt_moment_max_Nm": float(np.max(np.abs(self.tilt_moment)))}
 
     def rows(self):
