@@ -234,3 +234,31 @@ def test_pins_on_end_supports_load_the_edges(cases_dir):
         solve_sliced(solver, FaceSpec(9, pin_span_m=8e-3), torque)
     with pytest.raises(CaseError, match=r"pin_span_mm = 8.0 .*valid range"):
         _case(cases_dir, "cycloid_pinhousing.toml", face_slices=9, pin_span_mm=8.0)
+
+
+def test_crowned_roller_under_tilt_against_hertz_and_the_halfspace():
+    """A 2 mm roller, 10 mm long, 8 um circular crown, 3 arcmin tilt, 240 N (the pin-housing
+    pin's radius and line load), both steel. Closed form: Hertz's ellipse with R_y =
+    L^2/(8c) (Johnson 1985, Sec. 4.2), p_max 1163.3 MPa, moved along the length by
+    theta L^2/(8c) = 1.364 mm (a tilt only moves the crown's parabola). The 3-D
+    half-space on a 16 x 40 grid gives it within 1 % (measured -0.55 %, -0.27 % at
+    24 x 60). The disc's slice solver with independent slices (9 slices, each the
+    half-space's per-length law) puts the load's centre there within 2 % (+0.9 %) and
+    reads the peak 6.9 % low (-6.1 % at 60 slices): the coupling between slices it
+    neglects (docs/face_width.md); asserted within 8 %."""
+    from toothfem.fem.datasheet.hertz_point import hertz_point_contact
+    from toothfem.fem.slice_check import halfspace_roller, sliced_roller
+
+    r, length, e_star, load, tilt, crown = 2e-3, 10e-3, 113.9e9, 240.0, 3 * ARCMIN, 8e-6
+    hertz = hertz_point_contact(load, r, length ** 2 / (8 * crown), e_star)
+    shift = -tilt * length ** 2 / (8 * crown)
+    assert hertz.semi_major_m + abs(shift) < length / 2        # the ellipse on the roller
+    x, y, p = halfspace_roller(r, length, e_star, load, tilt, crown, nx=16, ny=40)
+    assert p.max() == pytest.approx(hertz.p_max_Pa, rel=0.01)
+    at = y[np.unravel_index(int(np.argmax(p)), p.shape)[1]]
+    assert abs(at - shift) <= length / 40
+    ys, w, ph = sliced_roller(r, length, e_star, load, tilt, crown, 9)
+    assert np.sum(w) * length / 9 == pytest.approx(load, rel=1e-9)
+    assert np.sum(ys * w) / np.sum(w) == pytest.approx(shift, rel=0.02)
+    assert ph.max() == pytest.approx(hertz.p_max_Pa, rel=0.08)
+    assert ph.max() < hertz.p_max_Pa

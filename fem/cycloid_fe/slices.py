@@ -352,38 +352,74 @@ def solve_sliced(solver, face: FaceSpec, torque: float, progress=None) -> Sliced
 
 
 def _solve_position(solver, p, q, q_load, side, g0, bending):
-    """Every slice of one position in one complementarity solve, iterated on the Hertz
-    half-widths b(F) of every slice.
+    """Every slice of one position in one solve (:func:`slice_solve` on the planar
+    solver's table and local law at that position)."""
+    try:
+        return slice_solve(solver.influence(p, side), solver.local_law(q, q_load), g0, q.arm,
+                           q_load, bending)
+    except contact.ContactError as exc:
+        raise contact.ContactError(f"{exc} at crank angle {math.degrees(q.phi):.3f} "
+                                   "deg") from None
+
+
+def slice_solve(h, law, g0, arm, q_load: float, bending=None):
+    """The slices of one position in one complementarity solve, iterated on the local
+    law (the Hertz half-widths b(F) of every slice) to the planar mode's tolerance.
 
     Unknowns mu = lambda / S (the balance sum_s w arm.lambda_s = -T reads arm.mu summed =
     -T/B with the planar solver's q_load): gaps g0 + S blockdiag(H + local) mu + beta arm
     + the pins' bending, B w(z_s; z_t) mu_t on each pin (its force on slice t is B mu_t).
 
+    Parameters
+    ----------
+    h : numpy.ndarray, shape (C, C)
+        The bodies' compliance per unit length [m per N/m] (the planar influence table).
+    law : callable
+        lam (S, C) [N/m] -> (S, C) each contact's local compliance [m per N/m] (a secant).
+    g0 : numpy.ndarray, shape (S, C)
+        The slices' initial gaps [m].
+    arm : numpy.ndarray, shape (C,)
+        The gap's change per unit rigid unknown (the moment arms) [m per rad].
+    q_load : float
+        The load on the rigid unknown per length of the face [N m/m].
+    bending : numpy.ndarray, shape (S, S), optional
+        B times a contact's body deflection at slice s per force on slice t [m per N/m]
+        (the pins' bending), the same for every contact.
+
     Returns
     -------
-    lam : (S, C) N/m, the slices' line loads; gap : (S, C) m; beta : float rad.
+    lam : numpy.ndarray, shape (S, C)
+        The slices' line loads [N/m].
+    gap : numpy.ndarray, shape (S, C)
+        The remaining gaps [m].
+    beta : float
+        The rigid unknown.
+
+    Raises
+    ------
+    toothfem.fem.contact.ContactError
+        If the local law does not settle.
     """
     n_s, n_c = g0.shape
-    h = solver.influence(p, side)
-    law = solver.local_law(q, q_load)
-    big = n_s * np.kron(np.eye(n_s), h) + np.kron(bending, np.eye(n_c))
-    arm = np.tile(q.arm, n_s)
+    big = n_s * np.kron(np.eye(n_s), h)
+    if bending is not None:
+        big = big + np.kron(bending, np.eye(n_c))
+    arm_all = np.tile(arm, n_s)
     s = 1.0 if q_load > 0 else -1.0
-    w = np.where(s * q.arm < 0, -s * q.arm, 0.0)
-    lam = np.tile(w * q_load / np.sum(w * -q.arm), (n_s, 1))
+    w = np.where(s * arm < 0, -s * arm, 0.0)
+    lam = np.tile(w * q_load / np.sum(w * -arm), (n_s, 1))
     active = None
     diag = np.arange(n_s * n_c)
     for _ in range(LOCAL_MAX_ITER):
         mat = big.copy()
         mat[diag, diag] += n_s * law(lam).ravel()
-        sol = contact.solve_contact(mat, g0.ravel(), arm, q_load, active=active)
+        sol = contact.solve_contact(mat, g0.ravel(), arm_all, q_load, active=active)
         new = n_s * sol.force.reshape(n_s, n_c)
         done = np.max(np.abs(new - lam)) <= LOCAL_RTOL * np.max(new)
         lam, active = new, sol.active
         if done:
             return lam, sol.gap.reshape(n_s, n_c), sol.rigid
-    raise contact.ContactError("the Hertz local approach of the slices did not settle at "
-                               f"crank angle {math.degrees(q.phi):.3f} deg")
+    raise contact.ContactError("the local approach of the slices did not settle")
 
 
 #: The crown search's resolution [m] and its upper bound, a fraction of the face width
