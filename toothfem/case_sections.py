@@ -106,6 +106,9 @@ def _restate(exc: GeometryError, section: str, keys) -> CaseError:
     return CaseError(f"{section}: {exc}")
 
 
+#: The source of the face width's modifications' defaults (issue 43).
+_FLAT = "0: none (straight along the width; the partial crown's flat: half the width)"
+
 #: The source of the holes' defaults: a disc without the hole.
 _NO_HOLE = "0: no such hole"
 
@@ -216,9 +219,45 @@ class CycloidStage(_Section):
                                                unset="the pin circle + 5 pin radii",
                                                source="ASSUMPTION: a wall of 4 pin radii "
                                                       "outside the pins (no source)")
+    # the face width in slices (docs/face_width.md; fem/cycloid_fe/slices.py)
+    face_slices: int = _f(1, 99, integer=True, default=1, doc="slices along the face width",
+                          source="1: the planar model, the load uniform over the width")
+    disc_tilt_arcmin: float = _f(-60.0, 60.0, default=0.0, doc="the disc's imposed tilt "
+                                 "about the axis normal to its pins' resultant", source=_FLAT)
+    face_crowning_um: float = _f(0.0, 100.0, default=0.0, doc="the disc's crown: its drop "
+                                 "at each edge of the face", source=_FLAT)
+    face_crowning_form: str = _f(choices=("circular", "partial", "logarithmic"),
+                                 default="circular", doc="the crown's form along the width",
+                                 source="a circular arc, the usual crown")
+    face_crowning_flat_fraction: float = _f(0.0, 1.0, hi_open=True, default=0.5,
+                                            doc="a partial crown's flat middle, a fraction "
+                                                "of the width", source=_FLAT)
+    face_crowning_load_N: float | None = _f(0.0, None, lo_open=True, default=None,
+                                            doc="the pin force a logarithmic crown is "
+                                                "designed for (Lundberg)",
+                                            unset="required for the logarithmic form",
+                                            source="none: the design load is the user's")
+    pin_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+                                   doc="conventional pins held at their ends this far apart "
+                                       "(beams coupling the slices)",
+                                   unset="held along their length in the grooves: no bending",
+                                   source="the usual construction, pins in grooves (no "
+                                          "bending between supports)")
     disc_holes: DiscHoles = field(default_factory=DiscHoles)
 
     def _check(self):
+        if self.pin_span_mm is not None and (self.face_slices == 1 or self.pin_span_mm
+                                             < self.face_width_mm):
+            raise CaseError(f"cycloid.pin_span_mm = {self.pin_span_mm!r} is outside the valid "
+                            f"range: >= face_width_mm = {self.face_width_mm} with face_slices "
+                            "> 1")
+        if self.face_slices == 1 and (self.disc_tilt_arcmin or self.face_crowning_um):
+            raise CaseError("cycloid.face_slices = 1 is outside the valid range with a tilt "
+                            "or a crown: 2 to 99 slices (the planar model has one gap)")
+        if (self.face_crowning_form == "logarithmic" and self.face_crowning_um
+                and self.face_crowning_load_N is None):
+            raise CaseError("cycloid.face_crowning_load_N = None is outside the valid range "
+                            "for a logarithmic crown: > 0 N (its design pin force)")
         if self.housing_outer_radius_mm is None:       # a wall of 5 pin radii by default
             object.__setattr__(self, "housing_outer_radius_mm",
                                self.pin_circle_radius_mm + 5 * self.pin_radius_mm)

@@ -23,6 +23,7 @@ from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
 from .efficiency.mesh_table import LoadsMemo
 from .errors import CaseError, check_range
+from .face_width import sliced_contact
 from .fem.drives import MAX_POSITIONS, drive_for
 from .fem.elastic import Body
 from .fem.load_sharing import LoadSharing
@@ -61,6 +62,7 @@ class ContactResult:
     contacts_name: str = "contacts"  # "pins" | "teeth"
     members: int = 1                # moving members sharing the output torque
     outlines: tuple = ()            # fixed member's outlines, member frame at worst, (2, N) m
+    sliced: Any = None              # the face width in slices (SlicedSharing), or None
 
     def table(self, published=None) -> list:
         """The contact summary's rows, the case's published figures beside.
@@ -166,17 +168,20 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
     output = _output_torque(case, torque_Nm)
     torque = drive.member_torque(output)
     phis = drive.positions(positions)
-    detail = body = u = None
+    detail = body = u = sliced = None
     if mode == "cycle":
         solver = drive.cycle_solver(positions, **overrides)
         model = solver.model
         ls = solver.solve(torque, progress=progress)
+        sliced = sliced_contact(drive, solver, torque, mode)   # face_slices > 1 (issue 43)
+        ls = ls if sliced is None else sliced.load_sharing
         worst = int(np.argmax(ls.force.max(axis=1)))
         if field == "structural" and solver.has_structural_field:
             body, u = solver.structural_field(worst, ls)
         elif field != "none":       # the pair's own detailed field
             detail = drive.solve_detailed(model, phis[worst], torque)
     else:
+        sliced_contact(drive, None, torque, mode)       # refuses slices in the detailed mode
         model = drive.fe_model(**overrides)
         results = [drive.solve_detailed(model, phi, torque)
                    for phi in (progress or iter)(phis)]
@@ -202,6 +207,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
         "worst_position_deg": float(np.degrees(phis[worst])),
         "hertz_invalid_contacts": int(np.sum(ls.hertz_invalid)),
         "ph_from_fe_contacts": int(np.sum(ls.pressure_from_fe)),
+        **({} if sliced is None else sliced.edge_figures()),
     }
     if torque_Nm is None and not case.operating.output_torque_Nm:
         summary["operating_point_from"] = "analytic loads, power_flow"   # as run's
@@ -230,7 +236,7 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
                          worst=worst, detail=detail, body=body, displacement=u,
                          member_point=point, member_name=drive.member_name, summary=summary,
                          contact_name=drive.contact_name, contacts_name=many,
-                         members=drive.members, outlines=outlines)
+                         members=drive.members, outlines=outlines, sliced=sliced)
 
 
 def reducer_backlash(case: Case, described: dict) -> dict:

@@ -83,6 +83,13 @@ CONTACT = (
              "(member torque)"),
     Quantity("max_ph_MPa", "largest Hertz pressure P_h, one {member} held at its bearing "
              "seats"),
+    Quantity("face_slices", "  slices along the face width (P_h: the peak along it)", unit=""),
+    Quantity("max_ph_centre_MPa", "  largest P_h at the middle of the face"),
+    Quantity("max_ph_edge_MPa", "  largest P_h at the edges of the face (the end slices)"),
+    Quantity("edge_to_centre_ph", "  edge to middle, largest P_h", unit=""),
+    Quantity("peak_ph_z_mm", "  where the largest P_h sits along the width (0: the middle)"),
+    Quantity("tilt_moment_max_Nm", "  the {contacts}' moment on one {member} about its tilt axis, "
+             "largest"),
     Quantity("output_pin_force_max_N", "largest output pin force on a hole (system model, one pitch)",
              "the output flange's pins on the members' holes, every member free on its "
              "supports (toothfem.output_pins.DEFINITION)"),

@@ -53,6 +53,8 @@ class CycloidStageSI:
     disc_load_factor: float         # peak disc torque = factor * output torque / disc_count
     housing_outer_radius_m: float
     lobe_count: int
+    #: the face width in slices: FaceSpec's fields (fem/cycloid_fe/slices.py), pairs
+    face: tuple = ()
 
 
 @dataclass(**_RECORD)
@@ -404,7 +406,14 @@ def from_case(case) -> CaseSI:
             face_width_m=cyc.face_width_mm * _MM, disc_count=cyc.disc_count,
             pin_structure=cyc.pin_structure, disc_load_factor=cyc.disc_load_factor,
             housing_outer_radius_m=cyc.housing_outer_radius_mm * _MM,
-            lobe_count=cyc.lobe_count),
+            lobe_count=cyc.lobe_count, face=(
+                ("slices", cyc.face_slices), ("tilt_rad", cyc.disc_tilt_arcmin * ARCMIN),
+                ("crown_m", cyc.face_crowning_um * M_PER_UM),
+                ("form", cyc.face_crowning_form),
+                ("flat_fraction", cyc.face_crowning_flat_fraction),
+                ("crown_load_N_per_m", None if cyc.face_crowning_load_N is None
+                 else cyc.face_crowning_load_N / (cyc.face_width_mm * _MM)),
+                ("pin_span_m", None if cyc.pin_span_mm is None else cyc.pin_span_mm * _MM))),
         first_stage=None if fs is None else SpurStageSI(
             sun_teeth=fs.sun_teeth, planet_teeth=fs.planet_teeth,
             planet_count=fs.planet_count, module_m=fs.module_mm * _MM,

@@ -30,6 +30,7 @@ from ..units import MM_PER_M, PA_PER_MPA, UM_PER_M
 from . import (contact as report_contact, durability as report_durability, field as report_field,
                html as report_html, plots, save, summary as report_summary)
 from .contact import ContactLabels
+from .face_width import write_face
 from .plots import Marked
 
 if TYPE_CHECKING:   # annotations only: the pipeline imports this module
@@ -129,6 +130,10 @@ def write_contact(result: ContactResult, folder: Path) -> dict:
     for name, fig in pictures.items():
         save(fig, folder / name)
     summary = {**result.summary, "files": ["load_sharing.csv", "summary.json", *pictures]}
+    if result.sliced is not None:       # the face width in slices (issue 43)
+        summary["files"] += write_face(result.sliced, folder, f"{result.case_name}: "
+                                       f"{result.member_name} torque "
+                                       f"{result.summary[result.member_name + '_torque_Nm']:.2f} N m")
     if result.body is not None:
         vtu = export.write_vtu(folder / f"{result.member_name}_worst_position.vtu",
                                result.body, result.displacement)
