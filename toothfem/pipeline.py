@@ -22,6 +22,7 @@ from .datasheet import TE_DEFINITION, StiffnessResult, stiffness_analysis
 from .efficiency import evaluate, operating_point
 from .efficiency.drive_losses import loss_sources
 from .efficiency.mesh_table import LoadsMemo
+from .layouts.cycloid import reducer_backlash
 from .errors import CaseError, check_range
 from .face_width import sliced_contact
 from .fem.drives import MAX_POSITIONS, drive_for
@@ -237,35 +238,6 @@ def contact_analysis(case: Case, *, positions: int = 36, torque_Nm: float | None
                          member_point=point, member_name=drive.member_name, summary=summary,
                          contact_name=drive.contact_name, contacts_name=many,
                          members=drive.members, outlines=outlines, sliced=sliced)
-
-
-def reducer_backlash(case: Case, described: dict) -> dict:
-    """The FE model's description with its disc's backlash before load (its own free turn,
-    the cranks held) turned into the reducer's, input held, as `check` gives it
-    (:func:`toothfem.layouts.cycloid.reducer_per_disc_turn`); the disc's own kept beside as
-    ``disc_backlash_min_arcmin`` / ``disc_backlash_max_arcmin``.
-
-    Parameters
-    ----------
-    case : Case
-    described : dict
-        The FE model's ``describe()``.
-
-    Returns
-    -------
-    dict
-    """
-    if described.get("backlash_min_arcmin") is None or case.cycloid is None:
-        return described
-    from .layouts.cycloid import reducer_per_disc_turn
-
-    turn = reducer_per_disc_turn(case)
-    out = dict(described)
-    for key in ("backlash_min_arcmin", "backlash_max_arcmin"):
-        if described.get(key) is not None:
-            out[f"disc_{key}"] = described[key]
-            out[key] = described[key] * turn
-    return out
 
 
 def reducer_te(system, output_torque_Nm: float) -> dict:

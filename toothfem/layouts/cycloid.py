@@ -126,6 +126,33 @@ def reducer_per_disc_turn(case: Case) -> float:
     return 1.0 if fs is None else za / (za + 1 + fs.sun_teeth / fs.planet_teeth)
 
 
+def reducer_backlash(case: Case, described: dict) -> dict:
+    """The FE model's description with its disc's backlash before load (its own free turn,
+    the cranks held) turned into the reducer's, input held, as `check` gives it
+    (:func:`toothfem.layouts.cycloid.reducer_per_disc_turn`); the disc's own kept beside as
+    ``disc_backlash_min_arcmin`` / ``disc_backlash_max_arcmin``.
+
+    Parameters
+    ----------
+    case : Case
+    described : dict
+        The FE model's ``describe()``.
+
+    Returns
+    -------
+    dict
+    """
+    if described.get("backlash_min_arcmin") is None or case.cycloid is None:
+        return described
+    turn = reducer_per_disc_turn(case)
+    out = dict(described)
+    for key in ("backlash_min_arcmin", "backlash_max_arcmin"):
+        if described.get(key) is not None:
+            out[f"disc_{key}"] = described[key]
+            out[key] = described[key] * turn
+    return out
+
+
 def _before_load(g, per_disc_turn: float = 1.0) -> dict:
     """The disc on its pins before load over one meshing period (exact gaps of both flanks,
     :func:`toothfem.geometry.cycloid_backlash.before_load`), with the first-order backlash of
