@@ -59,7 +59,19 @@ class WearState:
     depth_m: dict = field(default_factory=lambda: {c: 0.0 for c in CLEARANCES})
 
     def advanced(self, rates: dict, hours: float) -> WearState:
-        """This state after ``hours`` at the rates (part -> (clearance, depth) per hour)."""
+        """This state after ``hours`` at the rates.
+
+        Parameters
+        ----------
+        rates : dict
+            Part of CLEARANCES -> (clearance, depth) growth [m/h].
+        hours : float
+            [h].
+
+        Returns
+        -------
+        WearState
+        """
         return WearState({c: self.clearance_m[c] + hours * rates[c][0] for c in CLEARANCES},
                          {c: self.depth_m[c] + hours * rates[c][1] for c in CLEARANCES})
 
@@ -111,17 +123,40 @@ class WearResult:
                 "history": self.history, "notes": list(self.notes)}
 
     def table(self) -> list:
-        """The rows every table shows (:func:`toothfem.report.wear.wear_rows`)."""
+        """The rows every table shows.
+
+        Returns
+        -------
+        list of (str, str)
+            Quantity with its unit, and the value (:func:`toothfem.report.wear.wear_rows`).
+        """
         from .report.wear import wear_rows
         return wear_rows(self)
 
     def plot(self) -> dict:
-        """File name -> figure (:func:`toothfem.report.wear.wear_figures`)."""
+        """The pictures.
+
+        Returns
+        -------
+        dict
+            File name -> matplotlib Figure (:func:`toothfem.report.wear.wear_figures`).
+        """
         from .report.wear import wear_figures
         return wear_figures(self)
 
     def write(self, folder) -> dict:
-        """The files into an existing folder (:func:`toothfem.report.wear.write_wear`)."""
+        """The files into an existing folder.
+
+        Parameters
+        ----------
+        folder : path
+
+        Returns
+        -------
+        dict
+            The summary with the names of the files written
+            (:func:`toothfem.report.wear.write_wear`).
+        """
         from .report.wear import write_wear
         return write_wear(self, folder)
 
@@ -187,7 +222,19 @@ class WornReducer:
         self._base_losses: tuple[float, float, float] | None = None
 
     def system(self, state: WearState):
-        """The system model and the disc's geometry with the worn clearances."""
+        """The system model and the disc's geometry with the worn clearances.
+
+        Parameters
+        ----------
+        state : WearState
+
+        Returns
+        -------
+        system : toothfem.fem.drives.assembly.CycloidSystem
+            A variant of the case's, on its tables.
+        geometry : toothfem.geometry.cycloid.CycloidGeometry
+            The disc with the mesh's clearance added to its equidistant modification.
+        """
         c = state.clearance_m
         sys_ = self.base.variant(crank_bearing_play_m=self.base.crank_bearing_play_m
                                  + c["crank bearings"])
@@ -209,13 +256,28 @@ class WornReducer:
         return sys_, geom
 
     def twist(self, state: WearState) -> SystemTwist:
-        """The worn reducer's twist model (friction in the path, as the datasheet's)."""
+        """The worn reducer's twist model (friction in the path, as the datasheet's).
+
+        Parameters
+        ----------
+        state : WearState
+
+        Returns
+        -------
+        SystemTwist
+        """
         sys_, geom = self.system(state)
         return SystemTwist(sys_, friction=self.friction, geometry=geom)
 
     def rates(self, state: WearState, twist: SystemTwist | None = None) -> tuple:
         """Each clearance's growth and each pair's depth per hour of the duty cycle, and the
         contacts' wear records at its first row.
+
+        Parameters
+        ----------
+        state : WearState
+        twist : SystemTwist, optional
+            The worn reducer's (:meth:`twist` of ``state``), if built already.
 
         Returns
         -------
@@ -275,7 +337,20 @@ class WornReducer:
 
     def pin_loss_W(self, twist: SystemTwist, state: WearState) -> float:
         """The pins' contact loss of every disc at the duty cycle's first row, from the worn
-        system's loads and the run-in roughness (the efficiency model's friction laws)."""
+        system's loads and the run-in roughness (the efficiency model's friction laws).
+
+        Parameters
+        ----------
+        twist : SystemTwist
+            The worn reducer's.
+        state : WearState
+            Its worn depths (the roughness).
+
+        Returns
+        -------
+        float
+            [W].
+        """
         from .efficiency.wear import run_in_roughness
         from .efficiency.friction import composite_rms_roughness
         torque, speed, _ = self.duty[0]
@@ -297,7 +372,24 @@ class WornReducer:
 
     def figures(self, state: WearState, hours: float, twist: SystemTwist,
                 records: list) -> dict:
-        """One history row: the datasheet's figures of the worn reducer."""
+        """One history row: the datasheet's figures of the worn reducer.
+
+        Parameters
+        ----------
+        state : WearState
+        hours : float
+            Its time [h].
+        twist : SystemTwist
+            The worn reducer's.
+        records : list of ContactWear
+            The contacts' wear at the state (:meth:`rates`).
+
+        Returns
+        -------
+        dict
+            ``hours``, ``lost_motion_arcmin`` and its parts, ``backlash_arcmin``, the TE,
+            ``efficiency``, ``clearance_um``, the mesh's film ratio, regimes and K.
+        """
         lm = lost_motion_arcmin(twist, self.rated)
         t_lm = LOST_MOTION_FRACTION * self.rated
 

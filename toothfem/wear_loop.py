@@ -146,11 +146,37 @@ class WearCurve:
                    [r["lost_motion_arcmin"] for r in run.history], h)
 
     def lost_motion(self, hours, k: float) -> np.ndarray:
-        """The model's lost motion [arcmin] at the hours for K_b = k."""
+        """The model's lost motion at the hours for K_b = k.
+
+        Parameters
+        ----------
+        hours : array_like
+            [h].
+        k : float
+            K_b [-].
+
+        Returns
+        -------
+        numpy.ndarray
+            [arcmin], the hours' shape.
+        """
         return np.interp(np.asarray(hours, float) * k, self.kt, self.lost)
 
     def predict(self, names, values) -> np.ndarray:
-        """The log's rows with the effects ``names`` at ``values`` (the engine's Model)."""
+        """The log's rows with the effects ``names`` at ``values`` (the engine's Model).
+
+        Parameters
+        ----------
+        names : tuple of str
+            Of EFFECTS.
+        values : array_like
+            Their parameters, in order.
+
+        Returns
+        -------
+        numpy.ndarray
+            The lost motion at the log's hours [arcmin].
+        """
         k, offset = 0.0, 0.0
         for i, name in enumerate(names):
             if name == "wear":
