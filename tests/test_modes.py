@@ -162,9 +162,10 @@ def test_free_input_has_the_rigid_mode_and_every_share_sums_to_one(rv):
 
 # -- Campbell -----------------------------------------------------------------------
 def test_crossing_speed_formula_and_the_warned_lines():
-    orders = te_orders({"pin passing": 40.0, "mesh": 1560.0}, [40.0, 80.0, 1560.0],
-                       [0.1, 2.0, 1e-9])
-    assert [o["order"] for o in orders] == [40.0, 80.0, 120.0, 1560.0, 3120.0, 4680.0]
+    orders = te_orders({"pin passing": 40.0, "mesh": 1560.0}, [40.0, 80.0, 1560.0, 1640.0],
+                       [0.1, 2.0, 1e-9, 0.5])
+    assert [o["order"] for o in orders] == [40.0, 80.0, 120.0, 1560.0, 1640.0, 3120.0, 4680.0]
+    assert orders[4]["name"] == "TE line"                 # a sideband, 25 % of the largest
     assert orders[2]["amplitude_arcsec"] == 0.0          # no line at 120
     assert orders[3]["amplitude_arcsec"] == 0.0          # round-off: below 1e-6 of 2.0
     ratio = 1 / 121

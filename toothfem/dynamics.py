@@ -42,6 +42,10 @@ WARN_AMPLITUDE_REL = 0.01
 #: A spectral line below this fraction of the largest is round-off (a line the nominal TE
 #: does not carry: the solver's RTOL is 1e-8 of the twist): its amplitude is taken as 0.
 CARRIED_REL = 1e-6
+#: The name of a line of the TE spectrum that is no named order's harmonic, and the
+#: fraction of the largest line from which such a line is listed (a rich spectrum, a K-H-V
+#: drive's sidebands of the mesh by the pin passing, has tens of lines at 1 %).
+OTHER_LINE, OTHER_LINE_REL = "TE line", 0.1
 #: The output torques, as fractions of the modes' torque, at which the lowest modes are
 #: also found (how they move with torque: the contacts and rollers stiffen with load).
 TORQUE_FRACTIONS = (0.25, 0.5, 2.0)
@@ -272,7 +276,9 @@ def te_orders(named: dict, spectrum_orders, amplitude_arcsec) -> list:
     -------
     list of dict
         ``name``, ``order``, ``harmonic``, ``amplitude_arcsec`` (0 where the spectrum has
-        no line at that order), by rising order.
+        no line at that order), by rising order; then every other line of the spectrum at
+        OTHER_LINE_REL of its largest or more (a higher harmonic, a sideband), named
+        OTHER_LINE, harmonic 0.
     """
     so = np.asarray(spectrum_orders, float)
     amp = np.asarray(amplitude_arcsec, float)
@@ -286,6 +292,14 @@ def te_orders(named: dict, spectrum_orders, amplitude_arcsec) -> list:
             a = a if a >= CARRIED_REL * top else 0.0
             out.append({"name": name if h == 1 else f"{h} x {name}", "order": o,
                         "harmonic": h, "amplitude_arcsec": a})
+    # the spectrum's other lines that count (a higher harmonic, a sideband of the mesh by
+    # the pin passing): each an excitation of its own
+    named_orders = [float(r["order"]) for r in out]
+    for o, a in zip(so, amp):
+        if a >= OTHER_LINE_REL * top > 0 and not any(
+                math.isclose(o, x, rel_tol=1e-9) for x in named_orders):
+            out.append({"name": OTHER_LINE, "order": float(o), "harmonic": 0,
+                        "amplitude_arcsec": float(a)})
     return sorted(out, key=lambda r: r["order"])
 
 

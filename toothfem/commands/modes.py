@@ -158,7 +158,8 @@ def run(args) -> int:
             f"peak; largest over {len(dyn.speeds_rpm)} speeds {dyn.te_pp_arcsec.max():.4g} "
             f"arcsec, torque ripple {dyn.ripple_pp_Nm.max():.4g} N m peak to peak")
         for c in dyn.crossings:
-            print(f"at crossing: {c['order_name']} x mode {c['mode']}, {c['speed_rpm']:.4g} rpm: "
+            print(f"at crossing: {c['order_name']} (order {c['order']:g}) x mode {c['mode']}, "
+                  f"{c['speed_rpm']:.4g} rpm: "
                   f"TE {c['te_pp_arcsec']:.4g} arcsec, torque ripple {c['ripple_pp_Nm']:.4g} N m "
                   "peak to peak")
     if args.out is not None:

@@ -203,14 +203,20 @@ def campbell_figure(result: ModesResult):
     f_lo = min([n[0] / 60 * result.output_per_input * min(orders, default=1.0)] + freqs)
     f_hi = max([n[1] / 60 * result.output_per_input * max(orders, default=1.0)] + freqs)
     cmap = plt.get_cmap("tab10")
-    names = sorted({o["name"].split(" x ", 1)[-1] for o in result.orders})
+    def base_of(o):                   # a named order's family, the other lines one label
+        name = o["name"].split(" x ", 1)[-1]
+        return "other lines of the TE spectrum" if o["harmonic"] == 0 else name
+
+    names = sorted({base_of(o) for o in result.orders})
+    drawn = set()
     for o in result.orders:
-        base = o["name"].split(" x ", 1)[-1]
+        base = base_of(o)
         carried = o["amplitude_arcsec"] >= CARRIED_REL * top_a
         ax.plot(n, n / 60 * result.output_per_input * o["order"],
                 lw=0.7 + 2.8 * o["amplitude_arcsec"] / top_a,
                 color=cmap(names.index(base) % 10), ls="-" if carried else ":",
-                label=base if o["harmonic"] == 1 else None)
+                label=base if base not in drawn else None)
+        drawn.add(base)
     for t, fs in result.by_torque.items():
         for i, f in enumerate(fs):
             if f <= 0:
