@@ -232,12 +232,12 @@ class CycloidStage(_Section):
     face_crowning_flat_fraction: float = _f(0.0, 1.0, hi_open=True, default=0.5,
                                             doc="a partial crown's flat middle, a fraction "
                                                 "of the width", source=_FLAT)
-    face_crowning_load_N: float | None = _f(0.0, None, lo_open=True, default=None,
+    face_crowning_load_N: float | None = _f(0.0, 1e6, lo_open=True, default=None,
                                             doc="the pin force a logarithmic crown is "
                                                 "designed for (Lundberg)",
                                             unset="required for the logarithmic form",
                                             source="none: the design load is the user's")
-    pin_span_mm: float | None = _f(0.0, None, lo_open=True, default=None,
+    pin_span_mm: float | None = _f(0.0, 1000.0, lo_open=True, default=None,
                                    doc="conventional pins held at their ends this far apart "
                                        "(beams coupling the slices)",
                                    unset="held along their length in the grooves: no bending",
