@@ -118,7 +118,18 @@ def reducer_per_disc_turn(case: Case) -> float:
     clearance, input held (docs/stiffness.md): the pins' normals pass through the pitch
     point, e Za from the disc's centre; a K-H-V disc turns with its output about its held
     eccentric (1), a 2K-V drive's disc also moves with its cranks, which turn
-    (1 + z_s/z_p) times the output angle: Za / (Za + 1 + z_s/z_p)."""
+    (1 + z_s/z_p) times the output angle: Za / (Za + 1 + z_s/z_p).
+
+    Parameters
+    ----------
+    case : Case
+        A cycloid or 2K-V case.
+
+    Returns
+    -------
+    float
+        The output's turn per turn of the disc [-].
+    """
     fs = case.first_stage
     if case.cycloid is None:
         raise CaseError(f"[cycloid] section is required for drive = {case.drive!r}")
