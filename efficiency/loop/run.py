@@ -261,8 +261,8 @@ class _Steps(en.Listener):
         if step.partner:
             fit = step.added_fit
             assert fit is not None          # a step that adds has its fit
-            reason = (f"added {step.added} together with {step.partner} (each alone stops at "
-                      f"a parameter's bound or does not help): held-out weighted RMS "
+            reason = (f"added {step.added} together with {step.partner} ({step.added} alone "
+                      f"stops at a parameter's bound): held-out weighted RMS "
                       f"{current.cv_wrmse:.4g} -> {fit.cv_wrmse:.4g}, BIC "
                       f"{fit.bic - current.bic:+.1f}")
         else:
