@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import textwrap
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -217,6 +218,7 @@ def campbell_figure(result: ModesResult):
                 color=cmap(names.index(base) % 10), ls="-" if carried else ":",
                 label=base if base not in drawn else None)
         drawn.add(base)
+    labels = []
     for t, fs in result.by_torque.items():
         for i, f in enumerate(fs):
             if f <= 0:
@@ -224,8 +226,7 @@ def campbell_figure(result: ModesResult):
             if t == result.torque_Nm:
                 ax.axhline(f, color="0.2", lw=1.0)
                 if i < MODES_LABELLED:
-                    ax.text(1.27 * hi, f, f"mode {i + 1}: {f:.4g} Hz", va="center",
-                            fontsize=7)
+                    labels.append((f, f"mode {i + 1}: {f:.4g} Hz"))
             else:
                 ax.axhline(f, color="0.6", lw=0.6, ls=":")
     for c in result.crossings:
@@ -237,6 +238,7 @@ def campbell_figure(result: ModesResult):
     ax.set_yscale("log")
     ax.set_xlim(n[0], n[1])
     ax.set_ylim(0.8 * f_lo, 1.25 * f_hi)
+    _spread_labels(ax, labels, 1.27 * hi)
     ax.set_xlabel("input speed [rpm]")
     ax.set_ylabel("frequency [Hz]")
     inp = "input free" if result.input_free else "input held"
@@ -247,6 +249,28 @@ def campbell_figure(result: ModesResult):
     ax.legend(fontsize=7, loc="lower right")
     fig.tight_layout()
     return fig
+
+
+#: Least distance between two mode labels on the Campbell diagram's log axis, as a share of
+#: the axis' height in decades (a 7-point line on the figure's about 6-inch axis).
+LABEL_GAP = 0.025
+
+
+def _spread_labels(ax, labels, x) -> None:
+    """Each mode's label at its frequency, moved just enough to clear its neighbours (close
+    modes would print on each other) and kept inside the axis; the text holds the frequency
+    itself."""
+    lo, hi = (math.log10(v) for v in ax.get_ylim())
+    gap = LABEL_GAP * (hi - lo)
+    ordered = sorted(labels)
+    ys: list[float] = []
+    for f, _ in ordered:                        # up, clear of the one below
+        ys.append(max(math.log10(f), ys[-1] + gap) if ys else math.log10(f))
+    top = hi - gap / 2
+    for k in range(len(ys) - 1, -1, -1):        # down, below the axis' top and the one above
+        ys[k] = min(ys[k], top if k == len(ys) - 1 else ys[k + 1] - gap)
+    for (_, text), y in zip(ordered, ys):
+        ax.text(x, 10 ** y, text, va="center", fontsize=7)
 
 
 def modes_figures(result: ModesResult) -> dict:
