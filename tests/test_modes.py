@@ -209,3 +209,20 @@ def test_the_lumped_crank_chain_of_our_own_meets_the_system_modes():
     assert len(rows) == 2
     for motion, _lumped, _system, gap in rows:
         assert abs(gap) < mod.RTOL, motion
+
+
+def test_a_summary_that_is_not_finite_is_written_as_strict_json():
+    """A self-locking train's backdrive torque is infinite: the summary is strict JSON with
+    null there (the self_locking flag beside it), never Infinity or NaN."""
+    import json
+
+    from toothfem.report.modes import finite_json
+
+    text = finite_json({"backdrive": {"positive": {"backdrive_torque_Nm": math.inf,
+                                                   "fit_residual_Nm": math.nan,
+                                                   "self_locking": True}},
+                        "range_Hz": [1.0, math.inf], "count": 3})
+    assert "Infinity" not in text and "NaN" not in text
+    back = json.loads(text)
+    assert back["backdrive"]["positive"]["backdrive_torque_Nm"] is None
+    assert back["range_Hz"] == [1.0, None] and back["count"] == 3

@@ -4,7 +4,6 @@ system model linearised at an output torque, each mode's strain-energy shares, a
 Campbell diagram of the TE orders against input speed (docs/dynamics.md)."""
 from __future__ import annotations
 
-import json
 import textwrap
 from pathlib import Path
 
@@ -80,7 +79,7 @@ def run(args) -> int:
     from ..backdrive import backdrive, no_load_torque
     from ..dynamic_response import DAMPING_RATIO, dynamic_response
     from ..dynamics import WARN_AMPLITUDE_REL
-    from ..report.modes import dynamic_summary, write_dynamic
+    from ..report.modes import dynamic_summary, finite_json, write_dynamic
     from ..report.modes import mode_lines, summary as modes_summary
     case = load_case(args.case)
 
@@ -108,7 +107,7 @@ def run(args) -> int:
                 summary["files"] += write_dynamic(dyn, tmp)
                 summary["dynamic"] = dynamic_summary(dyn)
             if dyn is not None or extra:
-                (Path(tmp) / "summary.json").write_text(json.dumps(summary, indent=2) + "\n",
+                (Path(tmp) / "summary.json").write_text(finite_json(summary) + "\n",
                                                         encoding="utf-8")
     else:
         result, extra, dyn = analyse()
@@ -116,7 +115,7 @@ def run(args) -> int:
         if dyn is not None:
             summary["dynamic"] = dynamic_summary(dyn)
     if args.json:
-        print(json.dumps(summary, indent=2))
+        print(finite_json(summary))
         return 0
     def say(text):                      # one item, wrapped at 100 columns
         print(textwrap.fill(text, 100, subsequent_indent="  "))
