@@ -142,7 +142,7 @@ class LoopReport:
             return {"covariate": t.covariate, "kind": t.kind, "r2": t.r2,
                     "p_value": t.p_value, "amplitude": t.amplitude, "follows": t.follows}
 
-        return _jsonable({
+        return jsonable({
             "case": self.case_name, "data": self.data_source, "n_rows": self.n_rows,
             "n_points": self.n_points, "notes": list(self.notes), "binning": self.binning,
             "weighted": self.weighted, "selection": self.selection,
@@ -177,14 +177,26 @@ class LoopReport:
         })
 
 
-def _jsonable(x):
-    """Plain JSON types; NaN and infinities as None (strict JSON has no NaN)."""
+def jsonable(x):
+    """Plain JSON types; NaN and infinities as None (strict JSON has no NaN).
+
+    Parameters
+    ----------
+    x : object
+        A dict, list, tuple, numpy array or scalar, nested.
+
+    Returns
+    -------
+    object
+        The same structure of dicts (string keys), lists, bools, ints, finite floats or
+        None, and anything else as it was.
+    """
     if isinstance(x, dict):
-        return {str(k): _jsonable(v) for k, v in x.items()}
+        return {str(k): jsonable(v) for k, v in x.items()}
     if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
+        return [jsonable(v) for v in x]
     if isinstance(x, np.ndarray):
-        return [_jsonable(v) for v in x.tolist()]
+        return [jsonable(v) for v in x.tolist()]
     if isinstance(x, (bool, np.bool_)):
         return bool(x)
     if isinstance(x, (int, np.integer)):

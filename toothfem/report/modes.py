@@ -341,18 +341,6 @@ def write_modes(result: ModesResult, folder) -> dict:
     return out
 
 
-def _finite(x):
-    """``x`` with every float that is not finite (a self-locking train's infinite backdrive
-    torque) as None: JSON has no Infinity or NaN."""
-    if isinstance(x, float):
-        return x if math.isfinite(x) else None
-    if isinstance(x, dict):
-        return {k: _finite(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_finite(v) for v in x]
-    return x
-
-
 def finite_json(summary: dict) -> str:
     """The modes' summary as strict JSON (a float that is not finite written null; the
     ``self_locking`` flag beside a backdrive torque says why).
@@ -365,7 +353,8 @@ def finite_json(summary: dict) -> str:
     -------
     str
     """
-    return json.dumps(_finite(summary), indent=2, allow_nan=False)
+    from ..efficiency.loop.report import jsonable
+    return json.dumps(jsonable(summary), indent=2, allow_nan=False)
 
 
 def dynamic_summary(dr) -> dict:
